@@ -1,0 +1,141 @@
+#pragma once
+/// \file Bridge spans, ballasted track and their assembly into M a + C v + K u = f.
+///
+/// Coordinates: x [m] along the line, x = 0 at the start of the first span; spans follow each
+/// other without gaps. Deflections are positive downwards (the direction of axle loads).
+/// A scenario builds only what it names: without TrackParams there are no track DOFs and loads
+/// act on the deck directly.
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "viaduct/core/types.hpp"
+
+namespace viaduct::model {
+
+/// One simply supported Bernoulli–Euler span.
+struct SpanParams {
+  double length = 0.0;      ///< [m] > 0
+  double EI = 0.0;          ///< [N·m²] bending stiffness, > 0
+  double mass_per_m = 0.0;  ///< [kg/m] mass per length, > 0 (see BridgeParams::mass_includes_track)
+};
+
+/// Vertical bearing under each span end (the same for all span ends).
+struct BearingParams {
+  bool rigid = true;  ///< true: deflection fixed at the bearing; false: spring k and dashpot c
+  double k = 0.0;     ///< [N/m] vertical stiffness when not rigid, > 0
+  double c = 0.0;     ///< [N·s/m] vertical damping when not rigid, >= 0
+};
+
+enum class DampingKind {
+  none,      ///< no structural damping of the bridge (track dashpots still act)
+  modal,     ///< the same ratio for every mode of each span (span on its bearings)
+  rayleigh,  ///< C = a0 M + a1 K of the bridge, fitted to two (frequency, ratio) pairs
+};
+
+/// Structural damping of the bridge (deck beams and bearings; track dashpots are separate).
+struct BridgeDamping {
+  DampingKind kind = DampingKind::modal;
+  double ratio = 0.0;   ///< [-] modal: ratio of critical for all span modes, in [0, 1)
+  double f1_hz = 0.0;   ///< [Hz] rayleigh: first frequency, > 0
+  double ratio1 = 0.0;  ///< [-] rayleigh: ratio at f1_hz, in [0, 1)
+  double f2_hz = 0.0;   ///< [Hz] rayleigh: second frequency, > f1_hz
+  double ratio2 = 0.0;  ///< [-] rayleigh: ratio at f2_hz, in [0, 1)
+};
+
+struct BridgeParams {
+  std::vector<SpanParams> spans;   ///< at least one span, in order along x
+  double element_size = 0.5;       ///< [m] target deck element length, > 0 (rounded per span)
+  double added_mass_per_m = 0.0;   ///< [kg/m] non-structural mass on every span, >= 0
+  /// true: mass_per_m already includes the track carried by the deck; when a track is modelled
+  /// its mass per metre (rail + (sleeper + ballast)/spacing) is taken off the deck so that it is
+  /// not counted twice. Ignored without track.
+  bool mass_includes_track = false;
+  BearingParams bearings;
+  BridgeDamping damping;
+
+  double total_length() const;  ///< [m] sum of span lengths
+  /// False with a reason naming the violated constraint.
+  bool is_valid(std::string* why) const;
+};
+
+/// Spring and dashpot in parallel.
+struct SpringDashpot {
+  double k = 0.0;  ///< [N/m] >= 0
+  double c = 0.0;  ///< [N·s/m] >= 0
+};
+
+/// Three-layer discrete ballasted track (Zhai): rail beam on pads, sleepers, ballast masses
+/// with shear coupling, subgrade. Values are per rail seat (per sleeper).
+struct TrackParams {
+  double rail_EI = 0.0;             ///< [N·m²] rail bending stiffness, > 0
+  double rail_mass_per_m = 0.0;     ///< [kg/m] rail mass per length, > 0
+  double sleeper_spacing = 0.6;     ///< [m] > 0
+  double sleeper_mass = 0.0;        ///< [kg] per rail seat, > 0
+  double ballast_mass = 0.0;        ///< [kg] per rail seat, > 0
+  SpringDashpot pad;                ///< rail to sleeper
+  SpringDashpot ballast;            ///< sleeper to ballast mass
+  SpringDashpot shear;              ///< ballast mass to the next ballast mass
+  SpringDashpot subgrade;           ///< ballast mass to ground, off the bridge
+  SpringDashpot subgrade_on_bridge; ///< ballast mass to deck, on the bridge
+  double approach_length = 20.0;    ///< [m] track before the bridge, >= 0
+  double exit_length = 20.0;        ///< [m] track after the bridge, >= 0
+  int rail_elements_per_bay = 1;    ///< rail elements between two sleepers, >= 1
+
+  double mass_per_m() const;  ///< [kg/m] rail + (sleeper + ballast) / spacing
+  bool is_valid(std::string* why) const;
+};
+
+/// Linear interpolation of a beam's deflection at one point: w(x) = Σ N[i] u[dofs[i]].
+/// A dof of -1 is a fixed (constrained) DOF and contributes nothing.
+struct PointCoupling {
+  std::array<Index, 4> dofs{{-1, -1, -1, -1}};
+  std::array<double, 4> N{{0, 0, 0, 0}};
+  double value(const Vector& u) const;
+};
+
+/// One beam element of the path the axles roll along (rail with track, deck without).
+struct PathElement {
+  double x0 = 0.0;  ///< [m] start
+  double h = 0.0;   ///< [m] length
+  std::array<Index, 4> dofs{{-1, -1, -1, -1}};  ///< w0, θ0, w1, θ1 (-1: fixed)
+};
+
+/// Assembled model. Matrices are symmetric, stored in full, n_dofs × n_dofs.
+struct Structure {
+  SparseMatrix M, C, K;
+  Index n_dofs = 0;
+  Index n_bridge_dofs = 0;
+  Index n_track_dofs = 0;
+  bool has_track = false;
+  std::vector<double> span_start;        ///< [m] x of each span's left end
+  std::vector<double> span_length;       ///< [m]
+  std::vector<PathElement> deck_elements;  ///< all spans, ordered by x
+  std::vector<PathElement> rail_elements;  ///< empty without track
+  std::vector<double> sleeper_x;         ///< [m] sleeper positions (empty without track)
+  std::vector<Index> sleeper_dof, ballast_dof;  ///< per sleeper
+  double deck_mass_per_m_used = 0.0;     ///< [kg/m] deck beam mass actually assembled, span 1
+  /// Elements the loads travel along (rail_elements with track, else deck_elements).
+  const std::vector<PathElement>& load_path() const {
+    return has_track ? rail_elements : deck_elements;
+  }
+  double path_start() const;  ///< [m]
+  double path_end() const;    ///< [m]
+  std::vector<std::size_t> span_first_element;  ///< index into deck_elements, per span
+  /// Deflection interpolation on span `span` (0-based) at x_local [m] from its left end, in
+  /// [0, length]; throws InputError outside.
+  PointCoupling deck_point(std::size_t span, double x_local) const;
+  /// Deflection interpolation on the rail at x; throws InputError without track or outside it.
+  PointCoupling rail_point(double x) const;
+};
+
+/// Assembles bridge (and track when given). Throws InputError on invalid parameters.
+Structure build_structure(const BridgeParams& bridge, const std::optional<TrackParams>& track);
+
+/// Coupling of a point on a sequence of beam elements (sorted by x0, contiguous).
+/// Throws InputError naming `what` when x lies outside [first.x0, last.x0 + last.h].
+PointCoupling point_on(const std::vector<PathElement>& elements, double x, const char* what);
+
+}  // namespace viaduct::model

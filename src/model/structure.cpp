@@ -1,0 +1,360 @@
+#include "viaduct/model/structure.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "viaduct/core/error.hpp"
+#include "viaduct/model/beam_element.hpp"
+#include "viaduct/model/damping.hpp"
+
+namespace viaduct::model {
+
+namespace {
+
+bool fail(std::string* why, const std::string& msg) {
+  if (why) *why = msg;
+  return false;
+}
+
+bool finite_ge(double v, double lo) { return std::isfinite(v) && v >= lo; }
+bool finite_gt(double v, double lo) { return std::isfinite(v) && v > lo; }
+
+std::string str(double v) {
+  std::ostringstream os;
+  os.precision(10);
+  os << v;
+  return os.str();
+}
+
+bool check_sd(const SpringDashpot& s, const std::string& name, std::string* why) {
+  if (!finite_ge(s.k, 0.0)) return fail(why, name + ".k must be >= 0 [N/m], got " + str(s.k));
+  if (!finite_ge(s.c, 0.0)) return fail(why, name + ".c must be >= 0 [N·s/m], got " + str(s.c));
+  return true;
+}
+
+// Adds the symmetric 2-point spring/dashpot between interpolated points a and b (either may
+// have fewer DOFs; -1 entries are ground) into triplet lists.
+struct Link {
+  std::array<Index, 8> dofs;
+  std::array<double, 8> coef;  // relative displacement = Σ coef u[dofs]
+  int n = 0;
+  void add(Index d, double c) {
+    if (d < 0 || c == 0.0) return;
+    dofs[static_cast<std::size_t>(n)] = d;
+    coef[static_cast<std::size_t>(n)] = c;
+    ++n;
+  }
+};
+
+void add_link(std::vector<Triplet>& t, const Link& l, double value) {
+  if (value == 0.0) return;
+  for (int i = 0; i < l.n; ++i)
+    for (int j = 0; j < l.n; ++j)
+      t.emplace_back(l.dofs[static_cast<std::size_t>(i)], l.dofs[static_cast<std::size_t>(j)],
+                     value * (l.coef[static_cast<std::size_t>(i)] * l.coef[static_cast<std::size_t>(j)]));
+}
+
+void add_element(std::vector<Triplet>& t, const PathElement& e, const Matrix4& m) {
+  for (int i = 0; i < 4; ++i) {
+    const Index di = e.dofs[static_cast<std::size_t>(i)];
+    if (di < 0) continue;
+    for (int j = 0; j < 4; ++j) {
+      const Index dj = e.dofs[static_cast<std::size_t>(j)];
+      if (dj >= 0) t.emplace_back(di, dj, m(i, j));
+    }
+  }
+}
+
+}  // namespace
+
+double BridgeParams::total_length() const {
+  double L = 0.0;
+  for (const auto& s : spans) L += s.length;
+  return L;
+}
+
+bool BridgeParams::is_valid(std::string* why) const {
+  if (spans.empty()) return fail(why, "bridge needs at least one span");
+  for (std::size_t i = 0; i < spans.size(); ++i) {
+    const std::string n = "span " + std::to_string(i + 1);
+    if (!finite_gt(spans[i].length, 0.0))
+      return fail(why, n + " length must be > 0 [m], got " + str(spans[i].length));
+    if (!finite_gt(spans[i].EI, 0.0))
+      return fail(why, n + " EI must be > 0 [N·m²], got " + str(spans[i].EI));
+    if (!finite_gt(spans[i].mass_per_m, 0.0))
+      return fail(why, n + " mass_per_m must be > 0 [kg/m], got " + str(spans[i].mass_per_m));
+    if (element_size > spans[i].length * 1.000001 && spans[i].length > 0.0) {
+      // allowed: one element per span (rounded); nothing to reject
+    }
+  }
+  if (!finite_gt(element_size, 0.0))
+    return fail(why, "bridge element_size must be > 0 [m], got " + str(element_size));
+  if (!finite_ge(added_mass_per_m, 0.0))
+    return fail(why, "added_mass_per_m must be >= 0 [kg/m], got " + str(added_mass_per_m));
+  if (!bearings.rigid) {
+    if (!finite_gt(bearings.k, 0.0))
+      return fail(why, "elastic bearing stiffness k must be > 0 [N/m], got " + str(bearings.k));
+    if (!finite_ge(bearings.c, 0.0))
+      return fail(why, "bearing damping c must be >= 0 [N·s/m], got " + str(bearings.c));
+  }
+  const auto ratio_ok = [](double z) { return std::isfinite(z) && z >= 0.0 && z < 1.0; };
+  switch (damping.kind) {
+    case DampingKind::none: break;
+    case DampingKind::modal:
+      if (!ratio_ok(damping.ratio))
+        return fail(why, "modal damping ratio must be in [0, 1), got " + str(damping.ratio));
+      break;
+    case DampingKind::rayleigh:
+      if (!finite_gt(damping.f1_hz, 0.0))
+        return fail(why, "Rayleigh f1_hz must be > 0, got " + str(damping.f1_hz));
+      if (!(finite_gt(damping.f2_hz, damping.f1_hz)))
+        return fail(why, "Rayleigh f2_hz must be > f1_hz, got " + str(damping.f2_hz));
+      if (!ratio_ok(damping.ratio1) || !ratio_ok(damping.ratio2))
+        return fail(why, "Rayleigh ratios must be in [0, 1)");
+      break;
+  }
+  return true;
+}
+
+double TrackParams::mass_per_m() const {
+  return rail_mass_per_m + (sleeper_mass + ballast_mass) / sleeper_spacing;
+}
+
+bool TrackParams::is_valid(std::string* why) const {
+  if (!finite_gt(rail_EI, 0.0)) return fail(why, "rail EI must be > 0 [N·m²], got " + str(rail_EI));
+  if (!finite_gt(rail_mass_per_m, 0.0))
+    return fail(why, "rail mass per metre must be > 0 [kg/m], got " + str(rail_mass_per_m));
+  if (!finite_gt(sleeper_spacing, 0.0))
+    return fail(why, "sleeper_spacing must be > 0 [m], got " + str(sleeper_spacing));
+  if (!finite_gt(sleeper_mass, 0.0))
+    return fail(why, "sleeper_mass must be > 0 [kg], got " + str(sleeper_mass));
+  if (!finite_gt(ballast_mass, 0.0))
+    return fail(why, "ballast_mass must be > 0 [kg], got " + str(ballast_mass));
+  if (!check_sd(pad, "pad", why) || !check_sd(ballast, "ballast", why) ||
+      !check_sd(shear, "shear", why) || !check_sd(subgrade, "subgrade", why) ||
+      !check_sd(subgrade_on_bridge, "subgrade_on_bridge", why))
+    return false;
+  if (!(pad.k > 0.0)) return fail(why, "pad.k must be > 0 [N/m] (the rail must rest on the sleepers)");
+  if (!(ballast.k > 0.0)) return fail(why, "ballast.k must be > 0 [N/m]");
+  if (!(subgrade.k > 0.0)) return fail(why, "subgrade.k must be > 0 [N/m] (track off the bridge needs support)");
+  if (!(subgrade_on_bridge.k > 0.0)) return fail(why, "subgrade_on_bridge.k must be > 0 [N/m]");
+  if (!finite_ge(approach_length, 0.0))
+    return fail(why, "approach_length must be >= 0 [m], got " + str(approach_length));
+  if (!finite_ge(exit_length, 0.0))
+    return fail(why, "exit_length must be >= 0 [m], got " + str(exit_length));
+  if (rail_elements_per_bay < 1)
+    return fail(why, "rail_elements_per_bay must be >= 1, got " + std::to_string(rail_elements_per_bay));
+  return true;
+}
+
+double PointCoupling::value(const Vector& u) const {
+  double w = 0.0;
+  for (std::size_t i = 0; i < 4; ++i)
+    if (dofs[i] >= 0) w += N[i] * u[dofs[i]];
+  return w;
+}
+
+PointCoupling point_on(const std::vector<PathElement>& elements, double x, const char* what) {
+  if (elements.empty()) throw InputError(std::string("no ") + what + " to place a point on");
+  const double x0 = elements.front().x0, x1 = elements.back().x0 + elements.back().h;
+  const double tol = 1e-9 * std::max(1.0, x1 - x0);
+  if (!(x >= x0 - tol && x <= x1 + tol))
+    throw InputError("x = " + str(x) + " m lies outside the " + what + " [" + str(x0) + ", " +
+                     str(x1) + "] m");
+  auto it = std::upper_bound(elements.begin(), elements.end(), x,
+                             [](double v, const PathElement& e) { return v < e.x0; });
+  if (it != elements.begin()) --it;
+  const PathElement& e = *it;
+  const double xi = std::clamp((x - e.x0) / e.h, 0.0, 1.0);
+  PointCoupling pc;
+  pc.dofs = e.dofs;
+  pc.N = hermite_shape(xi, e.h);
+  return pc;
+}
+
+double Structure::path_start() const { return load_path().front().x0; }
+double Structure::path_end() const { return load_path().back().x0 + load_path().back().h; }
+
+PointCoupling Structure::deck_point(std::size_t span, double x_local) const {
+  if (span >= span_start.size())
+    throw InputError("span " + std::to_string(span + 1) + " does not exist (the bridge has " +
+                     std::to_string(span_start.size()) + ")");
+  const std::size_t first = span_first_element[span];
+  const std::size_t last = span + 1 < span_first_element.size() ? span_first_element[span + 1]
+                                                                 : deck_elements.size();
+  std::vector<PathElement> els(deck_elements.begin() + static_cast<std::ptrdiff_t>(first),
+                               deck_elements.begin() + static_cast<std::ptrdiff_t>(last));
+  return point_on(els, span_start[span] + x_local, "span");
+}
+
+PointCoupling Structure::rail_point(double x) const {
+  if (!has_track) throw InputError("a rail station needs a track in the scenario");
+  return point_on(rail_elements, x, "rail");
+}
+
+Structure build_structure(const BridgeParams& bridge, const std::optional<TrackParams>& track) {
+  std::string why;
+  if (!bridge.is_valid(&why)) throw InputError("bridge: " + why);
+  if (track && !track->is_valid(&why)) throw InputError("track: " + why);
+
+  Structure s;
+  s.has_track = track.has_value();
+  double deck_mass_reduction = 0.0;
+  if (track && bridge.mass_includes_track) deck_mass_reduction = track->mass_per_m();
+
+  std::vector<Triplet> tm, tk, tc;
+  Index next = 0;
+
+  // --- bridge: spans with their own nodes; spans are independent (simply supported) ---
+  double x = 0.0;
+  for (std::size_t si = 0; si < bridge.spans.size(); ++si) {
+    const SpanParams& sp = bridge.spans[si];
+    const double m = sp.mass_per_m + bridge.added_mass_per_m - deck_mass_reduction;
+    if (!(m > 0.0))
+      throw InputError("span " + std::to_string(si + 1) + ": deck mass per metre after removing the " +
+                       "modelled track mass (" + str(deck_mass_reduction) + " kg/m) must be > 0, got " +
+                       str(m) + " kg/m");
+    if (si == 0) s.deck_mass_per_m_used = m;
+    const int n_el = std::max(1, static_cast<int>(std::ceil(sp.length / bridge.element_size - 1e-9)));
+    const double h = sp.length / n_el;
+    s.span_start.push_back(x);
+    s.span_length.push_back(sp.length);
+    s.span_first_element.push_back(s.deck_elements.size());
+
+    const Index first_dof = next;
+    std::vector<std::array<Index, 2>> node(static_cast<std::size_t>(n_el + 1));
+    for (int j = 0; j <= n_el; ++j) {
+      const bool end = (j == 0 || j == n_el);
+      node[static_cast<std::size_t>(j)][0] = (end && bridge.bearings.rigid) ? -1 : next++;
+      node[static_cast<std::size_t>(j)][1] = next++;
+    }
+    const Index n_span = next - first_dof;
+    // Span-local matrices (for damping) and global triplets.
+    std::vector<Triplet> lm, lk;
+    const Matrix4 ke = beam_stiffness(sp.EI, h), me = beam_mass(m, h);
+    for (int j = 0; j < n_el; ++j) {
+      PathElement e;
+      e.x0 = x + j * h;
+      e.h = h;
+      e.dofs = {node[static_cast<std::size_t>(j)][0], node[static_cast<std::size_t>(j)][1],
+                node[static_cast<std::size_t>(j + 1)][0], node[static_cast<std::size_t>(j + 1)][1]};
+      s.deck_elements.push_back(e);
+      add_element(lk, e, ke);
+      add_element(lm, e, me);
+    }
+    if (!bridge.bearings.rigid) {
+      for (int j : {0, n_el}) {
+        const Index d = node[static_cast<std::size_t>(j)][0];
+        lk.emplace_back(d, d, bridge.bearings.k);
+        tc.emplace_back(d, d, bridge.bearings.c);
+      }
+    }
+    // Structural damping from the span's own M and K (bearing springs included).
+    SparseMatrix Ms(n_span, n_span), Ks(n_span, n_span);
+    auto shift = [&](const std::vector<Triplet>& in) {
+      std::vector<Triplet> out;
+      out.reserve(in.size());
+      for (const auto& t : in) out.emplace_back(t.row() - first_dof, t.col() - first_dof, t.value());
+      return out;
+    };
+    const auto lms = shift(lm), lks = shift(lk);
+    Ms.setFromTriplets(lms.begin(), lms.end());
+    Ks.setFromTriplets(lks.begin(), lks.end());
+    const Matrix Cs = structural_damping(Ms, Ks, bridge.damping);
+    for (Index i = 0; i < n_span; ++i)
+      for (Index j = 0; j < n_span; ++j)
+        if (Cs(i, j) != 0.0) tc.emplace_back(first_dof + i, first_dof + j, Cs(i, j));
+    tm.insert(tm.end(), lm.begin(), lm.end());
+    tk.insert(tk.end(), lk.begin(), lk.end());
+    x += sp.length;
+  }
+  s.n_bridge_dofs = next;
+  const double L_bridge = x;
+
+  // --- track ---
+  if (track) {
+    const TrackParams& tp = *track;
+    const double d = tp.sleeper_spacing;
+    const double x_start = -tp.approach_length;
+    const double L_track = tp.approach_length + L_bridge + tp.exit_length;
+    const int n_bays = static_cast<int>(std::floor(L_track / d + 1e-9));
+    if (n_bays < 1) throw InputError("track shorter than one sleeper spacing");
+    const int n_sub = tp.rail_elements_per_bay;
+    const int n_nodes = n_bays * n_sub + 1;
+    const double h = d / n_sub;
+    std::vector<std::array<Index, 2>> rn(static_cast<std::size_t>(n_nodes));
+    for (auto& r : rn) {
+      r[0] = next++;
+      r[1] = next++;
+    }
+    const Matrix4 ke = beam_stiffness(tp.rail_EI, h), me = beam_mass(tp.rail_mass_per_m, h);
+    for (int j = 0; j + 1 < n_nodes; ++j) {
+      PathElement e;
+      e.x0 = x_start + j * h;
+      e.h = h;
+      e.dofs = {rn[static_cast<std::size_t>(j)][0], rn[static_cast<std::size_t>(j)][1],
+                rn[static_cast<std::size_t>(j + 1)][0], rn[static_cast<std::size_t>(j + 1)][1]};
+      s.rail_elements.push_back(e);
+      add_element(tk, e, ke);
+      add_element(tm, e, me);
+    }
+    const double tol = 1e-9;
+    for (int i = 0; i <= n_bays; ++i) {
+      const double xs = x_start + i * d;
+      const Index rail_w = rn[static_cast<std::size_t>(i * n_sub)][0];
+      const Index sl = next++, bl = next++;
+      s.sleeper_x.push_back(xs);
+      s.sleeper_dof.push_back(sl);
+      s.ballast_dof.push_back(bl);
+      tm.emplace_back(sl, sl, tp.sleeper_mass);
+      tm.emplace_back(bl, bl, tp.ballast_mass);
+      Link pad;
+      pad.add(rail_w, 1.0);
+      pad.add(sl, -1.0);
+      add_link(tk, pad, tp.pad.k);
+      add_link(tc, pad, tp.pad.c);
+      Link bal;
+      bal.add(sl, 1.0);
+      bal.add(bl, -1.0);
+      add_link(tk, bal, tp.ballast.k);
+      add_link(tc, bal, tp.ballast.c);
+      if (i > 0) {
+        Link sh;
+        sh.add(s.ballast_dof[static_cast<std::size_t>(i - 1)], 1.0);
+        sh.add(bl, -1.0);
+        add_link(tk, sh, tp.shear.k);
+        add_link(tc, sh, tp.shear.c);
+      }
+      // Subgrade: to the deck where the sleeper lies on a span, to ground elsewhere.
+      Link sub;
+      sub.add(bl, 1.0);
+      const SpringDashpot* sd = &tp.subgrade;
+      for (std::size_t si = 0; si < s.span_start.size(); ++si) {
+        const double a = s.span_start[si], b = a + s.span_length[si];
+        if (xs >= a - tol && xs <= b + tol) {
+          const PointCoupling pc = s.deck_point(si, std::clamp(xs - a, 0.0, s.span_length[si]));
+          for (std::size_t q = 0; q < 4; ++q) sub.add(pc.dofs[q], -pc.N[q]);
+          sd = &tp.subgrade_on_bridge;
+          break;
+        }
+      }
+      add_link(tk, sub, sd->k);
+      add_link(tc, sub, sd->c);
+    }
+  }
+  s.n_dofs = next;
+  s.n_track_dofs = next - s.n_bridge_dofs;
+  s.M.resize(next, next);
+  s.K.resize(next, next);
+  s.C.resize(next, next);
+  s.M.setFromTriplets(tm.begin(), tm.end());
+  s.K.setFromTriplets(tk.begin(), tk.end());
+  s.C.setFromTriplets(tc.begin(), tc.end());
+  s.M.prune(0.0);
+  s.K.prune(0.0);
+  s.C.prune(0.0);
+  return s;
+}
+
+}  // namespace viaduct::model
