@@ -1,0 +1,86 @@
+#include "viaduct/load/train.hpp"
+
+#include <cmath>
+#include <numeric>
+
+#include "viaduct/core/error.hpp"
+
+namespace viaduct::load {
+
+double Train::total_load() const { return std::accumulate(load.begin(), load.end(), 0.0); }
+
+void Train::validate() const {
+  const std::string n = "train '" + name + "': ";
+  if (offset.empty()) throw InputError(n + "has no axles");
+  if (offset.size() != load.size()) throw InputError(n + "offsets and loads differ in count");
+  if (offset.front() != 0.0) throw InputError(n + "first axle offset must be 0");
+  for (std::size_t i = 0; i < offset.size(); ++i) {
+    if (!std::isfinite(offset[i]) || !std::isfinite(load[i]))
+      throw InputError(n + "axle " + std::to_string(i + 1) + " has a non-finite value");
+    if (i > 0 && offset[i] < offset[i - 1])
+      throw InputError(n + "axle offsets must not decrease (axle " + std::to_string(i + 1) + ")");
+    if (!(load[i] > 0.0))
+      throw InputError(n + "axle " + std::to_string(i + 1) + " load must be > 0 [N]");
+  }
+}
+
+HslmRow hslm_a_row(int number) {
+  // EN 1991-2 Annex E, Table E.4 (REFERENCE.md §3): N, D [m], d [m], P [kN].
+  static const double table[10][4] = {
+      {18, 18, 2.0, 170}, {17, 19, 3.5, 200}, {16, 20, 2.0, 180}, {15, 21, 3.0, 190},
+      {14, 22, 2.0, 170}, {13, 23, 2.0, 180}, {13, 24, 2.0, 190}, {12, 25, 2.5, 190},
+      {11, 26, 2.0, 210}, {11, 27, 2.0, 210}};
+  if (number < 1 || number > 10)
+    throw InputError("HSLM-A number must be 1..10, got " + std::to_string(number));
+  const double* r = table[number - 1];
+  return HslmRow{static_cast<int>(r[0]), r[1], r[2], r[3] * 1e3};
+}
+
+Train hslm_a(const std::string& name, const HslmRow& row) {
+  if (row.n_coaches < 1) throw InputError("HSLM train '" + name + "': n_coaches must be >= 1");
+  if (!(row.coach_length > 0.0) || !(row.bogie_spacing > 0.0) || !(row.axle_load > 0.0) ||
+      !(row.bogie_spacing < row.coach_length))
+    throw InputError("HSLM train '" + name +
+                     "': need coach_length > bogie_spacing > 0 and axle_load > 0");
+  const double D = row.coach_length, d = row.bogie_spacing;
+  // Layout (reproduces 2N + 14 axles and 397.525 m for A1, REFERENCE.md §3):
+  //  - power car axles at 0, 3, 14, 17 m;
+  //  - coupling point midway in the 3.525 m gap to the end coach (x = 17 + 3.525/2);
+  //  - end coach: length D from the coupling point to the first articulation, its own bogie
+  //    (axle spacing d) at the outer end, first axle 3.525 m behind the power car;
+  //  - N + 1 articulated bogies (axle spacing d) centred D apart (N intermediate coaches);
+  //  - the tail mirrors the head.
+  const double gap = 3.525;
+  const double coupling = 17.0 + gap / 2.0;
+  std::vector<double> x = {0.0, 3.0, 14.0, 17.0, 17.0 + gap, 17.0 + gap + d};
+  for (int k = 0; k <= row.n_coaches; ++k) {
+    const double c = coupling + D * (k + 1);
+    x.push_back(c - d / 2.0);
+    x.push_back(c + d / 2.0);
+  }
+  const double rear_coupling = coupling + D * (row.n_coaches + 2);
+  x.push_back(rear_coupling - gap / 2.0 - d);
+  x.push_back(rear_coupling - gap / 2.0);
+  for (double p : {0.0, 3.0, 14.0, 17.0}) x.push_back(rear_coupling + gap / 2.0 + p);
+  Train t;
+  t.name = name;
+  t.offset = x;
+  t.load.assign(x.size(), row.axle_load);
+  t.validate();
+  return t;
+}
+
+Train regular_train(const std::string& name, int n_axles, double spacing, double load) {
+  if (n_axles < 1) throw InputError("train '" + name + "': n_axles must be >= 1");
+  if (n_axles > 1 && !(spacing > 0.0)) throw InputError("train '" + name + "': spacing must be > 0 [m]");
+  Train t;
+  t.name = name;
+  for (int i = 0; i < n_axles; ++i) {
+    t.offset.push_back(i * spacing);
+    t.load.push_back(load);
+  }
+  t.validate();
+  return t;
+}
+
+}  // namespace viaduct::load
