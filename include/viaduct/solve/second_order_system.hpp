@@ -1,0 +1,21 @@
+#pragma once
+/// \file The one abstraction integrators see: M a + C v + K u = f(t) with constant sparse
+/// symmetric M (positive definite), C and K (positive semi-definite).
+
+#include "viaduct/core/types.hpp"
+
+namespace viaduct::solve {
+
+class SecondOrderSystem {
+ public:
+  virtual ~SecondOrderSystem() = default;
+  virtual const SparseMatrix& mass() const = 0;
+  virtual const SparseMatrix& damping() const = 0;
+  virtual const SparseMatrix& stiffness() const = 0;
+  Index n_dofs() const { return mass().rows(); }
+  /// Writes f(t) into f (already sized n_dofs; overwrite every entry). Must not allocate:
+  /// it is called once per time step.
+  virtual void force(double t, Vector& f) const = 0;
+};
+
+}  // namespace viaduct::solve
