@@ -1,0 +1,362 @@
+#include "viaduct/signal/iir.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <sstream>
+
+#include "viaduct/core/error.hpp"
+
+namespace viaduct::signal {
+
+namespace {
+
+using cd = std::complex<double>;
+
+std::string num(double v) {
+  std::ostringstream os;
+  os.precision(10);
+  os << v;
+  return os.str();
+}
+
+struct Zpk {
+  std::vector<cd> z, p;
+  double k = 1.0;
+};
+
+// Analog Chebyshev I prototype (SciPy cheb1ap).
+Zpk cheb1ap(int N, double rp) {
+  Zpk out;
+  const double eps = std::sqrt(std::pow(10.0, 0.1 * rp) - 1.0);
+  const double mu = 1.0 / N * std::asinh(1.0 / eps);
+  cd prod = 1.0;
+  for (int m = -N + 1; m < N; m += 2) {
+    const double theta = M_PI * m / (2.0 * N);
+    const cd p = -std::sinh(cd(mu, theta));
+    out.p.push_back(p);
+    prod *= -p;
+  }
+  out.k = prod.real();
+  if (N % 2 == 0) out.k /= std::sqrt(1.0 + eps * eps);
+  return out;
+}
+
+Zpk lp2lp(const Zpk& in, double wo) {
+  Zpk o;
+  const int degree = static_cast<int>(in.p.size() - in.z.size());
+  for (auto z : in.z) o.z.push_back(z * wo);
+  for (auto p : in.p) o.p.push_back(p * wo);
+  o.k = in.k * std::pow(wo, degree);
+  return o;
+}
+
+Zpk lp2hp(const Zpk& in, double wo) {
+  Zpk o;
+  const int degree = static_cast<int>(in.p.size() - in.z.size());
+  cd pz = 1.0, pp = 1.0;
+  for (auto z : in.z) {
+    o.z.push_back(wo / z);
+    pz *= -z;
+  }
+  for (auto p : in.p) {
+    o.p.push_back(wo / p);
+    pp *= -p;
+  }
+  for (int i = 0; i < degree; ++i) o.z.push_back(0.0);
+  o.k = in.k * (pz / pp).real();
+  return o;
+}
+
+Zpk lp2bp(const Zpk& in, double wo, double bw) {
+  Zpk o;
+  const int degree = static_cast<int>(in.p.size() - in.z.size());
+  std::vector<cd> zl, pl;
+  for (auto z : in.z) zl.push_back(z * bw / 2.0);
+  for (auto p : in.p) pl.push_back(p * bw / 2.0);
+  for (auto z : zl) o.z.push_back(z + std::sqrt(z * z - wo * wo));
+  for (auto z : zl) o.z.push_back(z - std::sqrt(z * z - wo * wo));
+  for (auto p : pl) o.p.push_back(p + std::sqrt(p * p - wo * wo));
+  for (auto p : pl) o.p.push_back(p - std::sqrt(p * p - wo * wo));
+  for (int i = 0; i < degree; ++i) o.z.push_back(0.0);
+  o.k = in.k * std::pow(bw, degree);
+  return o;
+}
+
+Zpk bilinear(const Zpk& in, double fs) {
+  Zpk o;
+  const double fs2 = 2.0 * fs;
+  const int degree = static_cast<int>(in.p.size() - in.z.size());
+  cd nz = 1.0, np = 1.0;
+  for (auto z : in.z) {
+    o.z.push_back((fs2 + z) / (fs2 - z));
+    nz *= (fs2 - z);
+  }
+  for (auto p : in.p) {
+    o.p.push_back((fs2 + p) / (fs2 - p));
+    np *= (fs2 - p);
+  }
+  for (int i = 0; i < degree; ++i) o.z.push_back(-1.0);
+  o.k = in.k * (nz / np).real();
+  return o;
+}
+
+// One representative per complex-conjugate pair (positive imaginary part) plus reals, with
+// conjugates averaged as SciPy's _cplxreal does.
+std::vector<cd> cplxreal(const std::vector<cd>& v) {
+  const double tol = 100 * std::numeric_limits<double>::epsilon();
+  std::vector<cd> reals, pos, neg;
+  for (auto x : v) {
+    if (std::abs(x.imag()) <= tol * std::abs(x)) reals.emplace_back(x.real(), 0.0);
+    else if (x.imag() > 0) pos.push_back(x);
+    else neg.push_back(x);
+  }
+  if (pos.size() != neg.size()) throw SolverError("filter design: unpaired complex root");
+  auto by_real = [](cd a, cd b) { return a.real() < b.real() || (a.real() == b.real() && std::abs(a.imag()) < std::abs(b.imag())); };
+  std::sort(pos.begin(), pos.end(), by_real);
+  std::sort(neg.begin(), neg.end(), by_real);
+  std::vector<cd> out;
+  for (std::size_t i = 0; i < pos.size(); ++i) out.push_back((pos[i] + std::conj(neg[i])) / 2.0);
+  std::sort(reals.begin(), reals.end(), by_real);
+  out.insert(out.end(), reals.begin(), reals.end());
+  return out;
+}
+
+bool is_real(cd x) { return x.imag() == 0.0; }
+
+enum class Which { real, complex, any };
+std::size_t nearest(const std::vector<cd>& from, cd to, Which which) {
+  std::size_t best = from.size();
+  double bd = 0.0;
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    if (which == Which::real && !is_real(from[i])) continue;
+    if (which == Which::complex && is_real(from[i])) continue;
+    const double d = std::abs(from[i] - to);
+    if (best == from.size() || d < bd) {
+      best = i;
+      bd = d;
+    }
+  }
+  if (best == from.size()) throw SolverError("filter design: no zero to pair with a pole");
+  return best;
+}
+
+std::size_t idx_worst(const std::vector<cd>& p, const std::vector<std::size_t>& among) {
+  std::size_t best = among.front();
+  for (auto i : among)
+    if (std::abs(1.0 - std::abs(p[i])) < std::abs(1.0 - std::abs(p[best]))) best = i;
+  return best;
+}
+
+Section single(const std::vector<cd>& z, const std::vector<cd>& p) {
+  // poly of up to two roots, right-aligned as in SciPy's _single_zpksos.
+  auto poly = [](const std::vector<cd>& r, double* out) {
+    if (r.size() == 2) {
+      out[0] = 1.0;
+      out[1] = (-(r[0] + r[1])).real();
+      out[2] = (r[0] * r[1]).real();
+    } else if (r.size() == 1) {
+      out[0] = 0.0;
+      out[1] = 1.0;
+      out[2] = (-r[0]).real();
+    } else {
+      out[0] = 0.0;
+      out[1] = 0.0;
+      out[2] = 1.0;
+    }
+  };
+  Section s{};
+  poly(z, &s[0]);
+  poly(p, &s[3]);
+  return s;
+}
+
+template <class T>
+T take(std::vector<T>& v, std::size_t i) {
+  T x = v[i];
+  v.erase(v.begin() + static_cast<std::ptrdiff_t>(i));
+  return x;
+}
+
+// SciPy zpk2sos with pairing='nearest' (digital).
+Sos zpk2sos(Zpk zpk) {
+  std::vector<cd> z = zpk.z, p = zpk.p;
+  while (p.size() < z.size()) p.push_back(0.0);
+  while (z.size() < p.size()) z.push_back(0.0);
+  const std::size_t n_sections = (p.size() + 1) / 2;
+  if (p.size() % 2 == 1) {
+    p.push_back(0.0);
+    z.push_back(0.0);
+  }
+  z = cplxreal(z);
+  p = cplxreal(p);
+  Sos sos;
+  sos.sections.assign(n_sections, Section{});
+  for (std::size_t si = n_sections; si-- > 0;) {
+    std::vector<std::size_t> all(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) all[i] = i;
+    const cd p1 = take(p, idx_worst(p, all));
+    const std::size_t n_real_p = static_cast<std::size_t>(std::count_if(p.begin(), p.end(), is_real));
+    const std::size_t n_real_z = static_cast<std::size_t>(std::count_if(z.begin(), z.end(), is_real));
+    if (is_real(p1) && n_real_p == 0) {
+      const cd z1 = take(z, nearest(z, p1, Which::real));
+      sos.sections[si] = single({z1, 0.0}, {p1, 0.0});
+    } else if (p.size() + 1 == z.size() && !is_real(p1) && n_real_p == 1 && n_real_z == 1) {
+      const cd z1 = take(z, nearest(z, p1, Which::complex));
+      sos.sections[si] = single({z1, std::conj(z1)}, {p1, std::conj(p1)});
+    } else {
+      cd p2;
+      if (is_real(p1)) {
+        std::vector<std::size_t> reals;
+        for (std::size_t i = 0; i < p.size(); ++i)
+          if (is_real(p[i])) reals.push_back(i);
+        p2 = take(p, idx_worst(p, reals));
+      } else {
+        p2 = std::conj(p1);
+      }
+      if (!z.empty()) {
+        const cd z1 = take(z, nearest(z, p1, Which::any));
+        if (!is_real(z1)) {
+          sos.sections[si] = single({z1, std::conj(z1)}, {p1, p2});
+        } else if (!z.empty()) {
+          const cd z2 = take(z, nearest(z, p1, Which::real));
+          sos.sections[si] = single({z1, z2}, {p1, p2});
+        } else {
+          sos.sections[si] = single({z1}, {p1, p2});
+        }
+      } else {
+        sos.sections[si] = single({}, {p1, p2});
+      }
+    }
+  }
+  for (int i = 0; i < 3; ++i) sos.sections[0][static_cast<std::size_t>(i)] *= zpk.k;
+  return sos;
+}
+
+}  // namespace
+
+std::complex<double> Sos::response(double f_hz, double fs_hz) const {
+  const cd zinv = std::exp(cd(0.0, -2.0 * M_PI * f_hz / fs_hz));
+  cd h = 1.0;
+  for (const auto& s : sections)
+    h *= (s[0] + s[1] * zinv + s[2] * zinv * zinv) / (s[3] + s[4] * zinv + s[5] * zinv * zinv);
+  return h;
+}
+
+bool Cheby1Spec::is_valid(double fs_hz, std::string* why) const {
+  auto fail = [&](const std::string& m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (!(std::isfinite(fs_hz) && fs_hz > 0.0)) return fail("sampling rate must be > 0 Hz, got " + num(fs_hz));
+  if (order < 1 || order > 12) return fail("filter order must be in 1..12, got " + std::to_string(order));
+  if (!(std::isfinite(ripple_db) && ripple_db > 0.0)) return fail("ripple_db must be > 0, got " + num(ripple_db));
+  const double nyq = fs_hz / 2.0;
+  const bool use_low = band != BandType::lowpass, use_high = band != BandType::highpass;
+  if (use_low && !(std::isfinite(low_hz) && low_hz > 0.0 && low_hz < nyq))
+    return fail("low_hz must be in (0, fs/2 = " + num(nyq) + ") Hz, got " + num(low_hz));
+  if (use_high && !(std::isfinite(high_hz) && high_hz > 0.0 && high_hz < nyq))
+    return fail("high_hz must be in (0, fs/2 = " + num(nyq) + ") Hz, got " + num(high_hz) +
+                " (reduce the time step or the band edge)");
+  if (band == BandType::bandpass && !(low_hz < high_hz))
+    return fail("low_hz must be < high_hz, got " + num(low_hz) + " and " + num(high_hz));
+  return true;
+}
+
+Sos cheby1(const Cheby1Spec& spec, double fs_hz) {
+  std::string why;
+  if (!spec.is_valid(fs_hz, &why)) throw InputError("Chebyshev filter: " + why);
+  // Pre-warp with SciPy's internal fs = 2 on normalised frequencies.
+  const double fs = 2.0;
+  auto warp = [&](double f_hz) {
+    const double wn = 2.0 * f_hz / fs_hz;
+    return 2.0 * fs * std::tan(M_PI * wn / fs);
+  };
+  Zpk proto = cheb1ap(spec.order, spec.ripple_db);
+  Zpk analog;
+  switch (spec.band) {
+    case BandType::lowpass: analog = lp2lp(proto, warp(spec.high_hz)); break;
+    case BandType::highpass: analog = lp2hp(proto, warp(spec.low_hz)); break;
+    case BandType::bandpass: {
+      const double w0 = warp(spec.low_hz), w1 = warp(spec.high_hz);
+      analog = lp2bp(proto, std::sqrt(w0 * w1), w1 - w0);
+      break;
+    }
+  }
+  return zpk2sos(bilinear(analog, fs));
+}
+
+void sosfilt(const Sos& sos, const Vector& x, Vector& y, const std::vector<std::array<double, 2>>* zi) {
+  const std::size_t ns = sos.n_sections();
+  if (zi && zi->size() != ns) throw InputError("sosfilt: zi must have one row per section");
+  y = x;
+  for (std::size_t s = 0; s < ns; ++s) {
+    const Section& c = sos.sections[s];
+    double z0 = zi ? (*zi)[s][0] : 0.0, z1 = zi ? (*zi)[s][1] : 0.0;
+    for (Index i = 0; i < y.size(); ++i) {
+      const double xi = y[i];
+      const double yi = c[0] * xi + z0;
+      z0 = c[1] * xi - c[4] * yi + z1;
+      z1 = c[2] * xi - c[5] * yi;
+      y[i] = yi;
+    }
+  }
+}
+
+std::vector<std::array<double, 2>> sosfilt_zi(const Sos& sos) {
+  std::vector<std::array<double, 2>> zi(sos.n_sections());
+  double scale = 1.0;
+  for (std::size_t s = 0; s < sos.n_sections(); ++s) {
+    const Section& c = sos.sections[s];
+    const double b0 = c[0] / c[3], b1 = c[1] / c[3], b2 = c[2] / c[3];
+    const double a1 = c[4] / c[3], a2 = c[5] / c[3];
+    // lfilter_zi: (I - companion(a)ᵀ) zi = b[1:] - a[1:] b0
+    Eigen::Matrix2d A;
+    A << 1.0 + a1, -1.0, a2, 1.0;
+    const Eigen::Vector2d B(b1 - a1 * b0, b2 - a2 * b0);
+    const Eigen::Vector2d z = A.partialPivLu().solve(B);
+    zi[s] = {scale * z[0], scale * z[1]};
+    scale *= (c[0] + c[1] + c[2]) / (c[3] + c[4] + c[5]);
+  }
+  return zi;
+}
+
+std::size_t default_padlen(const Sos& sos) {
+  std::size_t nb2 = 0, na2 = 0;
+  for (const auto& s : sos.sections) {
+    nb2 += (s[2] == 0.0);
+    na2 += (s[5] == 0.0);
+  }
+  return 3 * (2 * sos.n_sections() + 1 - std::min(nb2, na2));
+}
+
+Vector sosfiltfilt(const Sos& sos, const Vector& x) {
+  const std::size_t padlen = default_padlen(sos);
+  const Index n = x.size();
+  if (static_cast<std::size_t>(n) <= padlen)
+    throw InputError("signal of " + std::to_string(n) + " samples is too short for zero-phase filtering (needs more than " +
+                     std::to_string(padlen) + ")");
+  const Index p = static_cast<Index>(padlen);
+  Vector ext(n + 2 * p);
+  for (Index i = 0; i < p; ++i) ext[i] = 2.0 * x[0] - x[p - i];
+  ext.segment(p, n) = x;
+  for (Index i = 0; i < p; ++i) ext[p + n + i] = 2.0 * x[n - 1] - x[n - 2 - i];
+  const auto zi = sosfilt_zi(sos);
+  auto scaled = [&](double x0) {
+    auto z = zi;
+    for (auto& r : z) {
+      r[0] *= x0;
+      r[1] *= x0;
+    }
+    return z;
+  };
+  Vector y;
+  auto z0 = scaled(ext[0]);
+  sosfilt(sos, ext, y, &z0);
+  Vector rev = y.reverse();
+  auto z1 = scaled(rev[0]);
+  sosfilt(sos, rev, y, &z1);
+  return y.reverse().segment(p, n);
+}
+
+}  // namespace viaduct::signal
