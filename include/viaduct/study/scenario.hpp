@@ -1,0 +1,49 @@
+#pragma once
+/// \file A resolved scenario: plain data in SI units, produced by io::load_scenario.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "viaduct/load/train.hpp"
+#include "viaduct/model/structure.hpp"
+#include "viaduct/signal/iir.hpp"
+#include "viaduct/solve/newmark.hpp"
+
+namespace viaduct::study {
+
+/// Where a response is recorded.
+struct StationSpec {
+  std::string name;          ///< unique, used in column names
+  bool on_deck = true;       ///< true: on span `span` at x_local; false: on the rail at x_track
+  std::size_t span = 0;      ///< 0-based span index (deck stations)
+  double x_local = 0.0;      ///< [m] from the span's left end (deck stations)
+  double x_track = 0.0;      ///< [m] global x (rail stations)
+};
+
+/// Post-processing filter of accelerations (zero-phase Chebyshev I).
+struct FilterSpec {
+  bool enabled = true;
+  signal::Cheby1Spec cheby;
+};
+
+/// Integration and run settings shared by `run` and `sweep`.
+struct RunSettings {
+  solve::NewmarkOptions newmark;   ///< dt, beta, gamma, alpha (t_end is set per run)
+  double free_vibration_s = 1.0;   ///< [s] simulated after the last axle leaves, >= 0
+  double load_factor = 1.0;        ///< [-] multiplies every axle load, > 0
+  FilterSpec filter;
+};
+
+struct Scenario {
+  std::string title;
+  model::BridgeParams bridge;
+  std::optional<model::TrackParams> track;  ///< absent: no track DOFs, loads on the deck
+  std::vector<load::Train> trains;           ///< at least one
+  std::vector<StationSpec> stations;         ///< at least one
+  RunSettings settings;
+  std::optional<double> run_speed;           ///< [m/s] default speed of `viaduct run`
+  std::vector<double> sweep_speeds;          ///< [m/s] speeds of `viaduct sweep`
+};
+
+}  // namespace viaduct::study

@@ -1,0 +1,77 @@
+#pragma once
+/// \file One train at one speed over one structure: station time histories.
+
+#include <string>
+#include <vector>
+
+#include "viaduct/load/moving_loads.hpp"
+#include "viaduct/model/structure.hpp"
+#include "viaduct/solve/newmark.hpp"
+#include "viaduct/study/scenario.hpp"
+
+namespace viaduct::study {
+
+/// The bridge–track structure under a train's moving loads, as the integrators see it.
+class MovingLoadSystem : public solve::SecondOrderSystem {
+ public:
+  /// `s` must outlive this object.
+  MovingLoadSystem(const model::Structure& s, const load::MovingLoads& loads)
+      : s_(s), loads_(loads) {}
+  const SparseMatrix& mass() const override { return s_.M; }
+  const SparseMatrix& damping() const override { return s_.C; }
+  const SparseMatrix& stiffness() const override { return s_.K; }
+  void force(double t, Vector& f) const override {
+    f.setZero();
+    loads_.add_to(t, f);
+  }
+
+ private:
+  const model::Structure& s_;
+  const load::MovingLoads& loads_;
+};
+
+/// A station mapped onto the structure's DOFs.
+struct ResolvedStation {
+  std::string name;
+  bool has_deck = false;
+  bool has_rail = false;
+  model::PointCoupling deck;
+  model::PointCoupling rail;
+};
+
+/// Maps station specs onto the structure (deck stations also record the rail above them when
+/// the structure has a track). Throws InputError for stations outside the model.
+std::vector<ResolvedStation> resolve_stations(const model::Structure& s,
+                                              const std::vector<StationSpec>& specs);
+
+/// Histories of one station. The main quantities are the deck's for deck stations and the
+/// rail's for rail stations; rail_disp is the rail above a deck station (track models only).
+struct StationHistory {
+  std::string name;
+  bool on_deck = true;
+  Vector disp;       ///< [m] deflection, positive down
+  Vector acc;        ///< [m/s²] acceleration, unfiltered
+  Vector acc_filt;   ///< [m/s²] filtered as RunSettings::filter says (empty if disabled)
+  Vector rail_disp;  ///< [m] rail deflection above a deck station (empty without track)
+};
+
+struct RunResult {
+  Vector t;  ///< [s] sample times (every step, t = 0 included)
+  std::vector<StationHistory> stations;
+  solve::NewmarkSummary summary;
+  double speed = 0.0;  ///< [m/s]
+};
+
+/// Runs `train` at `speed` [m/s] from the entry of its first axle until free_vibration_s after
+/// the last axle has left, and records every station at every step.
+RunResult simulate(const model::Structure& s, const std::vector<ResolvedStation>& stations,
+                   const load::Train& train, double speed, const RunSettings& settings);
+
+/// Peak values of one station.
+struct StationPeaks {
+  double max_abs_acc = 0.0;   ///< [m/s²] filtered acceleration (raw when the filter is off)
+  double max_abs_disp = 0.0;  ///< [m] deflection
+};
+std::vector<StationPeaks> peaks(const RunResult& r);
+
+}  // namespace viaduct::study

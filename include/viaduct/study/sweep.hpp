@@ -1,0 +1,63 @@
+#pragma once
+/// \file Speed × train × variant sweeps → maximum-response envelopes.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "viaduct/core/log.hpp"
+#include "viaduct/study/scenario.hpp"
+#include "viaduct/study/simulation.hpp"
+
+namespace viaduct::study {
+
+/// One parameter variant: a fully resolved scenario (trains, speeds, stations included).
+struct Variant {
+  std::string label;  ///< e.g. "reference", "Kp x0.5"
+  Scenario scenario;
+};
+
+/// One envelope row (tidy: one observation per row).
+struct EnvelopeRow {
+  std::string variant, train, station;
+  double speed = 0.0;         ///< [m/s]
+  double max_abs_acc = 0.0;   ///< [m/s²] filtered as the scenario says
+  double max_abs_disp = 0.0;  ///< [m]
+};
+
+/// A case that did not complete; the sweep carries on without it.
+struct CaseFailure {
+  std::string variant, train;
+  double speed = 0.0;  ///< [m/s]
+  std::string message;
+};
+
+struct SweepSummary {
+  std::size_t n_cases = 0, n_failed = 0;
+  double wall_s = 0.0;           ///< [s]
+  Index n_steps_total = 0;       ///< time steps over all completed cases
+  std::vector<Index> n_dofs;     ///< per variant
+};
+
+struct SweepResult {
+  std::vector<EnvelopeRow> rows;  ///< ordered variant, train, speed, station (thread-independent)
+  std::vector<CaseFailure> failures;
+  SweepSummary summary;
+};
+
+/// Runs one case; replaceable for tests. Default: simulate() then peaks().
+using CaseRunner = std::function<RunResult(const model::Structure&, const std::vector<ResolvedStation>&,
+                                           const load::Train&, double speed, const RunSettings&)>;
+
+struct SweepOptions {
+  int threads = 1;           ///< >= 1; results are identical for any count
+  ProgressSink progress;     ///< optional; called after each case
+  CaseRunner runner;         ///< optional; default simulate()
+};
+
+/// Builds each variant's structure once (a variant whose model cannot be built fails all its
+/// cases with the reason), then runs every (variant, train, speed) case in parallel. Failures
+/// are recorded, never thrown; the rows of completed cases are kept.
+SweepResult run_sweep(const std::vector<Variant>& variants, const SweepOptions& options);
+
+}  // namespace viaduct::study
