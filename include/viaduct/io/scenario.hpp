@@ -1,0 +1,80 @@
+#pragma once
+/// \file Scenario files (TOML) → study::Scenario.
+///
+/// A scenario is read into a flat map of dotted keys ("track.pad.k", "stations[0].at"): the
+/// scenario file, the component files it references (`bridge.file`, `track.file`, paths
+/// relative to the referencing file) and `--set key=value` overrides, with precedence
+/// override > scenario > component. Every key is declared in scenario_schema() with type,
+/// default, unit, constraint and a one-line doc; unknown keys are errors with file:line and a
+/// "did you mean". Only sections the scenario names are filled with defaults.
+
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "viaduct/core/error.hpp"
+#include "viaduct/study/scenario.hpp"
+#include "viaduct/study/sweep.hpp"
+
+namespace viaduct::io {
+
+enum class ValueType { boolean, integer, number, string, number_list, string_list, number_or_list };
+
+/// One scenario value with where it came from.
+struct Value {
+  ValueType type = ValueType::number;  ///< as stored (integer, number, … ; never number_or_list)
+  bool b = false;
+  double x = 0.0;                      ///< number and integer
+  std::string s;
+  std::vector<double> xs;
+  std::vector<std::string> ss;
+  SourceLocation where;                ///< file and line; file "--set" for overrides, "default"
+  std::string to_toml() const;         ///< TOML literal
+};
+
+/// Declaration of one key. "[]" in a key stands for an array index ("stations[].name").
+struct KeySpec {
+  std::string key;
+  ValueType type;
+  std::string default_toml;  ///< TOML literal; empty: no default
+  std::string unit;          ///< SI unit, "-" for dimensionless, "" for text
+  std::string constraint;    ///< "> 0", ">= 0", "[0, 1)", "[0, 1]", ">= 1", "a|b|c", or ""
+  std::string doc;
+};
+const std::vector<KeySpec>& scenario_schema();
+
+/// Flat resolved view of a scenario.
+struct FlatScenario {
+  std::string path;                      ///< the scenario file
+  std::map<std::string, Value> values;   ///< every key, defaults included
+  std::set<std::string> defaulted;       ///< keys whose value is the schema default
+  /// Value of key or throw InputError naming it.
+  const Value& at(const std::string& key) const;
+  bool has(const std::string& key) const { return values.count(key) > 0; }
+};
+
+/// Reads, merges, overrides ("key=value", value in TOML syntax; bare words are strings),
+/// checks types, constraints and unknown keys, fills defaults. Throws InputError.
+FlatScenario load_flat(const std::string& path, const std::vector<std::string>& overrides = {});
+/// Converts to plain data, checking cross-key rules (required keys, physics). Throws InputError
+/// with the key and where it was set.
+study::Scenario to_scenario(const FlatScenario& flat);
+/// The sweep's variants (one-at-a-time multipliers or a full grid) as resolved scenarios;
+/// a single "reference" variant without [[sweep.variants]].
+std::vector<study::Variant> sweep_variants(const FlatScenario& flat);
+/// Multiplies a numeric key (number or list) by `factor` in place; InputError if not numeric.
+void scale_key(FlatScenario& flat, const std::string& key, double factor);
+
+/// Human-readable resolved scenario: key = value  # unit, origin.
+std::string format_resolved(const FlatScenario& flat);
+/// The resolved scenario as TOML (quoted dotted keys), for manifests.
+std::string resolved_toml(const FlatScenario& flat);
+/// Markdown table of the schema (docs/scenarios.md is generated from it).
+std::string schema_markdown();
+
+/// Reads a train file: TOML (kind = "hslm" | "regular" | "axles") or CSV with columns
+/// position_m,load_kN ('#' comment lines). Throws InputError with file and line.
+load::Train read_train_file(const std::string& path);
+
+}  // namespace viaduct::io

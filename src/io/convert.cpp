@@ -1,0 +1,396 @@
+// FlatScenario -> study::Scenario, sweep variants, train files.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <toml.hpp>
+
+#include "viaduct/io/scenario.hpp"
+
+namespace viaduct::io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string num(double v) {
+  std::ostringstream os;
+  os.precision(12);
+  os << v;
+  return os.str();
+}
+
+[[noreturn]] void bad(const Value& v, const std::string& msg) { throw InputError(v.where, msg); }
+
+double get_number(const FlatScenario& f, const std::string& key) { return f.at(key).x; }
+bool get_bool(const FlatScenario& f, const std::string& key) { return f.at(key).b; }
+const std::string& get_string(const FlatScenario& f, const std::string& key) { return f.at(key).s; }
+
+// A number-or-list key expanded to n values.
+std::vector<double> per_span(const FlatScenario& f, const std::string& key, std::size_t n) {
+  const Value& v = f.at(key);
+  if (v.type != ValueType::number_list) return std::vector<double>(n, v.x);
+  if (v.xs.size() != n)
+    bad(v, "needs one value or one per span (" + std::to_string(n) + "), got " + std::to_string(v.xs.size()));
+  return v.xs;
+}
+
+std::vector<std::size_t> item_indices(const FlatScenario& f, const std::string& head) {
+  std::set<std::size_t> idx;
+  const std::string pre = head + "[";
+  for (const auto& kv : f.values) {
+    if (kv.first.compare(0, pre.size(), pre) != 0) continue;
+    idx.insert(static_cast<std::size_t>(std::stoul(kv.first.substr(pre.size()))));
+  }
+  return {idx.begin(), idx.end()};
+}
+
+model::BridgeParams bridge_of(const FlatScenario& f) {
+  model::BridgeParams b;
+  const Value& lens = f.at("bridge.span_lengths");
+  if (lens.xs.empty()) bad(lens, "needs at least one span");
+  const auto EI = per_span(f, "bridge.EI", lens.xs.size());
+  const auto m = per_span(f, "bridge.mass_per_m", lens.xs.size());
+  for (std::size_t i = 0; i < lens.xs.size(); ++i) b.spans.push_back({lens.xs[i], EI[i], m[i]});
+  b.element_size = get_number(f, "bridge.element_size");
+  b.added_mass_per_m = get_number(f, "bridge.added_mass_per_m");
+  b.mass_includes_track = get_bool(f, "bridge.mass_includes_track");
+  b.bearings.rigid = get_bool(f, "bridge.bearings.rigid");
+  b.bearings.k = get_number(f, "bridge.bearings.k");
+  b.bearings.c = get_number(f, "bridge.bearings.c");
+  if (!b.bearings.rigid && !(b.bearings.k > 0.0))
+    bad(f.at("bridge.bearings.k"), "must be > 0 [N/m] when bridge.bearings.rigid = false, got " + num(b.bearings.k));
+  const std::string& kind = get_string(f, "bridge.damping.kind");
+  b.damping.kind = kind == "none" ? model::DampingKind::none
+                   : kind == "rayleigh" ? model::DampingKind::rayleigh
+                                        : model::DampingKind::modal;
+  b.damping.ratio = get_number(f, "bridge.damping.ratio");
+  b.damping.f1_hz = get_number(f, "bridge.damping.f1_hz");
+  b.damping.ratio1 = get_number(f, "bridge.damping.ratio1");
+  b.damping.f2_hz = get_number(f, "bridge.damping.f2_hz");
+  b.damping.ratio2 = get_number(f, "bridge.damping.ratio2");
+  if (b.damping.kind == model::DampingKind::rayleigh) {
+    if (!(b.damping.f1_hz > 0.0)) bad(f.at("bridge.damping.f1_hz"), "must be > 0 Hz for Rayleigh damping");
+    if (!(b.damping.f2_hz > b.damping.f1_hz))
+      bad(f.at("bridge.damping.f2_hz"), "must be > bridge.damping.f1_hz for Rayleigh damping");
+  }
+  std::string why;
+  if (!b.is_valid(&why)) throw InputError(SourceLocation{f.path, 0, "bridge"}, why);
+  return b;
+}
+
+model::TrackParams track_of(const FlatScenario& f) {
+  model::TrackParams t;
+  t.rail_EI = get_number(f, "track.rail.E") * get_number(f, "track.rail.I");
+  t.rail_mass_per_m = get_number(f, "track.rail.density") * get_number(f, "track.rail.A");
+  t.sleeper_spacing = get_number(f, "track.sleeper_spacing");
+  t.sleeper_mass = get_number(f, "track.sleeper_mass");
+  t.ballast_mass = get_number(f, "track.ballast_mass");
+  auto sd = [&](const std::string& k) {
+    return model::SpringDashpot{get_number(f, "track." + k + ".k"), get_number(f, "track." + k + ".c")};
+  };
+  t.pad = sd("pad");
+  t.ballast = sd("ballast");
+  t.shear = sd("shear");
+  t.subgrade = sd("subgrade");
+  t.subgrade_on_bridge = sd("subgrade_on_bridge");
+  t.approach_length = get_number(f, "track.approach_length");
+  t.exit_length = get_number(f, "track.exit_length");
+  t.rail_elements_per_bay = static_cast<int>(get_number(f, "track.rail_elements_per_bay"));
+  std::string why;
+  if (!t.is_valid(&why)) throw InputError(SourceLocation{f.path, 0, "track"}, why);
+  return t;
+}
+
+std::vector<double> speeds_of(const FlatScenario& f) {
+  const bool list = f.has("sweep.speeds_kmh");
+  const bool kmh = f.has("sweep.speed_min_kmh") || f.has("sweep.speed_max_kmh") || f.has("sweep.speed_step_kmh");
+  const bool mps = f.has("sweep.speed_min_mps") || f.has("sweep.speed_max_mps") || f.has("sweep.n_speeds");
+  if (int(list) + int(kmh) + int(mps) > 1)
+    throw InputError(SourceLocation{f.path, 0, "sweep"},
+                     "give speeds one way only: speeds_kmh, or speed_min/max/step_kmh, or speed_min/max_mps with n_speeds");
+  std::vector<double> v;
+  if (list) {
+    for (double s : f.at("sweep.speeds_kmh").xs) v.push_back(s / 3.6);
+  } else if (kmh) {
+    const double a = get_number(f, "sweep.speed_min_kmh"), b = get_number(f, "sweep.speed_max_kmh"),
+                 s = get_number(f, "sweep.speed_step_kmh");
+    if (b < a) bad(f.at("sweep.speed_max_kmh"), "must be >= sweep.speed_min_kmh");
+    const auto n = static_cast<long>(std::floor((b - a) / s + 1e-9));
+    if (n > 1000000) bad(f.at("sweep.speed_step_kmh"), "gives more than a million speeds");
+    for (long i = 0; i <= n; ++i) v.push_back((a + static_cast<double>(i) * s) / 3.6);
+  } else if (mps) {
+    const double a = get_number(f, "sweep.speed_min_mps"), b = get_number(f, "sweep.speed_max_mps");
+    const int n = static_cast<int>(get_number(f, "sweep.n_speeds"));
+    if (b < a) bad(f.at("sweep.speed_max_mps"), "must be >= sweep.speed_min_mps");
+    for (int i = 0; i < n; ++i) v.push_back(n == 1 ? a : a + (b - a) * i / (n - 1));
+  }
+  return v;
+}
+
+}  // namespace
+
+study::Scenario to_scenario(const FlatScenario& f) {
+  study::Scenario sc;
+  sc.title = get_string(f, "title");
+  sc.bridge = bridge_of(f);
+  bool has_track = false;
+  for (const auto& kv : f.values)
+    if (kv.first.compare(0, 6, "track.") == 0) has_track = true;
+  if (has_track) sc.track = track_of(f);
+
+  // Trains.
+  const Value& files = f.at("train.files");
+  if (files.ss.empty()) bad(files, "needs at least one train file");
+  for (const auto& p : files.ss) {
+    try {
+      sc.trains.push_back(read_train_file(p));
+    } catch (const InputError& e) {
+      throw InputError(files.where, e.what());
+    }
+  }
+
+  // Settings.
+  auto& st = sc.settings;
+  st.newmark.dt = get_number(f, "analysis.dt");
+  st.newmark.beta = get_number(f, "analysis.beta");
+  st.newmark.gamma = get_number(f, "analysis.gamma");
+  st.newmark.alpha = get_number(f, "analysis.alpha");
+  st.free_vibration_s = get_number(f, "analysis.free_vibration_s");
+  st.load_factor = get_number(f, "train.load_factor");
+  st.filter.enabled = get_bool(f, "filter.enabled");
+  const std::string& band = get_string(f, "filter.band");
+  st.filter.cheby.band = band == "lowpass" ? signal::BandType::lowpass
+                         : band == "highpass" ? signal::BandType::highpass
+                                              : signal::BandType::bandpass;
+  st.filter.cheby.order = static_cast<int>(get_number(f, "filter.order"));
+  st.filter.cheby.ripple_db = get_number(f, "filter.ripple_db");
+  st.filter.cheby.low_hz = get_number(f, "filter.low_hz");
+  st.filter.cheby.high_hz = get_number(f, "filter.high_hz");
+  if (st.filter.enabled) {
+    std::string why;
+    if (!st.filter.cheby.is_valid(1.0 / st.newmark.dt, &why))
+      throw InputError(f.at("filter.high_hz").where, why);
+  }
+
+  // Stations.
+  std::set<std::string> names;
+  for (std::size_t i : item_indices(f, "stations")) {
+    const std::string pre = "stations[" + std::to_string(i) + "].";
+    study::StationSpec s;
+    const Value& name = f.at(pre + "name");
+    s.name = name.s;
+    if (s.name.empty() || s.name.find_first_of(", \"\n") != std::string::npos)
+      bad(name, "station names must be non-empty without spaces, commas or quotes");
+    if (!names.insert(s.name).second) bad(name, "duplicate station name '" + s.name + "'");
+    if (f.has(pre + "span")) {
+      const Value& span = f.at(pre + "span");
+      if (span.x > static_cast<double>(sc.bridge.spans.size()))
+        bad(span, "span " + num(span.x) + " does not exist (the bridge has " + std::to_string(sc.bridge.spans.size()) + ")");
+      s.on_deck = true;
+      s.span = static_cast<std::size_t>(span.x) - 1;
+      const double L = sc.bridge.spans[s.span].length;
+      const bool at = f.has(pre + "at"), x = f.has(pre + "x");
+      if (at == x) bad(span, "a deck station needs exactly one of 'at' (fraction) or 'x' (metres)");
+      if (at) s.x_local = f.at(pre + "at").x * L;
+      else {
+        s.x_local = f.at(pre + "x").x;
+        if (s.x_local > L) bad(f.at(pre + "x"), "must be <= the span length " + num(L) + " m");
+      }
+      if (f.has(pre + "track_x")) bad(f.at(pre + "track_x"), "a station is on a span or on the track, not both");
+    } else if (f.has(pre + "track_x")) {
+      s.on_deck = false;
+      s.x_track = f.at(pre + "track_x").x;
+      if (!has_track) bad(f.at(pre + "track_x"), "a rail station needs a track section in the scenario");
+    } else {
+      bad(name, "station needs 'span' (with 'at' or 'x') or 'track_x'");
+    }
+    sc.stations.push_back(s);
+  }
+  if (sc.stations.empty()) throw InputError(SourceLocation{f.path, 0, "stations"}, "at least one [[stations]] entry is required");
+
+  if (f.has("run.speed_kmh")) sc.run_speed = get_number(f, "run.speed_kmh") / 3.6;
+  sc.sweep_speeds = speeds_of(f);
+  return sc;
+}
+
+
+std::vector<study::Variant> sweep_variants(const FlatScenario& flat) {
+  struct Axis {
+    std::string key, label;
+    std::vector<double> factors;
+  };
+  std::vector<Axis> axes;
+  for (std::size_t i : item_indices(flat, "sweep.variants")) {
+    const std::string pre = "sweep.variants[" + std::to_string(i) + "].";
+    Axis a;
+    a.key = flat.at(pre + "key").s;
+    a.label = flat.at(pre + "label").s.empty() ? a.key : flat.at(pre + "label").s;
+    a.factors = flat.at(pre + "factors").xs;
+    if (a.factors.empty()) bad(flat.at(pre + "factors"), "needs at least one factor");
+    if (!flat.has(a.key)) bad(flat.at(pre + "key"), "'" + a.key + "' is not a key of this scenario");
+    axes.push_back(a);
+  }
+  auto label_of = [](const Axis& a, double f) {
+    std::ostringstream os;
+    os << a.label << " x" << f;
+    return os.str();
+  };
+  auto make = [&](const std::vector<std::pair<std::size_t, double>>& settings) {
+    FlatScenario v = flat;
+    std::string label;
+    for (const auto& [ai, factor] : settings) {
+      scale_key(v, axes[ai].key, factor);
+      label += (label.empty() ? "" : ", ") + label_of(axes[ai], factor);
+    }
+    try {
+      return study::Variant{label.empty() ? "reference" : label, to_scenario(v)};
+    } catch (const InputError& e) {
+      throw InputError("variant '" + label + "': " + e.what());
+    }
+  };
+  std::vector<study::Variant> out;
+  out.push_back(make({}));
+  if (axes.empty()) return out;
+  if (flat.at("sweep.mode").s == "grid") {
+    std::vector<std::size_t> idx(axes.size(), 0);
+    while (true) {
+      std::vector<std::pair<std::size_t, double>> s;
+      for (std::size_t a = 0; a < axes.size(); ++a)
+        if (axes[a].factors[idx[a]] != 1.0) s.emplace_back(a, axes[a].factors[idx[a]]);
+      if (!s.empty()) out.push_back(make(s));
+      std::size_t a = 0;
+      while (a < axes.size() && ++idx[a] == axes[a].factors.size()) idx[a++] = 0;
+      if (a == axes.size()) break;
+    }
+  } else {
+    for (std::size_t a = 0; a < axes.size(); ++a)
+      for (double factor : axes[a].factors)
+        if (factor != 1.0) out.push_back(make({{a, factor}}));
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------- train files
+
+namespace {
+
+load::Train train_from_csv(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open train file");
+  load::Train t;
+  t.name = fs::path(path).stem().string();
+  std::string line;
+  int ln = 0;
+  bool header = false;
+  while (std::getline(in, line)) {
+    ++ln;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const auto first = line.find_first_not_of(" \t");
+    if (first == std::string::npos || line[first] == '#') continue;
+    if (!header) {
+      std::string h = line;
+      h.erase(std::remove_if(h.begin(), h.end(), ::isspace), h.end());
+      if (h != "position_m,load_kN")
+        throw InputError(SourceLocation{path, ln, ""}, "train CSV header must be 'position_m,load_kN', got '" + line + "'");
+      header = true;
+      continue;
+    }
+    std::stringstream ss(line);
+    std::string a, b, extra;
+    if (!std::getline(ss, a, ',') || !std::getline(ss, b, ',') || std::getline(ss, extra, ','))
+      throw InputError(SourceLocation{path, ln, ""}, "expected two columns position_m,load_kN");
+    try {
+      std::size_t pa = 0, pb = 0;
+      const double x = std::stod(a, &pa), p = std::stod(b, &pb);
+      if (a.find_first_not_of(" \t", pa) != std::string::npos || b.find_first_not_of(" \t", pb) != std::string::npos)
+        throw std::invalid_argument("trailing text");
+      t.offset.push_back(x);
+      t.load.push_back(p * 1e3);
+    } catch (const std::exception&) {
+      throw InputError(SourceLocation{path, ln, ""}, "not a number in '" + line + "'");
+    }
+  }
+  if (t.offset.empty()) throw InputError(SourceLocation{path, ln, ""}, "train CSV has no axles");
+  // Positions may start anywhere: make them offsets behind the first axle.
+  const double x0 = t.offset.front();
+  for (std::size_t i = 0; i < t.offset.size(); ++i) {
+    t.offset[i] -= x0;
+    if (i > 0 && t.offset[i] < t.offset[i - 1])
+      throw InputError(SourceLocation{path, 0, ""}, "axle positions must be listed head to tail, not decreasing (axle " + std::to_string(i + 1) + ")");
+  }
+  try {
+    t.validate();
+  } catch (const InputError& e) {
+    throw InputError(path + ": " + e.what());
+  }
+  return t;
+}
+
+}  // namespace
+
+load::Train read_train_file(const std::string& path) {
+  if (fs::path(path).extension() == ".csv") return train_from_csv(path);
+  if (!fs::exists(path)) throw InputError("train file not found: " + path);
+  toml::value root;
+  try {
+    root = toml::parse(path);
+  } catch (const std::exception& e) {
+    throw InputError(std::string("TOML syntax error: ") + e.what());
+  }
+  static const std::set<std::string> known = {"name", "kind", "notes", "hslm_number", "n_coaches", "coach_length",
+                                              "bogie_spacing", "axle_load_kN", "n_axles", "spacing", "csv"};
+  auto where = [&](const std::string& key) {
+    const auto l = root.contains(key) ? root.at(key).location() : root.location();
+    return SourceLocation{path, root.contains(key) ? static_cast<int>(l.line()) : 0, key};
+  };
+  for (const auto& kv : root.as_table())
+    if (!known.count(kv.first)) throw InputError(where(kv.first), "unknown train key");
+  auto number = [&](const std::string& key) -> double {
+    if (!root.contains(key)) throw InputError(where(key), "required for this kind of train");
+    const auto& v = root.at(key);
+    if (v.is_integer()) return static_cast<double>(v.as_integer());
+    if (v.is_floating()) return v.as_floating();
+    throw InputError(where(key), "must be a number");
+  };
+  auto string = [&](const std::string& key) -> std::string {
+    if (!root.contains(key)) throw InputError(where(key), "required");
+    if (!root.at(key).is_string()) throw InputError(where(key), "must be a string");
+    return root.at(key).as_string().str;
+  };
+  const std::string name = root.contains("name") ? string("name") : fs::path(path).stem().string();
+  const std::string kind = string("kind");
+  try {
+    if (kind == "hslm") {
+      load::HslmRow row;
+      if (root.contains("hslm_number")) {
+        const double n = number("hslm_number");
+        if (n != std::floor(n)) throw InputError(where("hslm_number"), "must be an integer 1..10");
+        row = load::hslm_a_row(static_cast<int>(n));
+      } else {
+        row.n_coaches = static_cast<int>(number("n_coaches"));
+        row.coach_length = number("coach_length");
+        row.bogie_spacing = number("bogie_spacing");
+        row.axle_load = number("axle_load_kN") * 1e3;
+      }
+      return load::hslm_a(name, row);
+    }
+    if (kind == "regular")
+      return load::regular_train(name, static_cast<int>(number("n_axles")), number("spacing"), number("axle_load_kN") * 1e3);
+    if (kind == "axles") {
+      load::Train t = train_from_csv((fs::path(path).parent_path() / string("csv")).lexically_normal().string());
+      t.name = name;
+      return t;
+    }
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    if (msg.compare(0, path.size(), path) == 0) throw;
+    throw InputError(path + ": " + msg);
+  }
+  throw InputError(where("kind"), "must be hslm, regular or axles, got '" + kind + "'");
+}
+
+}  // namespace viaduct::io

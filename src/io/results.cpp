@@ -1,0 +1,150 @@
+#include "viaduct/io/results.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <memory>
+
+#include <Eigen/Core>
+
+#ifndef VIADUCT_TOML11_VERSION
+#define VIADUCT_TOML11_VERSION "unknown"
+#endif
+#ifndef VIADUCT_VERSION
+#define VIADUCT_VERSION "0.0.0"
+#endif
+
+namespace viaduct::io {
+
+namespace {
+
+struct FileCloser {
+  void operator()(std::FILE* f) const {
+    if (f) std::fclose(f);
+  }
+};
+using File = std::unique_ptr<std::FILE, FileCloser>;
+
+File open_out(const std::string& path) {
+  File f(std::fopen(path.c_str(), "w"));
+  if (!f) throw SolverError("cannot write " + path);
+  return f;
+}
+
+void finish(File& f, const std::string& path) {
+  if (std::ferror(f.get()) || std::fclose(f.release()) != 0) throw SolverError("error writing " + path);
+}
+
+std::string csv_text(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string o = "\"";
+  for (char c : s) o += (c == '"') ? std::string("\"\"") : std::string(1, c);
+  return o + "\"";
+}
+
+}  // namespace
+
+std::string version() { return VIADUCT_VERSION; }
+
+void write_history_csv(const std::string& path, const study::RunResult& r) {
+  File f = open_out(path);
+  std::vector<const Vector*> cols;
+  std::fprintf(f.get(), "t_s");
+  for (const auto& h : r.stations) {
+    const std::string p = h.name + (h.on_deck ? "_" : "_rail_");
+    std::fprintf(f.get(), ",%s", (h.name + (h.on_deck ? "_disp_m" : "_rail_disp_m")).c_str());
+    cols.push_back(&h.disp);
+    std::fprintf(f.get(), ",%sacc_mps2", p.c_str());
+    cols.push_back(&h.acc);
+    if (h.acc_filt.size() > 0) {
+      std::fprintf(f.get(), ",%sacc_filt_mps2", p.c_str());
+      cols.push_back(&h.acc_filt);
+    }
+    if (h.rail_disp.size() > 0) {
+      std::fprintf(f.get(), ",%s_rail_disp_m", h.name.c_str());
+      cols.push_back(&h.rail_disp);
+    }
+  }
+  std::fprintf(f.get(), "\n");
+  for (Index k = 0; k < r.t.size(); ++k) {
+    std::fprintf(f.get(), "%.6f", r.t[k]);
+    for (const Vector* c : cols) std::fprintf(f.get(), ",%.9g", (*c)[k]);
+    std::fprintf(f.get(), "\n");
+  }
+  finish(f, path);
+}
+
+void write_envelope_csv(const std::string& path, const std::vector<study::EnvelopeRow>& rows) {
+  File f = open_out(path);
+  std::fprintf(f.get(), "variant,train,speed_kmh,station,max_abs_acc_mps2,max_abs_disp_m\n");
+  for (const auto& r : rows)
+    std::fprintf(f.get(), "%s,%s,%.10g,%s,%.10g,%.10g\n", csv_text(r.variant).c_str(), csv_text(r.train).c_str(),
+                 r.speed * 3.6, csv_text(r.station).c_str(), r.max_abs_acc, r.max_abs_disp);
+  finish(f, path);
+}
+
+void write_failures_csv(const std::string& path, const std::vector<study::CaseFailure>& failures) {
+  File f = open_out(path);
+  std::fprintf(f.get(), "variant,train,speed_kmh,error\n");
+  for (const auto& r : failures)
+    std::fprintf(f.get(), "%s,%s,%.10g,%s\n", csv_text(r.variant).c_str(), csv_text(r.train).c_str(), r.speed * 3.6,
+                 csv_text(r.message).c_str());
+  finish(f, path);
+}
+
+void write_modes_csv(const std::string& path, const model::Modes& m,
+                     const std::vector<study::ResolvedStation>& stations) {
+  File f = open_out(path);
+  std::fprintf(f.get(), "mode,frequency_hz");
+  for (const auto& s : stations) {
+    if (s.has_deck) std::fprintf(f.get(), ",%s_deck", s.name.c_str());
+    if (s.has_rail) std::fprintf(f.get(), ",%s_rail", s.name.c_str());
+  }
+  std::fprintf(f.get(), "\n");
+  for (Index j = 0; j < m.frequency_hz.size(); ++j) {
+    std::fprintf(f.get(), "%ld,%.10g", static_cast<long>(j + 1), m.frequency_hz[j]);
+    const Vector phi = m.shape.col(j);
+    for (const auto& s : stations) {
+      if (s.has_deck) std::fprintf(f.get(), ",%.8g", s.deck.value(phi));
+      if (s.has_rail) std::fprintf(f.get(), ",%.8g", s.rail.value(phi));
+    }
+    std::fprintf(f.get(), "\n");
+  }
+  finish(f, path);
+}
+
+void write_manifest(const std::string& path, const Manifest& m, const FlatScenario& flat) {
+  std::ofstream out(path);
+  if (!out) throw SolverError("cannot write " + path);
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  char stamp[32];
+  std::strftime(stamp, sizeof stamp, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  auto q = [](const std::string& s) {
+    Value v;
+    v.type = ValueType::string;
+    v.s = s;
+    return v.to_toml();
+  };
+  out << "# Written by viaduct; the [scenario] table holds every resolved key.\n";
+  out << "[run]\n";
+  out << "command = " << q(m.command) << "\n";
+  out << "scenario_file = " << q(flat.path) << "\n";
+  out << "finished_utc = " << q(stamp) << "\n";
+  out << "wall_s = " << m.wall_s << "\n";
+  for (const auto& [k, v] : m.extra) out << k << " = " << v << "\n";
+  out << "\n[versions]\n";
+  out << "viaduct = " << q(version()) << "\n";
+  out << "eigen = " << q(std::to_string(EIGEN_WORLD_VERSION) + "." + std::to_string(EIGEN_MAJOR_VERSION) + "." +
+                         std::to_string(EIGEN_MINOR_VERSION))
+      << "\n";
+  out << "toml11 = " << q(VIADUCT_TOML11_VERSION) << "\n";
+#ifdef __VERSION__
+  out << "compiler = " << q(__VERSION__) << "\n";
+#endif
+  for (const auto& [k, v] : m.versions) out << k << " = " << q(v) << "\n";
+  out << "\n[scenario]\n" << resolved_toml(flat);
+  if (!out) throw SolverError("error writing " + path);
+}
+
+}  // namespace viaduct::io

@@ -1,0 +1,111 @@
+#include "cli.hpp"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "viaduct/core/error.hpp"
+#include "viaduct/core/thread_pool.hpp"
+
+namespace viaduct::cli {
+
+int dispatch(const Command& cmd, int argc, char** argv) {
+  po::options_description opts("Options");
+  opts.add_options()("help,h", "show this help")(
+      "set", po::value<std::vector<std::string>>()->composing(),
+      "override a scenario key: --set key=value (dotted key, TOML value; repeatable)")(
+      "out", po::value<std::string>()->default_value("out"), "output directory")(
+      "threads", po::value<int>()->default_value(1), "worker threads (0: all cores)")(
+      "quiet,q", po::bool_switch(), "print nothing but errors");
+  if (cmd.add_options) cmd.add_options(opts);
+  po::options_description hidden;
+  hidden.add_options()("scenario", po::value<std::string>(), "scenario file");
+  po::options_description all;
+  all.add(opts).add(hidden);
+  po::positional_options_description pos;
+  pos.add("scenario", 1);
+  const std::string prefix = "viaduct " + cmd.name + ": ";
+  po::variables_map vm;
+  try {
+    po::store(po::command_line_parser(argc, argv).options(all).positional(pos).run(), vm);
+    po::notify(vm);
+  } catch (const po::error& e) {
+    std::cerr << prefix << "error: " << e.what() << "\n(see 'viaduct " << cmd.name << " --help')\n";
+    return usage_error;
+  }
+  if (vm.count("help")) {
+    std::cout << "viaduct " << cmd.name << " — " << cmd.summary << "\n\n"
+              << "Usage: viaduct " << cmd.name << " SCENARIO [options]\n\n"
+              << opts << "\n"
+              << cmd.usage_and_samples;
+    return ok;
+  }
+  if (cmd.needs_scenario && !vm.count("scenario")) {
+    std::cerr << prefix << "error: a scenario file is required\n(see 'viaduct " << cmd.name << " --help')\n";
+    return usage_error;
+  }
+  Common c;
+  if (vm.count("scenario")) c.scenario = vm["scenario"].as<std::string>();
+  if (vm.count("set")) c.set = vm["set"].as<std::vector<std::string>>();
+  c.out = vm["out"].as<std::string>();
+  c.threads = vm["threads"].as<int>();
+  c.quiet = vm["quiet"].as<bool>();
+  if (c.threads < 0) {
+    std::cerr << prefix << "error: --threads must be >= 0\n";
+    return usage_error;
+  }
+  if (c.threads == 0) c.threads = hardware_threads();
+  try {
+    return cmd.run(c, vm);
+  } catch (const InputError& e) {
+    std::cerr << prefix << "error: " << e.what() << "\n";
+    return usage_error;
+  } catch (const po::error& e) {
+    std::cerr << prefix << "error: " << e.what() << "\n";
+    return usage_error;
+  } catch (const std::exception& e) {
+    std::cerr << prefix << "failed: " << e.what() << "\n";
+    return runtime_failure;
+  }
+}
+
+void make_out_dir(const std::string& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw SolverError("cannot create output directory " + dir + ": " + ec.message());
+}
+
+ProgressSink progress_printer(const std::string& what, bool quiet) {
+  if (quiet) return {};
+  const bool tty = ::isatty(::fileno(stderr)) != 0;
+  auto t0 = std::make_shared<std::chrono::steady_clock::time_point>(std::chrono::steady_clock::now());
+  auto last_decile = std::make_shared<std::size_t>(0);
+  return [=](std::size_t done, std::size_t total) {
+    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - *t0).count();
+    const double eta = done ? el * static_cast<double>(total - done) / static_cast<double>(done) : 0.0;
+    if (tty) {
+      std::fprintf(stderr, "\r%s: %zu/%zu cases, %.0f s elapsed, ~%.0f s left   ", what.c_str(), done, total, el, eta);
+      if (done == total) std::fprintf(stderr, "\n");
+    } else {
+      const std::size_t decile = total ? done * 10 / total : 10;
+      if (decile > *last_decile || done == total) {
+        *last_decile = decile;
+        std::fprintf(stderr, "%s: %zu/%zu cases, %.0f s elapsed\n", what.c_str(), done, total, el);
+      }
+    }
+    std::fflush(stderr);
+  };
+}
+
+LogSink log_printer(bool quiet) {
+  return [quiet](LogLevel level, const std::string& msg) {
+    if (quiet && level != LogLevel::warning) return;
+    std::cerr << "viaduct: " << (level == LogLevel::warning ? "warning: " : "") << msg << "\n";
+  };
+}
+
+}  // namespace viaduct::cli

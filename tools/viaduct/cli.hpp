@@ -1,0 +1,56 @@
+#pragma once
+// Shared command-line plumbing of the viaduct tool: common options, exit codes, progress.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <boost/program_options.hpp>
+
+#include "viaduct/core/log.hpp"
+
+namespace viaduct::cli {
+
+namespace po = boost::program_options;
+
+enum Exit { ok = 0, runtime_failure = 1, usage_error = 2 };
+
+/// Options every subcommand takes.
+struct Common {
+  std::string scenario;
+  std::vector<std::string> set;
+  std::string out = "out";
+  int threads = 1;
+  bool quiet = false;
+};
+
+/// A subcommand: name, one-line summary, help text with sample runs, and its body.
+struct Command {
+  std::string name;
+  std::string summary;
+  std::string usage_and_samples;  ///< printed after the options; lines "  viaduct ..." are tested
+  std::function<void(po::options_description&)> add_options;
+  std::function<int(const Common&, const po::variables_map&)> run;
+  bool needs_scenario = true;
+};
+
+/// Parses argv for `cmd`, handles --help, and maps exceptions to exit codes (2 input/usage,
+/// 1 runtime). Prints errors on stderr as "viaduct <cmd>: error: ...".
+int dispatch(const Command& cmd, int argc, char** argv);
+
+/// Creates the output directory (throws SolverError when it cannot).
+void make_out_dir(const std::string& dir);
+
+/// Progress printer on stderr: a live line on a terminal, every 10 % otherwise; silent if quiet.
+ProgressSink progress_printer(const std::string& what, bool quiet);
+
+/// Message printer for the library's log sink (stderr, "viaduct: warning: ...").
+LogSink log_printer(bool quiet);
+
+Command check_command();
+Command modes_command();
+Command run_command();
+Command sweep_command();
+Command schema_command();
+
+}  // namespace viaduct::cli

@@ -1,0 +1,55 @@
+// viaduct check / viaduct schema
+#include <iostream>
+
+#include "cli.hpp"
+#include "viaduct/io/scenario.hpp"
+#include "viaduct/model/structure.hpp"
+
+namespace viaduct::cli {
+
+Command check_command() {
+  Command c;
+  c.name = "check";
+  c.summary = "validate a scenario and print it resolved, with every default and unit";
+  c.usage_and_samples =
+      "Prints every key with its value, unit and origin (file:line, --set or default), then\n"
+      "the model that the scenario builds. Exit code 2 names file, line and key of a bad input.\n\n"
+      "Sample runs:\n"
+      "  viaduct check scenarios/old-guadiana-sensitivity.toml\n"
+      "  viaduct check scenarios/hslm-simply-supported.toml --set bridge.damping.ratio=0.02\n";
+  c.run = [](const Common& o, const po::variables_map&) {
+    const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
+    const study::Scenario sc = io::to_scenario(flat);
+    const auto variants = io::sweep_variants(flat);
+    const model::Structure s = model::build_structure(sc.bridge, sc.track);
+    if (o.quiet) return ok;
+    std::cout << io::format_resolved(flat) << "\n# model\n";
+    std::cout << "# spans: " << sc.bridge.spans.size() << ", bridge length " << sc.bridge.total_length() << " m\n";
+    std::cout << "# DOFs: " << s.n_dofs << " (bridge " << s.n_bridge_dofs << ", track " << s.n_track_dofs << ")\n";
+    if (s.has_track)
+      std::cout << "# track: " << s.sleeper_x.size() << " sleepers from x = " << s.path_start() << " to "
+                << s.path_end() << " m; deck beam mass used " << s.deck_mass_per_m_used << " kg/m\n";
+    for (const auto& t : sc.trains)
+      std::cout << "# train " << t.name << ": " << t.n_axles() << " axles, " << t.length() << " m first to last, "
+                << t.total_load() / 1e3 << " kN\n";
+    std::cout << "# sweep: " << sc.sweep_speeds.size() << " speeds x " << sc.trains.size() << " trains x "
+              << variants.size() << " variants\n";
+    return ok;
+  };
+  return c;
+}
+
+Command schema_command() {
+  Command c;
+  c.name = "schema";
+  c.summary = "print every scenario key (type, default, unit, constraint, meaning) as Markdown";
+  c.needs_scenario = false;
+  c.usage_and_samples = "docs/scenarios.md embeds this table.\n\nSample runs:\n  viaduct schema\n";
+  c.run = [](const Common&, const po::variables_map&) {
+    std::cout << io::schema_markdown();
+    return ok;
+  };
+  return c;
+}
+
+}  // namespace viaduct::cli

@@ -1,0 +1,44 @@
+// viaduct modes
+#include <cstdio>
+#include <iostream>
+
+#include "cli.hpp"
+#include "viaduct/io/results.hpp"
+#include "viaduct/model/modes.hpp"
+
+namespace viaduct::cli {
+
+Command modes_command() {
+  Command c;
+  c.name = "modes";
+  c.summary = "natural frequencies and mode shapes of the assembled structure (modes.csv)";
+  c.add_options = [](po::options_description& d) {
+    d.add_options()("n-modes", po::value<int>()->default_value(20), "number of modes to write (0: all)");
+  };
+  c.usage_and_samples =
+      "Writes OUT/modes.csv: mode,frequency_hz and the mass-normalised shape at every station\n"
+      "(deck, and rail when there is track), for the whole model (track included).\n\n"
+      "Sample runs:\n"
+      "  viaduct modes scenarios/old-guadiana-sensitivity.toml --out out/modes\n"
+      "  viaduct modes scenarios/hslm-simply-supported.toml --n-modes 5 --out out/modes-hslm\n";
+  c.run = [](const Common& o, const po::variables_map& vm) {
+    const int n = vm["n-modes"].as<int>();
+    if (n < 0) throw InputError("--n-modes must be >= 0");
+    const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
+    const study::Scenario sc = io::to_scenario(flat);
+    const model::Structure s = model::build_structure(sc.bridge, sc.track);
+    const auto stations = study::resolve_stations(s, sc.stations);
+    const model::Modes m = model::compute_modes(s, n);
+    make_out_dir(o.out);
+    io::write_modes_csv(o.out + "/modes.csv", m, stations);
+    if (!o.quiet) {
+      std::printf("%ld DOFs; first frequencies [Hz]:", static_cast<long>(s.n_dofs));
+      for (Index j = 0; j < std::min<Index>(m.frequency_hz.size(), 6); ++j) std::printf(" %.4f", m.frequency_hz[j]);
+      std::printf("\nwrote %s/modes.csv\n", o.out.c_str());
+    }
+    return ok;
+  };
+  return c;
+}
+
+}  // namespace viaduct::cli

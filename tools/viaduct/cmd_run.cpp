@@ -1,0 +1,75 @@
+// viaduct run
+#include <chrono>
+#include <cstdio>
+
+#include "cli.hpp"
+#include "viaduct/io/results.hpp"
+
+namespace viaduct::cli {
+
+Command run_command() {
+  Command c;
+  c.name = "run";
+  c.summary = "one train at one speed: station time histories (history.csv)";
+  c.add_options = [](po::options_description& d) {
+    d.add_options()("speed-kmh", po::value<double>(), "train speed [km/h] (default: run.speed_kmh)")(
+        "train", po::value<std::string>(), "train name (default: the first of train.files)");
+  };
+  c.usage_and_samples =
+      "Writes OUT/history.csv (t_s and, per station, deflection, raw and filtered acceleration,\n"
+      "rail deflection with track) and OUT/manifest.toml.\n\n"
+      "Sample runs:\n"
+      "  viaduct run scenarios/old-guadiana-talgo.toml --out out/talgo\n"
+      "  viaduct run scenarios/hslm-simply-supported.toml --speed-kmh 300 --train HSLM-A4 --out out/a4\n";
+  c.run = [](const Common& o, const po::variables_map& vm) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
+    const study::Scenario sc = io::to_scenario(flat);
+    double speed = 0.0;
+    if (vm.count("speed-kmh")) {
+      speed = vm["speed-kmh"].as<double>() / 3.6;
+      if (!(speed > 0.0) || !std::isfinite(speed)) throw InputError("--speed-kmh must be > 0");
+    } else if (sc.run_speed) {
+      speed = *sc.run_speed;
+    } else {
+      throw InputError("no speed: give --speed-kmh or run.speed_kmh in the scenario");
+    }
+    const load::Train* train = &sc.trains.front();
+    if (vm.count("train")) {
+      train = nullptr;
+      std::string names;
+      for (const auto& t : sc.trains) {
+        names += " " + t.name;
+        if (t.name == vm["train"].as<std::string>()) train = &t;
+      }
+      if (!train) throw InputError("no train named '" + vm["train"].as<std::string>() + "'; the scenario has:" + names);
+    }
+    const model::Structure s = model::build_structure(sc.bridge, sc.track);
+    const auto stations = study::resolve_stations(s, sc.stations);
+    const study::RunResult r = study::simulate(s, stations, *train, speed, sc.settings);
+    make_out_dir(o.out);
+    io::write_history_csv(o.out + "/history.csv", r);
+    io::Manifest m;
+    m.command = "run";
+    m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    m.extra = {{"train", "\"" + train->name + "\""},
+               {"speed_kmh", std::to_string(speed * 3.6)},
+               {"n_dofs", std::to_string(s.n_dofs)},
+               {"n_steps", std::to_string(r.summary.n_steps)},
+               {"solver_wall_s", std::to_string(r.summary.wall_s)}};
+    io::write_manifest(o.out + "/manifest.toml", m, flat);
+    if (!o.quiet) {
+      std::printf("%s at %.1f km/h: %ld DOFs, %ld steps, %.2f s\n", train->name.c_str(), speed * 3.6,
+                  static_cast<long>(s.n_dofs), static_cast<long>(r.summary.n_steps), r.summary.wall_s);
+      const auto pk = study::peaks(r);
+      for (std::size_t i = 0; i < pk.size(); ++i)
+        std::printf("  %-16s max |acc| %.4f m/s²  max |disp| %.4f mm\n", r.stations[i].name.c_str(), pk[i].max_abs_acc,
+                    pk[i].max_abs_disp * 1e3);
+      std::printf("wrote %s/history.csv\n", o.out.c_str());
+    }
+    return ok;
+  };
+  return c;
+}
+
+}  // namespace viaduct::cli

@@ -1,0 +1,58 @@
+// viaduct sweep
+#include <chrono>
+#include <cstdio>
+
+#include "cli.hpp"
+#include "viaduct/io/results.hpp"
+
+namespace viaduct::cli {
+
+Command sweep_command() {
+  Command c;
+  c.name = "sweep";
+  c.summary = "speeds x trains x parameter variants: maximum-response envelopes (envelope.csv)";
+  c.usage_and_samples =
+      "Writes OUT/envelope.csv (variant,train,speed_kmh,station,max_abs_acc_mps2,max_abs_disp_m;\n"
+      "accelerations filtered as the scenario says), OUT/failures.csv and OUT/manifest.toml.\n"
+      "Results are identical for any --threads. A case that fails is listed in failures.csv,\n"
+      "the others complete, and the exit code is 1. Plot with scripts/plot_envelope.py OUT.\n\n"
+      "Sample runs:\n"
+      "  viaduct sweep scenarios/hslm-simply-supported.toml --set 'train.files=[\"data/trains/hslm/A1.toml\"]' --set sweep.speed_step_kmh=20 --out out/hslm\n"
+      "  viaduct sweep scenarios/old-guadiana-sensitivity.toml --set sweep.n_speeds=3 --threads 0 --out out/og\n";
+  c.run = [](const Common& o, const po::variables_map&) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
+    const auto variants = io::sweep_variants(flat);
+    if (variants.front().scenario.sweep_speeds.empty())
+      throw InputError(SourceLocation{o.scenario, 0, "sweep"},
+                       "no speeds: give sweep.speeds_kmh, sweep.speed_min/max/step_kmh or sweep.speed_min/max_mps with n_speeds");
+    make_out_dir(o.out);
+    study::SweepOptions so;
+    so.threads = o.threads;
+    so.progress = progress_printer("sweep", o.quiet);
+    const study::SweepResult r = study::run_sweep(variants, so);
+    io::write_envelope_csv(o.out + "/envelope.csv", r.rows);
+    io::write_failures_csv(o.out + "/failures.csv", r.failures);
+    io::Manifest m;
+    m.command = "sweep";
+    m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    m.extra = {{"threads", std::to_string(o.threads)},
+               {"n_variants", std::to_string(variants.size())},
+               {"n_cases", std::to_string(r.summary.n_cases)},
+               {"n_failed", std::to_string(r.summary.n_failed)},
+               {"n_steps_total", std::to_string(r.summary.n_steps_total)},
+               {"n_dofs_reference", std::to_string(r.summary.n_dofs.front())},
+               {"sweep_wall_s", std::to_string(r.summary.wall_s)}};
+    io::write_manifest(o.out + "/manifest.toml", m, flat);
+    if (!o.quiet)
+      std::printf("%zu cases (%zu variants), %zu failed, %.1f s; wrote %s/envelope.csv\n", r.summary.n_cases,
+                  variants.size(), r.summary.n_failed, r.summary.wall_s, o.out.c_str());
+    for (const auto& f : r.failures)
+      std::fprintf(stderr, "viaduct sweep: case failed: %s / %s / %.1f km/h: %s\n", f.variant.c_str(), f.train.c_str(),
+                   f.speed * 3.6, f.message.c_str());
+    return r.failures.empty() ? ok : runtime_failure;
+  };
+  return c;
+}
+
+}  // namespace viaduct::cli
