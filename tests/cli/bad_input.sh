@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# Bad input: exit code 2 with file, line and key; never a crash.
+. "$(dirname "$0")/lib.sh"
+OG=$SRC/scenarios/old-guadiana-sensitivity.toml
+mkdir -p "$WORK/parts"
+cat > "$WORK/parts/bridge.toml" <<'T'
+span_lengths = [10.0]
+EI = 2e9
+mass_per_m = 5000.0
+T
+cat > "$WORK/parts/train.toml" <<'T'
+kind = "regular"
+n_axles = 2
+spacing = 10.0
+axle_load_kN = 100
+T
+scen() {  # scen NAME EXTRA: writes a small scenario with EXTRA appended
+  printf '[bridge]\nfile = "parts/bridge.toml"\n[train]\nfiles = ["parts/train.toml"]\n[[stations]]\nname = "mid"\nspan = 1\nat = 0.5\n%b' "$2" > "$WORK/$1.toml"
+  echo "$WORK/$1.toml"
+}
+
+expect 0 "model" -- "$VIADUCT" check "$(scen ok '')"
+expect 2 "unknown.toml:10: key 'analysis.dtt': unknown key (did you mean 'analysis.dt'?)" -- "$VIADUCT" check "$(scen unknown '[analysis]\ndtt = 1e-3\n')"
+expect 2 "wrongtype.toml:10: key 'analysis.dt': must be a number" -- "$VIADUCT" check "$(scen wrongtype '[analysis]\ndt = "small"\n')"
+expect 2 "key 'analysis.dt': must be > 0 [s], got 0" -- "$VIADUCT" run "$(scen dt0 '[analysis]\ndt = 0.0\n')" --speed-kmh 100 --out "$WORK/o"
+expect 2 "key 'analysis.dt': must be > 0 [s], got -0.001" -- "$VIADUCT" check "$(scen dtneg '[analysis]\ndt = -1e-3\n')"
+expect 2 "key 'track.pad.k': must be > 0 [N/m], got -100000000" -- "$VIADUCT" check "$OG" --set track.pad.k=-1e8
+expect 2 "--set: key 'bridge.bearings.k': must be >= 0 [N/m], got -5" -- "$VIADUCT" check "$OG" --set bridge.bearings.k=-5.0
+printf 'span_lengths = [10.0]\nEI = -2e9\nmass_per_m = 5000.0\n' > "$WORK/parts/negEI.toml"
+expect 2 "negEI.toml:2: key 'bridge.EI': must be > 0 [N·m²], got -2000000000" -- "$VIADUCT" check "$(scen negei '')" --set "bridge.file=$WORK/parts/negEI.toml"
+expect 2 "key 'bridge.span_lengths': must be > 0 [m], got 0" -- "$VIADUCT" check "$OG" --set "bridge.span_lengths=[0.0, 11.93]"
+expect 2 "key 'run.speed_kmh': must be > 0 [km/h], got 0" -- "$VIADUCT" run "$(scen speed0 '[run]\nspeed_kmh = 0.0\n')"
+expect 2 "--speed-kmh must be > 0" -- "$VIADUCT" run "$(scen speedneg '')" --speed-kmh -10 --out "$WORK/o"
+expect 2 "key 'sweep.speeds_kmh': must be > 0 [km/h], got -50" -- "$VIADUCT" sweep "$(scen sweepneg '[sweep]\nspeeds_kmh = [100, -50]\n')" --out "$WORK/o"
+expect 2 "train file not found" -- "$VIADUCT" check "$(scen notrain '')" --set 'train.files=["parts/nope.toml"]'
+printf 'position_m,load_kN\n0,100\n3.0,x\n' > "$WORK/parts/bad.csv"
+expect 2 "bad.csv:3: not a number" -- "$VIADUCT" check "$(scen badcsv '')" --set "train.files=[\"$WORK/parts/bad.csv\"]"
+printf 'kind = "regular"\nn_axles = 2\nspacing = 10.0\naxle_load = 100\n' > "$WORK/parts/badkey.toml"
+expect 2 "badkey.toml:4: key 'axle_load': unknown train key" -- "$VIADUCT" check "$(scen badkey '')" --set "train.files=[\"$WORK/parts/badkey.toml\"]"
+printf '[bridge\nfile = 3\n' > "$WORK/syntax.toml"
+expect 2 "TOML syntax error" -- "$VIADUCT" check "$WORK/syntax.toml"
+expect 2 "file not found" -- "$VIADUCT" check "$WORK/absent.toml"
+expect 2 "unknown key (did you mean 'track.pad.k'?)" -- "$VIADUCT" check "$OG" --set track.pad.kk=1
+expect 2 "a scenario file is required" -- "$VIADUCT" run
+expect 2 "unrecognised option" -- "$VIADUCT" run "$OG" --speeed 3
+expect 2 "unknown command 'frobnicate'" -- "$VIADUCT" frobnicate
+expect 2 "--threads must be >= 0" -- "$VIADUCT" sweep "$OG" --threads -2
+expect 2 "no speeds" -- "$VIADUCT" sweep "$(scen nospeeds '')" --out "$WORK/o"
+expect 2 "no speed: give --speed-kmh" -- "$VIADUCT" run "$(scen nospeed '')" --out "$WORK/o"
+expect 2 "no train named 'TGV'" -- "$VIADUCT" run "$OG" --speed-kmh 100 --train TGV --out "$WORK/o"
+expect 2 "key 'stations[0].at': must be [0, 1], got 1.5" -- "$VIADUCT" run "$(scen far '')" --set stations[0].at=1.5 --speed-kmh 100 --out "$WORK/o"
+expect 2 "a deck station needs exactly one of 'at' (fraction) or 'x' (metres)" -- "$VIADUCT" run "$(scen both '')" --set stations[0].x=3.0 --speed-kmh 100 --out "$WORK/o"
+finish

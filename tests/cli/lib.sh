@@ -1,0 +1,31 @@
+# Helpers for the CLI tests: VIADUCT (binary), SRC (source dir), WORK (scratch dir, removed at exit).
+set -u
+VIADUCT=$1
+SRC=$2
+WORK=$(mktemp -d)
+trap 'rm -rf "$WORK"' EXIT
+n_fail=0
+n_pass=0
+
+# expect CODE PATTERN -- command...: runs the command, checks exit code and that stderr+stdout
+# contains PATTERN (grep -F).
+expect() {
+  local code=$1 pattern=$2
+  shift 3
+  local out rc
+  out=$("$@" 2>&1)
+  rc=$?
+  if [ "$rc" != "$code" ] || ! grep -qF -- "$pattern" <<<"$out"; then
+    echo "FAIL: $* -> exit $rc (want $code), output:"
+    echo "$out" | head -20
+    echo "(wanted to see: $pattern)"
+    n_fail=$((n_fail + 1))
+  else
+    n_pass=$((n_pass + 1))
+  fi
+}
+
+finish() {
+  echo "$n_pass passed, $n_fail failed"
+  [ "$n_fail" -eq 0 ]
+}

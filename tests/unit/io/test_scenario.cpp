@@ -1,0 +1,202 @@
+#include <unistd.h>
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "viaduct/io/scenario.hpp"
+
+using namespace viaduct;
+using namespace viaduct::io;
+namespace fs = std::filesystem;
+
+namespace {
+const std::string src = VIADUCT_SOURCE_DIR;
+
+// A scratch directory with a scenario and component files.
+struct Scratch {
+  fs::path dir;
+  Scratch() {
+    dir = fs::temp_directory_path() / ("viaduct-io-" + std::to_string(::getpid()) + "-" + std::to_string(counter()++));
+    fs::create_directories(dir / "parts");
+    write("parts/bridge.toml", "span_lengths = [10.0]\nEI = 2e9\nmass_per_m = 5000.0\n[damping]\nratio = 0.02\n");
+    write("parts/train.toml", "kind = \"regular\"\nn_axles = 3\nspacing = 12.0\naxle_load_kN = 150\n");
+  }
+  ~Scratch() { fs::remove_all(dir); }
+  static int& counter() {
+    static int c = 0;
+    return c;
+  }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(dir / name) << text;
+    return (dir / name).string();
+  }
+  std::string scenario(const std::string& extra) const {
+    return write("s.toml", "[bridge]\nfile = \"parts/bridge.toml\"\n[train]\nfiles = [\"parts/train.toml\"]\n"
+                           "[[stations]]\nname = \"mid\"\nspan = 1\nat = 0.5\n" + extra);
+  }
+};
+}  // namespace
+
+TEST_CASE("shipped scenarios load and resolve") {
+  for (const char* s : {"old-guadiana-sensitivity", "old-guadiana-talgo", "hslm-simply-supported"}) {
+    INFO(s);
+    const FlatScenario f = load_flat(src + "/scenarios/" + s + ".toml");
+    const study::Scenario sc = to_scenario(f);
+    REQUIRE_FALSE(sc.stations.empty());
+    REQUIRE_FALSE(sc.sweep_speeds.empty());
+  }
+  const FlatScenario og = load_flat(src + "/scenarios/old-guadiana-sensitivity.toml");
+  const study::Scenario sc = to_scenario(og);
+  REQUIRE(sc.track.has_value());
+  REQUIRE(sc.sweep_speeds.size() == 60);
+  REQUIRE(sc.sweep_speeds.front() == Approx(40.0));
+  REQUIRE(sc.sweep_speeds.back() == Approx(100.0));
+  REQUIRE(sc.track->pad.k == 1e8);
+  REQUIRE(sc.bridge.spans.size() == 2);
+  // 4 parameters x 4 factors, the four factor-1 cases being one reference: 13 distinct models.
+  const auto v = sweep_variants(og);
+  REQUIRE(v.size() == 13);
+  REQUIRE(v[0].label == "reference");
+  REQUIRE(v[1].label == "Kp x0.5");
+  REQUIRE(v[1].scenario.track->pad.k == Approx(0.5e8));
+  REQUIRE(v[4].label == "Cp x0");
+  REQUIRE(v[4].scenario.track->pad.c == 0.0);
+  const study::Scenario hs = to_scenario(load_flat(src + "/scenarios/hslm-simply-supported.toml"));
+  REQUIRE(hs.trains.size() == 10);
+  REQUIRE(hs.sweep_speeds.size() == 281);
+  REQUIRE_FALSE(hs.track.has_value());  // no track section: no track DOFs
+}
+
+TEST_CASE("component files, relative paths, defaults and origins") {
+  Scratch s;
+  const FlatScenario f = load_flat(s.scenario(""));
+  REQUIRE(f.at("bridge.EI").x == 2e9);
+  REQUIRE(f.at("bridge.EI").where.file.find("parts/bridge.toml") != std::string::npos);
+  REQUIRE(f.at("bridge.EI").where.line == 2);
+  REQUIRE(f.defaulted.count("analysis.dt") == 1);
+  REQUIRE(f.at("analysis.dt").x == 0.001);
+  REQUIRE_FALSE(f.has("track.pad.k"));     // no track section: no track defaults
+  REQUIRE_FALSE(f.has("sweep.mode"));
+  const study::Scenario sc = to_scenario(f);
+  REQUIRE(sc.trains[0].n_axles() == 3);
+  REQUIRE(sc.stations[0].x_local == 5.0);
+  const std::string text = format_resolved(f);
+  REQUIRE(text.find("analysis.dt = 0.001   # [s] default") != std::string::npos);
+  REQUIRE(text.find("bridge.EI = 2000000000.0   # [N·m²] ") != std::string::npos);
+}
+
+TEST_CASE("set overrides scenario and component keys; precedence set > scenario > component") {
+  Scratch s;
+  const std::string p = s.scenario("[bridge.damping]\nratio = 0.03\n");
+  FlatScenario f = load_flat(p);
+  REQUIRE(f.at("bridge.damping.ratio").x == 0.03);  // scenario beats component
+  f = load_flat(p, {"bridge.damping.ratio=0.05", "bridge.EI=[3e9]", "filter.band=lowpass", "stations[0].at=0.25"});
+  REQUIRE(f.at("bridge.damping.ratio").x == 0.05);
+  REQUIRE(f.at("bridge.damping.ratio").where.file == "--set");
+  REQUIRE(f.at("bridge.EI").xs == std::vector<double>{3e9});
+  REQUIRE(f.at("filter.band").s == "lowpass");      // bare word taken as a string
+  REQUIRE(to_scenario(f).stations[0].x_local == 2.5);
+  REQUIRE_THROWS_WITH(load_flat(p, {"bridge.damping.ration=1"}), Catch::Contains("did you mean 'bridge.damping.ratio'"));
+  REQUIRE_THROWS_WITH(load_flat(p, {"nonsense"}), Catch::Contains("expected key=value"));
+}
+
+TEST_CASE("bad scenarios give file, line and key") {
+  Scratch s;
+  auto error_of = [&](const std::string& extra) {
+    try {
+      to_scenario(load_flat(s.scenario(extra)));
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  std::string e = error_of("[analysis]\ndtt = 0.001\n");
+  REQUIRE(e.find("s.toml:10: key 'analysis.dtt': unknown key (did you mean 'analysis.dt'?)") != std::string::npos);
+  e = error_of("[analysis]\ndt = \"fast\"\n");
+  REQUIRE(e.find("s.toml:10: key 'analysis.dt': must be a number") != std::string::npos);
+  e = error_of("[analysis]\ndt = 0.0\n");
+  REQUIRE(e.find("key 'analysis.dt': must be > 0 [s], got 0") != std::string::npos);
+  e = error_of("[analysis]\ndt = -1e-3\n");
+  REQUIRE(e.find("must be > 0") != std::string::npos);
+  e = error_of("[run]\nspeed_kmh = -5\n");
+  REQUIRE(e.find("key 'run.speed_kmh': must be > 0 [km/h]") != std::string::npos);
+  e = error_of("[track]\nsleeper_mass = 300\n");  // a track section without its required keys
+  REQUIRE(e.find("key 'track.rail.E': required key is missing") != std::string::npos);
+  e = error_of("[bridge.bearings]\nrigid = false\n");
+  REQUIRE(e.find("key 'bridge.bearings.k': must be > 0 [N/m] when bridge.bearings.rigid = false") != std::string::npos);
+  e = error_of("[[stations]]\nname = \"mid\"\nspan = 1\nat = 0.2\n");
+  REQUIRE(e.find("duplicate station name 'mid'") != std::string::npos);
+  e = error_of("[[stations]]\nname = \"far\"\nspan = 3\nat = 0.2\n");
+  REQUIRE(e.find("span 3 does not exist") != std::string::npos);
+  e = error_of("[filter]\nhigh_hz = 900.0\n");
+  REQUIRE(e.find("high_hz must be in (0, fs/2 = 500) Hz") != std::string::npos);
+  e = error_of("[sweep]\nspeeds_kmh = [100]\nspeed_min_kmh = 50\n");
+  REQUIRE(e.find("give speeds one way only") != std::string::npos);
+  // Zero span length is caught in the component file with its line.
+  s.write("parts/bridge.toml", "span_lengths = [0.0]\nEI = 2e9\nmass_per_m = 5000.0\n");
+  e = error_of("");
+  REQUIRE(e.find("bridge.toml:1: key 'bridge.span_lengths': must be > 0 [m], got 0") != std::string::npos);
+  // Syntax errors name the file and line (toml11's message).
+  s.write("parts/bridge.toml", "span_lengths = [10.0\nEI = 2e9\n");
+  e = error_of("");
+  REQUIRE(e.find("TOML syntax error") != std::string::npos);
+  REQUIRE(e.find("bridge.toml") != std::string::npos);
+}
+
+TEST_CASE("train files: CSV and TOML, with clear errors") {
+  const load::Train talgo = read_train_file(src + "/data/trains/talgo-altaria.csv");
+  REQUIRE(talgo.n_axles() == 12);
+  REQUIRE(talgo.total_load() == Approx(1880e3));
+  REQUIRE(talgo.length() == Approx(109.02));
+  // Shared Talgo axles are d = 13.14 m apart (Table 2).
+  REQUIRE(talgo.offset[6] - talgo.offset[5] == Approx(13.14));
+  const load::Train a1 = read_train_file(src + "/data/trains/hslm/A1.toml");
+  REQUIRE(a1.name == "HSLM-A1");
+  REQUIRE(a1.n_axles() == 50);
+  Scratch s;
+  auto error_of = [&](const std::string& name, const std::string& text) {
+    try {
+      read_train_file(s.write(name, text));
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  REQUIRE(error_of("a.csv", "x,y\n1,2\n").find("a.csv:1: train CSV header must be 'position_m,load_kN'") != std::string::npos);
+  REQUIRE(error_of("b.csv", "# c\nposition_m,load_kN\n0,100\n3,abc\n").find("b.csv:4: not a number") != std::string::npos);
+  REQUIRE(error_of("c.csv", "position_m,load_kN\n0,100\n3,-5\n").find("load must be > 0") != std::string::npos);
+  REQUIRE(error_of("d.csv", "position_m,load_kN\n5,100\n3,100\n").find("not decreasing") != std::string::npos);
+  REQUIRE(error_of("e.csv", "position_m,load_kN\n").find("no axles") != std::string::npos);
+  REQUIRE(error_of("f.toml", "kind = \"regular\"\nn_axle = 3\n").find("f.toml:2: key 'n_axle': unknown train key") != std::string::npos);
+  REQUIRE(error_of("g.toml", "kind = \"magic\"\n").find("must be hslm, regular or axles") != std::string::npos);
+  REQUIRE(error_of("h.toml", "kind = \"hslm\"\nhslm_number = 12\n").find("1..10") != std::string::npos);
+  REQUIRE_THROWS_WITH(read_train_file(s.dir.string() + "/missing.toml"), Catch::Contains("train file not found"));
+}
+
+TEST_CASE("grid variants and variant keys are checked") {
+  Scratch s;
+  const std::string p = s.scenario(
+      "[sweep]\nspeeds_kmh = [100, 200]\nmode = \"grid\"\n"
+      "[[sweep.variants]]\nkey = \"bridge.EI\"\nlabel = \"EI\"\nfactors = [0.5, 1.0, 2.0]\n"
+      "[[sweep.variants]]\nkey = \"bridge.damping.ratio\"\nfactors = [1.0, 2.0]\n");
+  const auto v = sweep_variants(load_flat(p));
+  REQUIRE(v.size() == 6);  // 3 x 2 combinations, the all-ones one being the reference
+  REQUIRE(v[0].label == "reference");
+  REQUIRE(v.back().label == "EI x2, bridge.damping.ratio x2");
+  REQUIRE(v.back().scenario.bridge.spans[0].EI == Approx(4e9));
+  const std::string q = s.scenario("[sweep]\nspeeds_kmh = [100]\n[[sweep.variants]]\nkey = \"bridge.EI\"\nfactors = [-1.0]\n");
+  REQUIRE_THROWS_WITH(load_flat(q), Catch::Contains("key 'sweep.variants[0].factors': must be >= 0, got -1"));
+  // A factor that breaks the varied key's own constraint is caught when the variant is made.
+  const std::string z = s.scenario("[sweep]\nspeeds_kmh = [100]\n[[sweep.variants]]\nkey = \"bridge.EI\"\nfactors = [0.0]\n");
+  REQUIRE_THROWS_WITH(sweep_variants(load_flat(z)), Catch::Contains("factor 0 on") && Catch::Contains("key 'bridge.EI': must be > 0"));
+  const std::string r = s.scenario("[sweep]\nspeeds_kmh = [100]\n[[sweep.variants]]\nkey = \"filter.order\"\nfactors = [2.0]\n");
+  REQUIRE_THROWS_WITH(sweep_variants(load_flat(r)), Catch::Contains("variant key must be numeric"));
+}
+
+TEST_CASE("docs/scenarios.md documents every key (regenerate with scripts/gen_docs.sh)") {
+  std::ifstream in(src + "/docs/scenarios.md");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  REQUIRE(ss.str().find(schema_markdown()) != std::string::npos);
+}

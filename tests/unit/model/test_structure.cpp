@@ -1,0 +1,172 @@
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "viaduct/core/error.hpp"
+#include "viaduct/model/beam_element.hpp"
+#include "viaduct/model/damping.hpp"
+#include "viaduct/model/modes.hpp"
+#include "viaduct/model/structure.hpp"
+
+using namespace viaduct;
+using namespace viaduct::model;
+
+namespace {
+BridgeParams two_spans() {
+  BridgeParams b;
+  b.spans = {{11.93, 7.09e9, 8727.0}, {11.93, 7.09e9, 8727.0}};
+  b.element_size = 0.6;
+  b.bearings = {false, 22.33e8, 0.0};
+  b.damping.kind = DampingKind::modal;
+  b.damping.ratio = 0.01565;
+  return b;
+}
+TrackParams table1_track() {
+  TrackParams t;
+  t.rail_EI = 2.1e11 * 3055e-8;
+  t.rail_mass_per_m = 7850 * 76.86e-4;
+  t.sleeper_spacing = 0.6;
+  t.sleeper_mass = 300;
+  t.ballast_mass = 317.91;
+  t.pad = {1e8, 7.5e4};
+  t.ballast = {1.933e8, 5.88e4};
+  t.shear = {7.84e7, 8e4};
+  t.subgrade = {7.3987e7, 3.115e4};
+  t.subgrade_on_bridge = {7.3987e9, 0.0};
+  return t;
+}
+double symmetry_error(const SparseMatrix& A) { return (Matrix(A) - Matrix(A).transpose()).norm() / Matrix(A).norm(); }
+double total_translational_mass(const Structure& s) {
+  // Rigid unit vertical translation of everything (rotations 0): uᵀ M u = total mass.
+  Vector u = Vector::Zero(s.n_dofs);
+  for (const auto* els : {&s.deck_elements, &s.rail_elements})
+    for (const auto& e : *els)
+      for (std::size_t q : {0u, 2u})
+        if (e.dofs[q] >= 0) u[e.dofs[q]] = 1.0;
+  for (Index d : s.sleeper_dof) u[d] = 1.0;
+  for (Index d : s.ballast_dof) u[d] = 1.0;
+  return u.dot(s.M * u);
+}
+}  // namespace
+
+TEST_CASE("Hermite beam element: rigid-body modes, symmetry, mass") {
+  const double h = 0.7, EI = 3.0, m = 5.0;
+  const Matrix4 k = beam_stiffness(EI, h), mm = beam_mass(m, h);
+  Eigen::Vector4d translate(1, 0, 1, 0), rotate(0, 1, h, 1);
+  REQUIRE((k * translate).norm() < 1e-12 * k.norm());  // tolerance: round-off of O(k) sums
+  REQUIRE((k * rotate).norm() < 1e-12 * k.norm());
+  REQUIRE((k - k.transpose()).norm() == 0.0);
+  REQUIRE(translate.dot(mm * translate) == Approx(m * h).epsilon(1e-14));
+  for (double xi : {0.0, 0.3, 1.0}) {
+    const auto N = hermite_shape(xi, h);
+    REQUIRE(N[0] + N[2] == Approx(1.0).epsilon(1e-15));  // partition of unity for w
+  }
+  const auto N0 = hermite_shape(0.0, h);
+  REQUIRE(N0[0] == 1.0);
+  REQUIRE(N0[1] == 0.0);
+}
+
+TEST_CASE("bridge and track assembly: M and K symmetric positive definite, mass accounted") {
+  for (bool with_track : {false, true}) {
+    for (bool rigid : {false, true}) {
+      BridgeParams b = two_spans();
+      b.bearings.rigid = rigid;
+      const auto t = with_track ? std::optional<TrackParams>(table1_track()) : std::nullopt;
+      const Structure s = build_structure(b, t);
+      INFO("track " << with_track << " rigid " << rigid);
+      REQUIRE(s.has_track == with_track);
+      REQUIRE(symmetry_error(s.M) == 0.0);  // assembled from exactly symmetric blocks
+      REQUIRE(symmetry_error(s.K) == 0.0);
+      REQUIRE(symmetry_error(s.C) == 0.0);
+      Eigen::SimplicialLDLT<SparseMatrix> lk(s.K), lm(s.M);
+      REQUIRE(lk.info() == Eigen::Success);
+      REQUIRE(lm.info() == Eigen::Success);
+      REQUIRE(lk.vectorD().minCoeff() > 0.0);
+      REQUIRE(lm.vectorD().minCoeff() > 0.0);
+      const double L = 23.86;
+      if (rigid) continue;  // fixed end DOFs carry part of the mass to the supports
+      if (!with_track) {
+        REQUIRE(total_translational_mass(s) == Approx(8727.0 * L).epsilon(1e-12));
+      } else {
+        const TrackParams tp = table1_track();
+        const double rail_len = s.path_end() - s.path_start();
+        const double expect = 8727.0 * L + tp.rail_mass_per_m * rail_len +
+                              (tp.sleeper_mass + tp.ballast_mass) * static_cast<double>(s.sleeper_x.size());
+        REQUIRE(total_translational_mass(s) == Approx(expect).epsilon(1e-12));
+      }
+    }
+  }
+}
+
+TEST_CASE("mass_includes_track takes the modelled track mass off the deck") {
+  BridgeParams b = two_spans();
+  b.mass_includes_track = true;
+  const TrackParams t = table1_track();
+  const Structure s = build_structure(b, t);
+  REQUIRE(s.deck_mass_per_m_used == Approx(8727.0 - t.mass_per_m()).epsilon(1e-14));
+  REQUIRE(t.mass_per_m() == Approx(7850 * 76.86e-4 + (300 + 317.91) / 0.6).epsilon(1e-14));
+  // Without track the flag has no effect.
+  REQUIRE(build_structure(b, std::nullopt).deck_mass_per_m_used == 8727.0);
+  b.spans[0].mass_per_m = 1000.0;  // less than the track: rejected, not clamped
+  REQUIRE_THROWS_WITH(build_structure(b, t), Catch::Contains("must be > 0"));
+}
+
+TEST_CASE("invalid physics is rejected with the violated constraint") {
+  BridgeParams b = two_spans();
+  b.spans[1].length = 0.0;
+  REQUIRE_THROWS_WITH(build_structure(b, std::nullopt), Catch::Contains("span 2 length must be > 0"));
+  b = two_spans();
+  b.spans[0].EI = -1.0;
+  REQUIRE_THROWS_WITH(build_structure(b, std::nullopt), Catch::Contains("EI must be > 0"));
+  b = two_spans();
+  b.bearings.k = 0.0;
+  REQUIRE_THROWS_WITH(build_structure(b, std::nullopt), Catch::Contains("bearing stiffness k must be > 0"));
+  TrackParams t = table1_track();
+  t.pad.k = -1e8;
+  REQUIRE_THROWS_WITH(build_structure(two_spans(), t), Catch::Contains("pad.k must be >= 0"));
+  t = table1_track();
+  t.ballast.c = std::nan("");
+  REQUIRE_THROWS_WITH(build_structure(two_spans(), t), Catch::Contains("ballast.c"));
+  b = two_spans();
+  b.damping.ratio = 1.5;
+  REQUIRE_THROWS_WITH(build_structure(b, std::nullopt), Catch::Contains("[0, 1)"));
+}
+
+TEST_CASE("Rayleigh coefficients reproduce both ratios") {
+  const auto [a0, a1] = rayleigh_coefficients(10.065, 0.031, 90.0, 0.0156);
+  auto zeta = [&](double f) {
+    const double w = 2 * M_PI * f;
+    return a0 / (2 * w) + a1 * w / 2;
+  };
+  REQUIRE(zeta(10.065) == Approx(0.031).epsilon(1e-12));
+  REQUIRE(zeta(90.0) == Approx(0.0156).epsilon(1e-12));
+}
+
+TEST_CASE("modal damping gives the same ratio in every span mode") {
+  BridgeParams b = two_spans();
+  b.spans.resize(1);
+  const Structure s = build_structure(b, std::nullopt);
+  const Modes m = compute_modes(s, 0);
+  const Matrix Cm = m.shape.transpose() * Matrix(s.C) * m.shape;
+  for (Index j = 0; j < m.frequency_hz.size(); ++j) {
+    const double w = 2 * M_PI * m.frequency_hz[j];
+    REQUIRE(Cm(j, j) / (2 * w) == Approx(0.01565).epsilon(1e-8));  // eigen-solver accuracy
+  }
+  REQUIRE((Cm - Matrix(Cm.diagonal().asDiagonal())).cwiseAbs().maxCoeff() < 1e-8 * Cm.diagonal().maxCoeff());
+}
+
+TEST_CASE("points on deck and rail interpolate with the element's shape functions") {
+  const Structure s = build_structure(two_spans(), table1_track());
+  REQUIRE_THROWS_AS(s.deck_point(2, 1.0), InputError);          // no third span
+  REQUIRE_THROWS_AS(s.deck_point(0, 12.5), InputError);         // beyond the span
+  REQUIRE_THROWS_AS(s.rail_point(s.path_end() + 1.0), InputError);
+  // A deflection field w = a + b x on the rail's DOFs is reproduced exactly.
+  Vector u = Vector::Zero(s.n_dofs);
+  for (const auto& e : s.rail_elements) {
+    u[e.dofs[0]] = 1.0 + 0.1 * e.x0;
+    u[e.dofs[1]] = 0.1;
+    u[e.dofs[2]] = 1.0 + 0.1 * (e.x0 + e.h);
+    u[e.dofs[3]] = 0.1;
+  }
+  for (double x : {-19.7, 0.0, 5.123, 23.86, 40.0})
+    REQUIRE(s.rail_point(x).value(u) == Approx(1.0 + 0.1 * x).epsilon(1e-13));
+}

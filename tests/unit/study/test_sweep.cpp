@@ -1,0 +1,77 @@
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "viaduct/core/error.hpp"
+#include "viaduct/study/sweep.hpp"
+
+using namespace viaduct;
+using namespace viaduct::study;
+
+namespace {
+Scenario small_scenario() {
+  Scenario sc;
+  sc.bridge.spans = {{12.0, 5e9, 10000.0}};
+  sc.bridge.element_size = 1.0;
+  sc.bridge.damping.ratio = 0.02;
+  sc.trains = {load::regular_train("t3", 3, 10.0, 100e3), load::regular_train("t1", 1, 0.0, 200e3)};
+  sc.stations = {{"mid", true, 0, 6.0, 0.0}, {"q", true, 0, 3.0, 0.0}};
+  sc.settings.newmark.dt = 2e-3;
+  sc.settings.free_vibration_s = 0.2;
+  sc.settings.filter.cheby.high_hz = 30.0;
+  sc.sweep_speeds = {20.0, 30.0, 40.0, 50.0};
+  return sc;
+}
+}  // namespace
+
+TEST_CASE("a failing case is recorded and every other case completes") {
+  std::vector<Variant> v = {{"reference", small_scenario()}};
+  SweepOptions o;
+  o.threads = 2;
+  o.runner = [](const model::Structure& s, const std::vector<ResolvedStation>& st, const load::Train& t,
+                double speed, const RunSettings& rs) {
+    if (speed == 30.0 && t.name == "t3") throw SolverError("injected failure");
+    return simulate(s, st, t, speed, rs);
+  };
+  const SweepResult r = run_sweep(v, o);
+  REQUIRE(r.summary.n_cases == 8);
+  REQUIRE(r.failures.size() == 1);
+  REQUIRE(r.failures[0].speed == 30.0);
+  REQUIRE(r.failures[0].message == "injected failure");
+  REQUIRE(r.rows.size() == 7 * 2);  // 7 completed cases x 2 stations
+  for (const auto& row : r.rows) REQUIRE(std::isfinite(row.max_abs_acc));
+}
+
+TEST_CASE("a variant whose model cannot be built fails its own cases only") {
+  Scenario bad = small_scenario();
+  bad.bridge.spans[0].EI = -1.0;
+  std::vector<Variant> v = {{"reference", small_scenario()}, {"EI x-1", bad}};
+  const SweepResult r = run_sweep(v, SweepOptions{});
+  REQUIRE(r.failures.size() == 8);
+  REQUIRE(r.failures[0].message.find("EI must be > 0") != std::string::npos);
+  REQUIRE(r.rows.size() == 16);
+}
+
+TEST_CASE("sweep results are identical for any thread count") {
+  Scenario b = small_scenario();
+  b.bridge.spans[0].EI *= 2;
+  const std::vector<Variant> v = {{"reference", small_scenario()}, {"EI x2", b}};
+  SweepOptions one, two;
+  one.threads = 1;
+  two.threads = 2;
+  std::size_t calls = 0;
+  two.progress = [&](std::size_t done, std::size_t total) {
+    ++calls;
+    REQUIRE(done <= total);
+  };
+  const SweepResult r1 = run_sweep(v, one), r2 = run_sweep(v, two);
+  REQUIRE(calls == 16);
+  REQUIRE(r1.rows.size() == r2.rows.size());
+  for (std::size_t i = 0; i < r1.rows.size(); ++i) {
+    REQUIRE(r1.rows[i].variant == r2.rows[i].variant);
+    REQUIRE(r1.rows[i].speed == r2.rows[i].speed);
+    REQUIRE(r1.rows[i].max_abs_acc == r2.rows[i].max_abs_acc);  // bitwise: same arithmetic
+    REQUIRE(r1.rows[i].max_abs_disp == r2.rows[i].max_abs_disp);
+  }
+  // A stiffer bridge deflects less.
+  REQUIRE(r1.rows.back().max_abs_disp < r1.rows[r1.rows.size() / 2 - 1].max_abs_disp);
+}
