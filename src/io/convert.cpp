@@ -254,7 +254,7 @@ std::vector<study::Variant> sweep_variants(const FlatScenario& flat) {
   };
   std::vector<study::Variant> out;
   out.push_back(make({}));
-  if (axes.empty()) return out;
+  if (axes.empty() || flat.at("sweep.mode").s == "reference") return out;
   if (flat.at("sweep.mode").s == "grid") {
     std::vector<std::size_t> idx(axes.size(), 0);
     while (true) {

@@ -81,7 +81,7 @@ const std::vector<KeySpec>& scenario_schema() {
       {"sweep.speed_min_mps", T::number, "", "m/s", "> 0", "Evenly spaced speeds with speed_max_mps and n_speeds (both ends included)."},
       {"sweep.speed_max_mps", T::number, "", "m/s", "> 0", "Last speed of the evenly spaced set."},
       {"sweep.n_speeds", T::integer, "", "-", ">= 1", "Number of evenly spaced speeds."},
-      {"sweep.mode", T::string, "\"one-at-a-time\"", "", "one-at-a-time|grid", "one-at-a-time: each variant key alone with the others at reference; grid: every combination."},
+      {"sweep.mode", T::string, "\"one-at-a-time\"", "", "one-at-a-time|grid|reference", "one-at-a-time: each variant key alone with the others at reference; grid: every combination; reference: ignore the variants."},
       {"sweep.variants[].key", T::string, "", "", "", "Numeric scenario key to vary, e.g. track.pad.k (required)."},
       {"sweep.variants[].label", T::string, "\"\"", "", "", "Short name in outputs, e.g. Kp (default: the key)."},
       {"sweep.variants[].factors", T::number_list, "", "-", ">= 0", "Multipliers of the reference value (required)."},

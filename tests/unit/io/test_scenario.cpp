@@ -62,6 +62,7 @@ TEST_CASE("shipped scenarios load and resolve") {
   REQUIRE(v[1].scenario.track->pad.k == Approx(0.5e8));
   REQUIRE(v[4].label == "Cp x0");
   REQUIRE(v[4].scenario.track->pad.c == 0.0);
+  REQUIRE(sweep_variants(load_flat(src + "/scenarios/old-guadiana-sensitivity.toml", {"sweep.mode=reference"})).size() == 1);
   const study::Scenario hs = to_scenario(load_flat(src + "/scenarios/hslm-simply-supported.toml"));
   REQUIRE(hs.trains.size() == 10);
   REQUIRE(hs.sweep_speeds.size() == 281);

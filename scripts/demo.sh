@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# The headline study: the Old Guadiana bridge's deck-acceleration envelopes under the paper's
+# artificial train for 60 speeds and the Kp/Cp/Kb/Cb track variants (REFERENCE.md §1).
+# Installs what is missing, builds (release), runs the sweep on all cores, writes
+# out/old-guadiana-sensitivity/{envelope.csv,failures.csv,manifest.toml,envelope.png}.
+# Options are passed to `viaduct sweep` (e.g. --set sweep.n_speeds=20 for a quicker look).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/setup.sh
+cmake --preset release -G Ninja >/dev/null
+cmake --build --preset release -j "$(nproc 2>/dev/null || echo 2)"
+out=out/old-guadiana-sensitivity
+build/release/viaduct modes scenarios/old-guadiana-sensitivity.toml --n-modes 10 --out "$out"
+build/release/viaduct sweep scenarios/old-guadiana-sensitivity.toml --threads 0 --out "$out" "$@"
+/usr/bin/python3 scripts/plot_envelope.py "$out"
+echo "results: $out/envelope.csv, plot: $out/envelope.png"

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Installs the Debian packages viaduct needs, only those that are missing.
+# Needs root (or sudo) when something is missing; does nothing otherwise.
+set -euo pipefail
+
+packages=(
+  g++ cmake ninja-build
+  libeigen3-dev          # linear algebra (dense and sparse)
+  libfftw3-dev           # FFT (signal module)
+  libsundials-dev        # IDA (solve module)
+  libboost-program-options-dev  # the CLI
+  catch2                 # tests (v2)
+  libtoml11-dev          # scenario files
+  python3 python3-numpy python3-matplotlib  # plot scripts
+  python3-scipy          # regenerating the committed filter reference vectors only
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+echo "viaduct setup: installing ${missing[*]}" >&2
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then
+  if command -v sudo >/dev/null; then SUDO="sudo"; else
+    echo "viaduct setup: need root to install: ${missing[*]}" >&2
+    exit 1
+  fi
+fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
