@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds and runs every test.
 #   1. preset "ci": optimised, warnings as errors; unit, CLI and verification tests;
-#   2. preset "dev": Debug with AddressSanitizer + UndefinedBehaviorSanitizer; unit and CLI tests
+#   2. preset "dev": Debug (-O1) with AddressSanitizer + UndefinedBehaviorSanitizer; all tests again
 #      (bad input must give clear errors, never a crash, under the sanitizers).
 # Options: --no-sanitize (skip step 2), --jobs N.
 set -euo pipefail
@@ -33,6 +33,6 @@ run_preset() {
 run_preset ci "unit|cli|verification"
 if [ "$sanitize" -eq 1 ]; then
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    run_preset dev "unit|cli"
+    run_preset dev "unit|cli|verification"
 fi
 echo "== all tests passed" >&2
