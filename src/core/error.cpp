@@ -25,12 +25,14 @@ void assert_fail(const char* expr, const char* file, int line) {
 }
 }  // namespace detail
 
-static std::string num(double v) {
+std::string format_number(double value, int significant) {
   std::ostringstream os;
-  os.precision(17);
-  os << v;
+  os.precision(significant);
+  os << value;
   return os.str();
 }
+
+static std::string num(double v) { return format_number(v, 17); }
 
 void require_finite(double value, const std::string& what) {
   if (!std::isfinite(value)) throw InputError(what + " must be finite, got " + num(value));

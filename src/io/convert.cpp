@@ -16,12 +16,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string num(double v) {
-  std::ostringstream os;
-  os.precision(12);
-  os << v;
-  return os.str();
-}
+std::string num(double v) { return format_number(v, 12); }
 
 [[noreturn]] void bad(const Value& v, const std::string& msg) { throw InputError(v.where, msg); }
 

@@ -15,12 +15,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string num(double v) {
-  std::ostringstream os;
-  os.precision(12);
-  os << v;
-  return os.str();
-}
+std::string num(double v) { return format_number(v, 12); }
 
 // "stations[3].name" -> "stations[].name"
 std::string pattern_of(const std::string& key) {

@@ -20,12 +20,7 @@ bool fail(std::string* why, const std::string& msg) {
 bool finite_ge(double v, double lo) { return std::isfinite(v) && v >= lo; }
 bool finite_gt(double v, double lo) { return std::isfinite(v) && v > lo; }
 
-std::string str(double v) {
-  std::ostringstream os;
-  os.precision(10);
-  os << v;
-  return os.str();
-}
+std::string str(double v) { return format_number(v, 10); }
 
 bool check_sd(const SpringDashpot& s, const std::string& name, std::string* why) {
   if (!finite_ge(s.k, 0.0)) return fail(why, name + ".k must be >= 0 [N/m], got " + str(s.k));

@@ -13,12 +13,7 @@ namespace {
 
 using cd = std::complex<double>;
 
-std::string num(double v) {
-  std::ostringstream os;
-  os.precision(10);
-  os << v;
-  return os.str();
-}
+std::string num(double v) { return format_number(v, 10); }
 
 struct Zpk {
   std::vector<cd> z, p;

@@ -11,12 +11,7 @@
 namespace viaduct::solve {
 
 namespace {
-std::string num(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
+std::string num(double v) { return format_number(v, 6); }
 }  // namespace
 
 NewmarkOptions NewmarkOptions::hht(double alpha, double dt, double t_end) {

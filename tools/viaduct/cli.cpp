@@ -2,6 +2,8 @@
 
 #include <unistd.h>
 
+#include <boost/version.hpp>
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -99,6 +101,13 @@ ProgressSink progress_printer(const std::string& what, bool quiet) {
     }
     std::fflush(stderr);
   };
+}
+
+std::vector<std::pair<std::string, std::string>> tool_versions() {
+  std::string boost = BOOST_LIB_VERSION;
+  for (char& c : boost)
+    if (c == '_') c = '.';
+  return {{"boost_program_options", boost}};
 }
 
 LogSink log_printer(bool quiet) {

@@ -44,6 +44,9 @@ void make_out_dir(const std::string& dir);
 /// Progress printer on stderr: a live line on a terminal, every 10 % otherwise; silent if quiet.
 ProgressSink progress_printer(const std::string& what, bool quiet);
 
+/// Versions of the libraries only the tool links (for manifests).
+std::vector<std::pair<std::string, std::string>> tool_versions();
+
 /// Message printer for the library's log sink (stderr, "viaduct: warning: ...").
 LogSink log_printer(bool quiet);
 

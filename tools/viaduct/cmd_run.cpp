@@ -57,6 +57,7 @@ Command run_command() {
                {"n_dofs", std::to_string(s.n_dofs)},
                {"n_steps", std::to_string(r.summary.n_steps)},
                {"solver_wall_s", std::to_string(r.summary.wall_s)}};
+    m.versions = tool_versions();
     io::write_manifest(o.out + "/manifest.toml", m, flat);
     if (!o.quiet) {
       std::printf("%s at %.1f km/h: %ld DOFs, %ld steps, %.2f s\n", train->name.c_str(), speed * 3.6,

@@ -43,6 +43,7 @@ Command sweep_command() {
                {"n_steps_total", std::to_string(r.summary.n_steps_total)},
                {"n_dofs_reference", std::to_string(r.summary.n_dofs.front())},
                {"sweep_wall_s", std::to_string(r.summary.wall_s)}};
+    m.versions = tool_versions();
     io::write_manifest(o.out + "/manifest.toml", m, flat);
     if (!o.quiet)
       std::printf("%zu cases (%zu variants), %zu failed, %.1f s; wrote %s/envelope.csv\n", r.summary.n_cases,

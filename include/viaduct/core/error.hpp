@@ -40,6 +40,9 @@ namespace detail {
 [[noreturn]] void assert_fail(const char* expr, const char* file, int line);
 }
 
+/// A number as it should appear in a message: up to `significant` digits, no trailing zeros.
+std::string format_number(double value, int significant = 12);
+
 /// Requires value > 0 and finite; throws InputError naming `what` otherwise.
 void require_positive(double value, const std::string& what);
 /// Requires value >= 0 and finite; throws InputError naming `what` otherwise.
