@@ -20,4 +20,10 @@ expect 0 "11" -- wc -l "$WORK/s1/envelope.csv"
 OG=$SRC/scenarios/old-guadiana-talgo.toml
 expect 0 "wrote" -- "$VIADUCT" run "$OG" --set 'stations[3].track_x=-5.0' --set 'stations[3].name="approach"' --out "$WORK/og" --speed-kmh 200
 expect 0 "approach_rail_disp_m,approach_rail_acc_mps2,approach_rail_acc_filt_mps2" -- head -1 "$WORK/og/history.csv"
+# The plot scripts draw what the commands wrote.
+expect 0 "envelope.png" -- /usr/bin/python3 "$SRC/scripts/plot_envelope.py" "$WORK/s1"
+expect 0 "envelope_disp.png" -- /usr/bin/python3 "$SRC/scripts/plot_envelope.py" "$WORK/s1" --quantity disp
+expect 0 "history.png" -- /usr/bin/python3 "$SRC/scripts/plot_history.py" "$WORK/og"
+expect 0 "" -- test -s "$WORK/og/history.png"
+expect 1 "not found" -- /usr/bin/python3 "$SRC/scripts/plot_envelope.py" "$WORK/nothing"
 finish
