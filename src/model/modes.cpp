@@ -7,6 +7,10 @@
 namespace viaduct::model {
 
 Modes compute_modes(const Structure& s, Index n_modes) {
+  if (s.n_dofs > kMaxDenseModeDofs)
+    throw InputError("the dense eigen solver takes at most " + std::to_string(kMaxDenseModeDofs) +
+                     " DOFs and this model has " + std::to_string(s.n_dofs) +
+                     " (coarsen bridge.element_size or track.rail_elements_per_bay, or shorten the track)");
   const Matrix K = Matrix(s.K), M = Matrix(s.M);
   Eigen::GeneralizedSelfAdjointEigenSolver<Matrix> es(K, M);
   if (es.info() != Eigen::Success) throw SolverError("eigenproblem failed (is M positive definite?)");

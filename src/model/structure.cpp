@@ -211,7 +211,12 @@ Structure build_structure(const BridgeParams& bridge, const std::optional<TrackP
                        "modelled track mass (" + str(deck_mass_reduction) + " kg/m) must be > 0, got " +
                        str(m) + " kg/m");
     if (si == 0) s.deck_mass_per_m_used = m;
-    const int n_el = std::max(1, static_cast<int>(std::ceil(sp.length / bridge.element_size - 1e-9)));
+    const double n_el_real = std::ceil(sp.length / bridge.element_size - 1e-9);
+    if (n_el_real > kMaxSpanElements)
+      throw InputError("span " + std::to_string(si + 1) + ": element_size " + str(bridge.element_size) + " m gives " +
+                       str(n_el_real) + " elements; at most " + std::to_string(kMaxSpanElements) +
+                       " per span (raise bridge.element_size)");
+    const int n_el = std::max(1, static_cast<int>(n_el_real));
     const double h = sp.length / n_el;
     s.span_start.push_back(x);
     s.span_length.push_back(sp.length);
@@ -273,8 +278,14 @@ Structure build_structure(const BridgeParams& bridge, const std::optional<TrackP
     const double d = tp.sleeper_spacing;
     const double x_start = -tp.approach_length;
     const double L_track = tp.approach_length + L_bridge + tp.exit_length;
-    const int n_bays = static_cast<int>(std::floor(L_track / d + 1e-9));
-    if (n_bays < 1) throw InputError("track shorter than one sleeper spacing");
+    const double n_bays_real = std::floor(L_track / d + 1e-9);
+    if (n_bays_real < 1) throw InputError("track shorter than one sleeper spacing");
+    if (n_bays_real * tp.rail_elements_per_bay > kMaxRailElements)
+      throw InputError("track of " + str(L_track) + " m with sleepers every " + str(d) + " m and " +
+                       std::to_string(tp.rail_elements_per_bay) + " rail elements per bay gives " +
+                       str(n_bays_real * tp.rail_elements_per_bay) + " rail elements; at most " +
+                       std::to_string(kMaxRailElements) + " (shorten the approach/exit track or coarsen it)");
+    const int n_bays = static_cast<int>(n_bays_real);
     const int n_sub = tp.rail_elements_per_bay;
     const int n_nodes = n_bays * n_sub + 1;
     const double h = d / n_sub;

@@ -44,7 +44,15 @@ RunResult simulate(const model::Structure& s, const std::vector<ResolvedStation>
   opt.t_end = loads.t_exit() + settings.free_vibration_s;
   std::string why;
   if (!opt.is_valid(&why)) throw InputError("Newmark: " + why);
-  const Index n_samples = static_cast<Index>(std::ceil(opt.t_end / opt.dt - 1e-9)) + 1;
+  const double n_samples_real = std::ceil(opt.t_end / opt.dt - 1e-9) + 1;
+  // Every step is recorded: refuse runs whose histories alone would not fit comfortably.
+  const double bytes = n_samples_real * static_cast<double>(1 + 4 * stations.size()) * sizeof(double);
+  if (bytes > kMaxHistoryBytes)
+    throw InputError("a run of " + format_number(opt.t_end, 6) + " s at dt = " + format_number(opt.dt, 6) + " s records " +
+                     format_number(n_samples_real, 6) + " samples (" + format_number(bytes / (1 << 30), 3) +
+                     " GiB of histories; at most " + format_number(kMaxHistoryBytes / (1 << 30), 3) +
+                     " GiB): raise the speed or analysis.dt");
+  const auto n_samples = static_cast<Index>(n_samples_real);
 
   RunResult r;
   r.speed = speed;

@@ -50,4 +50,9 @@ expect 2 "no speed: give --speed-kmh" -- "$VIADUCT" run "$(scen nospeed '')" --o
 expect 2 "no train named 'TGV'" -- "$VIADUCT" run "$OG" --speed-kmh 100 --train TGV --out "$WORK/o"
 expect 2 "key 'stations[0].at': must be [0, 1], got 1.5" -- "$VIADUCT" run "$(scen far '')" --set stations[0].at=1.5 --speed-kmh 100 --out "$WORK/o"
 expect 2 "a deck station needs exactly one of 'at' (fraction) or 'x' (metres)" -- "$VIADUCT" run "$(scen both '')" --set stations[0].x=3.0 --speed-kmh 100 --out "$WORK/o"
+# Sizes that would exhaust memory or time are refused with the key to change.
+expect 2 "elements; at most 1000 per span (raise bridge.element_size)" -- "$VIADUCT" check "$OG" --set bridge.element_size=1e-6
+expect 2 "rail elements; at most 100000" -- "$VIADUCT" check "$OG" --set track.rail_elements_per_bay=2000
+expect 2 "GiB of histories" -- "$VIADUCT" run "$OG" --speed-kmh 0.001 --out "$WORK/o"
+expect 2 "the dense eigen solver takes at most 6000 DOFs" -- "$VIADUCT" modes "$OG" --set track.rail_elements_per_bay=40 --out "$WORK/o"
 finish

@@ -131,7 +131,13 @@ struct Structure {
   PointCoupling rail_point(double x) const;
 };
 
-/// Assembles bridge (and track when given). Throws InputError on invalid parameters.
+/// Size limits that keep a mistyped element size from exhausting memory: per span (its dense
+/// modal-damping eigenproblem grows with the cube), and for the whole rail.
+constexpr int kMaxSpanElements = 1000;
+constexpr int kMaxRailElements = 100000;
+
+/// Assembles bridge (and track when given). Throws InputError on invalid parameters or sizes
+/// beyond the limits above.
 Structure build_structure(const BridgeParams& bridge, const std::optional<TrackParams>& track);
 
 /// Coupling of a point on a sequence of beam elements (sorted by x0, contiguous).

@@ -62,8 +62,12 @@ struct RunResult {
   double speed = 0.0;  ///< [m/s]
 };
 
+/// Largest history one run may record [bytes] (every station at every step).
+constexpr double kMaxHistoryBytes = 2.0 * (1 << 30);
+
 /// Runs `train` at `speed` [m/s] from the entry of its first axle until free_vibration_s after
-/// the last axle has left, and records every station at every step.
+/// the last axle has left, and records every station at every step. InputError when the
+/// histories would exceed kMaxHistoryBytes.
 RunResult simulate(const model::Structure& s, const std::vector<ResolvedStation>& stations,
                    const load::Train& train, double speed, const RunSettings& settings);
 
