@@ -4,7 +4,7 @@
 set -euo pipefail
 
 packages=(
-  g++ cmake ninja-build
+  g++ cmake ninja-build pkg-config
   libeigen3-dev          # linear algebra (dense and sparse)
   libfftw3-dev           # FFT (signal module)
   libsundials-dev        # IDA (solve module)
