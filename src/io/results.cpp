@@ -114,6 +114,21 @@ void write_modes_csv(const std::string& path, const model::Modes& m,
   finish(f, path);
 }
 
+void write_columns_csv(const std::string& path, const std::vector<std::string>& names,
+                       const std::vector<Vector>& columns) {
+  if (names.size() != columns.size() || columns.empty()) throw InputError("write_columns_csv: one name per column");
+  for (const auto& c : columns)
+    if (c.size() != columns.front().size()) throw InputError("write_columns_csv: columns differ in length");
+  File f = open_out(path);
+  for (std::size_t j = 0; j < names.size(); ++j) std::fprintf(f.get(), "%s%s", j ? "," : "", csv_text(names[j]).c_str());
+  std::fprintf(f.get(), "\n");
+  for (Index k = 0; k < columns.front().size(); ++k) {
+    for (std::size_t j = 0; j < columns.size(); ++j) std::fprintf(f.get(), "%s%.10g", j ? "," : "", columns[j][k]);
+    std::fprintf(f.get(), "\n");
+  }
+  finish(f, path);
+}
+
 void write_manifest(const std::string& path, const Manifest& m, const FlatScenario& flat) {
   std::ofstream out(path);
   if (!out) throw SolverError("cannot write " + path);

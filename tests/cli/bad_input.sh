@@ -41,7 +41,7 @@ printf '[bridge\nfile = 3\n' > "$WORK/syntax.toml"
 expect 2 "TOML syntax error" -- "$VIADUCT" check "$WORK/syntax.toml"
 expect 2 "file not found" -- "$VIADUCT" check "$WORK/absent.toml"
 expect 2 "unknown key (did you mean 'track.pad.k'?)" -- "$VIADUCT" check "$OG" --set track.pad.kk=1
-expect 2 "a scenario file is required" -- "$VIADUCT" run
+expect 2 "SCENARIO is required" -- "$VIADUCT" run
 expect 2 "unrecognised option" -- "$VIADUCT" run "$OG" --speeed 3
 expect 2 "unknown command 'frobnicate'" -- "$VIADUCT" frobnicate
 expect 2 "--threads must be >= 0" -- "$VIADUCT" sweep "$OG" --threads -2
@@ -50,6 +50,18 @@ expect 2 "no speed: give --speed-kmh" -- "$VIADUCT" run "$(scen nospeed '')" --o
 expect 2 "no train named 'TGV'" -- "$VIADUCT" run "$OG" --speed-kmh 100 --train TGV --out "$WORK/o"
 expect 2 "key 'stations[0].at': must be [0, 1], got 1.5" -- "$VIADUCT" run "$(scen far '')" --set stations[0].at=1.5 --speed-kmh 100 --out "$WORK/o"
 expect 2 "a deck station needs exactly one of 'at' (fraction) or 'x' (metres)" -- "$VIADUCT" run "$(scen both '')" --set stations[0].x=3.0 --speed-kmh 100 --out "$WORK/o"
+# Records: bad files exit 2 with file, line and column.
+printf 't_s,a_mps2\n0,1\n0.01,NaN\n' > "$WORK/nan.csv"
+expect 2 "nan.csv:3: column 'a_mps2': not a finite number" -- "$VIADUCT" filter "$WORK/nan.csv"
+printf 't_s,a_mps2\n0,1\n0.01,2\n0.005,3\n' > "$WORK/back.csv"
+expect 2 "time does not increase at sample 3" -- "$VIADUCT" spectrum "$WORK/back.csv"
+printf 't_s,a_furlongs\n0,1\n0.01,2\n' > "$WORK/unit.csv"
+expect 2 "has no known unit suffix" -- "$VIADUCT" spectrum "$WORK/unit.csv"
+expect 2 "high_hz must be in (0, fs/2 = 250) Hz" -- "$VIADUCT" filter "$SRC/data/records/synthetic-deck.csv" --high-hz 300
+expect 2 "nperseg (100000) exceeds the record's 3009 samples" -- "$VIADUCT" spectrum "$SRC/data/records/synthetic-deck.csv" --welch --nperseg 100000
+expect 2 "no channel 'rail'" -- "$VIADUCT" spectrum "$SRC/data/records/synthetic-deck.csv" --channel rail
+expect 2 "RECORD is required" -- "$VIADUCT" spectrum
+
 # Sizes that would exhaust memory or time are refused with the key to change.
 expect 2 "elements; at most 1000 per span (raise bridge.element_size)" -- "$VIADUCT" check "$OG" --set bridge.element_size=1e-6
 expect 2 "rail elements; at most 100000" -- "$VIADUCT" check "$OG" --set track.rail_elements_per_bay=2000

@@ -20,6 +20,19 @@ expect 0 "11" -- wc -l "$WORK/s1/envelope.csv"
 OG=$SRC/scenarios/old-guadiana-talgo.toml
 expect 0 "wrote" -- "$VIADUCT" run "$OG" --set 'stations[3].track_x=-5.0' --set 'stations[3].name="approach"' --out "$WORK/og" --speed-kmh 200
 expect 0 "approach_rail_disp_m,approach_rail_acc_mps2,approach_rail_acc_filt_mps2" -- head -1 "$WORK/og/history.csv"
+# Records: filter and spectrum of the synthetic record (known content: first mode 10.01 Hz).
+REC=$SRC/data/records/synthetic-deck.csv
+expect 0 "2 channels, 3009 samples at 500 Hz" -- "$VIADUCT" filter "$REC" --out "$WORK/filt"
+expect 0 "t_s,deck_disp_m,deck_acc_mps2" -- head -2 "$WORK/filt/filtered.csv"
+expect 0 "1 channels" -- "$VIADUCT" spectrum "$REC" --channel deck_acc --out "$WORK/spec"
+expect 0 "frequency_hz,deck_acc_amp_mps2" -- head -1 "$WORK/spec/spectrum.csv"
+peak=$(awk -F, 'NR > 1 && $2 > m { m = $2; f = $1 } END { print f }' "$WORK/spec/spectrum.csv")
+expect 0 "ok" -- awk -v f="$peak" 'BEGIN { if (f > 9.8 && f < 10.2) print "ok"; else print "peak at " f }'
+expect 0 "frequencies" -- "$VIADUCT" spectrum "$REC" --welch --nperseg 1024 --out "$WORK/psd"
+expect 0 "frequency_hz,deck_disp_psd_m2_per_hz,deck_acc_psd_mps22_per_hz" -- head -1 "$WORK/psd/spectrum.csv"
+# A simulated history is a record too.
+expect 0 "samples at 1000 Hz" -- "$VIADUCT" filter "$WORK/run/history.csv" --band lowpass --high-hz 20 --out "$WORK/hf"
+
 # The plot scripts draw what the commands wrote.
 expect 0 "envelope.png" -- /usr/bin/python3 "$SRC/scripts/plot_envelope.py" "$WORK/s1"
 expect 0 "envelope_disp.png" -- /usr/bin/python3 "$SRC/scripts/plot_envelope.py" "$WORK/s1" --quantity disp

@@ -41,13 +41,13 @@ int dispatch(const Command& cmd, int argc, char** argv) {
   }
   if (vm.count("help")) {
     std::cout << "viaduct " << cmd.name << " — " << cmd.summary << "\n\n"
-              << "Usage: viaduct " << cmd.name << " SCENARIO [options]\n\n"
+              << "Usage: viaduct " << cmd.name << " " << cmd.positional << " [options]\n\n"
               << opts << "\n"
               << cmd.usage_and_samples;
     return ok;
   }
   if (cmd.needs_scenario && !vm.count("scenario")) {
-    std::cerr << prefix << "error: a scenario file is required\n(see 'viaduct " << cmd.name << " --help')\n";
+    std::cerr << prefix << "error: " << cmd.positional << " is required\n(see 'viaduct " << cmd.name << " --help')\n";
     return usage_error;
   }
   Common c;

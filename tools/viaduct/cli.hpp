@@ -32,6 +32,7 @@ struct Command {
   std::function<void(po::options_description&)> add_options;
   std::function<int(const Common&, const po::variables_map&)> run;
   bool needs_scenario = true;
+  std::string positional = "SCENARIO";  ///< what the positional argument is (Common::scenario holds it)
 };
 
 /// Parses argv for `cmd`, handles --help, and maps exceptions to exit codes (2 input/usage,
@@ -55,5 +56,7 @@ Command modes_command();
 Command run_command();
 Command sweep_command();
 Command schema_command();
+Command filter_command();
+Command spectrum_command();
 
 }  // namespace viaduct::cli

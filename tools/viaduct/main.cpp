@@ -9,11 +9,11 @@
 int main(int argc, char** argv) {
   using namespace viaduct::cli;
   const std::vector<Command> commands = {check_command(), modes_command(), run_command(), sweep_command(),
-                                         schema_command()};
+                                         schema_command(), filter_command(), spectrum_command()};
   auto usage = [&](std::ostream& os) {
     os << "viaduct " << viaduct::io::version() << " — railway train–track–bridge dynamics\n\n"
-       << "Usage: viaduct COMMAND SCENARIO [options]    (viaduct COMMAND --help for each)\n\nCommands:\n";
-    for (const auto& c : commands) os << "  " << c.name << std::string(8 - c.name.size(), ' ') << c.summary << "\n";
+       << "Usage: viaduct COMMAND SCENARIO|RECORD [options]    (viaduct COMMAND --help for each)\n\nCommands:\n";
+    for (const auto& c : commands) os << "  " << c.name << std::string(10 - c.name.size(), ' ') << c.summary << "\n";
   };
   if (argc < 2) {
     usage(std::cerr);

@@ -27,6 +27,11 @@ void write_failures_csv(const std::string& path, const std::vector<study::CaseFa
 void write_modes_csv(const std::string& path, const model::Modes& m,
                      const std::vector<study::ResolvedStation>& stations);
 
+/// A table of equally long columns: a header `names[0],names[1],...` and one row per index.
+/// Throws InputError for mismatched lengths, SolverError on I/O failure.
+void write_columns_csv(const std::string& path, const std::vector<std::string>& names,
+                       const std::vector<Vector>& columns);
+
 /// manifest.toml: command, version, dependency versions, wall time, counts, resolved scenario.
 struct Manifest {
   std::string command;                                      ///< e.g. "sweep"

@@ -1,0 +1,38 @@
+#pragma once
+/// \file Measured or simulated multi-channel records as CSV.
+///
+/// Format (docs/records.md): '#' comment lines; optional comment `# sampling_rate_hz = F`;
+/// a header whose first column may be `t_s` (time, seconds) and whose channels are named
+/// `<name>_<unit>` with a known unit suffix; one sample per row. Either a time column or a
+/// declared sampling rate is required (both must agree). Errors name file, line and column:
+/// NaN or empty cells, wrong column counts, non-increasing or irregular time, duplicated or
+/// unit-less channels. Nothing is repaired silently.
+
+#include <string>
+#include <vector>
+
+#include "viaduct/core/types.hpp"
+
+namespace viaduct::io {
+
+struct Record {
+  double fs_hz = 0.0;                  ///< [Hz] sampling rate, > 0
+  double t0_s = 0.0;                   ///< [s] time of the first sample
+  std::vector<std::string> channels;   ///< full names, e.g. "S1_mid_acc_mps2"
+  std::vector<std::string> units;      ///< unit suffix of each channel, e.g. "mps2"
+  Matrix data;                         ///< n_samples × n_channels
+  Index n_samples() const { return data.rows(); }
+  /// Index of channel `name` (full name, or the name without its unit); InputError if absent.
+  std::size_t channel(const std::string& name) const;
+};
+
+/// Unit suffixes a channel name may end with.
+const std::vector<std::string>& known_units();
+
+/// Reads a record CSV (streaming, about 1 s per 100 MB). Throws InputError with file:line.
+Record read_record_csv(const std::string& path);
+
+/// Writes `r` with a t_s column (t0 + k/fs). Throws SolverError on I/O failure.
+void write_record_csv(const std::string& path, const Record& r, int significant_digits = 10);
+
+}  // namespace viaduct::io

@@ -1,0 +1,181 @@
+#include "viaduct/io/record.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <set>
+
+#include "viaduct/core/error.hpp"
+
+namespace viaduct::io {
+
+const std::vector<std::string>& known_units() {
+  static const std::vector<std::string> u = {"m", "mm", "mps", "mps2", "g", "N", "kN", "Pa", "V", "rad", "1"};
+  return u;
+}
+
+std::size_t Record::channel(const std::string& name) const {
+  for (std::size_t i = 0; i < channels.size(); ++i)
+    if (channels[i] == name || channels[i] == name + "_" + units[i]) return i;
+  std::string have;
+  for (const auto& c : channels) have += " " + c;
+  throw InputError("no channel '" + name + "' in the record; it has:" + have);
+}
+
+namespace {
+
+std::string trim(const std::string& s) {
+  const auto a = s.find_first_not_of(" \t\r");
+  if (a == std::string::npos) return "";
+  const auto b = s.find_last_not_of(" \t\r");
+  return s.substr(a, b - a + 1);
+}
+
+std::vector<std::string> split_csv(const std::string& line) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (true) {
+    const auto comma = line.find(',', start);
+    out.push_back(trim(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start)));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+}  // namespace
+
+Record read_record_csv(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError("cannot open record " + path);
+  auto err = [&](int line, const std::string& msg) { return InputError(SourceLocation{path, line, ""}, msg); };
+  Record r;
+  double declared_fs = 0.0;
+  bool has_time = false;
+  std::vector<std::string> header;
+  std::vector<double> values;  // row-major, grown as we stream
+  std::vector<double> times;
+  std::string line;
+  int ln = 0;
+  std::size_t n_cols = 0;
+  while (std::getline(in, line)) {
+    ++ln;
+    const std::string t = trim(line);
+    if (t.empty()) continue;
+    if (t[0] == '#') {
+      const auto eq = t.find('=');
+      if (eq != std::string::npos && trim(t.substr(1, eq - 1)) == "sampling_rate_hz") {
+        const std::string v = trim(t.substr(eq + 1));
+        const auto res = std::from_chars(v.data(), v.data() + v.size(), declared_fs);
+        if (res.ec != std::errc() || res.ptr != v.data() + v.size() || !(declared_fs > 0.0) || !std::isfinite(declared_fs))
+          throw err(ln, "sampling_rate_hz must be a number > 0, got '" + v + "'");
+      }
+      continue;
+    }
+    if (header.empty()) {
+      header = split_csv(t);
+      has_time = header.front() == "t_s";
+      std::set<std::string> seen;
+      for (std::size_t c = has_time ? 1 : 0; c < header.size(); ++c) {
+        const std::string& name = header[c];
+        if (name.empty()) throw err(ln, "column " + std::to_string(c + 1) + " has no name");
+        if (!seen.insert(name).second) throw err(ln, "channel '" + name + "' appears twice");
+        const auto us = name.rfind('_');
+        const std::string unit = us == std::string::npos ? "" : name.substr(us + 1);
+        if (std::find(known_units().begin(), known_units().end(), unit) == known_units().end()) {
+          std::string list;
+          for (const auto& u : known_units()) list += " _" + u;
+          throw err(ln, "channel '" + name + "' has no known unit suffix (one of" + list + ")");
+        }
+        r.channels.push_back(name);
+        r.units.push_back(unit);
+      }
+      if (r.channels.empty()) throw err(ln, "the header names no channel");
+      n_cols = header.size();
+      continue;
+    }
+    // data row: parse without allocating per cell
+    std::size_t col = 0;
+    const char* p = t.data();
+    const char* end = t.data() + t.size();
+    while (true) {
+      while (p < end && (*p == ' ' || *p == '\t')) ++p;
+      double v = 0.0;
+      const auto res = std::from_chars(p, end, v);
+      if (res.ec != std::errc() || !std::isfinite(v)) {
+        const std::string colname = col < header.size() ? header[col] : "column " + std::to_string(col + 1);
+        throw err(ln, "column '" + colname + "': not a finite number (missing samples and NaN are not repaired)");
+      }
+      if (col >= n_cols) throw err(ln, "more than the header's " + std::to_string(n_cols) + " columns");
+      if (has_time && col == 0) times.push_back(v);
+      else values.push_back(v);
+      ++col;
+      p = res.ptr;
+      while (p < end && (*p == ' ' || *p == '\t')) ++p;
+      if (p == end) break;
+      if (*p != ',') throw err(ln, "unexpected text after a number in column " + std::to_string(col));
+      ++p;
+    }
+    if (col != n_cols)
+      throw err(ln, "expected " + std::to_string(n_cols) + " columns as in the header, got " + std::to_string(col));
+  }
+  if (header.empty()) throw InputError(path + ": no header line (and no data)");
+  const std::size_t nc = r.channels.size();
+  const std::size_t ns = values.size() / nc;
+  if (ns < 2) throw InputError(path + ": a record needs at least 2 samples, got " + std::to_string(ns));
+  if (has_time) {
+    // Strictly increasing, and regular: each step within 1 % of the median step.
+    std::vector<double> dts(ns - 1);
+    for (std::size_t k = 0; k + 1 < ns; ++k) {
+      dts[k] = times[k + 1] - times[k];
+      if (!(dts[k] > 0.0))
+        throw InputError(path + ": time does not increase at sample " + std::to_string(k + 2) + " (t = " +
+                         format_number(times[k + 1]) + " s after " + format_number(times[k]) + " s)");
+    }
+    std::vector<double> sorted = dts;
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+    const double dt = sorted[sorted.size() / 2];
+    for (std::size_t k = 0; k < dts.size(); ++k)
+      if (std::abs(dts[k] - dt) > 0.01 * dt)
+        throw InputError(path + ": irregular sampling at sample " + std::to_string(k + 2) + " (step " +
+                         format_number(dts[k], 6) + " s, median " + format_number(dt, 6) +
+                         " s); resample the record to a uniform rate first");
+    // Rate from the whole span (less sensitive to rounded time stamps than the median step).
+    r.fs_hz = static_cast<double>(ns - 1) / (times.back() - times.front());
+    r.t0_s = times.front();
+    if (declared_fs > 0.0 && std::abs(declared_fs - r.fs_hz) > 1e-3 * declared_fs)
+      throw InputError(path + ": declared sampling_rate_hz = " + format_number(declared_fs) +
+                       " disagrees with the time column (" + format_number(r.fs_hz, 8) + " Hz)");
+  } else {
+    if (!(declared_fs > 0.0))
+      throw InputError(path + ": no t_s column and no '# sampling_rate_hz = ...' comment: the sampling rate is unknown");
+    r.fs_hz = declared_fs;
+  }
+  r.data = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+      values.data(), static_cast<Index>(ns), static_cast<Index>(nc));
+  return r;
+}
+
+void write_record_csv(const std::string& path, const Record& r, int significant_digits) {
+  struct Closer {
+    void operator()(std::FILE* f) const {
+      if (f) std::fclose(f);
+    }
+  };
+  std::unique_ptr<std::FILE, Closer> f(std::fopen(path.c_str(), "w"));
+  if (!f) throw SolverError("cannot write " + path);
+  std::fprintf(f.get(), "# sampling_rate_hz = %.17g\nt_s", r.fs_hz);
+  for (const auto& c : r.channels) std::fprintf(f.get(), ",%s", c.c_str());
+  std::fprintf(f.get(), "\n");
+  for (Index k = 0; k < r.n_samples(); ++k) {
+    std::fprintf(f.get(), "%.12g", r.t0_s + static_cast<double>(k) / r.fs_hz);
+    for (Index c = 0; c < r.data.cols(); ++c) std::fprintf(f.get(), ",%.*g", significant_digits, r.data(k, c));
+    std::fprintf(f.get(), "\n");
+  }
+  if (std::ferror(f.get()) || std::fclose(f.release()) != 0) throw SolverError("error writing " + path);
+}
+
+}  // namespace viaduct::io

@@ -1,0 +1,156 @@
+// viaduct filter / viaduct spectrum: processing of record files (measured or simulated).
+#include <cstdio>
+
+#include "cli.hpp"
+#include "viaduct/io/record.hpp"
+#include "viaduct/io/results.hpp"
+#include "viaduct/signal/iir.hpp"
+#include "viaduct/signal/spectrum.hpp"
+
+namespace viaduct::cli {
+
+namespace {
+
+// Channels named by --channel (all when none).
+std::vector<std::size_t> selected(const io::Record& r, const po::variables_map& vm) {
+  std::vector<std::size_t> out;
+  if (vm.count("channel"))
+    for (const auto& c : vm["channel"].as<std::vector<std::string>>()) out.push_back(r.channel(c));
+  else
+    for (std::size_t i = 0; i < r.channels.size(); ++i) out.push_back(i);
+  return out;
+}
+
+std::string base_name(const io::Record& r, std::size_t c) {
+  return r.channels[c].substr(0, r.channels[c].size() - r.units[c].size() - 1);
+}
+
+void add_channel_option(po::options_description& d) {
+  d.add_options()("channel", po::value<std::vector<std::string>>()->composing(),
+                  "channel to process (repeatable; default: all), full name or without its unit");
+}
+
+}  // namespace
+
+Command filter_command() {
+  Command c;
+  c.name = "filter";
+  c.positional = "RECORD";
+  c.summary = "zero-phase Chebyshev I filtering of a record's channels (filtered.csv)";
+  c.add_options = [](po::options_description& d) {
+    add_channel_option(d);
+    d.add_options()("band", po::value<std::string>()->default_value("bandpass"), "lowpass, highpass or bandpass")(
+        "low-hz", po::value<double>()->default_value(1.0), "lower band edge [Hz] (highpass, bandpass)")(
+        "high-hz", po::value<double>()->default_value(30.0), "upper band edge [Hz] (lowpass, bandpass)")(
+        "order", po::value<int>()->default_value(3), "Chebyshev I order (band-pass: 2 x order poles)")(
+        "ripple-db", po::value<double>()->default_value(0.5), "passband ripple [dB]; one pass is -ripple at the edges");
+  };
+  c.usage_and_samples =
+      "RECORD is a CSV record (docs/records.md), e.g. a history.csv written by viaduct run.\n"
+      "Filters forward and backward as scipy.signal.sosfiltfilt(cheby1(order, ripple_db, edges,\n"
+      "band, fs=fs, output='sos'), x) does, and writes OUT/filtered.csv with the same columns.\n\n"
+      "Sample runs:\n"
+      "  viaduct filter data/records/synthetic-deck.csv --low-hz 1 --high-hz 30 --out out/filtered\n"
+      "  viaduct filter data/records/synthetic-deck.csv --band lowpass --high-hz 15 --channel deck_acc --out out/lp\n";
+  c.run = [](const Common& o, const po::variables_map& vm) {
+    const io::Record in = io::read_record_csv(o.scenario);
+    signal::Cheby1Spec spec;
+    const std::string band = vm["band"].as<std::string>();
+    if (band == "bandpass") spec.band = signal::BandType::bandpass;
+    else if (band == "lowpass") spec.band = signal::BandType::lowpass;
+    else if (band == "highpass") spec.band = signal::BandType::highpass;
+    else throw InputError("--band must be lowpass, highpass or bandpass, got '" + band + "'");
+    spec.low_hz = vm["low-hz"].as<double>();
+    spec.high_hz = vm["high-hz"].as<double>();
+    spec.order = vm["order"].as<int>();
+    spec.ripple_db = vm["ripple-db"].as<double>();
+    const signal::Sos sos = signal::cheby1(spec, in.fs_hz);
+    io::Record out = in;
+    const auto chans = selected(in, vm);
+    out.channels.clear();
+    out.units.clear();
+    out.data.resize(in.n_samples(), static_cast<Index>(chans.size()));
+    for (std::size_t j = 0; j < chans.size(); ++j) {
+      out.channels.push_back(in.channels[chans[j]]);
+      out.units.push_back(in.units[chans[j]]);
+      out.data.col(static_cast<Index>(j)) = signal::sosfiltfilt(sos, in.data.col(static_cast<Index>(chans[j])));
+    }
+    make_out_dir(o.out);
+    io::write_record_csv(o.out + "/filtered.csv", out);
+    if (!o.quiet)
+      std::printf("%zu channels, %ld samples at %.6g Hz; wrote %s/filtered.csv\n", chans.size(),
+                  static_cast<long>(in.n_samples()), in.fs_hz, o.out.c_str());
+    return ok;
+  };
+  return c;
+}
+
+Command spectrum_command() {
+  Command c;
+  c.name = "spectrum";
+  c.positional = "RECORD";
+  c.summary = "amplitude spectrum or Welch PSD of a record's channels (spectrum.csv)";
+  c.add_options = [](po::options_description& d) {
+    add_channel_option(d);
+    d.add_options()("welch", po::bool_switch(), "Welch power spectral density instead of the amplitude spectrum")(
+        "nperseg", po::value<long>()->default_value(4096), "Welch: samples per segment")(
+        "noverlap", po::value<long>()->default_value(-1), "Welch: overlap in samples (-1: half a segment)")(
+        "window", po::value<std::string>()->default_value("hann"), "hann or rectangular")(
+        "detrend", po::value<std::string>()->default_value("constant"), "Welch: constant, linear or none");
+  };
+  c.usage_and_samples =
+      "Amplitude spectrum: one-sided 2|X|/sum(w) of the whole record (a sine of amplitude a on a\n"
+      "bin reads a with the rectangular window; Hann gives smoother peaks, correct amplitude at\n"
+      "bin centres). Welch PSD: scipy.signal.welch conventions (unit^2/Hz). Writes\n"
+      "OUT/spectrum.csv: frequency_hz, then <channel>_amp_<unit> or <channel>_psd_<unit>2_per_hz.\n\n"
+      "Sample runs:\n"
+      "  viaduct spectrum data/records/synthetic-deck.csv --out out/spectrum\n"
+      "  viaduct spectrum data/records/synthetic-deck.csv --welch --nperseg 1024 --out out/psd\n";
+  c.run = [](const Common& o, const po::variables_map& vm) {
+    const io::Record in = io::read_record_csv(o.scenario);
+    const auto chans = selected(in, vm);
+    const std::string wname = vm["window"].as<std::string>();
+    if (wname != "hann" && wname != "rectangular") throw InputError("--window must be hann or rectangular");
+    const signal::Window w = wname == "hann" ? signal::Window::hann : signal::Window::rectangular;
+    const bool welch = vm["welch"].as<bool>();
+    std::vector<Vector> cols;
+    Vector f;
+    std::vector<std::string> names;
+    if (welch) {
+      signal::WelchOptions wo;
+      wo.nperseg = vm["nperseg"].as<long>();
+      wo.noverlap = vm["noverlap"].as<long>();
+      wo.window = w;
+      const std::string d = vm["detrend"].as<std::string>();
+      if (d == "constant") wo.detrend = signal::Detrend::constant;
+      else if (d == "linear") wo.detrend = signal::Detrend::linear;
+      else if (d == "none") wo.detrend = signal::Detrend::none;
+      else throw InputError("--detrend must be constant, linear or none");
+      for (std::size_t ch : chans) {
+        const signal::Psd p = signal::welch(in.data.col(static_cast<Index>(ch)), in.fs_hz, wo);
+        f = p.frequency_hz;
+        cols.push_back(p.density);
+        names.push_back(base_name(in, ch) + "_psd_" + in.units[ch] + "2_per_hz");
+      }
+    } else {
+      for (std::size_t ch : chans) {
+        const signal::AmplitudeSpectrum a = signal::amplitude_spectrum(in.data.col(static_cast<Index>(ch)), in.fs_hz, w);
+        f = a.frequency_hz;
+        cols.push_back(a.amplitude);
+        names.push_back(base_name(in, ch) + "_amp_" + in.units[ch]);
+      }
+    }
+    make_out_dir(o.out);
+    const std::string path = o.out + "/spectrum.csv";
+    names.insert(names.begin(), "frequency_hz");
+    cols.insert(cols.begin(), f);
+    io::write_columns_csv(path, names, cols);
+    if (!o.quiet)
+      std::printf("%zu channels, %ld frequencies up to %.6g Hz; wrote %s\n", chans.size(), static_cast<long>(f.size()),
+                  f[f.size() - 1], path.c_str());
+    return ok;
+  };
+  return c;
+}
+
+}  // namespace viaduct::cli
