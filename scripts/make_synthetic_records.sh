@@ -12,7 +12,7 @@ trap 'rm -rf "$tmp"' EXIT
 {
   echo "# Synthetic record made by viaduct $("$V" --version | cut -d' ' -f2) (scripts/make_synthetic_records.sh):"
   echo "# Old Guadiana model, Talgo Altaria at 154.8 km/h, dt = 2 ms, deck at mid-span 1, unfiltered."
-  echo "# Known content: first bending mode 10.01 Hz; axle passages of the Talgo rake every 13.14 m (3.27 Hz)."
+  echo "# Known content: first bending mode 10.01 Hz; axle passages of the Talgo rake every 13.14 m (0.306 s, 3.27 Hz)."
   echo "# sampling_rate_hz = 500"
   echo "t_s,deck_disp_m,deck_acc_mps2"
   awk -F, 'NR > 1 { printf "%s,%s,%s\n", $1, $2, $3 }' "$tmp/history.csv"

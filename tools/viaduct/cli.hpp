@@ -58,5 +58,6 @@ Command sweep_command();
 Command schema_command();
 Command filter_command();
 Command spectrum_command();
+Command peaks_command();
 
 }  // namespace viaduct::cli

@@ -1,0 +1,100 @@
+#include "viaduct/signal/peaks.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "viaduct/core/error.hpp"
+
+namespace viaduct::signal {
+
+bool PeakOptions::is_valid(std::string* why) const {
+  auto fail = [&](const std::string& m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (std::isnan(min_height)) return fail("min_height must not be NaN");
+  if (!(std::isfinite(min_prominence) && min_prominence >= 0.0)) return fail("min_prominence must be >= 0");
+  if (min_distance < 1) return fail("min_distance must be >= 1 sample");
+  return true;
+}
+
+namespace {
+
+// SciPy's prominence: the lowest point on each side before a higher sample (or the border);
+// the base is the higher of the two minima.
+double prominence(const Vector& y, Index i) {
+  const double h = y[i];
+  double left = h, right = h;
+  for (Index j = i - 1; j >= 0 && y[j] <= h; --j) left = std::min(left, y[j]);
+  for (Index j = i + 1; j < y.size() && y[j] <= h; ++j) right = std::min(right, y[j]);
+  return h - std::max(left, right);
+}
+
+void refine(const Vector& y, Peak& p, Interpolation interp) {
+  p.position = static_cast<double>(p.index);
+  p.value = y[p.index];
+  if (interp == Interpolation::none || p.index == 0 || p.index + 1 >= y.size()) return;
+  double a = y[p.index - 1], b = y[p.index], c = y[p.index + 1];
+  const bool logs = interp == Interpolation::gaussian && a > 0 && b > 0 && c > 0;
+  if (logs) {
+    a = std::log(a);
+    b = std::log(b);
+    c = std::log(c);
+  }
+  const double den = a - 2 * b + c;
+  if (!(den < 0)) return;  // flat or not a maximum of the parabola
+  const double d = std::clamp(0.5 * (a - c) / den, -0.5, 0.5);
+  const double v = b - 0.25 * (a - c) * d;
+  p.position += d;
+  p.value = logs ? std::exp(v) : v;
+}
+
+}  // namespace
+
+std::vector<Peak> find_peaks(const Vector& y, const PeakOptions& o, Interpolation interp) {
+  std::string why;
+  if (!o.is_valid(&why)) throw InputError("peak picking: " + why);
+  if (!y.allFinite()) throw InputError("peak picking: the curve holds NaN or infinite values");
+  // Local maxima; a flat top counts once, at its middle (rounded down).
+  std::vector<Index> cand;
+  for (Index i = 1; i + 1 < y.size(); ++i) {
+    if (!(y[i - 1] < y[i])) continue;
+    Index j = i;
+    while (j + 1 < y.size() && y[j + 1] == y[i]) ++j;
+    if (j + 1 < y.size() && y[j + 1] < y[i]) cand.push_back((i + j) / 2);
+    i = j;
+  }
+  std::vector<Index> keep;
+  for (Index i : cand)
+    if (y[i] >= o.min_height) keep.push_back(i);
+  if (o.min_distance > 1) {  // highest first; drop neighbours within the distance
+    std::vector<Index> by_height = keep;
+    std::stable_sort(by_height.begin(), by_height.end(), [&](Index a, Index b) { return y[a] > y[b]; });
+    std::vector<Index> kept;
+    for (Index i : by_height) {
+      bool near = false;
+      for (Index k : kept) near = near || std::abs(k - i) < o.min_distance;
+      if (!near) kept.push_back(i);
+    }
+    std::sort(kept.begin(), kept.end());
+    keep = kept;
+  }
+  std::vector<Peak> out;
+  for (Index i : keep) {
+    Peak p;
+    p.index = i;
+    p.prominence = prominence(y, i);
+    if (p.prominence < o.min_prominence) continue;
+    refine(y, p, interp);
+    out.push_back(p);
+  }
+  if (o.max_peaks > 0 && out.size() > o.max_peaks) {
+    std::stable_sort(out.begin(), out.end(), [](const Peak& a, const Peak& b) { return a.value > b.value; });
+    out.resize(o.max_peaks);
+    std::sort(out.begin(), out.end(), [](const Peak& a, const Peak& b) { return a.index < b.index; });
+  }
+  return out;
+}
+
+}  // namespace viaduct::signal
