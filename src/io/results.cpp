@@ -129,6 +129,19 @@ void write_columns_csv(const std::string& path, const std::vector<std::string>& 
   finish(f, path);
 }
 
+void write_table_csv(const std::string& path, const std::vector<std::string>& header,
+                     const std::vector<std::vector<std::string>>& rows) {
+  File f = open_out(path);
+  auto line = [&](const std::vector<std::string>& cells) {
+    if (cells.size() != header.size()) throw InputError("write_table_csv: row width differs from the header");
+    for (std::size_t j = 0; j < cells.size(); ++j) std::fprintf(f.get(), "%s%s", j ? "," : "", csv_text(cells[j]).c_str());
+    std::fprintf(f.get(), "\n");
+  };
+  line(header);
+  for (const auto& r : rows) line(r);
+  finish(f, path);
+}
+
 void write_manifest(const std::string& path, const Manifest& m, const FlatScenario& flat) {
   std::ofstream out(path);
   if (!out) throw SolverError("cannot write " + path);

@@ -62,6 +62,17 @@ expect 2 "nperseg (100000) exceeds the record's 3009 samples" -- "$VIADUCT" spec
 expect 2 "no channel 'rail'" -- "$VIADUCT" spectrum "$SRC/data/records/synthetic-deck.csv" --channel rail
 expect 2 "RECORD is required" -- "$VIADUCT" spectrum
 
+# compare: missing or wrong mappings
+TALGO=$SRC/scenarios/old-guadiana-talgo.toml
+REC=$SRC/data/records/synthetic-deck.csv
+expect 2 "--record FILE is required" -- "$VIADUCT" compare "$TALGO" --map deck_acc=S1_mid
+expect 2 "at least one --map" -- "$VIADUCT" compare "$TALGO" --record "$REC"
+expect 2 "no station 'S9'" -- "$VIADUCT" compare "$TALGO" --record "$REC" --map deck_acc=S9
+expect 2 "no channel 'strain'" -- "$VIADUCT" compare "$TALGO" --record "$REC" --map strain=S1_mid
+expect 2 "--map needs CHANNEL=STATION" -- "$VIADUCT" compare "$TALGO" --record "$REC" --map deck_acc
+printf '# sampling_rate_hz = 100\nv_V\n1\n2\n3\n' > "$WORK/volts.csv"
+expect 2 "compare takes _mps2, _g, _m or _mm" -- "$VIADUCT" compare "$TALGO" --record "$WORK/volts.csv" --map v=S1_mid
+
 # Sizes that would exhaust memory or time are refused with the key to change.
 expect 2 "elements; at most 1000 per span (raise bridge.element_size)" -- "$VIADUCT" check "$OG" --set bridge.element_size=1e-6
 expect 2 "rail elements; at most 100000" -- "$VIADUCT" check "$OG" --set track.rail_elements_per_bay=2000

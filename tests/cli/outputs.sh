@@ -42,7 +42,19 @@ expect 0 "ok" -- awk -F, 'NR > 1 && $3 > 1.3 && $3 < 3.2 { if (n > 0) { d = $3 -
 # A simulated history is a record too.
 expect 0 "samples at 1000 Hz" -- "$VIADUCT" filter "$WORK/run/history.csv" --band lowpass --high-hz 20 --out "$WORK/hf"
 
+# Compare: the model against its own synthetic record (recorded with dt = 2 ms, run at 1 ms).
+TALGO=$SRC/scenarios/old-guadiana-talgo.toml
+expect 0 "deck_acc_mps2" -- "$VIADUCT" compare "$TALGO" --record "$REC" --map deck_acc=S1_mid --map deck_disp_m=S1_mid --out "$WORK/cmp"
+expect 0 "channel,station,quantity,shift_s,peak_record,peak_model,peak_ratio" -- head -1 "$WORK/cmp/compare_metrics.csv"
+expect 0 "ok" -- awk -F, 'NR > 1 { if ($4 < -0.002 || $4 > 0.002 || $7 < 0.97 || $7 > 1.03 || $9 < 0.999) bad = 1 } END { print bad ? "metrics off" : "ok" }' "$WORK/cmp/compare_metrics.csv"
+expect 0 "t_s,deck_acc_record_mps2,deck_acc_model_mps2,deck_disp_record_m,deck_disp_model_m" -- head -1 "$WORK/cmp/compare_time.csv"
+# A shifted, scaled copy: 2 s of silence in front, 1.5 x the values.
+awk -F, '/^#/ { print; next } /^t_s/ { print; next } { if (!d) { for (i = 0; i < 1000; i++) printf "%.6f,0,0\n", i * 0.002; d = 1 } printf "%.6f,%s,%s\n", $1 + 2.0, 1.5 * $2, 1.5 * $3 }' "$REC" > "$WORK/shifted.csv"
+expect 0 "wrote" -- "$VIADUCT" compare "$TALGO" --record "$WORK/shifted.csv" --map deck_acc=S1_mid --out "$WORK/cmp2"
+expect 0 "ok" -- awk -F, 'NR > 1 { if ($4 < 1.998 || $4 > 2.002 || $7 < 0.65 || $7 > 0.68) bad = 1 } END { print bad ? "shift/gain off: " $4 " " $7 : "ok" }' "$WORK/cmp2/compare_metrics.csv"
+
 # The plot scripts draw what the commands wrote.
+expect 0 "compare.png" -- /usr/bin/python3 "$SRC/scripts/plot_compare.py" "$WORK/cmp"
 expect 0 "envelope.png" -- /usr/bin/python3 "$SRC/scripts/plot_envelope.py" "$WORK/s1"
 expect 0 "envelope_disp.png" -- /usr/bin/python3 "$SRC/scripts/plot_envelope.py" "$WORK/s1" --quantity disp
 expect 0 "history.png" -- /usr/bin/python3 "$SRC/scripts/plot_history.py" "$WORK/og"

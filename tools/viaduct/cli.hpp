@@ -59,5 +59,6 @@ Command schema_command();
 Command filter_command();
 Command spectrum_command();
 Command peaks_command();
+Command compare_command();
 
 }  // namespace viaduct::cli

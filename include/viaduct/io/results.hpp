@@ -32,6 +32,10 @@ void write_modes_csv(const std::string& path, const model::Modes& m,
 void write_columns_csv(const std::string& path, const std::vector<std::string>& names,
                        const std::vector<Vector>& columns);
 
+/// A table of text cells (already formatted), one row per entry of `rows`.
+void write_table_csv(const std::string& path, const std::vector<std::string>& header,
+                     const std::vector<std::vector<std::string>>& rows);
+
 /// manifest.toml: command, version, dependency versions, wall time, counts, resolved scenario.
 struct Manifest {
   std::string command;                                      ///< e.g. "sweep"

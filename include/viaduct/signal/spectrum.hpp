@@ -17,6 +17,13 @@ using ComplexVector = Eigen::VectorXcd;
 /// not thread-safe) and shared by all threads (execution is). Safe to call from any thread.
 ComplexVector rfft(const Vector& x);
 
+/// Inverse of rfft for an n-point real signal (X holds n/2 + 1 bins): x_j = (1/n) Σ X_k e^{2πi jk/n}.
+Vector irfft(const ComplexVector& X, Index n);
+
+/// Lag of y against x that maximises their cross-correlation, in samples, refined by a parabola
+/// (y[j] ≈ g·x[j - lag]); lags searched in [-max_lag, max_lag]. FFT-based, O(n log n).
+double best_lag(const Vector& x, const Vector& y, Index max_lag);
+
 /// Frequencies [Hz] of the n/2 + 1 bins of an n-point rfft at sampling rate fs_hz.
 Vector rfft_frequencies(Index n, double fs_hz);
 

@@ -157,3 +157,19 @@ TEST_CASE("spectra reject bad records with a clear error") {
   REQUIRE_THROWS_WITH(amplitude_spectrum(Vector::Ones(10), 0.0), Catch::Contains("sampling rate"));
   REQUIRE_THROWS_AS(rfft(Vector()), InputError);
 }
+
+TEST_CASE("irfft inverts rfft; best_lag finds a known delay to a fraction of a sample") {
+  Vector x(1000);
+  for (Index j = 0; j < x.size(); ++j) x[j] = std::exp(-0.5 * std::pow((j - 300.0) / 20.0, 2)) + 0.1 * std::sin(0.05 * j);
+  REQUIRE((irfft(rfft(x), x.size()) - x).cwiseAbs().maxCoeff() < 1e-13);
+  Vector odd = x.head(999);
+  REQUIRE((irfft(rfft(odd), odd.size()) - odd).cwiseAbs().maxCoeff() < 1e-13);
+  // y = 1.7 x delayed by 123.4 samples (a smooth pulse, delayed by interpolation)
+  Vector y(1000);
+  for (Index j = 0; j < y.size(); ++j) y[j] = 1.7 * std::exp(-0.5 * std::pow((j - 423.4) / 20.0, 2));
+  Vector xp(1000);
+  for (Index j = 0; j < xp.size(); ++j) xp[j] = std::exp(-0.5 * std::pow((j - 300.0) / 20.0, 2));
+  REQUIRE(best_lag(xp, y, 500) == Approx(123.4).margin(0.05));   // parabola on a Gaussian correlation
+  REQUIRE(best_lag(y, xp, 500) == Approx(-123.4).margin(0.05));
+  REQUIRE(best_lag(xp, y, 100) == Approx(100).margin(1e-9));     // clipped to the search range
+}

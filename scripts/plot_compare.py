@@ -1,0 +1,72 @@
+#!/usr/bin/python3
+"""Draw a model-against-record comparison written by `viaduct compare`.
+
+Usage: scripts/plot_compare.py DIR [--out FILE] [--fmax HZ]
+
+Reads DIR/compare_time.csv, compare_spectrum.csv and compare_metrics.csv and writes
+DIR/compare.png: one row per channel, filtered time histories (record and aligned model) on the
+left, amplitude spectra on the right, the metrics in each title.
+"""
+import argparse
+import csv
+import os
+import sys
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def table(path):
+    if not os.path.exists(path):
+        sys.exit("plot_compare: %s not found (run viaduct compare first)" % path)
+    with open(path, newline="") as f:
+        header = next(csv.reader(f))
+    return header, np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("dir")
+    ap.add_argument("--out")
+    ap.add_argument("--fmax", type=float, default=0.0, help="upper frequency of the spectra [Hz] (default: 1.5 x highest peak)")
+    a = ap.parse_args()
+    th, td = table(os.path.join(a.dir, "compare_time.csv"))
+    fh, fd = table(os.path.join(a.dir, "compare_spectrum.csv"))
+    with open(os.path.join(a.dir, "compare_metrics.csv"), newline="") as f:
+        metrics = list(csv.DictReader(f))
+    rows = len(metrics)
+    fig, axes = plt.subplots(rows, 2, figsize=(13, 3.0 * rows + 0.6), squeeze=False)
+    for i, m in enumerate(metrics):
+        ch = m["channel"]
+        unit = ch.rsplit("_", 1)[1]
+        base = ch[: -len(unit) - 1]
+        tr, tm = th.index(base + "_record_" + unit), th.index(base + "_model_" + unit)
+        ax = axes[i][0]
+        ax.plot(td[:, 0], td[:, tr], lw=0.8, color="0.25", label="record")
+        ax.plot(td[:, 0], td[:, tm], lw=0.8, color="C3", alpha=0.85, label="model (shift %.3f s)" % float(m["shift_s"]))
+        ax.set_ylabel("%s [%s]" % (base, unit), fontsize=9)
+        ax.set_title("%s vs %s: peak ratio %.3f, rms ratio %.3f, r = %.3f" % (ch, m["station"], float(m["peak_ratio"]),
+                     float(m["rms_ratio"]), float(m["correlation"])), fontsize=9)
+        ax.legend(fontsize=7, loc="upper right")
+        ax.grid(alpha=0.3)
+        fr, fm = fh.index(base + "_record_amp_" + unit), fh.index(base + "_model_amp_" + unit)
+        ax = axes[i][1]
+        fmax = a.fmax or 1.5 * max(float(m["f_peak_record_hz"]), float(m["f_peak_model_hz"]), 1.0)
+        sel = fd[:, 0] <= fmax
+        ax.plot(fd[sel, 0], fd[sel, fr], lw=1.0, color="0.25", label="record (peak %.3f Hz)" % float(m["f_peak_record_hz"]))
+        ax.plot(fd[sel, 0], fd[sel, fm], lw=1.0, color="C3", alpha=0.85, label="model (peak %.3f Hz)" % float(m["f_peak_model_hz"]))
+        ax.set_title("amplitude spectra: spectral correlation %.3f" % float(m["spectral_correlation"]), fontsize=9)
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3)
+    axes[-1][0].set_xlabel("time [s]")
+    axes[-1][1].set_xlabel("frequency [Hz]")
+    fig.tight_layout()
+    out = a.out or os.path.join(a.dir, "compare.png")
+    fig.savefig(out, dpi=110)
+    print("wrote", out)
+
+
+if __name__ == "__main__":
+    main()

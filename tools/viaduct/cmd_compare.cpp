@@ -1,0 +1,148 @@
+// viaduct compare: a scenario's simulation against a measured record.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "cli.hpp"
+#include "viaduct/io/record.hpp"
+#include "viaduct/io/results.hpp"
+#include "viaduct/io/scenario.hpp"
+#include "viaduct/study/comparison.hpp"
+
+namespace viaduct::cli {
+
+namespace {
+struct Mapping {
+  std::size_t channel = 0;
+  std::size_t station = 0;
+  std::string quantity;  // "acc" or "disp"
+  double scale = 1.0;    // model SI value -> channel unit
+};
+}  // namespace
+
+Command compare_command() {
+  Command c;
+  c.name = "compare";
+  c.summary = "simulation against a measured record: aligned overlays, spectra and metrics";
+  c.add_options = [](po::options_description& d) {
+    d.add_options()("record", po::value<std::string>(), "record CSV (docs/records.md)")(
+        "map", po::value<std::vector<std::string>>()->composing(),
+        "CHANNEL=STATION: compare a record channel with a scenario station (repeatable)")(
+        "speed-kmh", po::value<double>(), "train speed [km/h] (default: run.speed_kmh)")(
+        "train", po::value<std::string>(), "train name (default: the first of train.files)")(
+        "max-shift-s", po::value<double>()->default_value(60.0), "alignment search range [s]");
+  };
+  c.usage_and_samples =
+      "Runs the scenario at the train's speed, filters model and record with the scenario's\n"
+      "[filter], aligns them by cross-correlation (the shift is reported) and writes OUT/\n"
+      "compare_time.csv, compare_spectrum.csv, compare_metrics.csv and manifest.toml. The\n"
+      "channel's unit picks the model quantity: _mps2 or _g acceleration, _m or _mm deflection.\n"
+      "Plot with scripts/plot_compare.py OUT.\n\n"
+      "Sample runs:\n"
+      "  viaduct compare scenarios/old-guadiana-talgo.toml --record data/records/synthetic-deck.csv --map deck_acc=S1_mid --out out/compare\n";
+  c.run = [](const Common& o, const po::variables_map& vm) {
+    const auto t0 = std::chrono::steady_clock::now();
+    if (!vm.count("record")) throw InputError("--record FILE is required");
+    if (!vm.count("map")) throw InputError("at least one --map CHANNEL=STATION is required");
+    const io::Record rec = io::read_record_csv(vm["record"].as<std::string>());
+    const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
+    study::Scenario sc = io::to_scenario(flat);
+    double speed = 0.0;
+    if (vm.count("speed-kmh")) speed = vm["speed-kmh"].as<double>() / 3.6;
+    else if (sc.run_speed) speed = *sc.run_speed;
+    if (!(speed > 0.0) || !std::isfinite(speed)) throw InputError("no valid speed: give --speed-kmh > 0 or run.speed_kmh");
+    const load::Train* train = &sc.trains.front();
+    if (vm.count("train")) {
+      train = nullptr;
+      for (const auto& t : sc.trains)
+        if (t.name == vm["train"].as<std::string>()) train = &t;
+      if (!train) throw InputError("no train named '" + vm["train"].as<std::string>() + "' in the scenario");
+    }
+    std::vector<Mapping> maps;
+    for (const auto& m : vm["map"].as<std::vector<std::string>>()) {
+      const auto eq = m.find('=');
+      if (eq == std::string::npos) throw InputError("--map needs CHANNEL=STATION, got '" + m + "'");
+      Mapping mp;
+      mp.channel = rec.channel(m.substr(0, eq));
+      const std::string st = m.substr(eq + 1);
+      bool found = false;
+      for (std::size_t i = 0; i < sc.stations.size(); ++i)
+        if (sc.stations[i].name == st) {
+          mp.station = i;
+          found = true;
+        }
+      if (!found) throw InputError("--map: no station '" + st + "' in the scenario");
+      const std::string& u = rec.units[mp.channel];
+      if (u == "mps2") mp.quantity = "acc";
+      else if (u == "g") { mp.quantity = "acc"; mp.scale = 1.0 / 9.80665; }
+      else if (u == "m") mp.quantity = "disp";
+      else if (u == "mm") { mp.quantity = "disp"; mp.scale = 1e3; }
+      else throw InputError("--map: channel '" + rec.channels[mp.channel] + "' is in " + u + "; compare takes _mps2, _g, _m or _mm");
+      maps.push_back(mp);
+    }
+    // Simulate unfiltered: the comparison filters model and record alike.
+    study::RunSettings rs = sc.settings;
+    rs.filter.enabled = false;
+    const model::Structure s = model::build_structure(sc.bridge, sc.track);
+    const auto stations = study::resolve_stations(s, sc.stations);
+    const study::RunResult run = study::simulate(s, stations, *train, speed, rs);
+    study::ComparisonOptions co;
+    co.filter = sc.settings.filter;
+    co.max_shift_s = vm["max-shift-s"].as<double>();
+    std::vector<std::string> tnames = {"t_s"}, fnames = {"frequency_hz"};
+    std::vector<Vector> tcols, fcols;
+    std::vector<std::string> mnames = {"channel", "station", "quantity", "shift_s", "peak_record", "peak_model",
+                                       "peak_ratio", "rms_ratio", "correlation", "f_peak_record_hz", "f_peak_model_hz",
+                                       "spectral_correlation"};
+    std::vector<std::vector<std::string>> metrics;
+    if (!o.quiet)
+      std::printf("%s at %.1f km/h against %s (%ld samples at %.6g Hz)\n%-22s %-10s %9s %10s %8s %8s %8s %9s %9s\n",
+                  train->name.c_str(), speed * 3.6, vm["record"].as<std::string>().c_str(),
+                  static_cast<long>(rec.n_samples()), rec.fs_hz, "channel", "station", "shift_s", "peak_ratio", "rms", "corr",
+                  "spec_corr", "f_rec_hz", "f_mod_hz");
+    for (const auto& mp : maps) {
+      const auto& h = run.stations[mp.station];
+      const Vector model = (mp.quantity == "acc" ? h.acc : h.disp) * mp.scale;
+      const study::ChannelComparison cc = study::compare_channel(rec.data.col(static_cast<Index>(mp.channel)), rec.fs_hz,
+                                                                 rec.t0_s, model, 1.0 / rs.newmark.dt, co);
+      const std::string base = rec.channels[mp.channel].substr(0, rec.channels[mp.channel].size() - rec.units[mp.channel].size() - 1);
+      const std::string& u = rec.units[mp.channel];
+      if (tcols.empty()) tcols.push_back(cc.t);
+      tnames.push_back(base + "_record_" + u);
+      tcols.push_back(cc.record);
+      tnames.push_back(base + "_model_" + u);
+      tcols.push_back(cc.model);
+      if (fcols.empty()) fcols.push_back(cc.frequency_hz);
+      fnames.push_back(base + "_record_amp_" + u);
+      fcols.push_back(cc.record_amplitude);
+      fnames.push_back(base + "_model_amp_" + u);
+      fcols.push_back(cc.model_amplitude);
+      auto num = [](double v) { return format_number(v, 8); };
+      metrics.push_back({rec.channels[mp.channel], sc.stations[mp.station].name, mp.quantity, num(cc.shift_s),
+                         num(cc.peak_record), num(cc.peak_model), num(cc.peak_ratio), num(cc.rms_ratio),
+                         num(cc.correlation), num(cc.f_peak_record_hz), num(cc.f_peak_model_hz),
+                         num(cc.spectral_correlation)});
+      if (!o.quiet)
+        std::printf("%-22s %-10s %9.4f %10.4f %8.4f %8.4f %8.4f %9.3f %9.3f\n", rec.channels[mp.channel].c_str(),
+                    sc.stations[mp.station].name.c_str(), cc.shift_s, cc.peak_ratio, cc.rms_ratio, cc.correlation,
+                    cc.spectral_correlation, cc.f_peak_record_hz, cc.f_peak_model_hz);
+    }
+    make_out_dir(o.out);
+    io::write_columns_csv(o.out + "/compare_time.csv", tnames, tcols);
+    io::write_columns_csv(o.out + "/compare_spectrum.csv", fnames, fcols);
+    io::write_table_csv(o.out + "/compare_metrics.csv", mnames, metrics);
+    io::Manifest m;
+    m.command = "compare";
+    m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    m.extra = {{"record", "\"" + vm["record"].as<std::string>() + "\""},
+               {"train", "\"" + train->name + "\""},
+               {"speed_kmh", format_number(speed * 3.6, 10)}};
+    m.versions = tool_versions();
+    io::write_manifest(o.out + "/manifest.toml", m, flat);
+    if (!o.quiet) std::printf("wrote %s/compare_{time,spectrum,metrics}.csv\n", o.out.c_str());
+    return ok;
+  };
+  return c;
+}
+
+}  // namespace viaduct::cli
