@@ -39,6 +39,15 @@ expect 0 "ok" -- awk -v f="$top" 'BEGIN { if (f > 9.8 && f < 10.05) print "ok"; 
 # Axle passages in the deflection: the Talgo's 8 rake axles 13.14 m apart at 43 m/s are 0.306 s apart.
 expect 0 "peaks" -- "$VIADUCT" peaks "$REC" --channel deck_disp --time --min-distance 0.2 --max-peaks 0 --out "$WORK/ax"
 expect 0 "ok" -- awk -F, 'NR > 1 && $3 > 1.3 && $3 < 3.2 { if (n > 0) { d = $3 - p; if (d < 0.29 || d > 0.32) bad = 1 }; p = $3; n++ } END { print (n >= 6 && !bad) ? "ok" : "spacing off" }' "$WORK/ax/peaks.csv"
+# Speed of the synthetic record's Talgo (154.8 km/h, rake axles 13.14 m apart).
+expect 0 "spectral-lines" -- "$VIADUCT" speed "$REC" --channel deck_acc --distance-m 13.14 --v-min-kmh 100 --v-max-kmh 250 --out "$WORK/speed"
+expect 0 "ok" -- awk -F, 'NR == 2 { print ($3 > 154.0 && $3 < 155.6) ? "ok" : "speed " $3 }' "$WORK/speed/speed.csv"   # 0.5 %
+# Axle peaks on a 10 Hz deck's mid-span deflection are rough (the deck vibrates between axles):
+# the estimate must lie within 3 of its own standard errors of the truth.
+expect 0 "axle-peaks" -- "$VIADUCT" speed "$REC" --channel deck_disp --distance-m 13.14 --peaks --min-interval-s 0.2 --out "$WORK/speed2"
+expect 0 "ok" -- awk -F, 'NR == 2 { d = $3 - 154.8; if (d < 0) d = -d; print (d < 3 * $4) ? "ok" : "speed " $3 " +- " $4 }' "$WORK/speed2/speed.csv"
+expect 2 "--distance-m is required" -- "$VIADUCT" speed "$REC" --out "$WORK/speed3"
+expect 2 "exceeds the Nyquist frequency" -- "$VIADUCT" speed "$REC" --distance-m 1.0 --out "$WORK/speed3"
 # A simulated history is a record too.
 expect 0 "samples at 1000 Hz" -- "$VIADUCT" filter "$WORK/run/history.csv" --band lowpass --high-hz 20 --out "$WORK/hf"
 

@@ -60,5 +60,6 @@ Command filter_command();
 Command spectrum_command();
 Command peaks_command();
 Command compare_command();
+Command speed_command();
 
 }  // namespace viaduct::cli

@@ -9,6 +9,7 @@
 #include "viaduct/signal/iir.hpp"
 #include "viaduct/signal/peaks.hpp"
 #include "viaduct/signal/spectrum.hpp"
+#include "viaduct/study/speed.hpp"
 
 namespace viaduct::cli {
 
@@ -225,6 +226,55 @@ Command peaks_command() {
         std::printf("  %-20s %s = %-12.6g value %.6g %s\n", chan[i].c_str(), time ? "t" : "f", pos[i], val[i], unit[i].c_str());
       std::printf("%zu peaks; wrote %s\n", pos.size(), path.c_str());
     }
+    return ok;
+  };
+  return c;
+}
+
+Command speed_command() {
+  Command c;
+  c.name = "speed";
+  c.positional = "RECORD";
+  c.summary = "train speed from a record: spectral lines of a characteristic distance, or axle peaks (speed.csv)";
+  c.add_options = [](po::options_description& d) {
+    add_channel_option(d);
+    d.add_options()("distance-m", po::value<double>(), "the train's characteristic distance d [m] (e.g. 13.14 for a Talgo rake, D for HSLM)")(
+        "v-min-kmh", po::value<double>()->default_value(40.0), "lowest speed searched [km/h]")(
+        "v-max-kmh", po::value<double>()->default_value(400.0), "highest speed searched [km/h]")(
+        "harmonics", po::value<int>()->default_value(4), "harmonics of v/d in the spectral comb")(
+        "peaks", po::bool_switch(), "use axle-passage peaks (a channel that sees each axle) instead of spectral lines")(
+        "min-interval-s", po::value<double>()->default_value(0.1), "peaks: least time between two axle peaks [s]");
+  };
+  c.usage_and_samples =
+      "Spectral: the speed whose harmonics k*v/d (k = 1..harmonics) best match the lines of the\n"
+      "channel's Hann spectrum (zero-padded); uncertainty = one record bin at the highest harmonic.\n"
+      "Peaks: v = d / median interval between axle peaks; uncertainty = standard error.\n"
+      "Writes OUT/speed.csv: channel,method,speed_kmh,uncertainty_kmh,frequency_hz,n_used.\n\n"
+      "Sample runs:\n"
+      "  viaduct speed data/records/synthetic-deck.csv --channel deck_acc --distance-m 13.14 --v-min-kmh 100 --v-max-kmh 250 --out out/speed\n"
+      "  viaduct speed data/records/synthetic-deck.csv --channel deck_disp --distance-m 13.14 --peaks --min-interval-s 0.2 --out out/speed-peaks\n";
+  c.run = [](const Common& o, const po::variables_map& vm) {
+    const io::Record in = io::read_record_csv(o.scenario);
+    if (!vm.count("distance-m")) throw InputError("--distance-m is required (the train's characteristic distance)");
+    const double d = vm["distance-m"].as<double>();
+    const bool peaks = vm["peaks"].as<bool>();
+    std::vector<std::vector<std::string>> rows;
+    auto num = [](double v) { return format_number(v, 8); };
+    for (std::size_t ch : selected(in, vm)) {
+      const Vector x = in.data.col(static_cast<Index>(ch));
+      const study::SpeedEstimate e =
+          peaks ? study::speed_from_peaks(x, in.fs_hz, d, vm["min-interval-s"].as<double>())
+                : study::speed_from_spectrum(x, in.fs_hz, d, vm["v-min-kmh"].as<double>() / 3.6,
+                                             vm["v-max-kmh"].as<double>() / 3.6, vm["harmonics"].as<int>());
+      rows.push_back({in.channels[ch], peaks ? "axle-peaks" : "spectral-lines", num(e.speed * 3.6),
+                      num(e.uncertainty * 3.6), num(e.frequency_hz), std::to_string(e.n_used)});
+      if (!o.quiet)
+        std::printf("%-22s %-15s %.2f km/h +- %.2f (f = %.4f Hz, %d used)\n", in.channels[ch].c_str(),
+                    rows.back()[1].c_str(), e.speed * 3.6, e.uncertainty * 3.6, e.frequency_hz, e.n_used);
+    }
+    make_out_dir(o.out);
+    io::write_table_csv(o.out + "/speed.csv", {"channel", "method", "speed_kmh", "uncertainty_kmh", "frequency_hz", "n_used"}, rows);
+    if (!o.quiet) std::printf("wrote %s/speed.csv\n", o.out.c_str());
     return ok;
   };
   return c;
