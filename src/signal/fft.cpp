@@ -7,6 +7,7 @@
 #include <mutex>
 
 #include "viaduct/core/error.hpp"
+#include "viaduct/signal/resample.hpp"
 #include "viaduct/signal/spectrum.hpp"
 
 namespace viaduct::signal {
@@ -41,6 +42,21 @@ class PlanCache {
  private:
   std::mutex mutex_;
   std::map<int, Plan> forward_, inverse_;
+
+ public:
+  // Complex backward (unnormalised) transform of size n.
+  fftw_plan get_c2c_backward(int n) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = c2c_.find(n);
+    if (it != c2c_.end()) return it->second.get();
+    std::vector<fftw_complex> a(static_cast<std::size_t>(n)), b(static_cast<std::size_t>(n));
+    Plan p(fftw_plan_dft_1d(n, a.data(), b.data(), FFTW_BACKWARD, FFTW_ESTIMATE | FFTW_UNALIGNED));
+    if (!p) throw SolverError("FFTW could not make a plan for n = " + std::to_string(n));
+    return c2c_.emplace(n, std::move(p)).first->second.get();
+  }
+
+ private:
+  std::map<int, Plan> c2c_;
 };
 
 PlanCache& cache() {
@@ -70,6 +86,16 @@ Vector irfft(const ComplexVector& X, Index n) {
   Vector out(n);
   fftw_execute_dft_c2r(plan, reinterpret_cast<fftw_complex*>(const_cast<std::complex<double>*>(X.data())), out.data());
   return out / static_cast<double>(n);
+}
+
+Eigen::VectorXcd ifft(const Eigen::VectorXcd& X) {
+  if (X.size() < 1) throw InputError("inverse FFT of an empty spectrum");
+  if (X.size() > (1 << 30)) throw InputError("FFT longer than 2^30 points");
+  fftw_plan plan = cache().get_c2c_backward(static_cast<int>(X.size()));
+  Eigen::VectorXcd out(X.size());
+  fftw_execute_dft(plan, reinterpret_cast<fftw_complex*>(const_cast<std::complex<double>*>(X.data())),
+                   reinterpret_cast<fftw_complex*>(out.data()));
+  return out / static_cast<double>(X.size());
 }
 
 double best_lag(const Vector& x, const Vector& y, Index max_lag) {

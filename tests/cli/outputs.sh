@@ -48,6 +48,14 @@ expect 0 "axle-peaks" -- "$VIADUCT" speed "$REC" --channel deck_disp --distance-
 expect 0 "ok" -- awk -F, 'NR == 2 { d = $3 - 154.8; if (d < 0) d = -d; print (d < 3 * $4) ? "ok" : "speed " $3 " +- " $4 }' "$WORK/speed2/speed.csv"
 expect 2 "--distance-m is required" -- "$VIADUCT" speed "$REC" --out "$WORK/speed3"
 expect 2 "exceeds the Nyquist frequency" -- "$VIADUCT" speed "$REC" --distance-m 1.0 --out "$WORK/speed3"
+# Rate changes and envelopes keep the record format.
+expect 0 "3009 samples at 500 Hz -> 602 at 100 Hz" -- "$VIADUCT" resample "$REC" --decimate 5 --out "$WORK/dec"
+expect 0 "samples at 100 Hz" -- "$VIADUCT" filter "$WORK/dec/resampled.csv" --band lowpass --high-hz 20 --out "$WORK/dec2"
+expect 0 "at 4096 Hz" -- "$VIADUCT" resample "$REC" --fs-hz 4096 --out "$WORK/up"
+expect 2 "give exactly one of --fs-hz or --decimate" -- "$VIADUCT" resample "$REC" --out "$WORK/x"
+expect 0 "rms envelope of 2 channels" -- "$VIADUCT" envelope "$REC" --kind rms --window-s 0.5 --out "$WORK/rms"
+expect 0 "hilbert envelope of 1 channels" -- "$VIADUCT" envelope "$REC" --kind hilbert --channel deck_acc --out "$WORK/hil"
+expect 2 "--kind must be rms, maxabs or hilbert" -- "$VIADUCT" envelope "$REC" --kind median --out "$WORK/x"
 # A simulated history is a record too.
 expect 0 "samples at 1000 Hz" -- "$VIADUCT" filter "$WORK/run/history.csv" --band lowpass --high-hz 20 --out "$WORK/hf"
 

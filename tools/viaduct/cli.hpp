@@ -61,5 +61,7 @@ Command spectrum_command();
 Command peaks_command();
 Command compare_command();
 Command speed_command();
+Command resample_command();
+Command envelope_command();
 
 }  // namespace viaduct::cli

@@ -8,6 +8,7 @@
 #include "viaduct/io/results.hpp"
 #include "viaduct/signal/iir.hpp"
 #include "viaduct/signal/peaks.hpp"
+#include "viaduct/signal/resample.hpp"
 #include "viaduct/signal/spectrum.hpp"
 #include "viaduct/study/speed.hpp"
 
@@ -275,6 +276,95 @@ Command speed_command() {
     make_out_dir(o.out);
     io::write_table_csv(o.out + "/speed.csv", {"channel", "method", "speed_kmh", "uncertainty_kmh", "frequency_hz", "n_used"}, rows);
     if (!o.quiet) std::printf("wrote %s/speed.csv\n", o.out.c_str());
+    return ok;
+  };
+  return c;
+}
+
+Command resample_command() {
+  Command c;
+  c.name = "resample";
+  c.positional = "RECORD";
+  c.summary = "a record at another sampling rate: decimation or anti-aliased interpolation (resampled.csv)";
+  c.add_options = [](po::options_description& d) {
+    add_channel_option(d);
+    d.add_options()("fs-hz", po::value<double>(), "new sampling rate [Hz] (anti-alias low-pass when lower)")(
+        "decimate", po::value<int>(), "keep every q-th sample after scipy.signal.decimate's low-pass");
+  };
+  c.usage_and_samples =
+      "--decimate Q follows scipy.signal.decimate(x, Q) (Chebyshev I order 8, 0.05 dB, zero phase).\n"
+      "--fs-hz F low-passes at 0.8·F/2 when F is lower than the record's rate, then interpolates\n"
+      "linearly (amplitudes within 1.2 % in the passband). Writes OUT/resampled.csv.\n\n"
+      "Sample runs:\n"
+      "  viaduct resample data/records/synthetic-deck.csv --decimate 5 --out out/dec\n"
+      "  viaduct resample data/records/synthetic-deck.csv --fs-hz 4096 --out out/up\n";
+  c.run = [](const Common& o, const po::variables_map& vm) {
+    const io::Record in = io::read_record_csv(o.scenario);
+    if (vm.count("fs-hz") == vm.count("decimate")) throw InputError("give exactly one of --fs-hz or --decimate");
+    io::Record out;
+    out.t0_s = in.t0_s;
+    const auto chans = selected(in, vm);
+    std::vector<Vector> cols;
+    for (std::size_t ch : chans) {
+      const Vector x = in.data.col(static_cast<Index>(ch));
+      cols.push_back(vm.count("decimate") ? signal::decimate(x, vm["decimate"].as<int>())
+                                          : signal::resample(x, in.fs_hz, vm["fs-hz"].as<double>()));
+      out.channels.push_back(in.channels[ch]);
+      out.units.push_back(in.units[ch]);
+    }
+    out.fs_hz = vm.count("decimate") ? in.fs_hz / vm["decimate"].as<int>() : vm["fs-hz"].as<double>();
+    out.data.resize(cols.front().size(), static_cast<Index>(cols.size()));
+    for (std::size_t j = 0; j < cols.size(); ++j) out.data.col(static_cast<Index>(j)) = cols[j];
+    make_out_dir(o.out);
+    io::write_record_csv(o.out + "/resampled.csv", out);
+    if (!o.quiet)
+      std::printf("%zu channels: %ld samples at %.6g Hz -> %ld at %.6g Hz; wrote %s/resampled.csv\n", chans.size(),
+                  static_cast<long>(in.n_samples()), in.fs_hz, static_cast<long>(out.n_samples()), out.fs_hz, o.out.c_str());
+    return ok;
+  };
+  return c;
+}
+
+Command envelope_command() {
+  Command c;
+  c.name = "envelope";
+  c.positional = "RECORD";
+  c.summary = "running RMS, max-abs or Hilbert envelope of a record's channels (envelope.csv)";
+  c.add_options = [](po::options_description& d) {
+    add_channel_option(d);
+    d.add_options()("kind", po::value<std::string>()->default_value("rms"), "rms, maxabs or hilbert")(
+        "window-s", po::value<double>()->default_value(1.0), "rms and maxabs: centred window [s]");
+  };
+  c.usage_and_samples =
+      "rms: root mean square over a centred window; maxabs: largest |x| over a centred window;\n"
+      "hilbert: |analytic signal| (scipy.signal.hilbert), best on a band-passed channel.\n"
+      "Writes OUT/envelope.csv with the same channel names.\n\n"
+      "Sample runs:\n"
+      "  viaduct envelope data/records/synthetic-deck.csv --kind rms --window-s 0.5 --out out/rms\n"
+      "  viaduct envelope data/records/synthetic-deck.csv --kind hilbert --channel deck_acc --out out/hilbert\n";
+  c.run = [](const Common& o, const po::variables_map& vm) {
+    const io::Record in = io::read_record_csv(o.scenario);
+    const std::string kind = vm["kind"].as<std::string>();
+    if (kind != "rms" && kind != "maxabs" && kind != "hilbert") throw InputError("--kind must be rms, maxabs or hilbert");
+    const double w_s = vm["window-s"].as<double>();
+    if (!(w_s > 0.0) || !std::isfinite(w_s)) throw InputError("--window-s must be > 0");
+    const Index w = 2 * static_cast<Index>(std::llround(w_s * in.fs_hz / 2)) + 1;
+    io::Record out = in;
+    const auto chans = selected(in, vm);
+    out.channels.clear();
+    out.units.clear();
+    out.data.resize(in.n_samples(), static_cast<Index>(chans.size()));
+    for (std::size_t j = 0; j < chans.size(); ++j) {
+      const Vector x = in.data.col(static_cast<Index>(chans[j]));
+      out.data.col(static_cast<Index>(j)) = kind == "rms"      ? signal::running_rms(x, w)
+                                             : kind == "maxabs" ? signal::maxabs_envelope(x, w)
+                                                                : signal::hilbert_envelope(x);
+      out.channels.push_back(in.channels[chans[j]]);
+      out.units.push_back(in.units[chans[j]]);
+    }
+    make_out_dir(o.out);
+    io::write_record_csv(o.out + "/envelope.csv", out);
+    if (!o.quiet) std::printf("%s envelope of %zu channels; wrote %s/envelope.csv\n", kind.c_str(), chans.size(), o.out.c_str());
     return ok;
   };
   return c;
