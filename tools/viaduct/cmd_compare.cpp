@@ -44,7 +44,7 @@ Command compare_command() {
     const auto t0 = std::chrono::steady_clock::now();
     if (!vm.count("record")) throw InputError("--record FILE is required");
     if (!vm.count("map")) throw InputError("at least one --map CHANNEL=STATION is required");
-    const io::Record rec = io::read_record_csv(vm["record"].as<std::string>());
+    const io::Record rec = io::read_record(vm["record"].as<std::string>());
     const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
     study::Scenario sc = io::to_scenario(flat);
     double speed = 0.0;

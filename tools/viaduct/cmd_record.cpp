@@ -58,7 +58,7 @@ Command filter_command() {
       "  viaduct filter data/records/synthetic-deck.csv --low-hz 1 --high-hz 30 --out out/filtered\n"
       "  viaduct filter data/records/synthetic-deck.csv --band lowpass --high-hz 15 --channel deck_acc --out out/lp\n";
   c.run = [](const Common& o, const po::variables_map& vm) {
-    const io::Record in = io::read_record_csv(o.scenario);
+    const io::Record in = io::read_record(o.scenario);
     signal::Cheby1Spec spec;
     const std::string band = vm["band"].as<std::string>();
     if (band == "bandpass") spec.band = signal::BandType::bandpass;
@@ -112,7 +112,7 @@ Command spectrum_command() {
       "  viaduct spectrum data/records/synthetic-deck.csv --out out/spectrum\n"
       "  viaduct spectrum data/records/synthetic-deck.csv --welch --nperseg 1024 --out out/psd\n";
   c.run = [](const Common& o, const po::variables_map& vm) {
-    const io::Record in = io::read_record_csv(o.scenario);
+    const io::Record in = io::read_record(o.scenario);
     const auto chans = selected(in, vm);
     const std::string wname = vm["window"].as<std::string>();
     if (wname != "hann" && wname != "rectangular") throw InputError("--window must be hann or rectangular");
@@ -180,7 +180,7 @@ Command peaks_command() {
       "  viaduct peaks data/records/synthetic-deck.csv --channel deck_acc --max-peaks 3 --out out/peaks\n"
       "  viaduct peaks data/records/synthetic-deck.csv --channel deck_disp --time --min-distance 0.2 --max-peaks 0 --out out/axles\n";
   c.run = [](const Common& o, const po::variables_map& vm) {
-    const io::Record in = io::read_record_csv(o.scenario);
+    const io::Record in = io::read_record(o.scenario);
     const bool time = vm["time"].as<bool>();
     const std::string wname = vm["window"].as<std::string>();
     if (wname != "hann" && wname != "rectangular") throw InputError("--window must be hann or rectangular");
@@ -255,7 +255,7 @@ Command speed_command() {
       "  viaduct speed data/records/synthetic-deck.csv --channel deck_acc --distance-m 13.14 --v-min-kmh 100 --v-max-kmh 250 --out out/speed\n"
       "  viaduct speed data/records/synthetic-deck.csv --channel deck_disp --distance-m 13.14 --peaks --min-interval-s 0.2 --out out/speed-peaks\n";
   c.run = [](const Common& o, const po::variables_map& vm) {
-    const io::Record in = io::read_record_csv(o.scenario);
+    const io::Record in = io::read_record(o.scenario);
     if (!vm.count("distance-m")) throw InputError("--distance-m is required (the train's characteristic distance)");
     const double d = vm["distance-m"].as<double>();
     const bool peaks = vm["peaks"].as<bool>();
@@ -299,7 +299,7 @@ Command resample_command() {
       "  viaduct resample data/records/synthetic-deck.csv --decimate 5 --out out/dec\n"
       "  viaduct resample data/records/synthetic-deck.csv --fs-hz 4096 --out out/up\n";
   c.run = [](const Common& o, const po::variables_map& vm) {
-    const io::Record in = io::read_record_csv(o.scenario);
+    const io::Record in = io::read_record(o.scenario);
     if (vm.count("fs-hz") == vm.count("decimate")) throw InputError("give exactly one of --fs-hz or --decimate");
     io::Record out;
     out.t0_s = in.t0_s;
@@ -343,7 +343,7 @@ Command envelope_command() {
       "  viaduct envelope data/records/synthetic-deck.csv --kind rms --window-s 0.5 --out out/rms\n"
       "  viaduct envelope data/records/synthetic-deck.csv --kind hilbert --channel deck_acc --out out/hilbert\n";
   c.run = [](const Common& o, const po::variables_map& vm) {
-    const io::Record in = io::read_record_csv(o.scenario);
+    const io::Record in = io::read_record(o.scenario);
     const std::string kind = vm["kind"].as<std::string>();
     if (kind != "rms" && kind != "maxabs" && kind != "hilbert") throw InputError("--kind must be rms, maxabs or hilbert");
     const double w_s = vm["window-s"].as<double>();

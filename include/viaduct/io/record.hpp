@@ -32,6 +32,17 @@ const std::vector<std::string>& known_units();
 /// Reads a record CSV (streaming, about 1 s per 100 MB). Throws InputError with file:line.
 Record read_record_csv(const std::string& path);
 
+/// Reads the real, evenly sampled datasets 58 (function at nodal DOF) of an ASCII Universal
+/// File, one channel each: name from ID line 1 (spaces and commas become '_') plus a unit
+/// suffix from the ordinate's unit label (m/s^2, g, m, mm, m/s, N, kN, Pa, V). All datasets
+/// must share rate, start and length. Binary (58b), complex (FRF) or uneven data, and unknown
+/// units, are InputErrors naming file and line. A `.uff` or `.unv` path selects this reader in
+/// read_record().
+Record read_uff58(const std::string& path);
+
+/// read_uff58 for .uff/.unv files, read_record_csv otherwise.
+Record read_record(const std::string& path);
+
 /// Writes `r` with a t_s column (t0 + k/fs). Throws SolverError on I/O failure.
 void write_record_csv(const std::string& path, const Record& r, int significant_digits = 10);
 

@@ -1,0 +1,98 @@
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "viaduct/core/error.hpp"
+#include "viaduct/io/record.hpp"
+
+using namespace viaduct;
+using namespace viaduct::io;
+namespace fs = std::filesystem;
+
+namespace {
+// One dataset 58 with the standard's field widths (as modal-test software writes them).
+std::string dataset(const std::string& id1, int ord_type, int n, double x0, double dx, const std::string& unit,
+                    const std::vector<double>& v, int spacing = 1) {
+  char buf[256];
+  std::string s = "    -1\n    58\n";
+  std::snprintf(buf, sizeof buf, "%-80s\n", id1.c_str());
+  s += buf;
+  for (int i = 0; i < 4; ++i) s += "NONE\n";
+  s += "    1         0    0         0 NONE               1   3 NONE               1   3\n";
+  std::snprintf(buf, sizeof buf, "%10d%10d%10d%13.5e%13.5e%13.5e\n", ord_type, n, spacing, x0, dx, 0.0);
+  s += buf;
+  std::snprintf(buf, sizeof buf, "%10d%5d%5d%5d %-20s %-20s\n", 17, 0, 0, 0, "Time", "s");
+  s += buf;
+  std::snprintf(buf, sizeof buf, "%10d%5d%5d%5d %-20s %-20s\n", 12, 1, 0, 0, "Acceleration", unit.c_str());
+  s += buf;
+  for (int i = 0; i < 2; ++i) {
+    std::snprintf(buf, sizeof buf, "%10d%5d%5d%5d %-20s %-20s\n", 0, 0, 0, 0, "NONE", "NONE");
+    s += buf;
+  }
+  const int per_line = ord_type == 2 ? 6 : 4;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    std::snprintf(buf, sizeof buf, ord_type == 2 ? "%13.5e" : "%20.11e", v[i]);
+    s += buf;
+    if ((i + 1) % static_cast<std::size_t>(per_line) == 0 || i + 1 == v.size()) s += "\n";
+  }
+  return s + "    -1\n";
+}
+struct Dir {
+  fs::path p = fs::temp_directory_path() / ("viaduct-uff-" + std::to_string(::getpid()));
+  Dir() { fs::create_directories(p); }
+  ~Dir() { fs::remove_all(p); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(p / name) << text;
+    return (p / name).string();
+  }
+};
+std::string error_of(const std::string& path) {
+  try {
+    read_record(path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+}  // namespace
+
+TEST_CASE("UFF dataset 58 (ASCII): single and double precision channels") {
+  Dir d;
+  std::vector<double> a(11), b(11);
+  for (int i = 0; i < 11; ++i) {
+    a[static_cast<std::size_t>(i)] = std::sin(0.3 * i) * 1e-2;
+    b[static_cast<std::size_t>(i)] = 1.5 + 0.25 * i;
+  }
+  // A dataset of another type (151, header) before ours is skipped.
+  const std::string text = "    -1\n   151\nmodel\n    -1\n" + dataset("S1 mid", 4, 11, 0.5, 0.00025, "m/s^2", a) +
+                           dataset("S2,mid", 2, 11, 0.5, 0.00025, "g", b);
+  const Record r = read_record(d.write("test.uff", text));
+  REQUIRE(r.fs_hz == Approx(4000.0).epsilon(1e-12));
+  REQUIRE(r.t0_s == 0.5);
+  REQUIRE(r.channels == std::vector<std::string>{"S1_mid_mps2", "S2_mid_g"});
+  REQUIRE(r.n_samples() == 11);
+  for (int i = 0; i < 11; ++i) {
+    REQUIRE(r.data(i, 0) == Approx(a[static_cast<std::size_t>(i)]).epsilon(1e-11));  // 4E20.11
+    REQUIRE(r.data(i, 1) == Approx(b[static_cast<std::size_t>(i)]).epsilon(1e-5));   // 6E13.5
+  }
+}
+
+TEST_CASE("UFF dataset 58: what records cannot hold is refused with file and line") {
+  Dir d;
+  const std::vector<double> v = {1, 2, 3, 4};
+  REQUIRE(error_of(d.write("c.uff", dataset("x", 6, 2, 0, 0.1, "m/s^2", v))).find("complex ordinates") != std::string::npos);
+  REQUIRE(error_of(d.write("u.uff", dataset("x", 4, 2, 0, 0.1, "m/s^2", v, 0))).find("uneven abscissa") != std::string::npos);
+  REQUIRE(error_of(d.write("n.uff", dataset("x", 4, 5, 0, 0.1, "m/s^2", v))).find("declares 5 points but holds 4") != std::string::npos);
+  REQUIRE(error_of(d.write("k.uff", dataset("x", 4, 4, 0, 0.1, "furlong", v))).find("ordinate unit 'furlong'") != std::string::npos);
+  REQUIRE(error_of(d.write("r.uff", dataset("x", 4, 4, 0, 0.1, "m", v) + dataset("y", 4, 4, 0, 0.2, "m", v)))
+              .find("differs in rate, start or length") != std::string::npos);
+  REQUIRE(error_of(d.write("b.uff", "    -1\n    58b     1     2\n")).find("binary dataset 58b") != std::string::npos);
+  REQUIRE(error_of(d.write("e.uff", "    -1\n   151\nx\n    -1\n")).find("no dataset 58") != std::string::npos);
+  std::string bad = dataset("x", 4, 4, 0, 0.1, "m", v);
+  bad.replace(bad.find("2.00000000000e+00"), 17, "   2.0000000000x0");
+  REQUIRE(error_of(d.write("t.uff", bad)).find("t.uff:14: not a finite number") != std::string::npos);
+}
