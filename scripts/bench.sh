@@ -95,7 +95,13 @@ damp() {  # label scenario f1 f2 ratio args...
 damp "HSLM-A1, 281 speeds" scenarios/hslm-simply-supported.toml 5 45 0.0135 --set 'train.files=["data/trains/hslm/A1.toml"]'
 damp "Old Guadiana reference, 60 speeds" scenarios/old-guadiana-sensitivity.toml 10 60 0.01565 --set sweep.mode=reference "${extra_og[@]}"
 
+# 4. records and signal processing at field-campaign size (one thread)
+echo "bench: records and signal processing" >&2
+sb=$(build/release/viaduct_signal_bench --minutes 10 --channels 18 --fs 4096 --csv-mb 100 --dir "$B")
+sig() { awk -v k="$1" '$1 == k { print $2 }' <<<"$sb"; }
+
 if [ "$quick" -eq 1 ]; then
+  echo "$sb"
   echo "quick: HSLM 1 thread $h1 s, 2 threads $h2 s; Old Guadiana 1 thread $o1 s, 2 threads $o2 s"
   printf '%s' "$conv_rows" "$damping_rows"
   exit 0
@@ -149,5 +155,19 @@ where a small frequency shift moves the curve); halve it for sub-percent envelop
 the cost. Newmark's convergence order is 2 (\`tests/verification/test_convergence.cpp\`).
 
 Command: \`viaduct sweep scenarios/old-guadiana-sensitivity.toml --set analysis.dt=DT --set sweep.mode=reference\`.
+
+## Records and signal processing
+
+A 10-minute, 18-channel record at 4096 Hz (2 457 600 samples a channel), one thread, built in
+memory by \`build/release/viaduct_signal_bench --minutes 10 --channels 18 --fs 4096 --csv-mb 100\`
+(\`tools/bench/signal_bench.cpp\`):
+
+| stage | wall [s] |
+|---|---|
+| zero-phase Chebyshev I band-pass (order 3, 1–30 Hz) of all 18 channels | $(sig filter_all_channels_s) |
+| Welch PSD (Hann, 8192-point segments, 50 % overlap) of all 18 channels | $(sig welch_all_channels_s) |
+| amplitude spectrum (one 2 457 600-point FFT a channel) of all 18 channels | $(sig amplitude_spectrum_all_channels_s) |
+| write a $(sig csv_mb) MB record CSV | $(sig write_csv_s) |
+| read it back (\`io::read_record_csv\`: parse, check every cell and the time column) | $(sig read_csv_s) |
 DOC
 echo "wrote docs/benchmarks.md" >&2
