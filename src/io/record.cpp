@@ -142,7 +142,7 @@ Record read_record_csv(const std::string& path) {
       if (std::abs(dts[k] - dt) > 0.01 * dt)
         throw InputError(path + ": irregular sampling at sample " + std::to_string(k + 2) + " (step " +
                          format_number(dts[k], 6) + " s, median " + format_number(dt, 6) +
-                         " s); resample the record to a uniform rate first");
+                         " s): viaduct needs uniformly sampled records and does not repair them; resample the logger's output first");
     // Rate from the whole span (less sensitive to rounded time stamps than the median step).
     r.fs_hz = static_cast<double>(ns - 1) / (times.back() - times.front());
     r.t0_s = times.front();

@@ -65,6 +65,10 @@ expect 0 "deck_acc_mps2" -- "$VIADUCT" compare "$TALGO" --record "$REC" --map de
 expect 0 "channel,station,quantity,shift_s,peak_record,peak_model,peak_ratio" -- head -1 "$WORK/cmp/compare_metrics.csv"
 expect 0 "ok" -- awk -F, 'NR > 1 { if ($4 < -0.002 || $4 > 0.002 || $7 < 0.97 || $7 > 1.03 || $9 < 0.999) bad = 1 } END { print bad ? "metrics off" : "ok" }' "$WORK/cmp/compare_metrics.csv"
 expect 0 "t_s,deck_acc_record_mps2,deck_acc_model_mps2,deck_disp_record_m,deck_disp_model_m" -- head -1 "$WORK/cmp/compare_time.csv"
+# The speed identified from the record itself (made at 154.8 km/h): within 0.5 %.
+expect 0 "identified from deck_acc_mps2" -- "$VIADUCT" compare "$TALGO" --record "$REC" --map deck_acc=S1_mid --identify-speed-m 13.14 --v-min-kmh 100 --v-max-kmh 250 --out "$WORK/cmp3"
+expect 0 "ok" -- awk -F' = ' '$1 == "speed_kmh" { print ($2 > 154.0 && $2 < 155.6) ? "ok" : "speed " $2 }' "$WORK/cmp3/manifest.toml"
+expect 2 "not both" -- "$VIADUCT" compare "$TALGO" --record "$REC" --map deck_acc=S1_mid --identify-speed-m 13.14 --speed-kmh 150
 # A shifted, scaled copy: 2 s of silence in front, 1.5 x the values.
 awk -F, '/^#/ { print; next } /^t_s/ { print; next } { if (!d) { for (i = 0; i < 1000; i++) printf "%.6f,0,0\n", i * 0.002; d = 1 } printf "%.6f,%s,%s\n", $1 + 2.0, 1.5 * $2, 1.5 * $3 }' "$REC" > "$WORK/shifted.csv"
 expect 0 "wrote" -- "$VIADUCT" compare "$TALGO" --record "$WORK/shifted.csv" --map deck_acc=S1_mid --out "$WORK/cmp2"

@@ -8,6 +8,7 @@
 #include "viaduct/io/results.hpp"
 #include "viaduct/io/scenario.hpp"
 #include "viaduct/study/comparison.hpp"
+#include "viaduct/study/speed.hpp"
 
 namespace viaduct::cli {
 
@@ -30,7 +31,11 @@ Command compare_command() {
         "CHANNEL=STATION: compare a record channel with a scenario station (repeatable)")(
         "speed-kmh", po::value<double>(), "train speed [km/h] (default: run.speed_kmh)")(
         "train", po::value<std::string>(), "train name (default: the first of train.files)")(
-        "max-shift-s", po::value<double>()->default_value(60.0), "alignment search range [s]");
+        "max-shift-s", po::value<double>()->default_value(60.0), "alignment search range [s]")(
+        "identify-speed-m", po::value<double>(),
+        "identify the speed from the record: the train's characteristic distance d [m] (spectral lines of the first mapped channel)")(
+        "v-min-kmh", po::value<double>()->default_value(40.0), "speed identification: lowest speed [km/h]")(
+        "v-max-kmh", po::value<double>()->default_value(400.0), "speed identification: highest speed [km/h]");
   };
   c.usage_and_samples =
       "Runs the scenario at the train's speed, filters model and record with the scenario's\n"
@@ -38,8 +43,11 @@ Command compare_command() {
       "compare_time.csv, compare_spectrum.csv, compare_metrics.csv and manifest.toml. The\n"
       "channel's unit picks the model quantity: _mps2 or _g acceleration, _m or _mm deflection.\n"
       "Plot with scripts/plot_compare.py OUT.\n\n"
+      "The speed is --speed-kmh, or identified from the record with --identify-speed-m d (the\n"
+      "lines k·v/d of the first mapped channel, as viaduct speed does), or run.speed_kmh.\n\n"
       "Sample runs:\n"
-      "  viaduct compare scenarios/old-guadiana-talgo.toml --record data/records/synthetic-deck.csv --map deck_acc=S1_mid --out out/compare\n";
+      "  viaduct compare scenarios/old-guadiana-talgo.toml --record data/records/synthetic-deck.csv --map deck_acc=S1_mid --out out/compare\n"
+      "  viaduct compare scenarios/old-guadiana-talgo.toml --record data/records/synthetic-deck.csv --map deck_acc=S1_mid --identify-speed-m 13.14 --v-min-kmh 100 --v-max-kmh 250 --out out/compare-id\n";
   c.run = [](const Common& o, const po::variables_map& vm) {
     const auto t0 = std::chrono::steady_clock::now();
     if (!vm.count("record")) throw InputError("--record FILE is required");
@@ -48,9 +56,15 @@ Command compare_command() {
     const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
     study::Scenario sc = io::to_scenario(flat);
     double speed = 0.0;
-    if (vm.count("speed-kmh")) speed = vm["speed-kmh"].as<double>() / 3.6;
-    else if (sc.run_speed) speed = *sc.run_speed;
-    if (!(speed > 0.0) || !std::isfinite(speed)) throw InputError("no valid speed: give --speed-kmh > 0 or run.speed_kmh");
+    std::string speed_source = "run.speed_kmh";
+    if (vm.count("speed-kmh") && vm.count("identify-speed-m"))
+      throw InputError("give --speed-kmh or --identify-speed-m, not both");
+    if (vm.count("speed-kmh")) {
+      speed = vm["speed-kmh"].as<double>() / 3.6;
+      speed_source = "--speed-kmh";
+    } else if (sc.run_speed && !vm.count("identify-speed-m")) {
+      speed = *sc.run_speed;
+    }
     const load::Train* train = &sc.trains.front();
     if (vm.count("train")) {
       train = nullptr;
@@ -80,6 +94,15 @@ Command compare_command() {
       else throw InputError("--map: channel '" + rec.channels[mp.channel] + "' is in " + u + "; compare takes _mps2, _g, _m or _mm");
       maps.push_back(mp);
     }
+    if (vm.count("identify-speed-m")) {
+      const study::SpeedEstimate e = study::speed_from_spectrum(
+          rec.data.col(static_cast<Index>(maps.front().channel)), rec.fs_hz, vm["identify-speed-m"].as<double>(),
+          vm["v-min-kmh"].as<double>() / 3.6, vm["v-max-kmh"].as<double>() / 3.6, 4);
+      speed = e.speed;
+      speed_source = "identified from " + rec.channels[maps.front().channel] + " (+- " + format_number(e.uncertainty * 3.6, 3) + " km/h)";
+    }
+    if (!(speed > 0.0) || !std::isfinite(speed))
+      throw InputError("no valid speed: give --speed-kmh > 0, --identify-speed-m or run.speed_kmh");
     // Simulate unfiltered: the comparison filters model and record alike.
     study::RunSettings rs = sc.settings;
     rs.filter.enabled = false;
@@ -96,8 +119,8 @@ Command compare_command() {
                                        "spectral_correlation"};
     std::vector<std::vector<std::string>> metrics;
     if (!o.quiet)
-      std::printf("%s at %.1f km/h against %s (%ld samples at %.6g Hz)\n%-22s %-10s %9s %10s %8s %8s %8s %9s %9s\n",
-                  train->name.c_str(), speed * 3.6, vm["record"].as<std::string>().c_str(),
+      std::printf("%s at %.1f km/h (%s) against %s (%ld samples at %.6g Hz)\n%-22s %-10s %9s %10s %8s %8s %8s %9s %9s\n",
+                  train->name.c_str(), speed * 3.6, speed_source.c_str(), vm["record"].as<std::string>().c_str(),
                   static_cast<long>(rec.n_samples()), rec.fs_hz, "channel", "station", "shift_s", "peak_ratio", "rms", "corr",
                   "spec_corr", "f_rec_hz", "f_mod_hz");
     for (const auto& mp : maps) {
@@ -136,7 +159,8 @@ Command compare_command() {
     m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     m.extra = {{"record", "\"" + vm["record"].as<std::string>() + "\""},
                {"train", "\"" + train->name + "\""},
-               {"speed_kmh", format_number(speed * 3.6, 10)}};
+               {"speed_kmh", format_number(speed * 3.6, 10)},
+               {"speed_source", "\"" + speed_source + "\""}};
     m.versions = tool_versions();
     io::write_manifest(o.out + "/manifest.toml", m, flat);
     if (!o.quiet) std::printf("wrote %s/compare_{time,spectrum,metrics}.csv\n", o.out.c_str());

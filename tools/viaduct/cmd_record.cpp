@@ -1,7 +1,6 @@
 // viaduct filter / viaduct spectrum: processing of record files (measured or simulated).
 #include <cmath>
 #include <cstdio>
-#include <memory>
 
 #include "cli.hpp"
 #include "viaduct/io/record.hpp"
@@ -28,6 +27,13 @@ std::vector<std::size_t> selected(const io::Record& r, const po::variables_map& 
 
 std::string base_name(const io::Record& r, std::size_t c) {
   return r.channels[c].substr(0, r.channels[c].size() - r.units[c].size() - 1);
+}
+
+signal::Window window_option(const po::variables_map& vm) {
+  const std::string w = vm["window"].as<std::string>();
+  if (w == "hann") return signal::Window::hann;
+  if (w == "rectangular") return signal::Window::rectangular;
+  throw InputError("--window must be hann or rectangular, got '" + w + "'");
 }
 
 void add_channel_option(po::options_description& d) {
@@ -114,9 +120,7 @@ Command spectrum_command() {
   c.run = [](const Common& o, const po::variables_map& vm) {
     const io::Record in = io::read_record(o.scenario);
     const auto chans = selected(in, vm);
-    const std::string wname = vm["window"].as<std::string>();
-    if (wname != "hann" && wname != "rectangular") throw InputError("--window must be hann or rectangular");
-    const signal::Window w = wname == "hann" ? signal::Window::hann : signal::Window::rectangular;
+    const signal::Window w = window_option(vm);
     const bool welch = vm["welch"].as<bool>();
     std::vector<Vector> cols;
     Vector f;
@@ -182,8 +186,7 @@ Command peaks_command() {
   c.run = [](const Common& o, const po::variables_map& vm) {
     const io::Record in = io::read_record(o.scenario);
     const bool time = vm["time"].as<bool>();
-    const std::string wname = vm["window"].as<std::string>();
-    if (wname != "hann" && wname != "rectangular") throw InputError("--window must be hann or rectangular");
+    const signal::Window window = window_option(vm);
     signal::PeakOptions po_;
     if (vm.count("min-height")) po_.min_height = vm["min-height"].as<double>();
     po_.min_prominence = vm["min-prominence"].as<double>();
@@ -198,7 +201,7 @@ Command peaks_command() {
       Vector y = in.data.col(static_cast<Index>(ch));
       double step = 1.0 / in.fs_hz, origin = in.t0_s;
       if (!time) {
-        const auto a = signal::amplitude_spectrum(y, in.fs_hz, wname == "hann" ? signal::Window::hann : signal::Window::rectangular);
+        const auto a = signal::amplitude_spectrum(y, in.fs_hz, window);
         y = a.amplitude;
         step = in.fs_hz / static_cast<double>(in.n_samples());
         origin = 0.0;
@@ -212,16 +215,12 @@ Command peaks_command() {
         prom.push_back(p.prominence);
       }
     }
+    std::vector<std::vector<std::string>> rows;
+    for (std::size_t i = 0; i < pos.size(); ++i)
+      rows.push_back({chan[i], unit[i], format_number(pos[i], 10), format_number(val[i], 10), format_number(prom[i], 10)});
     make_out_dir(o.out);
     const std::string path = o.out + "/peaks.csv";
-    std::unique_ptr<std::FILE, void (*)(std::FILE*)> f(std::fopen(path.c_str(), "w"), [](std::FILE* fp) {
-      if (fp) std::fclose(fp);
-    });
-    if (!f) throw SolverError("cannot write " + path);
-    std::fprintf(f.get(), "channel,unit,%s,value,prominence\n", time ? "t_s" : "frequency_hz");
-    for (std::size_t i = 0; i < pos.size(); ++i)
-      std::fprintf(f.get(), "%s,%s,%.10g,%.10g,%.10g\n", chan[i].c_str(), unit[i].c_str(), pos[i], val[i], prom[i]);
-    if (std::ferror(f.get()) || std::fclose(f.release()) != 0) throw SolverError("error writing " + path);
+    io::write_table_csv(path, {"channel", "unit", time ? "t_s" : "frequency_hz", "value", "prominence"}, rows);
     if (!o.quiet) {
       for (std::size_t i = 0; i < pos.size() && i < 12; ++i)
         std::printf("  %-20s %s = %-12.6g value %.6g %s\n", chan[i].c_str(), time ? "t" : "f", pos[i], val[i], unit[i].c_str());
