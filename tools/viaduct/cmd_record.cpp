@@ -1,6 +1,7 @@
 // viaduct filter / viaduct spectrum: processing of record files (measured or simulated).
 #include <cmath>
 #include <cstdio>
+#include <functional>
 
 #include "cli.hpp"
 #include "viaduct/io/record.hpp"
@@ -34,6 +35,24 @@ signal::Window window_option(const po::variables_map& vm) {
   if (w == "hann") return signal::Window::hann;
   if (w == "rectangular") return signal::Window::rectangular;
   throw InputError("--window must be hann or rectangular, got '" + w + "'");
+}
+
+// The selected channels of `in`, each transformed by `fn` (which may change the length), as a
+// record at rate fs_hz starting where `in` starts.
+io::Record transform_channels(const io::Record& in, const std::vector<std::size_t>& chans, double fs_hz,
+                              const std::function<Vector(const Vector&)>& fn) {
+  io::Record out;
+  out.fs_hz = fs_hz;
+  out.t0_s = in.t0_s;
+  std::vector<Vector> cols;
+  for (std::size_t ch : chans) {
+    cols.push_back(fn(in.data.col(static_cast<Index>(ch))));
+    out.channels.push_back(in.channels[ch]);
+    out.units.push_back(in.units[ch]);
+  }
+  out.data.resize(cols.front().size(), static_cast<Index>(cols.size()));
+  for (std::size_t j = 0; j < cols.size(); ++j) out.data.col(static_cast<Index>(j)) = cols[j];
+  return out;
 }
 
 void add_channel_option(po::options_description& d) {
@@ -76,16 +95,8 @@ Command filter_command() {
     spec.order = vm["order"].as<int>();
     spec.ripple_db = vm["ripple-db"].as<double>();
     const signal::Sos sos = signal::cheby1(spec, in.fs_hz);
-    io::Record out = in;
     const auto chans = selected(in, vm);
-    out.channels.clear();
-    out.units.clear();
-    out.data.resize(in.n_samples(), static_cast<Index>(chans.size()));
-    for (std::size_t j = 0; j < chans.size(); ++j) {
-      out.channels.push_back(in.channels[chans[j]]);
-      out.units.push_back(in.units[chans[j]]);
-      out.data.col(static_cast<Index>(j)) = signal::sosfiltfilt(sos, in.data.col(static_cast<Index>(chans[j])));
-    }
+    const io::Record out = transform_channels(in, chans, in.fs_hz, [&](const Vector& x) { return signal::sosfiltfilt(sos, x); });
     make_out_dir(o.out);
     io::write_record_csv(o.out + "/filtered.csv", out);
     if (!o.quiet)
@@ -300,20 +311,12 @@ Command resample_command() {
   c.run = [](const Common& o, const po::variables_map& vm) {
     const io::Record in = io::read_record(o.scenario);
     if (vm.count("fs-hz") == vm.count("decimate")) throw InputError("give exactly one of --fs-hz or --decimate");
-    io::Record out;
-    out.t0_s = in.t0_s;
     const auto chans = selected(in, vm);
-    std::vector<Vector> cols;
-    for (std::size_t ch : chans) {
-      const Vector x = in.data.col(static_cast<Index>(ch));
-      cols.push_back(vm.count("decimate") ? signal::decimate(x, vm["decimate"].as<int>())
-                                          : signal::resample(x, in.fs_hz, vm["fs-hz"].as<double>()));
-      out.channels.push_back(in.channels[ch]);
-      out.units.push_back(in.units[ch]);
-    }
-    out.fs_hz = vm.count("decimate") ? in.fs_hz / vm["decimate"].as<int>() : vm["fs-hz"].as<double>();
-    out.data.resize(cols.front().size(), static_cast<Index>(cols.size()));
-    for (std::size_t j = 0; j < cols.size(); ++j) out.data.col(static_cast<Index>(j)) = cols[j];
+    const bool dec = vm.count("decimate") > 0;
+    const double fs_out = dec ? in.fs_hz / vm["decimate"].as<int>() : vm["fs-hz"].as<double>();
+    const io::Record out = transform_channels(in, chans, fs_out, [&](const Vector& x) {
+      return dec ? signal::decimate(x, vm["decimate"].as<int>()) : signal::resample(x, in.fs_hz, fs_out);
+    });
     make_out_dir(o.out);
     io::write_record_csv(o.out + "/resampled.csv", out);
     if (!o.quiet)
@@ -348,19 +351,10 @@ Command envelope_command() {
     const double w_s = vm["window-s"].as<double>();
     if (!(w_s > 0.0) || !std::isfinite(w_s)) throw InputError("--window-s must be > 0");
     const Index w = 2 * static_cast<Index>(std::llround(w_s * in.fs_hz / 2)) + 1;
-    io::Record out = in;
     const auto chans = selected(in, vm);
-    out.channels.clear();
-    out.units.clear();
-    out.data.resize(in.n_samples(), static_cast<Index>(chans.size()));
-    for (std::size_t j = 0; j < chans.size(); ++j) {
-      const Vector x = in.data.col(static_cast<Index>(chans[j]));
-      out.data.col(static_cast<Index>(j)) = kind == "rms"      ? signal::running_rms(x, w)
-                                             : kind == "maxabs" ? signal::maxabs_envelope(x, w)
-                                                                : signal::hilbert_envelope(x);
-      out.channels.push_back(in.channels[chans[j]]);
-      out.units.push_back(in.units[chans[j]]);
-    }
+    const io::Record out = transform_channels(in, chans, in.fs_hz, [&](const Vector& x) {
+      return kind == "rms" ? signal::running_rms(x, w) : kind == "maxabs" ? signal::maxabs_envelope(x, w) : signal::hilbert_envelope(x);
+    });
     make_out_dir(o.out);
     io::write_record_csv(o.out + "/envelope.csv", out);
     if (!o.quiet) std::printf("%s envelope of %zu channels; wrote %s/envelope.csv\n", kind.c_str(), chans.size(), o.out.c_str());

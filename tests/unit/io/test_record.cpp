@@ -7,20 +7,15 @@
 
 #include "viaduct/core/error.hpp"
 #include "viaduct/io/record.hpp"
+#include "../scratch.hpp"
 
 using namespace viaduct;
 using namespace viaduct::io;
 namespace fs = std::filesystem;
 
 namespace {
-struct Dir {
-  fs::path p = fs::temp_directory_path() / ("viaduct-rec-" + std::to_string(::getpid()));
-  Dir() { fs::create_directories(p); }
-  ~Dir() { fs::remove_all(p); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(p / name) << text;
-    return (p / name).string();
-  }
+struct Dir : vt::ScratchDir {
+  Dir() : vt::ScratchDir("rec") {}
 };
 std::string error_of(const std::string& path) {
   try {

@@ -8,6 +8,7 @@
 
 #include "viaduct/core/error.hpp"
 #include "viaduct/io/record.hpp"
+#include "../scratch.hpp"
 
 using namespace viaduct;
 using namespace viaduct::io;
@@ -41,14 +42,8 @@ std::string dataset(const std::string& id1, int ord_type, int n, double x0, doub
   }
   return s + "    -1\n";
 }
-struct Dir {
-  fs::path p = fs::temp_directory_path() / ("viaduct-uff-" + std::to_string(::getpid()));
-  Dir() { fs::create_directories(p); }
-  ~Dir() { fs::remove_all(p); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(p / name) << text;
-    return (p / name).string();
-  }
+struct Dir : vt::ScratchDir {
+  Dir() : vt::ScratchDir("uff") {}
 };
 std::string error_of(const std::string& path) {
   try {
