@@ -67,6 +67,7 @@ expect 2 "high_hz must be in (0, fs/2 = 250) Hz" -- "$VIADUCT" filter "$SRC/data
 expect 2 "nperseg (100000) exceeds the record's 3009 samples" -- "$VIADUCT" spectrum "$SRC/data/records/synthetic-deck.csv" --welch --nperseg 100000
 expect 2 "no channel 'rail'" -- "$VIADUCT" spectrum "$SRC/data/records/synthetic-deck.csv" --channel rail
 expect 2 "RECORD is required" -- "$VIADUCT" spectrum
+expect 2 "--set changes scenario keys; viaduct filter takes no scenario" -- "$VIADUCT" filter "$SRC/data/records/synthetic-deck.csv" --set filter.high_hz=20
 
 # compare: missing or wrong mappings
 TALGO=$SRC/scenarios/old-guadiana-talgo.toml

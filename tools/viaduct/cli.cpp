@@ -56,6 +56,10 @@ int dispatch(const Command& cmd, int argc, char** argv) {
   c.out = vm["out"].as<std::string>();
   c.threads = vm["threads"].as<int>();
   c.quiet = vm["quiet"].as<bool>();
+  if (!c.set.empty() && cmd.positional != "SCENARIO") {
+    std::cerr << prefix << "error: --set changes scenario keys; viaduct " << cmd.name << " takes no scenario\n";
+    return usage_error;
+  }
   if (c.threads < 0) {
     std::cerr << prefix << "error: --threads must be >= 0\n";
     return usage_error;
