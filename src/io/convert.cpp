@@ -155,6 +155,12 @@ study::Scenario to_scenario(const FlatScenario& f) {
   st.newmark.gamma = get_number(f, "analysis.gamma");
   st.newmark.alpha = get_number(f, "analysis.alpha");
   st.free_vibration_s = get_number(f, "analysis.free_vibration_s");
+  st.method = get_string(f, "analysis.method") == "modal" ? study::Method::modal : study::Method::newmark;
+  st.superposition = get_string(f, "analysis.superposition") == "unit-response" ? study::Superposition::unit_response
+                                                                                 : study::Superposition::direct;
+  st.modal.n_modes = static_cast<Index>(get_number(f, "modal.n_modes"));
+  st.modal.max_frequency_hz = get_number(f, "modal.max_frequency_hz");
+  st.modal.static_correction = get_bool(f, "modal.static_correction");
   st.load_factor = get_number(f, "train.load_factor");
   st.filter.enabled = get_bool(f, "filter.enabled");
   const std::string& band = get_string(f, "filter.band");

@@ -329,7 +329,7 @@ FlatScenario load_flat(const std::string& path, const std::vector<std::string>& 
     if (br == std::string::npos) {
       const std::string section = spec.key.substr(0, spec.key.find('.') + 1);
       const bool always = section == "bridge." || section == "train." || section == "analysis." ||
-                          section == "filter." || spec.key.find('.') == std::string::npos;
+                          section == "filter." || section == "modal." || spec.key.find('.') == std::string::npos;
       if (!always && !section_named(fsn.values, section)) continue;
       if (fsn.values.count(spec.key)) continue;
       fsn.values[spec.key] = default_value(spec, spec.key);

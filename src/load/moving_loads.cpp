@@ -22,20 +22,32 @@ MovingLoads::MovingLoads(const model::Structure& s, const Train& train, double s
 
 double MovingLoads::t_exit() const { return (x_end_ - x_start_ + offset_.back()) / speed_; }
 
-void MovingLoads::add_to(double t, Vector& f) const {
+template <class Sink>
+void MovingLoads::for_each_entry(double t, Sink&& sink) const {
   const double head = x_start_ + speed_ * t;
-  for (std::size_t i = 0; i < offset_.size(); ++i) {
-    const double x = head - offset_[i];
-    if (x < x_start_) break;  // offsets are non-decreasing: the rest have not entered yet
-    if (x > x_end_) continue;
+  // Axle i is on the path when head - offset_i is in [x_start, x_end]; offsets are sorted.
+  const auto first = std::lower_bound(offset_.begin(), offset_.end(), head - x_end_);
+  const auto last = std::upper_bound(first, offset_.end(), head - x_start_);
+  for (auto o = first; o != last; ++o) {
+    const std::size_t i = static_cast<std::size_t>(o - offset_.begin());
+    const double x = head - *o;
     auto it = std::upper_bound(path_.begin(), path_.end(), x,
                                [](double v, const model::PathElement& e) { return v < e.x0; });
     if (it != path_.begin()) --it;
     const double xi = std::clamp((x - it->x0) / it->h, 0.0, 1.0);
     const auto N = model::hermite_shape(xi, it->h);
     for (std::size_t q = 0; q < 4; ++q)
-      if (it->dofs[q] >= 0) f[it->dofs[q]] += load_[i] * N[q];
+      if (it->dofs[q] >= 0) sink(it->dofs[q], load_[i] * N[q]);
   }
+}
+
+void MovingLoads::add_to(double t, Vector& f) const {
+  for_each_entry(t, [&f](Index d, double v) { f[d] += v; });
+}
+
+void MovingLoads::entries(double t, SparseForce& out) const {
+  out.clear();
+  for_each_entry(t, [&out](Index d, double v) { out.add(d, v); });
 }
 
 }  // namespace viaduct::load

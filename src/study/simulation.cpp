@@ -1,8 +1,12 @@
 #include "viaduct/study/simulation.hpp"
 
+#include <algorithm>
+#include <array>
+#include <chrono>
 #include <cmath>
 
 #include "viaduct/core/error.hpp"
+#include "viaduct/model/modes.hpp"
 #include "viaduct/signal/iir.hpp"
 
 namespace viaduct::study {
@@ -34,28 +38,143 @@ std::vector<ResolvedStation> resolve_stations(const model::Structure& s,
   return out;
 }
 
-RunResult simulate(const model::Structure& s, const std::vector<ResolvedStation>& stations,
-                   const load::Train& train, double speed, const RunSettings& settings) {
-  require_positive(speed, "speed [m/s]");
-  require_non_negative(settings.free_vibration_s, "free_vibration_s [s]");
-  const load::MovingLoads loads(s, train, speed, settings.load_factor);
-  const MovingLoadSystem sys(s, loads);
-  solve::NewmarkOptions opt = settings.newmark;
-  opt.t_end = loads.t_exit() + settings.free_vibration_s;
-  std::string why;
-  if (!opt.is_valid(&why)) throw InputError("Newmark: " + why);
-  const double n_samples_real = std::ceil(opt.t_end / opt.dt - 1e-9) + 1;
+struct ModalPathTable {
+  std::vector<double> x0, h;  // per path element
+  std::vector<double> coef;   // per element: 4 cubic coefficients per mode, then per output
+  std::size_t m = 0, n_out = 0, stride = 0;
+  bool flex = false;
+  double x_start = 0.0, x_end = 0.0;
+};
+
+namespace {
+
+std::shared_ptr<const ModalPathTable> make_path_table(const model::Structure& s, const solve::ModalReduction& r) {
+  auto t = std::make_shared<ModalPathTable>();
+  t->m = static_cast<std::size_t>(r.n_modes());
+  t->flex = r.static_correction();
+  t->n_out = t->flex ? static_cast<std::size_t>(r.n_outputs()) : 0;
+  t->stride = 4 * (t->m + t->n_out);
+  t->x_start = s.path_start();
+  t->x_end = s.path_end();
+  const auto& path = s.load_path();
+  t->coef.assign(path.size() * t->stride, 0.0);
+  // g(ξ) = N1 a + N2 b + N3 c + N4 d (Hermite, model::hermite_shape) expanded in powers of ξ.
+  auto cubic = [](double a, double b, double c, double d, double h, double* out) {
+    out[0] = a;
+    out[1] = h * b;
+    out[2] = -3.0 * a - 2.0 * h * b + 3.0 * c - h * d;
+    out[3] = 2.0 * a + h * b - 2.0 * c + h * d;
+  };
+  for (std::size_t e = 0; e < path.size(); ++e) {
+    const model::PathElement& pe = path[e];
+    t->x0.push_back(pe.x0);
+    t->h.push_back(pe.h);
+    double* ce = &t->coef[e * t->stride];
+    auto value = [&](const solve::ModalReduction::RowMatrix& rows, std::size_t q, std::size_t col) {
+      return pe.dofs[q] >= 0 ? rows(pe.dofs[q], static_cast<Index>(col)) : 0.0;
+    };
+    for (std::size_t i = 0; i < t->m; ++i) {
+      const auto& R = r.shape_rows();
+      cubic(value(R, 0, i), value(R, 1, i), value(R, 2, i), value(R, 3, i), pe.h, ce + 4 * i);
+    }
+    for (std::size_t j = 0; j < t->n_out; ++j) {
+      const auto& R = r.flexibility_rows();
+      cubic(value(R, 0, j), value(R, 1, j), value(R, 2, j), value(R, 3, j), pe.h, ce + 4 * (t->m + j));
+    }
+  }
+  return t;
+}
+
+// A train's axles projected through the path table. Keeps the window of axles on the path and
+// each axle's element, both advanced incrementally (time never goes back).
+class MovingModalForce : public solve::ModalForce {
+ public:
+  MovingModalForce(const ModalPathTable& t, const load::Train& train, double speed, double load_factor)
+      : t_(t), offset_(train.offset), load_(train.load), elem_(train.offset.size(), 0), speed_(speed) {
+    for (double& p : load_) p *= load_factor;
+  }
+  void project(double t, double* p, double* g) override {
+    std::fill(p, p + t_.m, 0.0);
+    if (g) std::fill(g, g + t_.n_out, 0.0);
+    const double head = t_.x_start + speed_ * t;
+    const std::size_t n = offset_.size(), ne = t_.x0.size();
+    while (last_ < n && head - offset_[last_] >= t_.x_start) ++last_;
+    while (first_ < last_ && head - offset_[first_] > t_.x_end) ++first_;
+    for (std::size_t k = first_; k < last_; ++k) {
+      const double x = head - offset_[k];
+      std::size_t e = elem_[k];
+      while (e + 1 < ne && x >= t_.x0[e + 1]) ++e;
+      elem_[k] = e;
+      const double xi = std::clamp((x - t_.x0[e]) / t_.h[e], 0.0, 1.0);
+      const double P = load_[k];
+      const double* c = &t_.coef[e * t_.stride];
+      for (std::size_t i = 0; i < t_.m; ++i, c += 4) p[i] += P * (c[0] + xi * (c[1] + xi * (c[2] + xi * c[3])));
+      if (g)
+        for (std::size_t j = 0; j < t_.n_out; ++j, c += 4) g[j] += P * (c[0] + xi * (c[1] + xi * (c[2] + xi * c[3])));
+    }
+  }
+
+ private:
+  const ModalPathTable& t_;
+  std::vector<double> offset_, load_;
+  std::vector<std::size_t> elem_;
+  double speed_;
+  std::size_t first_ = 0, last_ = 0;
+};
+
+solve::Functional functional_of(const model::PointCoupling& c) {
+  solve::Functional f;
+  for (std::size_t i = 0; i < 4; ++i)
+    if (c.dofs[i] >= 0) {
+      f.dof.push_back(c.dofs[i]);
+      f.weight.push_back(c.N[i]);
+    }
+  return f;
+}
+
+// Output functionals of the modal model: each station's main point, then the rail above deck
+// stations (track models).
+std::vector<solve::Functional> station_functionals(const std::vector<ResolvedStation>& stations) {
+  std::vector<solve::Functional> out;
+  for (const auto& st : stations) out.push_back(functional_of(st.has_deck ? st.deck : st.rail));
+  for (const auto& st : stations)
+    if (st.has_deck && st.has_rail) out.push_back(functional_of(st.rail));
+  return out;
+}
+
+std::shared_ptr<const solve::ModalReduction> make_modal(const model::Structure& s,
+                                                        const std::vector<ResolvedStation>& stations,
+                                                        const ModalSettings& ms, Vector* kept_hz) {
+  if (ms.n_modes < 0) throw InputError("modal.n_modes must be >= 0");
+  require_non_negative(ms.max_frequency_hz, "modal.max_frequency_hz [Hz]");
+  const model::Modes modes = model::compute_modes(s, 0);
+  Index n = modes.frequency_hz.size();
+  if (ms.max_frequency_hz > 0.0) {
+    Index k = 0;
+    while (k < n && modes.frequency_hz[k] <= ms.max_frequency_hz) ++k;
+    n = k;
+  }
+  if (ms.n_modes > 0) n = std::min(n, ms.n_modes);
+  if (n < 1)
+    throw InputError("modal.max_frequency_hz = " + format_number(ms.max_frequency_hz, 6) +
+                     " Hz keeps no mode: the lowest is " + format_number(modes.frequency_hz[0], 6) + " Hz");
+  if (kept_hz) *kept_hz = modes.frequency_hz.head(n);
+  return std::make_shared<const solve::ModalReduction>(
+      s.M, s.C, s.K, modes.shape.leftCols(n), (2.0 * M_PI) * modes.frequency_hz.head(n),
+      station_functionals(stations), ms.static_correction);
+}
+
+RunResult allocate_histories(const std::vector<ResolvedStation>& stations, double t_end, double dt) {
+  const double n_samples_real = std::ceil(t_end / dt - 1e-9) + 1;
   // Every step is recorded: refuse runs whose histories alone would not fit comfortably.
   const double bytes = n_samples_real * static_cast<double>(1 + 4 * stations.size()) * sizeof(double);
   if (bytes > kMaxHistoryBytes)
-    throw InputError("a run of " + format_number(opt.t_end, 6) + " s at dt = " + format_number(opt.dt, 6) + " s records " +
+    throw InputError("a run of " + format_number(t_end, 6) + " s at dt = " + format_number(dt, 6) + " s records " +
                      format_number(n_samples_real, 6) + " samples (" + format_number(bytes / (1 << 30), 3) +
                      " GiB of histories; at most " + format_number(kMaxHistoryBytes / (1 << 30), 3) +
                      " GiB): raise the speed or analysis.dt");
   const auto n_samples = static_cast<Index>(n_samples_real);
-
   RunResult r;
-  r.speed = speed;
   r.t.resize(n_samples);
   for (const auto& st : stations) {
     StationHistory h;
@@ -66,6 +185,60 @@ RunResult simulate(const model::Structure& s, const std::vector<ResolvedStation>
     if (st.has_deck && st.has_rail) h.rail_disp.resize(n_samples);
     r.stations.push_back(std::move(h));
   }
+  return r;
+}
+
+void apply_filter(RunResult& r, const RunSettings& settings) {
+  if (!settings.filter.enabled) return;
+  const signal::Sos sos = signal::cheby1(settings.filter.cheby, 1.0 / settings.newmark.dt);
+  for (auto& h : r.stations) h.acc_filt = signal::sosfiltfilt(sos, h.acc);
+}
+
+// Integrates the loads of `sys` for t in [0, t_end] into histories (unfiltered).
+RunResult integrate(const model::Structure& s, const std::vector<ResolvedStation>& stations,
+                    const solve::ModalReduction* modal, const ModalPathTable* path,
+                    const solve::SecondOrderSystem& sys, const load::Train& train, double speed, double t_end,
+                    const RunSettings& settings) {
+  RunResult r = allocate_histories(stations, t_end, settings.newmark.dt);
+  r.method = settings.method;
+  if (settings.method == Method::modal) {
+    if (!modal) throw InputError("modal method without a modal model (prepare the model with method = modal)");
+    solve::ModalOptions mo;
+    mo.dt = settings.newmark.dt;
+    mo.t_end = t_end;
+    // Outputs: station main points first, then rails above deck stations (station_functionals).
+    std::vector<Index> rail_out(stations.size(), -1);
+    Index next = static_cast<Index>(stations.size());
+    for (std::size_t i = 0; i < stations.size(); ++i)
+      if (stations[i].has_deck && stations[i].has_rail) rail_out[i] = next++;
+    auto observe = [&](Index k, double t, const Vector& disp, const Vector& acc) {
+      r.t[k] = t;
+      for (std::size_t i = 0; i < stations.size(); ++i) {
+        StationHistory& h = r.stations[i];
+        h.disp[k] = disp[static_cast<Index>(i)];
+        h.acc[k] = acc[static_cast<Index>(i)];
+        if (rail_out[i] >= 0) h.rail_disp[k] = disp[rail_out[i]];
+      }
+    };
+    solve::ModalSummary ms;
+    if (path) {
+      MovingModalForce force(*path, train, speed, settings.load_factor);
+      ms = modal->integrate(force, mo, observe);
+    } else {
+      ms = modal->integrate(sys, mo, observe);
+    }
+    r.summary.n_steps = ms.n_steps;
+    r.summary.n_dofs = ms.n_dofs;
+    r.summary.t_reached = ms.t_reached;
+    r.summary.wall_s = ms.wall_s;
+    r.summary.stop_reason = ms.stop_reason;
+    r.n_modes = ms.n_modes;
+    return r;
+  }
+  solve::NewmarkOptions opt = settings.newmark;
+  opt.t_end = t_end;
+  std::string why;
+  if (!opt.is_valid(&why)) throw InputError("Newmark: " + why);
   auto observe = [&](Index k, double t, const Vector& u, const Vector&, const Vector& a) {
     r.t[k] = t;
     for (std::size_t i = 0; i < stations.size(); ++i) {
@@ -78,11 +251,148 @@ RunResult simulate(const model::Structure& s, const std::vector<ResolvedStation>
     }
   };
   r.summary = solve::newmark(sys, opt, observe);
-  if (settings.filter.enabled) {
-    const signal::Sos sos = signal::cheby1(settings.filter.cheby, 1.0 / opt.dt);
-    for (auto& h : r.stations) h.acc_filt = signal::sosfiltfilt(sos, h.acc);
-  }
+  (void)s;
   return r;
+}
+
+RunResult simulate_impl(const model::Structure& s, const std::vector<ResolvedStation>& stations,
+                        const solve::ModalReduction* modal, const ModalPathTable* path,
+                        const load::Train& train, double speed,
+                        const RunSettings& settings, double t_end_min = 0.0) {
+  require_positive(speed, "speed [m/s]");
+  require_non_negative(settings.free_vibration_s, "free_vibration_s [s]");
+  require_positive(settings.newmark.dt, "analysis.dt [s]");
+  const load::MovingLoads loads(s, train, speed, settings.load_factor);
+  const MovingLoadSystem sys(s, loads);
+  const double t_end = std::max(loads.t_exit() + settings.free_vibration_s, t_end_min);
+  RunResult r = integrate(s, stations, modal, path, sys, train, speed, t_end, settings);
+  r.speed = speed;
+  return r;
+}
+
+// 4-point Lagrange weights for a value at fractional position u in [0, 1) between samples
+// j and j+1, using samples j-1 .. j+2.
+std::array<double, 4> lagrange4(double u) {
+  return {-u * (u - 1.0) * (u - 2.0) / 6.0, (u + 1.0) * (u - 1.0) * (u - 2.0) / 2.0,
+          -(u + 1.0) * u * (u - 2.0) / 2.0, (u + 1.0) * u * (u - 1.0) / 6.0};
+}
+
+// y[n] += P · r(n·dt − shift) for n in [0, y.size()), with r = 0 before its first sample and
+// r held at its last sample beyond its end (never reached: the unit run covers every train).
+void add_shifted(const Vector& r, double shift_samples, double P, Vector& y) {
+  const Index n_r = r.size(), n_y = y.size();
+  const auto m = static_cast<Index>(std::floor(shift_samples));
+  const double u = shift_samples - static_cast<double>(m);
+  // r(n - m - u): between samples j = n - m - 1 and j + 1 at fraction 1 - u (u > 0), or at j + 1.
+  if (u < 1e-12) {
+    for (Index n = std::max<Index>(m, 0); n < n_y; ++n) {
+      const Index j = n - m;
+      y[n] += P * r[std::min(j, n_r - 1)];
+    }
+    return;
+  }
+  const auto w = lagrange4(1.0 - u);
+  auto at = [&](Index j) { return j < 0 ? 0.0 : r[std::min(j, n_r - 1)]; };
+  for (Index n = std::max<Index>(m + 1, 0); n < n_y; ++n) {
+    const Index j = n - m - 1;  // r(j + 1 - u) = r(j + (1 - u))
+    y[n] += P * (w[0] * at(j - 1) + w[1] * at(j) + w[2] * at(j + 1) + w[3] * at(j + 2));
+  }
+}
+
+}  // namespace
+
+PreparedModel prepare_model(model::Structure s, const std::vector<StationSpec>& stations,
+                            const RunSettings& settings) {
+  PreparedModel m;
+  m.structure = std::move(s);
+  m.stations = resolve_stations(m.structure, stations);
+  if (settings.method == Method::modal) {
+    m.modal = make_modal(m.structure, m.stations, settings.modal, &m.modal_frequency_hz);
+    m.modal_path = make_path_table(m.structure, *m.modal);
+  }
+  return m;
+}
+
+PreparedModel prepare_model(const Scenario& sc) {
+  return prepare_model(model::build_structure(sc.bridge, sc.track), sc.stations, sc.settings);
+}
+
+RunResult simulate(const PreparedModel& m, const load::Train& train, double speed, const RunSettings& settings) {
+  RunResult r = simulate_impl(m.structure, m.stations, m.modal.get(), m.modal_path.get(), train, speed, settings);
+  apply_filter(r, settings);
+  return r;
+}
+
+RunResult simulate(const model::Structure& s, const std::vector<ResolvedStation>& stations,
+                   const load::Train& train, double speed, const RunSettings& settings) {
+  std::shared_ptr<const solve::ModalReduction> modal;
+  std::shared_ptr<const ModalPathTable> path;
+  if (settings.method == Method::modal) {
+    modal = make_modal(s, stations, settings.modal, nullptr);
+    path = make_path_table(s, *modal);
+  }
+  RunResult r = simulate_impl(s, stations, modal.get(), path.get(), train, speed, settings);
+  apply_filter(r, settings);
+  return r;
+}
+
+std::vector<RunResult> simulate_by_unit_response(const PreparedModel& m, const std::vector<load::Train>& trains,
+                                                 double speed, const RunSettings& settings) {
+  require_positive(speed, "speed [m/s]");
+  require_positive(settings.load_factor, "train.load_factor");
+  if (trains.empty()) throw InputError("unit-response superposition needs at least one train");
+  const auto wall0 = std::chrono::steady_clock::now();
+  const double dt = settings.newmark.dt;
+  // Every train's duration; the unit run covers the longest.
+  double t_end_max = 0.0;
+  std::vector<double> t_end(trains.size());
+  for (std::size_t i = 0; i < trains.size(); ++i) {
+    trains[i].validate();
+    const load::MovingLoads loads(m.structure, trains[i], speed, 1.0);
+    t_end[i] = loads.t_exit() + settings.free_vibration_s;
+    t_end_max = std::max(t_end_max, t_end[i]);
+  }
+  load::Train unit;
+  unit.name = "unit axle";
+  unit.offset = {0.0};
+  unit.load = {1.0};
+  RunSettings us = settings;
+  us.load_factor = 1.0;
+  const RunResult unit_run =
+      simulate_impl(m.structure, m.stations, m.modal.get(), m.modal_path.get(), unit, speed, us, t_end_max + 3 * dt);
+  const double unit_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+
+  std::vector<RunResult> out;
+  for (std::size_t i = 0; i < trains.size(); ++i) {
+    const auto w0 = std::chrono::steady_clock::now();
+    RunResult r = allocate_histories(m.stations, t_end[i], dt);
+    r.speed = speed;
+    r.method = unit_run.method;
+    r.n_modes = unit_run.n_modes;
+    for (Index k = 0; k < r.t.size(); ++k) r.t[k] = static_cast<double>(k) * dt;
+    for (std::size_t j = 0; j < r.stations.size(); ++j) {
+      StationHistory& h = r.stations[j];
+      const StationHistory& u = unit_run.stations[j];
+      h.disp.setZero();
+      h.acc.setZero();
+      if (h.rail_disp.size()) h.rail_disp.setZero();
+      for (std::size_t a = 0; a < trains[i].offset.size(); ++a) {
+        const double shift = trains[i].offset[a] / speed / dt;
+        const double P = trains[i].load[a] * settings.load_factor;
+        add_shifted(u.disp, shift, P, h.disp);
+        add_shifted(u.acc, shift, P, h.acc);
+        if (h.rail_disp.size()) add_shifted(u.rail_disp, shift, P, h.rail_disp);
+      }
+    }
+    apply_filter(r, settings);
+    r.summary = unit_run.summary;
+    r.summary.n_steps = r.t.size() - 1;
+    r.summary.t_reached = r.t[r.t.size() - 1];
+    r.summary.stop_reason = "composed from a unit-axle run";
+    r.summary.wall_s = unit_wall + std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+    out.push_back(std::move(r));
+  }
+  return out;
 }
 
 std::vector<StationPeaks> peaks(const RunResult& r) {

@@ -12,11 +12,13 @@ namespace viaduct::study {
 
 namespace {
 struct Prepared {
-  std::optional<model::Structure> structure;
-  std::vector<ResolvedStation> stations;
+  std::optional<PreparedModel> model;
   std::string error;  // non-empty when the model could not be built
 };
-struct Case {
+// One job: a (variant, train, speed) case, or with unit-response superposition a (variant,
+// speed) pair covering every train (train = kAllTrains).
+constexpr std::size_t kAllTrains = static_cast<std::size_t>(-1);
+struct Job {
   std::size_t variant, train, speed;
 };
 struct CaseOutcome {
@@ -30,69 +32,106 @@ struct CaseOutcome {
 SweepResult run_sweep(const std::vector<Variant>& variants, const SweepOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   if (options.threads < 1) throw InputError("threads must be >= 1");
-  const CaseRunner runner = options.runner ? options.runner : CaseRunner(simulate);
+  const CaseRunner runner =
+      options.runner ? options.runner
+                     : CaseRunner([](const PreparedModel& m, const load::Train& t, double v, const RunSettings& rs) {
+                         return simulate(m, t, v, rs);
+                       });
 
   SweepResult out;
   std::vector<Prepared> prepared(variants.size());
-  std::vector<Case> cases;
-  for (std::size_t v = 0; v < variants.size(); ++v) {
-    const Scenario& sc = variants[v].scenario;
+  parallel_for(variants.size(), options.threads, [&](std::size_t v, int) {
     try {
-      prepared[v].structure = model::build_structure(sc.bridge, sc.track);
-      prepared[v].stations = resolve_stations(*prepared[v].structure, sc.stations);
-      out.summary.n_dofs.push_back(prepared[v].structure->n_dofs);
+      prepared[v].model = prepare_model(variants[v].scenario);
     } catch (const std::exception& e) {
       prepared[v].error = e.what();
-      out.summary.n_dofs.push_back(0);
     }
-    for (std::size_t t = 0; t < sc.trains.size(); ++t)
-      for (std::size_t s = 0; s < sc.sweep_speeds.size(); ++s) cases.push_back({v, t, s});
+  });
+  std::vector<Job> jobs;
+  std::size_t n_cases = 0;
+  for (std::size_t v = 0; v < variants.size(); ++v) {
+    const Scenario& sc = variants[v].scenario;
+    out.summary.n_dofs.push_back(prepared[v].model ? prepared[v].model->structure.n_dofs : 0);
+    const bool unit = sc.settings.superposition == Superposition::unit_response;
+    for (std::size_t s = 0; s < sc.sweep_speeds.size(); ++s) {
+      if (unit) jobs.push_back({v, kAllTrains, s});
+      else
+        for (std::size_t t = 0; t < sc.trains.size(); ++t) jobs.push_back({v, t, s});
+    }
+    n_cases += sc.trains.size() * sc.sweep_speeds.size();
   }
 
-  std::vector<CaseOutcome> outcome(cases.size());
+  // outcome[job][train in job]
+  std::vector<std::vector<CaseOutcome>> outcome(jobs.size());
   std::mutex progress_mutex;
   std::size_t n_done = 0;
-  parallel_for(cases.size(), options.threads, [&](std::size_t i, int) {
-    const Case& c = cases[i];
+  parallel_for(jobs.size(), options.threads, [&](std::size_t i, int) {
+    const Job& c = jobs[i];
     const Scenario& sc = variants[c.variant].scenario;
-    CaseOutcome& o = outcome[i];
+    const std::size_t n_trains = c.train == kAllTrains ? sc.trains.size() : 1;
+    auto& o = outcome[i];
+    o.resize(n_trains);
+    auto fail_all = [&](const std::string& m) {
+      for (auto& x : o) x.error = m;
+    };
     if (!prepared[c.variant].error.empty()) {
-      o.error = "model: " + prepared[c.variant].error;
+      fail_all("model: " + prepared[c.variant].error);
     } else {
       try {
-        const RunResult r = runner(*prepared[c.variant].structure, prepared[c.variant].stations,
-                                   sc.trains[c.train], sc.sweep_speeds[c.speed], sc.settings);
-        o.peaks = peaks(r);
-        o.n_steps = r.summary.n_steps;
-        o.done = true;
+        const PreparedModel& pm = *prepared[c.variant].model;
+        const double speed = sc.sweep_speeds[c.speed];
+        std::vector<RunResult> runs;
+        if (c.train == kAllTrains) runs = simulate_by_unit_response(pm, sc.trains, speed, sc.settings);
+        else runs.push_back(runner(pm, sc.trains[c.train], speed, sc.settings));
+        for (std::size_t k = 0; k < n_trains; ++k) {
+          o[k].peaks = peaks(runs[k]);
+          // A composed run shares one unit run: count its steps once.
+          o[k].n_steps = (c.train == kAllTrains && k > 0) ? 0 : runs[k].summary.n_steps;
+          o[k].done = true;
+        }
       } catch (const std::exception& e) {
-        o.error = e.what();
+        fail_all(e.what());
       } catch (...) {
-        o.error = "unknown error";
+        fail_all("unknown error");
       }
     }
     if (options.progress) {
       std::lock_guard<std::mutex> lock(progress_mutex);
-      options.progress(++n_done, cases.size());
+      n_done += n_trains;
+      options.progress(n_done, n_cases);
     }
   });
 
-  for (std::size_t i = 0; i < cases.size(); ++i) {
-    const Case& c = cases[i];
-    const Scenario& sc = variants[c.variant].scenario;
-    const std::string& vname = variants[c.variant].label;
-    const std::string& tname = sc.trains[c.train].name;
-    const double speed = sc.sweep_speeds[c.speed];
-    if (!outcome[i].done) {
-      out.failures.push_back({vname, tname, speed, outcome[i].error});
-      continue;
-    }
-    out.summary.n_steps_total += outcome[i].n_steps;
-    for (std::size_t s = 0; s < outcome[i].peaks.size(); ++s)
-      out.rows.push_back({vname, tname, sc.stations[s].name, speed, outcome[i].peaks[s].max_abs_acc,
-                          outcome[i].peaks[s].max_abs_disp});
+  // Rows in (variant, train, speed, station) order whatever the job layout.
+  std::vector<std::vector<std::vector<const CaseOutcome*>>> at(variants.size());
+  for (std::size_t v = 0; v < variants.size(); ++v)
+    at[v].assign(variants[v].scenario.trains.size(),
+                 std::vector<const CaseOutcome*>(variants[v].scenario.sweep_speeds.size(), nullptr));
+  for (std::size_t i = 0; i < jobs.size(); ++i) {
+    const Job& c = jobs[i];
+    if (c.train == kAllTrains)
+      for (std::size_t k = 0; k < outcome[i].size(); ++k) at[c.variant][k][c.speed] = &outcome[i][k];
+    else
+      at[c.variant][c.train][c.speed] = &outcome[i][0];
   }
-  out.summary.n_cases = cases.size();
+  for (std::size_t v = 0; v < variants.size(); ++v) {
+    const Scenario& sc = variants[v].scenario;
+    const std::string& vname = variants[v].label;
+    for (std::size_t t = 0; t < sc.trains.size(); ++t)
+      for (std::size_t s = 0; s < sc.sweep_speeds.size(); ++s) {
+        const CaseOutcome& o = *at[v][t][s];
+        const std::string& tname = sc.trains[t].name;
+        const double speed = sc.sweep_speeds[s];
+        if (!o.done) {
+          out.failures.push_back({vname, tname, speed, o.error});
+          continue;
+        }
+        out.summary.n_steps_total += o.n_steps;
+        for (std::size_t k = 0; k < o.peaks.size(); ++k)
+          out.rows.push_back({vname, tname, sc.stations[k].name, speed, o.peaks[k].max_abs_acc, o.peaks[k].max_abs_disp});
+      }
+  }
+  out.summary.n_cases = n_cases;
   out.summary.n_failed = out.failures.size();
   out.summary.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;

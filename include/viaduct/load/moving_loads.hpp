@@ -21,11 +21,16 @@ class MovingLoads {
 
   /// Adds the nodal forces at time t [s] into f (size n_dofs). Allocation-free.
   void add_to(double t, Vector& f) const;
+  /// The same forces as (dof, value) entries; `out` is cleared first. Allocation-free once
+  /// `out` has the capacity of the axles on the path × 4.
+  void entries(double t, SparseForce& out) const;
   /// [s] time at which the last axle leaves the path.
   double t_exit() const;
   double speed() const { return speed_; }
 
  private:
+  template <class Sink>
+  void for_each_entry(double t, Sink&& sink) const;
   std::vector<model::PathElement> path_;
   std::vector<double> offset_, load_;
   double x_start_ = 0.0, x_end_ = 0.0, speed_ = 0.0;

@@ -16,6 +16,14 @@ class SecondOrderSystem {
   /// Writes f(t) into f (already sized n_dofs; overwrite every entry). Must not allocate:
   /// it is called once per time step.
   virtual void force(double t, Vector& f) const = 0;
+  /// Optional sparse form of f(t): clears `out`, appends the nonzero entries and returns true;
+  /// returns false when the system does not offer it (integrators then use force()). Must not
+  /// allocate once `out` has grown to its working size.
+  virtual bool force_entries(double t, SparseForce& out) const {
+    (void)t;
+    (void)out;
+    return false;
+  }
 };
 
 }  // namespace viaduct::solve

@@ -27,9 +27,31 @@ struct FilterSpec {
   signal::Cheby1Spec cheby;
 };
 
+/// How the equations of motion are solved.
+enum class Method {
+  newmark,  ///< direct Newmark/HHT integration of every DOF
+  modal,    ///< modal superposition (solve::ModalReduction)
+};
+
+/// How a train's response is composed.
+enum class Superposition {
+  direct,         ///< every (train, speed) case simulated with all its axles
+  unit_response,  ///< one unit axle per speed, shifted and scaled for every axle of every train
+};
+
+/// Modal basis selection. The modes kept are the lowest ones satisfying both limits.
+struct ModalSettings {
+  Index n_modes = 0;              ///< at most this many (0: no count limit)
+  double max_frequency_hz = 0.0;  ///< [Hz] only modes up to this frequency (0: no limit)
+  bool static_correction = true;  ///< mode-acceleration correction of displacements
+};
+
 /// Integration and run settings shared by `run` and `sweep`.
 struct RunSettings {
-  solve::NewmarkOptions newmark;   ///< dt, beta, gamma, alpha (t_end is set per run)
+  Method method = Method::newmark;
+  Superposition superposition = Superposition::direct;
+  ModalSettings modal;
+  solve::NewmarkOptions newmark;   ///< dt (also the modal and output step), beta, gamma, alpha
   double free_vibration_s = 1.0;   ///< [s] simulated after the last axle leaves, >= 0
   double load_factor = 1.0;        ///< [-] multiplies every axle load, > 0
   FilterSpec filter;

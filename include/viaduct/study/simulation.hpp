@@ -1,11 +1,13 @@
 #pragma once
 /// \file One train at one speed over one structure: station time histories.
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "viaduct/load/moving_loads.hpp"
 #include "viaduct/model/structure.hpp"
+#include "viaduct/solve/modal.hpp"
 #include "viaduct/solve/newmark.hpp"
 #include "viaduct/study/scenario.hpp"
 
@@ -23,6 +25,10 @@ class MovingLoadSystem : public solve::SecondOrderSystem {
   void force(double t, Vector& f) const override {
     f.setZero();
     loads_.add_to(t, f);
+  }
+  bool force_entries(double t, SparseForce& out) const override {
+    loads_.entries(t, out);
+    return true;
   }
 
  private:
@@ -58,18 +64,51 @@ struct StationHistory {
 struct RunResult {
   Vector t;  ///< [s] sample times (every step, t = 0 included)
   std::vector<StationHistory> stations;
-  solve::NewmarkSummary summary;
-  double speed = 0.0;  ///< [m/s]
+  solve::NewmarkSummary summary;  ///< steps, DOFs, time reached, wall time (any method)
+  double speed = 0.0;             ///< [m/s]
+  Method method = Method::newmark;
+  Index n_modes = 0;              ///< modes used (modal method)
 };
 
 /// Largest history one run may record [bytes] (every station at every step).
 constexpr double kMaxHistoryBytes = 2.0 * (1 << 30);
 
+/// Modal loads of a unit axle along the load path, tabulated per path element as cubics in the
+/// element coordinate (built with the modal model; speed-independent).
+struct ModalPathTable;
+
+/// Everything the cases of one model share, built once (per sweep variant).
+struct PreparedModel {
+  model::Structure structure;
+  std::vector<ResolvedStation> stations;
+  /// Modal model for the stations (Method::modal only).
+  std::shared_ptr<const solve::ModalReduction> modal;
+  std::shared_ptr<const ModalPathTable> modal_path;  ///< with `modal`
+  Vector modal_frequency_hz;  ///< [Hz] frequencies of the modes kept (Method::modal only)
+};
+
+/// Builds the structure, maps the stations and, for the modal method, solves the eigenproblem
+/// and keeps the modes settings.modal selects. InputError/SolverError on failure.
+PreparedModel prepare_model(const Scenario& sc);
+/// The same from a built structure.
+PreparedModel prepare_model(model::Structure s, const std::vector<StationSpec>& stations,
+                            const RunSettings& settings);
+
 /// Runs `train` at `speed` [m/s] from the entry of its first axle until free_vibration_s after
-/// the last axle has left, and records every station at every step. InputError when the
-/// histories would exceed kMaxHistoryBytes.
+/// the last axle has left, with settings.method, and records every station at every step.
+/// InputError when the histories would exceed kMaxHistoryBytes.
+RunResult simulate(const PreparedModel& m, const load::Train& train, double speed, const RunSettings& settings);
+/// Convenience for one-off runs: prepares the model (modes included) on every call.
 RunResult simulate(const model::Structure& s, const std::vector<ResolvedStation>& stations,
                    const load::Train& train, double speed, const RunSettings& settings);
+
+/// Unit-response superposition: simulates one unit axle at `speed` (settings.method) long
+/// enough for every train, then composes each train's histories as Σₖ Pₖ r(t − xₖ/v) with the
+/// shifts interpolated by 4-point cubic Lagrange (exact for cubics). Valid because the models are
+/// linear and the loads constant. One RunResult per train; summary.wall_s is the shared unit run
+/// plus that train's composition.
+std::vector<RunResult> simulate_by_unit_response(const PreparedModel& m, const std::vector<load::Train>& trains,
+                                                 double speed, const RunSettings& settings);
 
 /// Peak values of one station.
 struct StationPeaks {

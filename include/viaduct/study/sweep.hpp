@@ -45,9 +45,10 @@ struct SweepResult {
   SweepSummary summary;
 };
 
-/// Runs one case; replaceable for tests. Default: simulate() then peaks().
-using CaseRunner = std::function<RunResult(const model::Structure&, const std::vector<ResolvedStation>&,
-                                           const load::Train&, double speed, const RunSettings&)>;
+/// Runs one case; replaceable for tests. Default: simulate(). Not used by variants whose
+/// settings ask for unit-response superposition (those run simulate_by_unit_response per speed).
+using CaseRunner =
+    std::function<RunResult(const PreparedModel&, const load::Train&, double speed, const RunSettings&)>;
 
 struct SweepOptions {
   int threads = 1;           ///< >= 1; results are identical for any count
@@ -55,8 +56,10 @@ struct SweepOptions {
   CaseRunner runner;         ///< optional; default simulate()
 };
 
-/// Builds each variant's structure once (a variant whose model cannot be built fails all its
-/// cases with the reason), then runs every (variant, train, speed) case in parallel. Failures
+/// Prepares each variant's model once, in parallel (structure, stations, modes for the modal
+/// method; a variant whose model cannot be built fails all its cases with the reason), then runs
+/// every (variant, train, speed) case in parallel — or, for unit-response superposition, every
+/// (variant, speed) with all trains at once. Failures
 /// are recorded, never thrown; the rows of completed cases are kept.
 SweepResult run_sweep(const std::vector<Variant>& variants, const SweepOptions& options);
 

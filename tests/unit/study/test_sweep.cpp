@@ -27,10 +27,9 @@ TEST_CASE("a failing case is recorded and every other case completes") {
   std::vector<Variant> v = {{"reference", small_scenario()}};
   SweepOptions o;
   o.threads = 2;
-  o.runner = [](const model::Structure& s, const std::vector<ResolvedStation>& st, const load::Train& t,
-                double speed, const RunSettings& rs) {
+  o.runner = [](const PreparedModel& m, const load::Train& t, double speed, const RunSettings& rs) {
     if (speed == 30.0 && t.name == "t3") throw SolverError("injected failure");
-    return simulate(s, st, t, speed, rs);
+    return simulate(m, t, speed, rs);
   };
   const SweepResult r = run_sweep(v, o);
   REQUIRE(r.summary.n_cases == 8);
