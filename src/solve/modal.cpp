@@ -1,8 +1,11 @@
 #include "viaduct/solve/modal.hpp"
 
 #include <chrono>
+#include <complex>
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <Eigen/SparseCholesky>
 #include <unsupported/Eigen/MatrixFunctions>
 
@@ -62,15 +65,22 @@ ModalReduction::ModalReduction(const SparseMatrix& M, const SparseMatrix& C, con
     if (!(mi > 0.0)) throw InputError("modal reduction: mode " + std::to_string(i + 1) + " has no mass");
     phi.col(i) /= std::sqrt(mi);
   }
-  phi_rows_ = phi;
   omega_ = omega;
   const Matrix Cm = phi.transpose() * (C * phi);
   zeta_.resize(m);
   for (Index i = 0; i < m; ++i) zeta_[i] = std::max(Cm(i, i), 0.0) / (2.0 * omega[i]);
-  for (Index i = 0; i < m; ++i)
-    for (Index j = 0; j < m; ++j)
-      if (i != j && Cm(i, i) > 0.0 && Cm(j, j) > 0.0)
+  double max_off = 0.0, max_diag = 0.0;
+  for (Index i = 0; i < m; ++i) {
+    max_diag = std::max(max_diag, std::abs(Cm(i, i)));
+    for (Index j = 0; j < m; ++j) {
+      if (i == j) continue;
+      max_off = std::max(max_off, std::abs(Cm(i, j)));
+      if (Cm(i, i) > 0.0 && Cm(j, j) > 0.0)
         max_coupling_ = std::max(max_coupling_, std::abs(Cm(i, j)) / std::sqrt(Cm(i, i) * Cm(j, j)));
+    }
+  }
+  // Off-diagonal terms above rounding of the projection: integrate complex modes.
+  complex_ = max_off > 1e-10 * std::max(max_diag, 1e-300);
 
   const Index n_out = static_cast<Index>(outputs.size());
   out_shape_ = Matrix::Zero(n_out, m);
@@ -85,6 +95,77 @@ ModalReduction::ModalReduction(const SparseMatrix& M, const SparseMatrix& C, con
   out_static_ = out_shape_ * omega.cwiseAbs2().cwiseInverse().asDiagonal();
   out_rows_ = out_shape_;
   out_static_rows_ = out_static_;
+  if (!complex_) {
+    load_rows_ = phi;
+  } else {
+    // ẋ = A x + B p with x = [q; q̇], A = [0 I; -Ω² -Cm], B = [0; I]; A = V Λ V⁻¹, y = V⁻¹ x.
+    Matrix A = Matrix::Zero(2 * m, 2 * m);
+    A.topRightCorner(m, m).setIdentity();
+    A.bottomLeftCorner(m, m) = -Matrix(omega.cwiseAbs2().asDiagonal());
+    A.bottomRightCorner(m, m) = -Cm;
+    Eigen::EigenSolver<Matrix> es(A);
+    if (es.info() != Eigen::Success) throw SolverError("modal reduction: the complex eigenproblem failed");
+    const CVector lam = es.eigenvalues();
+    const CMatrix vec = es.eigenvectors();
+    // Keep one coordinate per conjugate pair (Im λ > 0) and every real one; rebuild V with exact
+    // conjugate partners so that the dropped coordinates are exactly the conjugates of the kept.
+    const double scale = lam.cwiseAbs().maxCoeff();
+    std::vector<Index> kept;
+    for (Index k = 0; k < 2 * m; ++k)
+      if (lam[k].imag() >= -1e-12 * scale) {
+        if (std::abs(lam[k].imag()) <= 1e-12 * scale || lam[k].imag() > 0) kept.push_back(k);
+      }
+    CMatrix V(2 * m, 2 * m);
+    Index col = 0;
+    std::vector<bool> is_pair;
+    for (Index k : kept) {
+      const bool pair = lam[k].imag() > 1e-12 * scale;
+      is_pair.push_back(pair);
+      if (pair) {
+        V.col(col++) = vec.col(k);
+        V.col(col++) = vec.col(k).conjugate();
+      } else {
+        V.col(col++) = vec.col(k).real().cast<std::complex<double>>();
+      }
+    }
+    if (col != 2 * m)
+      throw SolverError("modal reduction: the damped eigenvalues do not come in conjugate pairs (defective system?)");
+    Eigen::PartialPivLU<CMatrix> lu(V);
+    const CMatrix Vinv = lu.inverse();
+    if (!Vinv.allFinite()) throw SolverError("modal reduction: complex mode basis is singular");
+    const auto nk = static_cast<Index>(kept.size());
+    lambda_.resize(nk);
+    weight_.resize(nk);
+    channel_.assign(static_cast<std::size_t>(nk), 0);
+    // Columns of V / rows of V⁻¹ for each kept coordinate.
+    CMatrix Vk(2 * m, nk), Gk(nk, m);
+    Index n_ch = 0;
+    col = 0;
+    for (Index k = 0; k < nk; ++k) {
+      const Index src = kept[static_cast<std::size_t>(k)];
+      lambda_[k] = is_pair[static_cast<std::size_t>(k)] ? lam[src] : std::complex<double>(lam[src].real(), 0.0);
+      weight_[k] = is_pair[static_cast<std::size_t>(k)] ? 2.0 : 1.0;
+      Vk.col(k) = V.col(col);
+      Gk.row(k) = Vinv.row(col).tail(m);  // V⁻¹ B: the rows' q̇ part
+      channel_[static_cast<std::size_t>(k)] = n_ch;
+      n_ch += is_pair[static_cast<std::size_t>(k)] ? 2 : 1;
+      col += is_pair[static_cast<std::size_t>(k)] ? 2 : 1;
+    }
+    // Load channels: u_k = G_k Φᵀ f = (Φ G_kᵀ)ᵀ f, split into real and imaginary parts.
+    const CMatrix psi = phi.cast<std::complex<double>>() * Gk.transpose();  // n × nk
+    Matrix L(n, n_ch);
+    for (Index k = 0; k < nk; ++k) {
+      const Index c = channel_[static_cast<std::size_t>(k)];
+      L.col(c) = psi.col(k).real();
+      if (weight_[k] == 2.0) L.col(c + 1) = psi.col(k).imag();
+    }
+    load_rows_ = L;
+    const CMatrix S = out_shape_.cast<std::complex<double>>();
+    const CMatrix Vtop = Vk.topRows(m), Vbot = Vk.bottomRows(m);
+    c_disp_ = S * Vtop;  // q = V_top y
+    c_acc_ = S * Vbot;   // q̈ = V_bot ẏ = V_bot (Λ y + u)
+    c_static_ = out_static_.cast<std::complex<double>>() * Vbot;  // p = V_bot u (all coordinates)
+  }
   if (static_correction) {
     Eigen::SimplicialLDLT<SparseMatrix> lk(K);
     if (lk.info() != Eigen::Success)
@@ -111,11 +192,11 @@ class SystemForce : public ModalForce {
     sparse_ = sys.force_entries(0.0, entries_);
     if (!sparse_) f_ = Vector::Zero(sys.n_dofs());
   }
-  void project(double t, double* p, double* g) override {
-    const auto mm = static_cast<std::size_t>(r_.n_modes()), no = static_cast<std::size_t>(r_.n_outputs());
+  void project(double t, double* p, double* g, double*, double*) override {
+    const auto mm = static_cast<std::size_t>(r_.n_channels()), no = static_cast<std::size_t>(r_.n_outputs());
     std::fill(p, p + mm, 0.0);
     if (g) std::fill(g, g + no, 0.0);
-    const double* phi = r_.shape_rows().data();
+    const double* phi = r_.load_rows().data();
     const double* flex = r_.flexibility_rows().data();
     if (sparse_) {
       sys_.force_entries(t, entries_);
@@ -132,7 +213,7 @@ class SystemForce : public ModalForce {
     } else {
       f_.setZero();
       sys_.force(t, f_);
-      Eigen::Map<Vector>(p, r_.n_modes()).noalias() = r_.shape_rows().transpose() * f_;
+      Eigen::Map<Vector>(p, r_.n_channels()).noalias() = r_.load_rows().transpose() * f_;
       if (g) Eigen::Map<Vector>(g, r_.n_outputs()).noalias() = r_.flexibility_rows().transpose() * f_;
     }
   }
@@ -155,9 +236,10 @@ ModalSummary ModalReduction::integrate(const SecondOrderSystem& sys, const Modal
 
 ModalSummary ModalReduction::integrate(ModalForce& force, const ModalOptions& opt,
                                        const OutputObserver& observe) const {
-  const auto wall0 = std::chrono::steady_clock::now();
   std::string why;
   if (!opt.is_valid(&why)) throw InputError("modal superposition: " + why);
+  if (complex_) return integrate_complex(force, opt, observe);
+  const auto wall0 = std::chrono::steady_clock::now();
   const Index n = n_dofs(), m = n_modes(), n_out = out_shape_.rows();
   const double dt = opt.dt;
 
@@ -175,12 +257,15 @@ ModalSummary ModalReduction::integrate(ModalForce& force, const ModalOptions& op
     w2[i] = omega_[static_cast<Index>(i)] * omega_[static_cast<Index>(i)];
   }
 
-  std::vector<double> q(mm, 0.0), qd(mm, 0.0), qdd(mm, 0.0), p(mm, 0.0), p_prev(mm, 0.0);
-  Vector disp(n_out), acc(n_out), flex_f = Vector::Zero(n_out);
-  const bool flex = static_correction_;
+  std::vector<double> q(mm, 0.0), qd(mm, 0.0), qdd(mm, 0.0), p(mm, 0.0), p_prev(mm, 0.0), p2(mm, 0.0);
+  Vector disp(n_out), acc(n_out), flex_f = Vector::Zero(n_out), flex_f2 = Vector::Zero(n_out);
+  const bool flex = static_correction_, flex2 = flex && force.has_second_derivative();
   const double* S = out_rows_.data();          // row-major n_out × m
   const double* Ss = out_static_rows_.data();  // row-major n_out × m
-  auto load = [&](double t) { force.project(t, p.data(), flex ? flex_f.data() : nullptr); };
+  auto load = [&](double t) {
+    force.project(t, p.data(), flex ? flex_f.data() : nullptr, flex2 ? p2.data() : nullptr,
+                  flex2 ? flex_f2.data() : nullptr);
+  };
   auto emit = [&](Index k, double t) {
     for (std::size_t j = 0; j < no; ++j) {
       const double* sj = S + j * mm;
@@ -193,6 +278,11 @@ ModalSummary ModalReduction::integrate(ModalForce& force, const ModalOptions& op
         const double* ssj = Ss + j * mm;
         dj += flex_f[static_cast<Index>(j)];
         for (std::size_t i = 0; i < mm; ++i) dj -= ssj[i] * p[i];
+      }
+      if (flex2) {
+        const double* ssj = Ss + j * mm;
+        aj += flex_f2[static_cast<Index>(j)];
+        for (std::size_t i = 0; i < mm; ++i) aj -= ssj[i] * p2[i];
       }
       disp[static_cast<Index>(j)] = dj;
       acc[static_cast<Index>(j)] = aj;
@@ -226,6 +316,119 @@ ModalSummary ModalReduction::integrate(ModalForce& force, const ModalOptions& op
   s.n_modes = m;
   s.n_dofs = n;
   s.t_reached = n_steps * dt;
+  s.stop_reason = "t_end reached";
+  s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  return s;
+}
+
+ModalSummary ModalReduction::integrate_complex(ModalForce& force, const ModalOptions& opt,
+                                               const OutputObserver& observe) const {
+  using cd = std::complex<double>;
+  const auto wall0 = std::chrono::steady_clock::now();
+  const Index n_out = out_shape_.rows(), nk = lambda_.size(), n_ch = n_channels();
+  const auto nkk = static_cast<std::size_t>(nk), no = static_cast<std::size_t>(n_out);
+  const double h = opt.dt;
+  // y₁ = E y₀ + α u₀ + β u₁ for u linear over the step: α = I₁ - I₂, β = I₂ with
+  // I₁ = (E - 1)/λ and I₂ = (E - 1 - λh)/(λ² h) (series for small |λh|).
+  std::vector<cd> E(nkk), al(nkk), be(nkk), lam(nkk);
+  for (std::size_t k = 0; k < nkk; ++k) {
+    const cd l = lambda_[static_cast<Index>(k)], z = l * h;
+    const cd e = std::exp(z);
+    cd I1, I2;
+    if (std::abs(z) < 1e-3) {
+      I1 = h * (1.0 + z / 2.0 + z * z / 6.0 + z * z * z / 24.0);
+      I2 = h * (0.5 + z / 6.0 + z * z / 24.0 + z * z * z / 120.0);
+    } else {
+      I1 = (e - 1.0) / l;
+      I2 = (e - 1.0 - z) / (l * z);
+    }
+    E[k] = e, al[k] = I1 - I2, be[k] = I2, lam[k] = l;
+  }
+  // Real arithmetic on split real/imaginary arrays: std::complex products carry NaN/Inf
+  // recovery calls (C99 Annex G) that would dominate this loop.
+  std::vector<double> Er(nkk), Ei(nkk), ar(nkk), ai(nkk), br(nkk), bi(nkk);
+  for (std::size_t k = 0; k < nkk; ++k) {
+    Er[k] = E[k].real(), Ei[k] = E[k].imag();
+    ar[k] = al[k].real(), ai[k] = al[k].imag();
+    br[k] = be[k].real(), bi[k] = be[k].imag();
+  }
+  const bool flex = static_correction_;
+  std::vector<double> ch(static_cast<std::size_t>(n_ch), 0.0);
+  std::vector<double> yr(nkk, 0.0), yi(nkk, 0.0), ur(nkk, 0.0), ui(nkk, 0.0), pr(nkk, 0.0), pi(nkk, 0.0);
+  std::vector<double> ch2(static_cast<std::size_t>(n_ch), 0.0), u2r(nkk, 0.0), u2i(nkk, 0.0);
+  const bool flex2 = flex && force.has_second_derivative();
+  Vector disp(n_out), acc(n_out), flex_f = Vector::Zero(n_out), flex_f2 = Vector::Zero(n_out);
+  // Output rows, weighted (2 for a conjugate pair), split: Re(c z) = cr zr - ci zi.
+  std::vector<double> Dr(no * nkk), Di(no * nkk), Lr(no * nkk), Li(no * nkk), Ar(no * nkk), Ai(no * nkk),
+      Sr(no * nkk), Si(no * nkk);
+  for (std::size_t j = 0; j < no; ++j)
+    for (std::size_t k = 0; k < nkk; ++k) {
+      const double w = weight_[static_cast<Index>(k)];
+      const auto jj = static_cast<Index>(j), kk = static_cast<Index>(k);
+      const cd d = w * c_disp_(jj, kk), a = w * c_acc_(jj, kk), al_ = a * lam[k], st = w * c_static_(jj, kk);
+      const std::size_t o = j * nkk + k;
+      Dr[o] = d.real(), Di[o] = d.imag(), Ar[o] = a.real(), Ai[o] = a.imag();
+      Lr[o] = al_.real(), Li[o] = al_.imag(), Sr[o] = st.real(), Si[o] = st.imag();
+    }
+  auto load = [&](double t) {
+    force.project(t, ch.data(), flex ? flex_f.data() : nullptr, flex2 ? ch2.data() : nullptr,
+                  flex2 ? flex_f2.data() : nullptr);
+    for (std::size_t k = 0; k < nkk; ++k) {
+      const auto c = static_cast<std::size_t>(channel_[k]);
+      const bool pair = weight_[static_cast<Index>(k)] == 2.0;
+      ur[k] = ch[c];
+      ui[k] = pair ? ch[c + 1] : 0.0;
+      if (flex2) {
+        u2r[k] = ch2[c];
+        u2i[k] = pair ? ch2[c + 1] : 0.0;
+      }
+    }
+  };
+  auto emit = [&](Index step, double t) {
+    for (std::size_t j = 0; j < no; ++j) {
+      const std::size_t o = j * nkk;
+      double dj = 0.0, aj = 0.0, sj = 0.0;
+      for (std::size_t k = 0; k < nkk; ++k) {
+        dj += Dr[o + k] * yr[k] - Di[o + k] * yi[k];
+        aj += Lr[o + k] * yr[k] - Li[o + k] * yi[k] + Ar[o + k] * ur[k] - Ai[o + k] * ui[k];
+      }
+      if (flex)
+        for (std::size_t k = 0; k < nkk; ++k) sj += Sr[o + k] * ur[k] - Si[o + k] * ui[k];
+      if (flex2) {
+        double s2 = 0.0;
+        for (std::size_t k = 0; k < nkk; ++k) s2 += Sr[o + k] * u2r[k] - Si[o + k] * u2i[k];
+        aj += flex_f2[static_cast<Index>(j)] - s2;
+      }
+      disp[static_cast<Index>(j)] = flex ? dj + flex_f[static_cast<Index>(j)] - sj : dj;
+      acc[static_cast<Index>(j)] = aj;
+    }
+    if (observe) observe(step, t, disp, acc);
+  };
+  load(0.0);
+  emit(0, 0.0);
+  const Index n_steps = static_cast<Index>(std::ceil(opt.t_end / h - 1e-9));
+  for (Index step = 1; step <= n_steps; ++step) {
+    const double t = step * h;
+    pr.swap(ur);
+    pi.swap(ui);
+    load(t);
+    double sum = 0.0;
+    for (std::size_t k = 0; k < nkk; ++k) {
+      const double r = Er[k] * yr[k] - Ei[k] * yi[k] + ar[k] * pr[k] - ai[k] * pi[k] + br[k] * ur[k] - bi[k] * ui[k];
+      const double i = Er[k] * yi[k] + Ei[k] * yr[k] + ar[k] * pi[k] + ai[k] * pr[k] + br[k] * ui[k] + bi[k] * ur[k];
+      yr[k] = r;
+      yi[k] = i;
+      sum += r;
+    }
+    if (opt.check_finite && !std::isfinite(sum))
+      throw SolverError("modal superposition: state became non-finite at t = " + num(t) + " s");
+    emit(step, t);
+  }
+  ModalSummary s;
+  s.n_steps = n_steps;
+  s.n_modes = n_modes();
+  s.n_dofs = n_dofs();
+  s.t_reached = n_steps * h;
   s.stop_reason = "t_end reached";
   s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return s;

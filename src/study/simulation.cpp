@@ -50,7 +50,7 @@ namespace {
 
 std::shared_ptr<const ModalPathTable> make_path_table(const model::Structure& s, const solve::ModalReduction& r) {
   auto t = std::make_shared<ModalPathTable>();
-  t->m = static_cast<std::size_t>(r.n_modes());
+  t->m = static_cast<std::size_t>(r.n_channels());
   t->flex = r.static_correction();
   t->n_out = t->flex ? static_cast<std::size_t>(r.n_outputs()) : 0;
   t->stride = 4 * (t->m + t->n_out);
@@ -74,7 +74,7 @@ std::shared_ptr<const ModalPathTable> make_path_table(const model::Structure& s,
       return pe.dofs[q] >= 0 ? rows(pe.dofs[q], static_cast<Index>(col)) : 0.0;
     };
     for (std::size_t i = 0; i < t->m; ++i) {
-      const auto& R = r.shape_rows();
+      const auto& R = r.load_rows();
       cubic(value(R, 0, i), value(R, 1, i), value(R, 2, i), value(R, 3, i), pe.h, ce + 4 * i);
     }
     for (std::size_t j = 0; j < t->n_out; ++j) {
@@ -93,9 +93,12 @@ class MovingModalForce : public solve::ModalForce {
       : t_(t), offset_(train.offset), load_(train.load), elem_(train.offset.size(), 0), speed_(speed) {
     for (double& p : load_) p *= load_factor;
   }
-  void project(double t, double* p, double* g) override {
+  bool has_second_derivative() const override { return true; }
+  void project(double t, double* p, double* g, double* p2, double* g2) override {
     std::fill(p, p + t_.m, 0.0);
     if (g) std::fill(g, g + t_.n_out, 0.0);
+    if (p2) std::fill(p2, p2 + t_.m, 0.0);
+    if (g2) std::fill(g2, g2 + t_.n_out, 0.0);
     const double head = t_.x_start + speed_ * t;
     const std::size_t n = offset_.size(), ne = t_.x0.size();
     while (last_ < n && head - offset_[last_] >= t_.x_start) ++last_;
@@ -111,6 +114,14 @@ class MovingModalForce : public solve::ModalForce {
       for (std::size_t i = 0; i < t_.m; ++i, c += 4) p[i] += P * (c[0] + xi * (c[1] + xi * (c[2] + xi * c[3])));
       if (g)
         for (std::size_t j = 0; j < t_.n_out; ++j, c += 4) g[j] += P * (c[0] + xi * (c[1] + xi * (c[2] + xi * c[3])));
+      if (p2) {
+        // d²/dt² of a load moving at v: v² d²/dx², and d/dx = (1/h) d/dξ on the element.
+        const double s2 = P * speed_ * speed_ / (t_.h[e] * t_.h[e]);
+        const double* d = &t_.coef[e * t_.stride];
+        for (std::size_t i = 0; i < t_.m; ++i, d += 4) p2[i] += s2 * (2.0 * d[2] + 6.0 * d[3] * xi);
+        if (g2)
+          for (std::size_t j = 0; j < t_.n_out; ++j, d += 4) g2[j] += s2 * (2.0 * d[2] + 6.0 * d[3] * xi);
+      }
     }
   }
 
@@ -134,17 +145,18 @@ solve::Functional functional_of(const model::PointCoupling& c) {
 
 // Output functionals of the modal model: each station's main point, then the rail above deck
 // stations (track models).
-std::vector<solve::Functional> station_functionals(const std::vector<ResolvedStation>& stations) {
+std::vector<solve::Functional> station_functionals(const std::vector<ResolvedStation>& stations, bool rail) {
   std::vector<solve::Functional> out;
   for (const auto& st : stations) out.push_back(functional_of(st.has_deck ? st.deck : st.rail));
-  for (const auto& st : stations)
-    if (st.has_deck && st.has_rail) out.push_back(functional_of(st.rail));
+  if (rail)
+    for (const auto& st : stations)
+      if (st.has_deck && st.has_rail) out.push_back(functional_of(st.rail));
   return out;
 }
 
 std::shared_ptr<const solve::ModalReduction> make_modal(const model::Structure& s,
                                                         const std::vector<ResolvedStation>& stations,
-                                                        const ModalSettings& ms, Vector* kept_hz) {
+                                                        const ModalSettings& ms, bool rail, Vector* kept_hz) {
   if (ms.n_modes < 0) throw InputError("modal.n_modes must be >= 0");
   require_non_negative(ms.max_frequency_hz, "modal.max_frequency_hz [Hz]");
   const model::Modes modes = model::compute_modes(s, 0);
@@ -161,7 +173,7 @@ std::shared_ptr<const solve::ModalReduction> make_modal(const model::Structure& 
   if (kept_hz) *kept_hz = modes.frequency_hz.head(n);
   return std::make_shared<const solve::ModalReduction>(
       s.M, s.C, s.K, modes.shape.leftCols(n), (2.0 * M_PI) * modes.frequency_hz.head(n),
-      station_functionals(stations), ms.static_correction);
+      station_functionals(stations, rail), ms.static_correction);
 }
 
 RunResult allocate_histories(const std::vector<ResolvedStation>& stations, double t_end, double dt) {
@@ -209,8 +221,11 @@ RunResult integrate(const model::Structure& s, const std::vector<ResolvedStation
     // Outputs: station main points first, then rails above deck stations (station_functionals).
     std::vector<Index> rail_out(stations.size(), -1);
     Index next = static_cast<Index>(stations.size());
-    for (std::size_t i = 0; i < stations.size(); ++i)
-      if (stations[i].has_deck && stations[i].has_rail) rail_out[i] = next++;
+    const bool rail = modal->n_outputs() > next;
+    for (std::size_t i = 0; i < stations.size(); ++i) {
+      if (rail && stations[i].has_deck && stations[i].has_rail) rail_out[i] = next++;
+      else r.stations[i].rail_disp.resize(0);  // not an output of this modal model
+    }
     auto observe = [&](Index k, double t, const Vector& disp, const Vector& acc) {
       r.t[k] = t;
       for (std::size_t i = 0; i < stations.size(); ++i) {
@@ -302,19 +317,19 @@ void add_shifted(const Vector& r, double shift_samples, double P, Vector& y) {
 }  // namespace
 
 PreparedModel prepare_model(model::Structure s, const std::vector<StationSpec>& stations,
-                            const RunSettings& settings) {
+                            const RunSettings& settings, bool rail_outputs) {
   PreparedModel m;
   m.structure = std::move(s);
   m.stations = resolve_stations(m.structure, stations);
   if (settings.method == Method::modal) {
-    m.modal = make_modal(m.structure, m.stations, settings.modal, &m.modal_frequency_hz);
+    m.modal = make_modal(m.structure, m.stations, settings.modal, rail_outputs, &m.modal_frequency_hz);
     m.modal_path = make_path_table(m.structure, *m.modal);
   }
   return m;
 }
 
-PreparedModel prepare_model(const Scenario& sc) {
-  return prepare_model(model::build_structure(sc.bridge, sc.track), sc.stations, sc.settings);
+PreparedModel prepare_model(const Scenario& sc, bool rail_outputs) {
+  return prepare_model(model::build_structure(sc.bridge, sc.track), sc.stations, sc.settings, rail_outputs);
 }
 
 RunResult simulate(const PreparedModel& m, const load::Train& train, double speed, const RunSettings& settings) {
@@ -328,7 +343,7 @@ RunResult simulate(const model::Structure& s, const std::vector<ResolvedStation>
   std::shared_ptr<const solve::ModalReduction> modal;
   std::shared_ptr<const ModalPathTable> path;
   if (settings.method == Method::modal) {
-    modal = make_modal(s, stations, settings.modal, nullptr);
+    modal = make_modal(s, stations, settings.modal, true, nullptr);
     path = make_path_table(s, *modal);
   }
   RunResult r = simulate_impl(s, stations, modal.get(), path.get(), train, speed, settings);
@@ -375,6 +390,7 @@ std::vector<RunResult> simulate_by_unit_response(const PreparedModel& m, const s
       const StationHistory& u = unit_run.stations[j];
       h.disp.setZero();
       h.acc.setZero();
+      if (u.rail_disp.size() == 0) h.rail_disp.resize(0);  // not recorded by the unit run
       if (h.rail_disp.size()) h.rail_disp.setZero();
       for (std::size_t a = 0; a < trains[i].offset.size(); ++a) {
         const double shift = trains[i].offset[a] / speed / dt;

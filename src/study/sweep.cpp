@@ -42,7 +42,7 @@ SweepResult run_sweep(const std::vector<Variant>& variants, const SweepOptions& 
   std::vector<Prepared> prepared(variants.size());
   parallel_for(variants.size(), options.threads, [&](std::size_t v, int) {
     try {
-      prepared[v].model = prepare_model(variants[v].scenario);
+      prepared[v].model = prepare_model(variants[v].scenario, /*rail_outputs=*/false);
     } catch (const std::exception& e) {
       prepared[v].error = e.what();
     }

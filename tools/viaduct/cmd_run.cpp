@@ -44,9 +44,9 @@ Command run_command() {
       }
       if (!train) throw InputError("no train named '" + vm["train"].as<std::string>() + "'; the scenario has:" + names);
     }
-    const model::Structure s = model::build_structure(sc.bridge, sc.track);
-    const auto stations = study::resolve_stations(s, sc.stations);
-    const study::RunResult r = study::simulate(s, stations, *train, speed, sc.settings);
+    const study::PreparedModel pm = study::prepare_model(sc);
+    const model::Structure& s = pm.structure;
+    const study::RunResult r = study::simulate(pm, *train, speed, sc.settings);
     make_out_dir(o.out);
     io::write_history_csv(o.out + "/history.csv", r);
     io::Manifest m;
@@ -56,12 +56,19 @@ Command run_command() {
                {"speed_kmh", std::to_string(speed * 3.6)},
                {"n_dofs", std::to_string(s.n_dofs)},
                {"n_steps", std::to_string(r.summary.n_steps)},
+               {"method", sc.settings.method == study::Method::modal ? "\"modal\"" : "\"newmark\""},
+               {"n_modes", std::to_string(r.n_modes)},
                {"solver_wall_s", std::to_string(r.summary.wall_s)}};
     m.versions = tool_versions();
     io::write_manifest(o.out + "/manifest.toml", m, flat);
     if (!o.quiet) {
       std::printf("%s at %.1f km/h: %ld DOFs, %ld steps, %.2f s\n", train->name.c_str(), speed * 3.6,
                   static_cast<long>(s.n_dofs), static_cast<long>(r.summary.n_steps), r.summary.wall_s);
+      if (pm.modal)
+        std::printf("modal: %ld modes, %.2f to %.1f Hz; damping coupling up to %.3f (%s)\n",
+                    static_cast<long>(pm.modal->n_modes()), pm.modal_frequency_hz[0],
+                    pm.modal_frequency_hz[pm.modal_frequency_hz.size() - 1], pm.modal->max_damping_coupling(),
+                    pm.modal->complex_modes() ? "complex modes" : "classical modes");
       const auto pk = study::peaks(r);
       for (std::size_t i = 0; i < pk.size(); ++i)
         std::printf("  %-16s max |acc| %.4f m/s²  max |disp| %.4f mm\n", r.stations[i].name.c_str(), pk[i].max_abs_acc,

@@ -3,13 +3,14 @@
 /// per-step solution of each modal equation for piecewise-linear loads, and an optional
 /// static (mode-acceleration) correction of displacements.
 ///
-/// Theory (docs/accuracy.md): with u ≈ Φ q, Φᵀ M Φ = I, Φᵀ K Φ = Ω², and ζᵢ = φᵢᵀ C φᵢ / (2 ωᵢ)
-/// (the off-diagonal terms of Φᵀ C Φ are dropped: exact for Rayleigh or modal damping, an
-/// approximation for the track's discrete dashpots, measured by `viaduct tradeoff`), every mode
-/// obeys q̈ᵢ + 2ζᵢωᵢ q̇ᵢ + ωᵢ² qᵢ = φᵢᵀ f(t). Between two samples the modal load is taken linear
-/// and the equation is solved exactly (augmented 4×4 matrix exponential), so the scheme has no
-/// stability limit and no period error; the only time-discretisation error is the linear
-/// interpolation of the load. The static correction adds the quasi-static response of the
+/// Theory (docs/accuracy.md): with u ≈ Φ q, Φᵀ M Φ = I, Φᵀ K Φ = Ω², the reduced equations are
+/// q̈ + Φᵀ C Φ q̇ + Ω² q = Φᵀ f(t). When Φᵀ C Φ is diagonal (Rayleigh or modal damping: "classical")
+/// every mode is a damped oscillator solved exactly per step (augmented 4×4 matrix exponential).
+/// When it is not (the track's discrete dashpots couple the modes, often strongly) the reduced
+/// first-order system is diagonalised instead — complex modes — and each complex coordinate is
+/// solved exactly per step; the coupling is never dropped. Between two samples the load is taken
+/// linear, so the scheme has no stability limit and no period error; the only time-discretisation
+/// error is that interpolation. The static correction adds the quasi-static response of the
 /// truncated modes to displacements: u = Φ q + (K⁻¹ − Φ Ω⁻² Φᵀ) f.
 
 #include <array>
@@ -53,9 +54,14 @@ using OutputObserver = std::function<void(Index step, double t, const Vector& di
 class ModalForce {
  public:
   virtual ~ModalForce() = default;
-  /// Writes p = Φᵀ f(t) (n_modes values) and, when `g` is not null (static correction),
-  /// g = (K⁻¹ cⱼ)ᵀ f(t) (one value per output). Must not allocate.
-  virtual void project(double t, double* p, double* g) = 0;
+  /// Writes the load channels p = Lᵀ f(t) (ModalReduction::load_rows(), n_channels values) and,
+  /// when `g` is not null (static correction), g = (K⁻¹ cⱼ)ᵀ f(t) (one value per output). When
+  /// p2/g2 are not null (only if has_second_derivative()), also the same of f̈(t). Must not
+  /// allocate.
+  virtual void project(double t, double* p, double* g, double* p2, double* g2) = 0;
+  /// True when project() can give f̈: the static correction then also corrects accelerations
+  /// by the quasi-static acceleration of the dropped modes, (K⁻¹ − Φ Ω⁻² Φᵀ) f̈.
+  virtual bool has_second_derivative() const { return false; }
 };
 
 /// A modal model of (M, C, K) for a fixed set of outputs. Built once (it solves K for the static
@@ -71,13 +77,14 @@ class ModalReduction {
                  bool static_correction);
 
   Index n_modes() const { return omega_.size(); }
-  Index n_dofs() const { return phi_rows_.rows(); }
+  Index n_dofs() const { return load_rows_.rows(); }
   const Vector& omega() const { return omega_; }  ///< [rad/s]
   const Vector& zeta() const { return zeta_; }    ///< [-] per mode
   bool static_correction() const { return static_correction_; }
-  /// Largest |(Φᵀ C Φ)ᵢⱼ| / sqrt(cᵢᵢ cⱼⱼ) over i ≠ j: the damping coupling that is neglected
-  /// (0 for proportional damping).
+  /// Largest |(Φᵀ C Φ)ᵢⱼ| / sqrt(cᵢᵢ cⱼⱼ) over i ≠ j (0 for proportional damping).
   double max_damping_coupling() const { return max_coupling_; }
+  /// True when the damping couples the modes and complex modes are integrated.
+  bool complex_modes() const { return complex_; }
 
   /// Integrates from rest with the loads of `sys` (its matrices are not used: they must be the
   /// ones this reduction was built from). Allocation-free per step.
@@ -87,15 +94,27 @@ class ModalReduction {
   ModalSummary integrate(ModalForce& force, const ModalOptions& opt, const OutputObserver& observe) const;
 
   using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  /// Mass-normalised mode shapes, row-major n_dofs × n_modes (row d: every mode at DOF d).
-  const RowMatrix& shape_rows() const { return phi_rows_; }
+  /// Load channels, row-major n_dofs × n_channels: channel values are Lᵀ f. Classical damping:
+  /// the mass-normalised mode shapes (p = Φᵀ f). Complex modes: real and imaginary parts of the
+  /// inputs of the kept complex coordinates.
+  const RowMatrix& load_rows() const { return load_rows_; }
+  Index n_channels() const { return load_rows_.cols(); }
   /// Static-correction flexibilities, row-major n_dofs × n_outputs (empty without correction).
   const RowMatrix& flexibility_rows() const { return out_flex_rows_; }
   Index n_outputs() const { return out_shape_.rows(); }
 
  private:
-  RowMatrix phi_rows_;  // n × m
+  ModalSummary integrate_complex(ModalForce& force, const ModalOptions& opt, const OutputObserver& observe) const;
+  RowMatrix load_rows_;  // n × n_channels
   Vector omega_, zeta_;
+  bool complex_ = false;
+  // Complex modes: kept coordinates (one per conjugate pair, plus real ones).
+  using CVector = Eigen::VectorXcd;
+  using CMatrix = Eigen::MatrixXcd;
+  CVector lambda_;       // eigenvalues
+  Vector weight_;        // 2 for a conjugate pair, 1 for a real coordinate
+  std::vector<Index> channel_;  // first load channel of each coordinate (re, then im if complex)
+  CMatrix c_disp_, c_acc_, c_static_;  // n_out × n_kept output rows
   Matrix out_shape_, out_static_;  // n_out × m: outputs of the modes, and the same / ω²
   RowMatrix out_rows_, out_static_rows_;  // the same, row-major for the step loop
   RowMatrix out_flex_rows_;  // n × n_out: K⁻¹ cⱼᵀ (empty without static correction)

@@ -88,11 +88,13 @@ struct PreparedModel {
 };
 
 /// Builds the structure, maps the stations and, for the modal method, solves the eigenproblem
-/// and keeps the modes settings.modal selects. InputError/SolverError on failure.
-PreparedModel prepare_model(const Scenario& sc);
+/// and keeps the modes settings.modal selects. rail_outputs = false leaves the rail above deck
+/// stations out of the modal outputs (StationHistory::rail_disp then stays empty; sweeps, which
+/// only take deck peaks, save the work). InputError/SolverError on failure.
+PreparedModel prepare_model(const Scenario& sc, bool rail_outputs = true);
 /// The same from a built structure.
 PreparedModel prepare_model(model::Structure s, const std::vector<StationSpec>& stations,
-                            const RunSettings& settings);
+                            const RunSettings& settings, bool rail_outputs = true);
 
 /// Runs `train` at `speed` [m/s] from the entry of its first axle until free_vibration_s after
 /// the last axle has left, with settings.method, and records every station at every step.
