@@ -153,7 +153,7 @@ TEST_CASE("track model: complex modes converge to Newmark; every basis from one 
     sc.settings.modal.max_frequency_hz = f_max;
     sc.settings.modal.n_modes = n_modes;
     const PreparedModel m = prepare_model(sc);
-    REQUIRE(m.modal->complex_modes());
+    if (m.modal->n_modes() > 1) REQUIRE(m.modal->complex_modes());  // one mode has nothing to couple
     const RunResult r = simulate(m, sc.trains[0], v, sc.settings);
     const double ea = std::abs(peak(r.stations[0].acc_filt) - pa) / pa;
     const double ed = std::abs(peak(r.stations[0].disp) - pd) / pd;
