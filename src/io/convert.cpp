@@ -9,6 +9,7 @@
 #include <toml.hpp>
 
 #include "viaduct/io/scenario.hpp"
+#include "viaduct/study/tradeoff.hpp"
 
 namespace viaduct::io {
 
@@ -171,6 +172,22 @@ study::Scenario to_scenario(const FlatScenario& f) {
   st.filter.cheby.ripple_db = get_number(f, "filter.ripple_db");
   st.filter.cheby.low_hz = get_number(f, "filter.low_hz");
   st.filter.cheby.high_hz = get_number(f, "filter.high_hz");
+  const Value& preset = f.at("analysis.preset");
+  if (!preset.s.empty()) {
+    // The preset first, explicit keys on top of it.
+    study::RunSettings p;
+    try {
+      p = study::preset_settings(preset.s, sc);
+    } catch (const InputError& e) {
+      bad(preset, e.what());
+    }
+    auto given = [&](const char* key) { return f.has(key) && !f.defaulted.count(key); };
+    if (!given("analysis.method")) st.method = p.method;
+    if (!given("analysis.dt")) st.newmark.dt = p.newmark.dt;
+    if (!given("modal.n_modes")) st.modal.n_modes = p.modal.n_modes;
+    if (!given("modal.max_frequency_hz")) st.modal.max_frequency_hz = p.modal.max_frequency_hz;
+    if (!given("modal.static_correction")) st.modal.static_correction = p.modal.static_correction;
+  }
   if (st.filter.enabled) {
     std::string why;
     if (!st.filter.cheby.is_valid(1.0 / st.newmark.dt, &why))

@@ -57,6 +57,7 @@ const std::vector<KeySpec>& scenario_schema() {
       {"analysis.beta", T::number, "0.25", "-", "> 0", "Newmark β (0.25: constant average acceleration)."},
       {"analysis.gamma", T::number, "0.5", "-", ">= 0.5", "Newmark γ."},
       {"analysis.alpha", T::number, "0.0", "-", "[-1/3, 0]", "HHT-α (0: plain Newmark); with alpha use beta = (1-alpha)²/4, gamma = (1-2 alpha)/2."},
+      {"analysis.preset", T::string, "\"\"", "", "|fast|default|reference", "Named speed/accuracy setting (docs/accuracy.md): sets analysis.method, analysis.dt and modal.* from the band edge f_c (filter.high_hz, or 30 Hz); keys given explicitly override it."},
       {"analysis.method", T::string, "\"newmark\"", "", "newmark|modal", "newmark: direct integration of the whole model; modal: superposition of its modes up to modal.max_frequency_hz / modal.n_modes, solved exactly per step (docs/accuracy.md)."},
       {"analysis.superposition", T::string, "\"direct\"", "", "direct|unit-response", "direct: one run per train and speed; unit-response: one run of a unit axle per speed, superposed over every train's axles (linear models only; same answer, much less work with several trains)."},
       {"modal.n_modes", T::integer, "0", "-", ">= 0", "modal: keep at most this many of the lowest modes (0: no count limit)."},

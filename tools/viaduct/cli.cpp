@@ -85,7 +85,7 @@ void make_out_dir(const std::string& dir) {
   if (ec) throw SolverError("cannot create output directory " + dir + ": " + ec.message());
 }
 
-ProgressSink progress_printer(const std::string& what, bool quiet) {
+ProgressSink progress_printer(const std::string& what, bool quiet, const std::string& unit) {
   if (quiet) return {};
   const bool tty = ::isatty(::fileno(stderr)) != 0;
   auto t0 = std::make_shared<std::chrono::steady_clock::time_point>(std::chrono::steady_clock::now());
@@ -94,13 +94,13 @@ ProgressSink progress_printer(const std::string& what, bool quiet) {
     const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - *t0).count();
     const double eta = done ? el * static_cast<double>(total - done) / static_cast<double>(done) : 0.0;
     if (tty) {
-      std::fprintf(stderr, "\r%s: %zu/%zu cases, %.0f s elapsed, ~%.0f s left   ", what.c_str(), done, total, el, eta);
+      std::fprintf(stderr, "\r%s: %zu/%zu %s, %.0f s elapsed, ~%.0f s left   ", what.c_str(), done, total, unit.c_str(), el, eta);
       if (done == total) std::fprintf(stderr, "\n");
     } else {
       const std::size_t decile = total ? done * 10 / total : 10;
       if (decile > *last_decile || done == total) {
         *last_decile = decile;
-        std::fprintf(stderr, "%s: %zu/%zu cases, %.0f s elapsed\n", what.c_str(), done, total, el);
+        std::fprintf(stderr, "%s: %zu/%zu %s, %.0f s elapsed\n", what.c_str(), done, total, unit.c_str(), el);
       }
     }
     std::fflush(stderr);

@@ -43,7 +43,7 @@ int dispatch(const Command& cmd, int argc, char** argv);
 void make_out_dir(const std::string& dir);
 
 /// Progress printer on stderr: a live line on a terminal, every 10 % otherwise; silent if quiet.
-ProgressSink progress_printer(const std::string& what, bool quiet);
+ProgressSink progress_printer(const std::string& what, bool quiet, const std::string& unit = "cases");
 
 /// Versions of the libraries only the tool links (for manifests).
 std::vector<std::pair<std::string, std::string>> tool_versions();
@@ -63,5 +63,6 @@ Command compare_command();
 Command speed_command();
 Command resample_command();
 Command envelope_command();
+Command tradeoff_command();
 
 }  // namespace viaduct::cli
