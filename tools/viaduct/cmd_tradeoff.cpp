@@ -42,7 +42,7 @@ Command tradeoff_command() {
       "Writes OUT/tradeoff.csv (one row per rung, the reference first), OUT/tradeoff_stations.csv\n"
       "(errors per station) and OUT/manifest.toml. Plot with scripts/plot_tradeoff.py OUT.\n\n"
       "Sample runs:\n"
-      "  viaduct tradeoff scenarios/hslm-simply-supported.toml --speeds 3 --set 'train.files=[\"../data/trains/hslm/A1.toml\"]' --out out/tradeoff-hslm\n"
+      "  viaduct tradeoff scenarios/hslm-simply-supported.toml --speeds 3 --set 'train.files=[\"data/trains/hslm/A1.toml\"]' --out out/tradeoff-hslm\n"
       "  viaduct tradeoff scenarios/old-guadiana-sensitivity.toml --speeds 2 --threads 0 --out out/tradeoff-og\n";
   c.run = [](const Common& o, const po::variables_map& vm) {
     const auto t0 = std::chrono::steady_clock::now();
