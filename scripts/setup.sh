@@ -8,6 +8,7 @@ packages=(
   libeigen3-dev          # linear algebra (dense and sparse)
   libfftw3-dev           # FFT (signal module)
   libsundials-dev        # IDA (solve module)
+  libsuitesparse-dev     # KLU: sparse direct solver inside IDA's Newton iterations
   libboost-program-options-dev  # the CLI
   catch2                 # tests (v2)
   libtoml11-dev          # scenario files

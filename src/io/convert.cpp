@@ -156,7 +156,12 @@ study::Scenario to_scenario(const FlatScenario& f) {
   st.newmark.gamma = get_number(f, "analysis.gamma");
   st.newmark.alpha = get_number(f, "analysis.alpha");
   st.free_vibration_s = get_number(f, "analysis.free_vibration_s");
-  st.method = get_string(f, "analysis.method") == "modal" ? study::Method::modal : study::Method::newmark;
+  const std::string& method = get_string(f, "analysis.method");
+  st.method = method == "modal" ? study::Method::modal : method == "ida" ? study::Method::ida : study::Method::newmark;
+  st.ida.rtol = get_number(f, "ida.rtol");
+  st.ida.atol_disp = get_number(f, "ida.atol_disp_m");
+  st.ida.atol_vel = get_number(f, "ida.atol_vel_mps");
+  st.ida.max_order = static_cast<int>(get_number(f, "ida.max_order"));
   st.superposition = get_string(f, "analysis.superposition") == "unit-response" ? study::Superposition::unit_response
                                                                                  : study::Superposition::direct;
   st.modal.n_modes = static_cast<Index>(get_number(f, "modal.n_modes"));

@@ -192,6 +192,8 @@ void check_constraint(const KeySpec& spec, const Value& v) {
     else if (c == "[0, 1)") ok = x >= 0 && x < 1;
     else if (c == "[0, 1]") ok = x >= 0 && x <= 1;
     else if (c == "[-1/3, 0]") ok = x >= -1.0 / 3.0 - 1e-15 && x <= 0;
+    else if (c == "[1e-12, 0.1]") ok = x >= 1e-12 && x <= 0.1;
+    else if (c == "[1, 5]") ok = x >= 1 && x <= 5;
     if (!ok) bad(v.where, "must be " + c + unit + ", got " + num(x));
   }
 }
@@ -329,7 +331,7 @@ FlatScenario load_flat(const std::string& path, const std::vector<std::string>& 
     if (br == std::string::npos) {
       const std::string section = spec.key.substr(0, spec.key.find('.') + 1);
       const bool always = section == "bridge." || section == "train." || section == "analysis." ||
-                          section == "filter." || section == "modal." || spec.key.find('.') == std::string::npos;
+                          section == "filter." || section == "modal." || section == "ida." || spec.key.find('.') == std::string::npos;
       if (!always && !section_named(fsn.values, section)) continue;
       if (fsn.values.count(spec.key)) continue;
       fsn.values[spec.key] = default_value(spec, spec.key);

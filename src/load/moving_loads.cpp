@@ -22,6 +22,16 @@ MovingLoads::MovingLoads(const model::Structure& s, const Train& train, double s
 
 double MovingLoads::t_exit() const { return (x_end_ - x_start_ + offset_.back()) / speed_; }
 
+std::vector<double> MovingLoads::event_times() const {
+  std::vector<double> t;
+  for (double o : offset_) {
+    t.push_back(o / speed_);
+    t.push_back((x_end_ - x_start_ + o) / speed_);
+  }
+  std::sort(t.begin(), t.end());
+  return t;
+}
+
 template <class Sink>
 void MovingLoads::for_each_entry(double t, Sink&& sink) const {
   const double head = x_start_ + speed_ * t;

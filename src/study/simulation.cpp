@@ -250,10 +250,6 @@ RunResult integrate(const model::Structure& s, const std::vector<ResolvedStation
     r.n_modes = ms.n_modes;
     return r;
   }
-  solve::NewmarkOptions opt = settings.newmark;
-  opt.t_end = t_end;
-  std::string why;
-  if (!opt.is_valid(&why)) throw InputError("Newmark: " + why);
   auto observe = [&](Index k, double t, const Vector& u, const Vector&, const Vector& a) {
     r.t[k] = t;
     for (std::size_t i = 0; i < stations.size(); ++i) {
@@ -265,8 +261,32 @@ RunResult integrate(const model::Structure& s, const std::vector<ResolvedStation
       if (h.rail_disp.size() > 0) h.rail_disp[k] = st.rail.value(u);
     }
   };
-  r.summary = solve::newmark(sys, opt, observe);
   (void)s;
+  if (settings.method == Method::ida) {
+    solve::IdaOptions io;
+    io.dt_out = settings.newmark.dt;
+    io.t_end = t_end;
+    io.rtol = settings.ida.rtol;
+    io.atol_disp = settings.ida.atol_disp;
+    io.atol_vel = settings.ida.atol_vel;
+    io.max_order = settings.ida.max_order;
+    const solve::IdaSummary is = solve::ida(sys, io, observe);
+    r.summary.n_steps = is.n_steps;
+    r.summary.n_dofs = sys.n_dofs();
+    r.summary.t_reached = is.t_reached;
+    r.summary.wall_s = is.wall_s;
+    r.summary.stop_reason = is.stop_reason + " (" + std::to_string(is.n_steps) + " internal steps, " +
+                            std::to_string(is.n_residuals) + " residuals, " + std::to_string(is.n_jacobians) +
+                            " factorisations, " + std::to_string(is.n_error_test_failures) + " error-test and " +
+                            std::to_string(is.n_nonlinear_failures) + " Newton failures, " +
+                            std::to_string(is.n_restarts) + " restarts)";
+    return r;
+  }
+  solve::NewmarkOptions opt = settings.newmark;
+  opt.t_end = t_end;
+  std::string why;
+  if (!opt.is_valid(&why)) throw InputError("Newmark: " + why);
+  r.summary = solve::newmark(sys, opt, observe);
   return r;
 }
 

@@ -26,6 +26,8 @@ class MovingLoads {
   void entries(double t, SparseForce& out) const;
   /// [s] time at which the last axle leaves the path.
   double t_exit() const;
+  /// [s] times at which an axle enters or leaves the path (the force jumps there), ascending.
+  std::vector<double> event_times() const;
   double speed() const { return speed_; }
 
  private:

@@ -2,6 +2,8 @@
 /// \file The one abstraction integrators see: M a + C v + K u = f(t) with constant sparse
 /// symmetric M (positive definite), C and K (positive semi-definite).
 
+#include <vector>
+
 #include "viaduct/core/types.hpp"
 
 namespace viaduct::solve {
@@ -19,6 +21,11 @@ class SecondOrderSystem {
   /// Optional sparse form of f(t): clears `out`, appends the nonzero entries and returns true;
   /// returns false when the system does not offer it (integrators then use force()). Must not
   /// allocate once `out` has grown to its working size.
+  /// Times in (0, t_end) where f(t) jumps (adaptive integrators stop and restart there).
+  virtual std::vector<double> discontinuities(double t_end) const {
+    (void)t_end;
+    return {};
+  }
   virtual bool force_entries(double t, SparseForce& out) const {
     (void)t;
     (void)out;

@@ -31,6 +31,15 @@ struct FilterSpec {
 enum class Method {
   newmark,  ///< direct Newmark/HHT integration of every DOF
   modal,    ///< modal superposition (solve::ModalReduction)
+  ida,      ///< adaptive BDF (SUNDIALS IDA) of every DOF, sampled every analysis.dt
+};
+
+/// IDA tolerances (solve::IdaOptions).
+struct IdaSettings {
+  double rtol = 1e-6;        ///< [-]
+  double atol_disp = 1e-10;  ///< [m]
+  double atol_vel = 1e-8;    ///< [m/s]
+  int max_order = 5;         ///< 1..5
 };
 
 /// How a train's response is composed.
@@ -51,6 +60,7 @@ struct RunSettings {
   Method method = Method::newmark;
   Superposition superposition = Superposition::direct;
   ModalSettings modal;
+  IdaSettings ida;
   solve::NewmarkOptions newmark;   ///< dt (also the modal and output step), beta, gamma, alpha
   double free_vibration_s = 1.0;   ///< [s] simulated after the last axle leaves, >= 0
   double load_factor = 1.0;        ///< [-] multiplies every axle load, > 0

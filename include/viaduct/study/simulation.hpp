@@ -7,6 +7,7 @@
 
 #include "viaduct/load/moving_loads.hpp"
 #include "viaduct/model/structure.hpp"
+#include "viaduct/solve/ida.hpp"
 #include "viaduct/solve/modal.hpp"
 #include "viaduct/solve/newmark.hpp"
 #include "viaduct/study/scenario.hpp"
@@ -25,6 +26,11 @@ class MovingLoadSystem : public solve::SecondOrderSystem {
   void force(double t, Vector& f) const override {
     f.setZero();
     loads_.add_to(t, f);
+  }
+  std::vector<double> discontinuities(double t_end) const override {
+    std::vector<double> t = loads_.event_times();
+    while (!t.empty() && t.back() >= t_end) t.pop_back();
+    return t;
   }
   bool force_entries(double t, SparseForce& out) const override {
     loads_.entries(t, out);

@@ -1,0 +1,280 @@
+#include "viaduct/solve/ida.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <memory>
+
+#include <Eigen/SparseCholesky>
+#include <ida/ida.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_klu.h>
+#include <sunmatrix/sunmatrix_sparse.h>
+
+#include "viaduct/core/error.hpp"
+
+namespace viaduct::solve {
+
+namespace {
+std::string num(double v) { return format_number(v, 6); }
+
+// RAII for the C handles.
+struct ContextDeleter {
+  void operator()(SUNContext c) const { SUNContext_Free(&c); }
+};
+struct IdaMemDeleter {
+  void operator()(void* m) const { IDAFree(&m); }
+};
+struct VectorDeleter {
+  void operator()(N_Vector v) const { N_VDestroy(v); }
+};
+struct MatrixDeleter {
+  void operator()(SUNMatrix m) const { SUNMatDestroy(m); }
+};
+struct SolverDeleter {
+  void operator()(SUNLinearSolver s) const { SUNLinSolFree(s); }
+};
+using ContextPtr = std::unique_ptr<std::remove_pointer_t<SUNContext>, ContextDeleter>;
+using VectorPtr = std::unique_ptr<std::remove_pointer_t<N_Vector>, VectorDeleter>;
+using MatrixPtr = std::unique_ptr<std::remove_pointer_t<SUNMatrix>, MatrixDeleter>;
+using SolverPtr = std::unique_ptr<std::remove_pointer_t<SUNLinearSolver>, SolverDeleter>;
+
+// Shared with the C callbacks through user_data.
+struct Problem {
+  const SecondOrderSystem* sys = nullptr;
+  Index n = 0;
+  // M, C, K on one common pattern (explicit zeros), column-major: values per column entry.
+  SparseMatrix Mu, Cu, Ku;
+  mutable Vector f, tmp;
+  std::exception_ptr error;  // first exception thrown inside a callback
+  std::string last_message;  // last SUNDIALS message
+  LogSink log;
+};
+
+void check(int flag, const char* what) {
+  if (flag < 0) throw SolverError(std::string("IDA: ") + what + " failed (" + IDAGetReturnFlagName(flag) + ")");
+}
+template <class T>
+T* check_ptr(T* p, const char* what) {
+  if (!p) throw SolverError(std::string("IDA: ") + what + " failed (out of memory?)");
+  return p;
+}
+
+int residual(realtype t, N_Vector yy, N_Vector yp, N_Vector rr, void* user) {
+  auto* P = static_cast<Problem*>(user);
+  try {
+    const Index n = P->n;
+    const Eigen::Map<const Vector> u(N_VGetArrayPointer(yy), n), v(N_VGetArrayPointer(yy) + n, n);
+    const Eigen::Map<const Vector> ud(N_VGetArrayPointer(yp), n), vd(N_VGetArrayPointer(yp) + n, n);
+    Eigen::Map<Vector> r1(N_VGetArrayPointer(rr), n), r2(N_VGetArrayPointer(rr) + n, n);
+    r1 = ud - v;
+    P->f.setZero();
+    P->sys->force(t, P->f);
+    r2.noalias() = P->Mu * vd;
+    r2.noalias() += P->Cu * v;
+    r2.noalias() += P->Ku * u;
+    r2 -= P->f;
+    return 0;
+  } catch (...) {
+    if (!P->error) P->error = std::current_exception();
+    return -1;  // unrecoverable: IDASolve returns and the exception is rethrown
+  }
+}
+
+void make_pattern(const Problem& P, SUNMatrix J) {
+  const Index n = P.n;
+  sunindextype* colptr = SUNSparseMatrix_IndexPointers(J);
+  sunindextype* rows = SUNSparseMatrix_IndexValues(J);
+  sunindextype k = 0;
+  for (Index j = 0; j < n; ++j) {
+    colptr[j] = k;
+    rows[k++] = j;
+    for (SparseMatrix::InnerIterator it(P.Ku, j); it; ++it) rows[k++] = n + it.row();
+  }
+  for (Index j = 0; j < n; ++j) {
+    colptr[n + j] = k;
+    rows[k++] = j;
+    for (SparseMatrix::InnerIterator it(P.Mu, j); it; ++it) rows[k++] = n + it.row();
+  }
+  colptr[2 * n] = k;
+}
+
+// J = [cj I, -I; K, cj M + C] in CSC. IDA zeroes the sparse matrix — pattern included — before
+// every call (SUNMatZero_Sparse), so the pattern is laid down again each time.
+int jacobian(realtype, realtype cj, N_Vector, N_Vector, N_Vector, SUNMatrix J, void* user, N_Vector, N_Vector,
+             N_Vector) {
+  auto* P = static_cast<Problem*>(user);
+  const Index n = P->n;
+  make_pattern(*P, J);
+  realtype* data = SUNSparseMatrix_Data(J);
+  sunindextype k = 0;
+  for (Index j = 0; j < n; ++j) {  // u columns: cj at (j, j), K below
+    data[k++] = cj;
+    for (SparseMatrix::InnerIterator it(P->Ku, j); it; ++it) data[k++] = it.value();
+  }
+  for (Index j = 0; j < n; ++j) {  // v columns: -1 at (j, n + j), cj M + C below
+    data[k++] = -1.0;
+    SparseMatrix::InnerIterator m(P->Mu, j), c(P->Cu, j);
+    for (; m; ++m, ++c) data[k++] = cj * m.value() + c.value();
+  }
+  return 0;
+}
+
+void error_handler(int code, const char* module, const char* function, char* msg, void* user) {
+  auto* P = static_cast<Problem*>(user);
+  std::string m = std::string(module ? module : "IDA") + "/" + (function ? function : "") + ": " + (msg ? msg : "");
+  P->last_message = m;
+  if (P->log) P->log(code < 0 ? LogLevel::warning : LogLevel::info, "SUNDIALS " + m);
+}
+}  // namespace
+
+bool IdaOptions::is_valid(std::string* why) const {
+  auto fail = [&](const std::string& m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (!(std::isfinite(dt_out) && dt_out > 0.0)) return fail("dt_out must be > 0 [s], got " + num(dt_out));
+  if (!(std::isfinite(t_end) && t_end > 0.0)) return fail("t_end must be > 0 [s], got " + num(t_end));
+  if (!(rtol >= 1e-12 && rtol <= 0.1)) return fail("rtol must be in [1e-12, 0.1], got " + num(rtol));
+  if (!(std::isfinite(atol_disp) && atol_disp > 0.0)) return fail("atol_disp must be > 0 [m], got " + num(atol_disp));
+  if (!(std::isfinite(atol_vel) && atol_vel > 0.0)) return fail("atol_vel must be > 0 [m/s], got " + num(atol_vel));
+  if (max_order < 1 || max_order > 5) return fail("max_order must be 1..5, got " + std::to_string(max_order));
+  if (!(std::isfinite(max_step) && max_step >= 0.0)) return fail("max_step must be >= 0 [s], got " + num(max_step));
+  if (max_steps_per_output < 1) return fail("max_steps_per_output must be >= 1");
+  if (t_end / dt_out > 2e9) return fail("t_end/dt_out exceeds 2e9 outputs");
+  return true;
+}
+
+IdaSummary ida(const SecondOrderSystem& sys, const IdaOptions& opt, const StepObserver& observe) {
+  const auto wall0 = std::chrono::steady_clock::now();
+  std::string why;
+  if (!opt.is_valid(&why)) throw InputError("IDA: " + why);
+  Problem P;
+  P.sys = &sys;
+  P.n = sys.n_dofs();
+  P.log = opt.log;
+  const Index n = P.n;
+  const SparseMatrix &M = sys.mass(), &C = sys.damping(), &K = sys.stiffness();
+  if (M.cols() != n || C.rows() != n || C.cols() != n || K.rows() != n || K.cols() != n)
+    throw InputError("IDA: M, C and K must be square and of one size");
+  {
+    SparseMatrix pattern = M.cwiseAbs() + C.cwiseAbs() + K.cwiseAbs();
+    pattern.makeCompressed();
+    for (Index k = 0; k < pattern.nonZeros(); ++k) pattern.valuePtr()[k] = 0.0;
+    P.Mu = pattern + M;
+    P.Cu = pattern + C;
+    P.Ku = pattern + K;
+    P.Mu.makeCompressed(), P.Cu.makeCompressed(), P.Ku.makeCompressed();
+    if (P.Mu.nonZeros() != pattern.nonZeros() || P.Cu.nonZeros() != pattern.nonZeros() ||
+        P.Ku.nonZeros() != pattern.nonZeros())
+      throw SolverError("IDA: internal error: matrices do not share the union pattern");
+  }
+  P.f = Vector::Zero(n);
+  Eigen::SimplicialLDLT<SparseMatrix> lm(M);
+  if (lm.info() != Eigen::Success) throw SolverError("IDA: mass matrix is not positive definite");
+
+  SUNContext raw_ctx = nullptr;
+  if (SUNContext_Create(nullptr, &raw_ctx) != 0) throw SolverError("IDA: SUNContext_Create failed");
+  ContextPtr ctx(raw_ctx);
+  VectorPtr yy(check_ptr(N_VNew_Serial(2 * n, ctx.get()), "N_VNew_Serial"));
+  VectorPtr yp(check_ptr(N_VNew_Serial(2 * n, ctx.get()), "N_VNew_Serial"));
+  VectorPtr avtol(check_ptr(N_VNew_Serial(2 * n, ctx.get()), "N_VNew_Serial"));
+  Eigen::Map<Vector> y(N_VGetArrayPointer(yy.get()), 2 * n), ydot(N_VGetArrayPointer(yp.get()), 2 * n);
+  Eigen::Map<Vector> at(N_VGetArrayPointer(avtol.get()), 2 * n);
+  at.head(n).setConstant(opt.atol_disp);
+  at.tail(n).setConstant(opt.atol_vel);
+
+  // Consistent start (from rest) at t: u̇ = v, v̇ = M⁻¹(f(t⁺) − C v − K u).
+  const double eps_t = 1e-9 * std::max(1.0, opt.t_end);
+  auto consistent = [&](double t_plus) {
+    P.f.setZero();
+    sys.force(t_plus, P.f);
+    ydot.head(n) = y.tail(n);
+    ydot.tail(n) = lm.solve(P.f - C * y.tail(n) - K * y.head(n));
+  };
+  y.setZero();
+  consistent(0.0);
+
+  std::unique_ptr<void, IdaMemDeleter> mem(check_ptr(IDACreate(ctx.get()), "IDACreate"));
+  void* ida_mem = mem.get();
+  check(IDASetErrHandlerFn(ida_mem, error_handler, &P), "IDASetErrHandlerFn");
+  check(IDAInit(ida_mem, residual, 0.0, yy.get(), yp.get()), "IDAInit");
+  check(IDASVtolerances(ida_mem, opt.rtol, avtol.get()), "IDASVtolerances");
+  check(IDASetUserData(ida_mem, &P), "IDASetUserData");
+  check(IDASetMaxOrd(ida_mem, opt.max_order), "IDASetMaxOrd");
+  check(IDASetMaxNumSteps(ida_mem, opt.max_steps_per_output), "IDASetMaxNumSteps");
+  if (opt.max_step > 0.0) check(IDASetMaxStep(ida_mem, opt.max_step), "IDASetMaxStep");
+  const sunindextype nnz = 2 * n + 2 * P.Ku.nonZeros();
+  MatrixPtr J(check_ptr(SUNSparseMatrix(2 * n, 2 * n, nnz, CSC_MAT, ctx.get()), "SUNSparseMatrix"));
+  make_pattern(P, J.get());
+  SolverPtr LS(check_ptr(SUNLinSol_KLU(yy.get(), J.get(), ctx.get()), "SUNLinSol_KLU"));
+  check(IDASetLinearSolver(ida_mem, LS.get(), J.get()), "IDASetLinearSolver");
+  check(IDASetJacFn(ida_mem, jacobian), "IDASetJacFn");
+
+  std::vector<double> events = sys.discontinuities(opt.t_end);
+  std::sort(events.begin(), events.end());
+  events.erase(std::remove_if(events.begin(), events.end(), [&](double e) { return !(e > eps_t && e < opt.t_end); }),
+               events.end());
+  events.erase(std::unique(events.begin(), events.end(), [&](double a, double b) { return b - a <= eps_t; }),
+               events.end());
+  std::size_t next_event = 0;
+
+  IdaSummary s;
+  Vector u(n), v(n), a(n);
+  auto emit = [&](Index k, double t) {
+    u = y.head(n), v = y.tail(n), a = ydot.tail(n);
+    if (!u.allFinite()) throw SolverError("IDA: state became non-finite at t = " + num(t) + " s");
+    if (observe) observe(k, t, u, v, a);
+  };
+  auto solve_to = [&](double tout, double tstop) {
+    check(IDASetStopTime(ida_mem, tstop), "IDASetStopTime");
+    realtype tret = 0.0;
+    const int flag = IDASolve(ida_mem, tout, &tret, yy.get(), yp.get(), IDA_NORMAL);
+    if (P.error) std::rethrow_exception(P.error);
+    if (flag < 0)
+      throw SolverError("IDA failed at t = " + num(tret) + " s (" + IDAGetReturnFlagName(flag) + ")" +
+                        (P.last_message.empty() ? "" : ": " + P.last_message));
+    return tret;
+  };
+
+  emit(0, 0.0);
+  const Index n_out = static_cast<Index>(std::ceil(opt.t_end / opt.dt_out - 1e-9));
+  double t_now = 0.0;
+  for (Index k = 1; k <= n_out; ++k) {
+    const double tout = std::min(k * opt.dt_out, opt.t_end + 0.5 * opt.dt_out);
+    // Cross every discontinuity before tout: stop exactly there and restart consistently.
+    while (next_event < events.size() && events[next_event] <= tout - eps_t) {
+      const double te = events[next_event++];
+      if (te > t_now) t_now = solve_to(te, te);
+      consistent(te + eps_t);
+      check(IDAReInit(ida_mem, te, yy.get(), yp.get()), "IDAReInit");
+      ++s.n_restarts;
+    }
+    const double tstop = next_event < events.size() ? events[next_event] : std::max(opt.t_end, tout) + opt.dt_out;
+    t_now = solve_to(tout, tstop);
+    emit(k, k * opt.dt_out);
+  }
+  long v_long = 0;
+  check(IDAGetNumSteps(ida_mem, &v_long), "IDAGetNumSteps");
+  s.n_steps = v_long;
+  check(IDAGetNumResEvals(ida_mem, &v_long), "IDAGetNumResEvals");
+  s.n_residuals = v_long;
+  check(IDAGetNumJacEvals(ida_mem, &v_long), "IDAGetNumJacEvals");
+  s.n_jacobians = v_long;
+  check(IDAGetNumErrTestFails(ida_mem, &v_long), "IDAGetNumErrTestFails");
+  s.n_error_test_failures = v_long;
+  check(IDAGetNumNonlinSolvConvFails(ida_mem, &v_long), "IDAGetNumNonlinSolvConvFails");
+  s.n_nonlinear_failures = v_long;
+  int order = 0;
+  check(IDAGetLastOrder(ida_mem, &order), "IDAGetLastOrder");
+  s.last_order = order;
+  s.n_outputs = n_out + 1;
+  s.t_reached = n_out * opt.dt_out;
+  s.stop_reason = "t_end reached";
+  s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  return s;
+}
+
+}  // namespace viaduct::solve
