@@ -37,6 +37,8 @@ def main():
     def style(r):
         if r["superposition"] == "unit-response":
             return dict(marker="D", color="tab:purple", label="unit-response")
+        if r["method"] == "ida":
+            return dict(marker="v", color="tab:red", label="IDA (tolerance ladder)")
         if r["method"] == "newmark":
             return dict(marker="o", color="tab:blue", label="Newmark (dt ladder)")
         if r["static_correction"] == "true":

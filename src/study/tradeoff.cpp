@@ -52,7 +52,7 @@ RunSettings preset_settings(const std::string& name, const Scenario& sc) {
   return s;
 }
 
-std::vector<TradeoffRung> default_ladder(const Scenario& sc) {
+std::vector<TradeoffRung> default_ladder(const Scenario& sc, bool with_ida) {
   std::vector<TradeoffRung> out;
   const double dt = sc.settings.newmark.dt, fc = band_edge_hz(sc);
   for (double k : {4.0, 2.0, 1.0, 0.5}) {
@@ -73,6 +73,16 @@ std::vector<TradeoffRung> default_ladder(const Scenario& sc) {
       s.modal.max_frequency_hz = k * fc;
       s.modal.static_correction = sc_on;
       out.push_back({"modal " + format_number(k * fc, 4) + " Hz" + (sc_on ? " +sc" : "") + " dt=" + ms(dt), s});
+    }
+  if (with_ida)
+    for (double rtol : {1e-2, 1e-3, 1e-4}) {
+      RunSettings s = sc.settings;
+      s.method = Method::ida;
+      s.superposition = Superposition::direct;
+      s.ida.rtol = rtol;
+      s.ida.atol_disp = 1e-3 * rtol;
+      s.ida.atol_vel = 1e-1 * rtol;
+      out.push_back({"ida rtol=" + format_number(rtol, 3) + " out=" + ms(dt), s});
     }
   if (sc.trains.size() > 1) {
     RunSettings s = sc.settings;

@@ -12,7 +12,9 @@ namespace viaduct::cli {
 
 namespace {
 std::string num(double v) { return format_number(v, 6); }
-const char* method_name(study::Method m) { return m == study::Method::modal ? "modal" : "newmark"; }
+const char* method_name(study::Method m) {
+  return m == study::Method::modal ? "modal" : m == study::Method::ida ? "ida" : "newmark";
+}
 
 std::vector<std::string> cells(const study::TradeoffRow& r) {
   const auto& s = r.settings;
@@ -31,13 +33,14 @@ Command tradeoff_command() {
   c.summary = "envelope error against wall time for a ladder of methods and settings (tradeoff.csv)";
   c.add_options = [](po::options_description& d) {
     d.add_options()("speeds", po::value<int>(), "use N of the scenario's sweep speeds, evenly spread (default: all)")(
-        "reference-dt", po::value<double>(), "[s] step of the Newmark reference (default: analysis.dt / 4)");
+        "reference-dt", po::value<double>(), "[s] step of the Newmark reference (default: analysis.dt / 4)")(
+        "with-ida", "add IDA rungs (rtol 1e-2, 1e-3, 1e-4; slow on track models)");
   };
   c.usage_and_samples =
       "Runs the scenario's speeds and trains (not its variants) with a converged reference (Newmark at\n"
       "analysis.dt/4) and a ladder: Newmark at 4, 2, 1, 1/2 x dt; modal bases up to 1, 1.5, 2, 3, 5 x the\n"
       "band edge f_c (filter.high_hz, or 30 Hz), with and without the static correction; unit-response\n"
-      "superposition when there are several trains. Error of a rung: the largest envelope difference\n"
+      "superposition when there are several trains; IDA rungs with --with-ida. Error of a rung: the largest envelope difference\n"
       "over speeds, relative to the largest reference value of the same (train, station) curve.\n"
       "Writes OUT/tradeoff.csv (one row per rung, the reference first), OUT/tradeoff_stations.csv\n"
       "(errors per station) and OUT/manifest.toml. Plot with scripts/plot_tradeoff.py OUT.\n\n"
@@ -66,7 +69,7 @@ Command tradeoff_command() {
       if (!(ref_dt > 0.0)) throw InputError("--reference-dt must be > 0 [s]");
     }
     const study::RunSettings ref = study::reference_settings(sc, ref_dt);
-    const auto ladder = study::default_ladder(sc);
+    const auto ladder = study::default_ladder(sc, vm.count("with-ida") > 0);
     make_out_dir(o.out);
     const study::TradeoffResult r = study::run_tradeoff(sc, ref, ladder, o.threads, progress_printer("tradeoff", o.quiet, "sweeps"));
 
