@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <exception>
 #include <memory>
 
@@ -53,8 +54,16 @@ struct Problem {
   LogSink log;
 };
 
+// IDAGetReturnFlagName returns a malloc'ed string the caller frees.
+std::string flag_name(int flag) {
+  char* name = IDAGetReturnFlagName(flag);
+  std::string s = name ? name : std::to_string(flag);
+  std::free(name);
+  return s;
+}
+
 void check(int flag, const char* what) {
-  if (flag < 0) throw SolverError(std::string("IDA: ") + what + " failed (" + IDAGetReturnFlagName(flag) + ")");
+  if (flag < 0) throw SolverError(std::string("IDA: ") + what + " failed (" + flag_name(flag) + ")");
 }
 template <class T>
 T* check_ptr(T* p, const char* what) {
@@ -234,7 +243,7 @@ IdaSummary ida(const SecondOrderSystem& sys, const IdaOptions& opt, const StepOb
     const int flag = IDASolve(ida_mem, tout, &tret, yy.get(), yp.get(), IDA_NORMAL);
     if (P.error) std::rethrow_exception(P.error);
     if (flag < 0)
-      throw SolverError("IDA failed at t = " + num(tret) + " s (" + IDAGetReturnFlagName(flag) + ")" +
+      throw SolverError("IDA failed at t = " + num(tret) + " s (" + flag_name(flag) + ")" +
                         (P.last_message.empty() ? "" : ": " + P.last_message));
     return tret;
   };

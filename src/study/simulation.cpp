@@ -39,7 +39,7 @@ std::vector<ResolvedStation> resolve_stations(const model::Structure& s,
 }
 
 struct ModalPathTable {
-  std::vector<double> x0, h;  // per path element
+  std::vector<double> x0, h, inv_h;  // per path element
   std::vector<double> coef;   // per element: 4 cubic coefficients per mode, then per output
   std::size_t m = 0, n_out = 0, stride = 0;
   bool flex = false;
@@ -69,6 +69,7 @@ std::shared_ptr<const ModalPathTable> make_path_table(const model::Structure& s,
     const model::PathElement& pe = path[e];
     t->x0.push_back(pe.x0);
     t->h.push_back(pe.h);
+    t->inv_h.push_back(1.0 / pe.h);
     double* ce = &t->coef[e * t->stride];
     auto value = [&](const solve::ModalReduction::RowMatrix& rows, std::size_t q, std::size_t col) {
       return pe.dofs[q] >= 0 ? rows(pe.dofs[q], static_cast<Index>(col)) : 0.0;
@@ -108,7 +109,7 @@ class MovingModalForce : public solve::ModalForce {
       std::size_t e = elem_[k];
       while (e + 1 < ne && x >= t_.x0[e + 1]) ++e;
       elem_[k] = e;
-      const double xi = std::clamp((x - t_.x0[e]) / t_.h[e], 0.0, 1.0);
+      const double xi = std::clamp((x - t_.x0[e]) * t_.inv_h[e], 0.0, 1.0);
       const double P = load_[k];
       const double* c = &t_.coef[e * t_.stride];
       for (std::size_t i = 0; i < t_.m; ++i, c += 4) p[i] += P * (c[0] + xi * (c[1] + xi * (c[2] + xi * c[3])));
@@ -116,7 +117,7 @@ class MovingModalForce : public solve::ModalForce {
         for (std::size_t j = 0; j < t_.n_out; ++j, c += 4) g[j] += P * (c[0] + xi * (c[1] + xi * (c[2] + xi * c[3])));
       if (p2) {
         // d²/dt² of a load moving at v: v² d²/dx², and d/dx = (1/h) d/dξ on the element.
-        const double s2 = P * speed_ * speed_ / (t_.h[e] * t_.h[e]);
+        const double s2 = P * speed_ * speed_ * t_.inv_h[e] * t_.inv_h[e];
         const double* d = &t_.coef[e * t_.stride];
         for (std::size_t i = 0; i < t_.m; ++i, d += 4) p2[i] += s2 * (2.0 * d[2] + 6.0 * d[3] * xi);
         if (g2)

@@ -74,6 +74,12 @@ std::vector<TradeoffRung> default_ladder(const Scenario& sc, bool with_ida) {
       s.modal.static_correction = sc_on;
       out.push_back({"modal " + format_number(k * fc, 4) + " Hz" + (sc_on ? " +sc" : "") + " dt=" + ms(dt), s});
     }
+  for (const char* name : {"fast", "default"}) {
+    const RunSettings s = preset_settings(name, sc);
+    out.push_back({std::string("preset ") + name + " (modal " + format_number(s.modal.max_frequency_hz, 4) +
+                       " Hz +sc dt=" + ms(s.newmark.dt) + ")",
+                   s});
+  }
   if (with_ida)
     for (double rtol : {1e-2, 1e-3, 1e-4}) {
       RunSettings s = sc.settings;

@@ -85,4 +85,14 @@ expect 2 "elements; at most 1000 per span (raise bridge.element_size)" -- "$VIAD
 expect 2 "rail elements; at most 100000" -- "$VIADUCT" check "$OG" --set track.rail_elements_per_bay=2000
 expect 2 "GiB of histories" -- "$VIADUCT" run "$OG" --speed-kmh 0.001 --out "$WORK/o"
 expect 2 "the dense eigen solver takes at most 6000 DOFs" -- "$VIADUCT" modes "$OG" --set track.rail_elements_per_bay=40 --out "$WORK/o"
+
+# Solution methods (issue #5): unknown choices and out-of-range tolerances name the key.
+expect 2 "key 'analysis.method': must be one of newmark|modal|ida, got 'euler'" -- "$VIADUCT" check "$(scen meth '[analysis]\nmethod = "euler"\n')"
+expect 2 "key 'analysis.preset': must be one of |fast|default|reference, got 'turbo'" -- "$VIADUCT" check "$(scen preset '[analysis]\npreset = "turbo"\n')"
+expect 2 "key 'ida.rtol': must be [1e-12, 0.1], got 0" -- "$VIADUCT" check "$(scen rtol '[ida]\nrtol = 0.0\n')"
+expect 2 "key 'ida.max_order': must be [1, 5], got 7" -- "$VIADUCT" check "$(scen order '[ida]\nmax_order = 7\n')"
+expect 2 "key 'modal.max_frequency_hz': must be >= 0 [Hz], got -5" -- "$VIADUCT" check "$(scen fneg '[modal]\nmax_frequency_hz = -5.0\n')"
+expect 2 "keeps no mode: the lowest is" -- "$VIADUCT" run "$(scen fmax '[analysis]\nmethod = "modal"\n[modal]\nmax_frequency_hz = 0.5\n')" --speed-kmh 100 --out "$WORK/o"
+expect 2 "--speeds must be >= 1" -- "$VIADUCT" tradeoff "$(scen tspeeds '[sweep]\nspeeds_kmh = [100]\n')" --speeds 0 --out "$WORK/o"
+expect 2 "no speeds" -- "$VIADUCT" tradeoff "$(scen tnospeeds '')" --out "$WORK/o"
 finish

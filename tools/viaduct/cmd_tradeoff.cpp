@@ -46,7 +46,7 @@ Command tradeoff_command() {
       "(errors per station) and OUT/manifest.toml. Plot with scripts/plot_tradeoff.py OUT.\n\n"
       "Sample runs:\n"
       "  viaduct tradeoff scenarios/hslm-simply-supported.toml --speeds 3 --set 'train.files=[\"data/trains/hslm/A1.toml\"]' --out out/tradeoff-hslm\n"
-      "  viaduct tradeoff scenarios/old-guadiana-sensitivity.toml --speeds 2 --threads 0 --out out/tradeoff-og\n";
+      "  viaduct tradeoff scenarios/old-guadiana-sensitivity.toml --speeds 1 --set track.approach_length=3 --set track.exit_length=3 --out out/tradeoff-og\n";
   c.run = [](const Common& o, const po::variables_map& vm) {
     const auto t0 = std::chrono::steady_clock::now();
     const io::FlatScenario flat = io::load_flat(o.scenario, o.set);

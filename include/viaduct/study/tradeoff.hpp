@@ -37,7 +37,7 @@ struct TradeoffResult {
 
 /// The scenario's own ladder: Newmark at 4, 2, 1 and ½ × analysis.dt; modal bases up to 1, 1.5,
 /// 2, 3 and 5 × the band edge f_c (filter.high_hz, or 30 Hz without filter: EN 1991-2's lowest
-/// limit), each with and without the static correction; unit-response superposition of the
+/// limit), each with and without the static correction; the presets "fast" and "default"; unit-response superposition of the
 /// Newmark and modal rungs when the scenario has several trains; with `with_ida`, IDA at
 /// rtol 1e-2, 1e-3 and 1e-4 (atol 1e-3·rtol m and 1e-1·rtol m/s; slow on track models).
 std::vector<TradeoffRung> default_ladder(const Scenario& sc, bool with_ida = false);
