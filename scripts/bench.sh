@@ -102,10 +102,10 @@ sig() { awk -v k="$1" '$1 == k { print $2 }' <<<"$sb"; }
 
 # 5. fast paths (issue #5): modal superposition and unit-response superposition
 echo "bench: fast paths" >&2
-env_err() {  # ref_dir dir -> "acc_err disp_err": worst (train, station) curve, relative to its peak
-  awk -F, 'NR==FNR { if (FNR>1) { k=$2","$4; a[$2","$3","$4]=$5; d[$2","$3","$4]=$6;
+env_err() {  # ref_dir dir -> "acc_err disp_err": worst (variant, train, station) curve, relative to its peak
+  awk -F, 'NR==FNR { if (FNR>1) { k=$1","$2","$4; a[$1","$2","$3","$4]=$5; d[$1","$2","$3","$4]=$6;
                                    if ($5>pa[k]) pa[k]=$5; if ($6>pd[k]) pd[k]=$6 }; next }
-           FNR>1 { key=$2","$3","$4; k=$2","$4; if (!(key in a)) next;
+           FNR>1 { key=$1","$2","$3","$4; k=$1","$2","$4; if (!(key in a)) next;
                    e=$5-a[key]; if (e<0) e=-e; if (pa[k]>0 && e/pa[k]>ea) ea=e/pa[k];
                    f=$6-d[key]; if (f<0) f=-f; if (pd[k]>0 && f/pd[k]>ed) ed=f/pd[k] }
            END { printf "%.3g %.3g", ea, ed }' "$1/envelope.csv" "$2/envelope.csv"
