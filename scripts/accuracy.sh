@@ -133,6 +133,9 @@ Tested (\`tests/verification/test_extremes.cpp\`, \`test_modal_superposition.cpp
 very stiff and very soft pads, zero damping, 5 and 600 km/h, steps ×10 and ÷100 for Newmark;
 modal bases from one mode to all modes (all finite and bounded; all modes reproduce Newmark to
 its own error, 2e-4 of the peak); the exact modal step at ω·dt = 7; IDA from rtol 1e-2 (bounded,
-inaccurate) to 1e-9 (converging to the closed form), and a restart at every discontinuity.
+inaccurate) to 1e-9 (converging to the closed form), a restart at every discontinuity, soft pads,
+zero damping, 20 and 600 km/h. IDA with pads ×1e4 is stable (1.966 mm against 1.990 mm static)
+but took 90 570 internal steps and 75 s for one second of simulation: the rail-on-pad modes move
+to tens of kHz and the error test follows them, so that case is not in the test suite.
 DOC
 echo "wrote docs/accuracy.md" >&2

@@ -9,6 +9,7 @@ packages=(
   libfftw3-dev           # FFT (signal module)
   libsundials-dev        # IDA (solve module)
   libsuitesparse-dev     # KLU: sparse direct solver inside IDA's Newton iterations
+  libspectra-dev         # partial sparse eigenproblems (modal bases of large models)
   libboost-program-options-dev  # the CLI
   catch2                 # tests (v2)
   libtoml11-dev          # scenario files

@@ -1,6 +1,11 @@
 #include "viaduct/model/modes.hpp"
 
+#include <algorithm>
 #include <cmath>
+
+#include <Spectra/MatOp/SparseSymMatProd.h>
+#include <Spectra/MatOp/SymShiftInvert.h>
+#include <Spectra/SymGEigsShiftSolver.h>
 
 #include "viaduct/core/error.hpp"
 
@@ -19,6 +24,73 @@ Modes compute_modes(const Structure& s, Index n_modes) {
   m.frequency_hz = es.eigenvalues().head(n).cwiseMax(0.0).cwiseSqrt() / (2.0 * M_PI);
   m.shape = es.eigenvectors().leftCols(n);
   return m;
+}
+
+namespace {
+Modes select(const Modes& all, Index n_modes, double max_frequency_hz) {
+  Index n = all.frequency_hz.size();
+  if (max_frequency_hz > 0.0) {
+    Index k = 0;
+    while (k < n && all.frequency_hz[k] <= max_frequency_hz) ++k;
+    n = k;
+  }
+  if (n_modes > 0) n = std::min(n, n_modes);
+  Modes m;
+  m.frequency_hz = all.frequency_hz.head(n);
+  m.shape = all.shape.leftCols(n);
+  return m;
+}
+
+// nev eigenpairs of K φ = λ M φ nearest to a small negative shift, ascending.
+Modes sparse_lowest(const Structure& s, Index nev) {
+  using OpType = Spectra::SymShiftInvert<double, Eigen::Sparse, Eigen::Sparse>;
+  using BOpType = Spectra::SparseSymMatProd<double>;
+  OpType op(s.K, s.M);
+  BOpType bop(s.M);
+  const Index n = s.n_dofs;
+  const Index ncv = std::min(n, std::max<Index>(2 * nev + 1, 24));
+  // σ slightly below zero: K is positive definite for a supported structure, and a negative
+  // shift keeps (K − σM) definite even for a mechanism.
+  Spectra::SymGEigsShiftSolver<OpType, BOpType, Spectra::GEigsMode::ShiftInvert> eigs(op, bop, nev, ncv, -1.0);
+  eigs.init();
+  eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-10, Spectra::SortRule::SmallestAlge);
+  if (eigs.info() != Spectra::CompInfo::Successful)
+    throw SolverError("sparse eigen solver (Spectra) did not converge for " + std::to_string(nev) + " modes");
+  const Vector lam = eigs.eigenvalues();
+  Modes m;
+  m.frequency_hz = lam.cwiseMax(0.0).cwiseSqrt() / (2.0 * M_PI);
+  m.shape = eigs.eigenvectors();
+  // Mass-normalise (Spectra returns B-normalised vectors already; this guards the scaling).
+  for (Index i = 0; i < m.shape.cols(); ++i) m.shape.col(i) /= std::sqrt(m.shape.col(i).dot(s.M * m.shape.col(i)));
+  return m;
+}
+}  // namespace
+
+Modes compute_modes_up_to(const Structure& s, Index n_modes, double max_frequency_hz, ModeSolver solver) {
+  if (n_modes < 0) throw InputError("number of modes must be >= 0");
+  require_non_negative(max_frequency_hz, "max_frequency_hz [Hz]");
+  const Index n = s.n_dofs;
+  const bool limited = n_modes > 0 || max_frequency_hz > 0.0;
+  if (solver == ModeSolver::automatic) solver = (n > 1000 && limited) ? ModeSolver::sparse : ModeSolver::dense;
+  if (solver == ModeSolver::dense || !limited || n < 8) return select(compute_modes(s, 0), n_modes, max_frequency_hz);
+  // Sparse: grow the request until it covers the limits. Beyond a quarter of the model a full
+  // dense solve is as fast (measured: 336 of 1328 modes took 3.4 s either way).
+  Index nev = n_modes > 0 ? n_modes : 16;
+  while (true) {
+    if (nev >= n / 4) {
+      if (n > kMaxDenseModeDofs)
+        throw InputError("the modal basis asked for (" + std::to_string(nev) + " modes or more of " + std::to_string(n) +
+                         " DOFs) is too large: lower modal.max_frequency_hz or modal.n_modes");
+      return select(compute_modes(s, 0), n_modes, max_frequency_hz);
+    }
+    const Modes m = sparse_lowest(s, nev);
+    const bool enough_count = n_modes > 0 && m.frequency_hz.size() >= n_modes;
+    const bool past_frequency = max_frequency_hz > 0.0 && m.frequency_hz[m.frequency_hz.size() - 1] > max_frequency_hz;
+    if ((n_modes > 0 && max_frequency_hz > 0.0) ? (enough_count || past_frequency)
+                                                 : (n_modes > 0 ? enough_count : past_frequency))
+      return select(m, n_modes, max_frequency_hz);
+    nev = std::min(2 * nev, n - 1);
+  }
 }
 
 }  // namespace viaduct::model

@@ -134,8 +134,9 @@ int jacobian(realtype, realtype cj, N_Vector, N_Vector, N_Vector, SUNMatrix J, v
 void error_handler(int code, const char* module, const char* function, char* msg, void* user) {
   auto* P = static_cast<Problem*>(user);
   std::string m = std::string(module ? module : "IDA") + "/" + (function ? function : "") + ": " + (msg ? msg : "");
-  P->last_message = m;
-  if (P->log) P->log(code < 0 ? LogLevel::warning : LogLevel::info, "SUNDIALS " + m);
+  // Errors end in a SolverError that carries the message; warnings go to the log sink.
+  if (code < 0) P->last_message = m;
+  else if (P->log) P->log(LogLevel::warning, "SUNDIALS " + m);
 }
 }  // namespace
 

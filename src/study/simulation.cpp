@@ -160,17 +160,13 @@ std::shared_ptr<const solve::ModalReduction> make_modal(const model::Structure& 
                                                         const ModalSettings& ms, bool rail, Vector* kept_hz) {
   if (ms.n_modes < 0) throw InputError("modal.n_modes must be >= 0");
   require_non_negative(ms.max_frequency_hz, "modal.max_frequency_hz [Hz]");
-  const model::Modes modes = model::compute_modes(s, 0);
-  Index n = modes.frequency_hz.size();
-  if (ms.max_frequency_hz > 0.0) {
-    Index k = 0;
-    while (k < n && modes.frequency_hz[k] <= ms.max_frequency_hz) ++k;
-    n = k;
-  }
-  if (ms.n_modes > 0) n = std::min(n, ms.n_modes);
-  if (n < 1)
+  const model::Modes modes = model::compute_modes_up_to(s, ms.n_modes, ms.max_frequency_hz);
+  const Index n = modes.frequency_hz.size();
+  if (n < 1) {
+    const model::Modes first = model::compute_modes_up_to(s, 1, 0.0);
     throw InputError("modal.max_frequency_hz = " + format_number(ms.max_frequency_hz, 6) +
-                     " Hz keeps no mode: the lowest is " + format_number(modes.frequency_hz[0], 6) + " Hz");
+                     " Hz keeps no mode: the lowest is " + format_number(first.frequency_hz[0], 6) + " Hz");
+  }
   if (kept_hz) *kept_hz = modes.frequency_hz.head(n);
   return std::make_shared<const solve::ModalReduction>(
       s.M, s.C, s.K, modes.shape.leftCols(n), (2.0 * M_PI) * modes.frequency_hz.head(n),
@@ -271,6 +267,7 @@ RunResult integrate(const model::Structure& s, const std::vector<ResolvedStation
     io.atol_disp = settings.ida.atol_disp;
     io.atol_vel = settings.ida.atol_vel;
     io.max_order = settings.ida.max_order;
+    io.log = settings.ida.log;
     const solve::IdaSummary is = solve::ida(sys, io, observe);
     r.summary.n_steps = is.n_steps;
     r.summary.n_dofs = sys.n_dofs();

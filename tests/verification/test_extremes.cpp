@@ -99,7 +99,7 @@ TEST_CASE("stability at the extremes: time steps x10 and /100 of the default") {
 // The same extremes for modal superposition (issue #5): exact per-step modal equations, complex
 // modes for the coupled track damping, modes up to 180 Hz (the `default` preset at f_c = 60 Hz)
 // with the static correction; deflection at mid-span of span 1 against the static deflection.
-TEST_CASE("stability at the extremes, modal superposition: pads, damping, speeds, steps") {
+TEST_CASE("stability at the extremes with modal superposition: pads and damping and speeds and steps") {
   struct Case {
     const char* what;
     double pad_factor;
@@ -137,6 +137,56 @@ TEST_CASE("stability at the extremes, modal superposition: pads, damping, speeds
                 static_cast<long>(m.modal->n_modes()), d, w, r.stations[0].acc.cwiseAbs().maxCoeff());
     REQUIRE((r.stations[0].disp.allFinite() && r.stations[0].acc.allFinite()));
     // Same bounds as the Newmark cases: within [0.3, 3] x the static deflection.
+    REQUIRE(d < 3 * w);
+    REQUIRE(d > 0.3 * w);
+  }
+}
+
+// IDA at the extremes (issue #5), at rtol 1e-3 (the tradeoff's middle rung): soft pads on the Old Guadiana model
+// with 3 m of approach and exit track; zero damping, 20 and 600 km/h on the bare 15 m HSLM span.
+TEST_CASE("stability at the extremes with IDA: pads and zero damping and slow and fast axles") {
+  struct Case {
+    const char* what;
+    bool track;
+    double pad_factor;
+    bool undamped;
+    double v;
+  };
+  // Pads x1e4 are left out of the suite: stable (1.966 mm against 1.990 mm static) but 90 570
+  // internal steps and 75 s for one second of simulation — the rail-on-pad modes move to tens of
+  // kHz and the error test follows them (docs/accuracy.md).
+  const Case cases[] = {{"ida pads x1e-3", true, 1e-3, false, 40.0},
+                        {"ida zero damping", false, 1.0, true, 40.0},
+                        {"ida 20 km/h", false, 1.0, false, 20 / 3.6},
+                        {"ida 600 km/h", false, 1.0, false, 600 / 3.6}};
+  for (const Case& c : cases) {
+    study::Scenario sc = c.track ? vt::shipped("old-guadiana-sensitivity", {"track.approach_length=3.0", "track.exit_length=3.0"})
+                                 : vt::shipped("hslm-simply-supported");
+    if (c.track) sc.track->pad.k *= c.pad_factor;
+    if (c.undamped) sc.bridge.damping.kind = model::DampingKind::none;
+    const double L = sc.bridge.spans[0].length;
+    sc.trains = {load::regular_train("bogie", 2, 3.0, 210e3)};
+    sc.stations = {{"mid", true, 0, L / 2, 0.0}};
+    sc.settings.method = study::Method::ida;
+    sc.settings.ida.rtol = 1e-3;
+    sc.settings.ida.atol_disp = 1e-6;
+    sc.settings.ida.atol_vel = 1e-4;
+    sc.settings.newmark.dt = 1e-3;
+    sc.settings.filter.enabled = false;
+    sc.settings.load_factor = 1.0;
+    sc.settings.free_vibration_s = 0.2;
+    const study::PreparedModel m = study::prepare_model(sc);
+    const study::RunResult r = study::simulate(m, sc.trains[0], c.v, sc.settings);
+    // Static deflection at mid-span with both axles there.
+    Vector f = Vector::Zero(m.structure.n_dofs);
+    const auto p = c.track ? m.structure.rail_point(m.structure.span_start[0] + L / 2) : m.structure.deck_point(0, L / 2);
+    for (std::size_t q = 0; q < 4; ++q)
+      if (p.dofs[q] >= 0) f[p.dofs[q]] += 2 * 210e3 * p.N[q];
+    Eigen::SimplicialLDLT<SparseMatrix> lk(m.structure.K);
+    const double w = m.structure.deck_point(0, L / 2).value(lk.solve(f));
+    const double d = r.stations[0].disp.cwiseAbs().maxCoeff();
+    std::printf("extreme %-28s max deck disp %.3e m (static %.3e); %s\n", c.what, d, w, r.summary.stop_reason.c_str());
+    REQUIRE((r.stations[0].disp.allFinite() && r.stations[0].acc.allFinite()));
     REQUIRE(d < 3 * w);
     REQUIRE(d > 0.3 * w);
   }

@@ -178,7 +178,7 @@ TEST_CASE("track model: complex modes converge to Newmark; every basis from one 
   }
 }
 
-TEST_CASE("IDA on a span under moving axles: tight tolerances agree with Newmark, loose ones stay bounded") {
+TEST_CASE("IDA on a span under moving axles: tight tolerances agree with Newmark and loose ones stay bounded") {
   const load::Train train = load::regular_train("4x", 4, 8.0, 170e3);
   const double v = 250 / 3.6;
   const RunSettings ref_s = settings(5e-5);

@@ -117,7 +117,8 @@ std::vector<std::pair<std::string, std::string>> tool_versions() {
 LogSink log_printer(bool quiet) {
   return [quiet](LogLevel level, const std::string& msg) {
     if (quiet && level != LogLevel::warning) return;
-    std::cerr << "viaduct: " << (level == LogLevel::warning ? "warning: " : "") << msg << "\n";
+    // One write per message: sweeps log from several threads.
+    std::cerr << (std::string("viaduct: ") + (level == LogLevel::warning ? "warning: " : "") + msg + "\n");
   };
 }
 

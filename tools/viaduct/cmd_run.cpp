@@ -24,7 +24,7 @@ Command run_command() {
   c.run = [](const Common& o, const po::variables_map& vm) {
     const auto t0 = std::chrono::steady_clock::now();
     const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
-    const study::Scenario sc = io::to_scenario(flat);
+    study::Scenario sc = io::to_scenario(flat);
     double speed = 0.0;
     if (vm.count("speed-kmh")) {
       speed = vm["speed-kmh"].as<double>() / 3.6;
@@ -44,6 +44,7 @@ Command run_command() {
       }
       if (!train) throw InputError("no train named '" + vm["train"].as<std::string>() + "'; the scenario has:" + names);
     }
+    sc.settings.ida.log = log_printer(o.quiet);
     const study::PreparedModel pm = study::prepare_model(sc);
     const model::Structure& s = pm.structure;
     const study::RunResult r = study::simulate(pm, *train, speed, sc.settings);

@@ -22,7 +22,8 @@ Command sweep_command() {
   c.run = [](const Common& o, const po::variables_map&) {
     const auto t0 = std::chrono::steady_clock::now();
     const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
-    const auto variants = io::sweep_variants(flat);
+    auto variants = io::sweep_variants(flat);
+    for (auto& v : variants) v.scenario.settings.ida.log = log_printer(o.quiet);
     if (variants.front().scenario.sweep_speeds.empty())
       throw InputError(SourceLocation{o.scenario, 0, "sweep"},
                        "no speeds: give sweep.speeds_kmh, sweep.speed_min/max/step_kmh or sweep.speed_min/max_mps with n_speeds");

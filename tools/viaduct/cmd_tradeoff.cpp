@@ -51,6 +51,7 @@ Command tradeoff_command() {
     const auto t0 = std::chrono::steady_clock::now();
     const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
     study::Scenario sc = io::to_scenario(flat);
+    sc.settings.ida.log = log_printer(o.quiet);
     if (sc.sweep_speeds.empty())
       throw InputError(SourceLocation{o.scenario, 0, "sweep"}, "no speeds: the trade-off runs the scenario's sweep speeds");
     if (vm.count("speeds")) {

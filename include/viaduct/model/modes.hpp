@@ -17,4 +17,18 @@ constexpr Index kMaxDenseModeDofs = 6000;
 /// fine for the few thousand DOFs of a span-and-track model; InputError beyond kMaxDenseModeDofs.
 Modes compute_modes(const Structure& s, Index n_modes);
 
+/// How compute_modes_up_to() solves the eigenproblem.
+enum class ModeSolver {
+  automatic,  ///< sparse when the model has more than 1000 DOFs and few modes are wanted
+  dense,      ///< all eigenpairs (LAPACK-style, O(n³)), then the selection
+  sparse,     ///< shift-invert Lanczos on the sparse K and M (Spectra), only the modes wanted
+};
+
+/// The lowest modes satisfying both limits: at most n_modes (0: no count limit) and frequencies
+/// up to max_frequency_hz (0: no limit). The sparse solver asks for more modes until it has
+/// passed max_frequency_hz, and hands over to the dense one beyond a quarter of the DOFs.
+/// SolverError when the sparse iteration does not converge.
+Modes compute_modes_up_to(const Structure& s, Index n_modes, double max_frequency_hz,
+                          ModeSolver solver = ModeSolver::automatic);
+
 }  // namespace viaduct::model

@@ -8,7 +8,7 @@
 /// are stop times: the integrator halts there and restarts with consistent v̇ = M⁻¹(f(t⁺) − C v − K u),
 /// so adaptivity never smears a jump. Every SUNDIALS return code is checked; an exception thrown
 /// by the system inside a callback is captured and rethrown intact after IDASolve; SUNDIALS'
-/// messages go to the log sink, never to stdout/stderr.
+/// messages never reach stdout/stderr: warnings go to the log sink, errors into the SolverError.
 
 #include <functional>
 #include <string>
@@ -28,7 +28,7 @@ struct IdaOptions {
   int max_order = 5;         ///< BDF order limit, 1..5
   double max_step = 0.0;     ///< [s] largest internal step (0: no limit), >= 0
   long max_steps_per_output = 100000;  ///< internal steps allowed between two outputs, >= 1
-  LogSink log;               ///< SUNDIALS' warnings and errors (optional)
+  LogSink log;               ///< SUNDIALS' warnings (optional; errors are thrown with their message)
   bool is_valid(std::string* why) const;
 };
 

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "viaduct/core/log.hpp"
 #include "viaduct/load/train.hpp"
 #include "viaduct/model/structure.hpp"
 #include "viaduct/signal/iir.hpp"
@@ -40,6 +41,7 @@ struct IdaSettings {
   double atol_disp = 1e-10;  ///< [m]
   double atol_vel = 1e-8;    ///< [m/s]
   int max_order = 5;         ///< 1..5
+  LogSink log;               ///< SUNDIALS' messages (optional; called from any sweep thread)
 };
 
 /// How a train's response is composed.
