@@ -244,12 +244,13 @@ the curve's peak (\`docs/accuracy.md\` has the whole ladder).
 (\`viaduct sweep scenarios/hslm-simply-supported.toml --set analysis.method='"modal"' --set modal.n_modes=3
 --set analysis.dt=0.0005 --set analysis.free_vibration_s=2 --set filter.enabled=false --threads N\`):
 $hm_steps samples in all; **$(fmt "$hm1") s on 1 thread, $(fmt "$hm2") s on 2 threads** (target 0.3 s;
-$(per_step "$hm2" "$hm_steps" 2) µs per sample and thread: the modal loads of the axles on the
+$(awk -v w="$hm2" -v s="$hm_steps" 'BEGIN{printf "%.0f", 1e9*w*2/s}') ns per sample and thread: the modal loads of the axles on the
 span are evaluated from tabulated cubic influence lines, the three modal equations advanced
 exactly). Envelope error against the same model at 20 kHz: $(pct "$hm_ea") (acceleration),
 $(pct "$hm_ed") (deflection) — target 0.1 %. Against the full model (Newmark, 0.25 ms, with the
-scenario's 45 Hz low-pass; $(fmt "$hf_wall") s on 2 threads) the three modes differ by $(pct "$hf_ea") and
-$(pct "$hf_ed"): the truncation, not the time step.
+scenario's 45 Hz low-pass; $(fmt "$hf_wall") s on 2 threads) the three unfiltered modes differ by $(pct "$hf_ea")
+and $(pct "$hf_ed"): truncation and filter together — the low-pass edge sits on the third mode (45 Hz)
+and attenuates it in the reference; not the time step.
 
 **Old Guadiana sensitivity study, all 13 models × 60 speeds, full track model** (reference:
 Newmark at 0.25 ms, $(fmt "$og_ref_wall") s on 2 threads; target: ≤ 10 s with ≤ 1 % error):

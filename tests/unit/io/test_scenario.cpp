@@ -201,3 +201,35 @@ TEST_CASE("docs/scenarios.md documents every key (regenerate with scripts/gen_do
   ss << in.rdbuf();
   REQUIRE(ss.str().find(schema_markdown()) != std::string::npos);
 }
+
+TEST_CASE("solution methods and presets resolve from the scenario; explicit keys override a preset") {
+  Scratch s;
+  // Default: Newmark, direct.
+  study::Scenario d = to_scenario(load_flat(s.scenario("")));
+  REQUIRE(d.settings.method == study::Method::newmark);
+  REQUIRE(d.settings.superposition == study::Superposition::direct);
+  // A preset scales with the band edge: the default filter's 30 Hz here.
+  study::Scenario f = to_scenario(load_flat(s.scenario("[analysis]\npreset = \"fast\"\n")));
+  REQUIRE(f.settings.method == study::Method::modal);
+  REQUIRE(f.settings.modal.max_frequency_hz == Approx(45.0));
+  REQUIRE(f.settings.newmark.dt == Approx(1.0 / (16 * 30.0)));
+  REQUIRE(f.settings.modal.static_correction);
+  study::Scenario r = to_scenario(load_flat(s.scenario("[analysis]\npreset = \"reference\"\n")));
+  REQUIRE(r.settings.method == study::Method::newmark);
+  REQUIRE(r.settings.newmark.dt == Approx(1.0 / (80 * 30.0)));
+  // Explicit keys win over the preset, from the file or from --set.
+  study::Scenario e = to_scenario(load_flat(s.scenario("[analysis]\npreset = \"default\"\ndt = 0.002\n[modal]\nn_modes = 4\n"),
+                                            {"modal.static_correction=false"}));
+  REQUIRE(e.settings.method == study::Method::modal);
+  REQUIRE(e.settings.newmark.dt == 0.002);
+  REQUIRE(e.settings.modal.n_modes == 4);
+  REQUIRE(e.settings.modal.max_frequency_hz == Approx(90.0));
+  REQUIRE_FALSE(e.settings.modal.static_correction);
+  // IDA and unit-response keys.
+  study::Scenario i = to_scenario(load_flat(s.scenario("[analysis]\nmethod = \"ida\"\nsuperposition = \"unit-response\"\n"
+                                                       "[ida]\nrtol = 1e-4\nmax_order = 3\n")));
+  REQUIRE(i.settings.method == study::Method::ida);
+  REQUIRE(i.settings.superposition == study::Superposition::unit_response);
+  REQUIRE(i.settings.ida.rtol == 1e-4);
+  REQUIRE(i.settings.ida.max_order == 3);
+}
