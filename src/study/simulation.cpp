@@ -204,7 +204,7 @@ void apply_filter(RunResult& r, const RunSettings& settings) {
 }
 
 // Integrates the loads of `sys` for t in [0, t_end] into histories (unfiltered).
-RunResult integrate(const model::Structure& s, const std::vector<ResolvedStation>& stations,
+RunResult integrate(const std::vector<ResolvedStation>& stations,
                     const solve::ModalReduction* modal, const ModalPathTable* path,
                     const solve::SecondOrderSystem& sys, const load::Train& train, double speed, double t_end,
                     const RunSettings& settings) {
@@ -258,7 +258,6 @@ RunResult integrate(const model::Structure& s, const std::vector<ResolvedStation
       if (h.rail_disp.size() > 0) h.rail_disp[k] = st.rail.value(u);
     }
   };
-  (void)s;
   if (settings.method == Method::ida) {
     solve::IdaOptions io;
     io.dt_out = settings.newmark.dt;
@@ -298,7 +297,7 @@ RunResult simulate_impl(const model::Structure& s, const std::vector<ResolvedSta
   const load::MovingLoads loads(s, train, speed, settings.load_factor);
   const MovingLoadSystem sys(s, loads);
   const double t_end = std::max(loads.t_exit() + settings.free_vibration_s, t_end_min);
-  RunResult r = integrate(s, stations, modal, path, sys, train, speed, t_end, settings);
+  RunResult r = integrate(stations, modal, path, sys, train, speed, t_end, settings);
   r.speed = speed;
   return r;
 }
