@@ -52,6 +52,7 @@ SweepResult run_sweep(const std::vector<Variant>& variants, const SweepOptions& 
   for (std::size_t v = 0; v < variants.size(); ++v) {
     const Scenario& sc = variants[v].scenario;
     out.summary.n_dofs.push_back(prepared[v].model ? prepared[v].model->structure.n_dofs : 0);
+    out.summary.n_modes.push_back(prepared[v].model && prepared[v].model->modal ? prepared[v].model->modal->n_modes() : 0);
     const bool unit = sc.settings.superposition == Superposition::unit_response;
     for (std::size_t s = 0; s < sc.sweep_speeds.size(); ++s) {
       if (unit) jobs.push_back({v, kAllTrains, s});

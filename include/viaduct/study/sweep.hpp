@@ -37,6 +37,7 @@ struct SweepSummary {
   double wall_s = 0.0;           ///< [s]
   Index n_steps_total = 0;       ///< time steps over all completed cases
   std::vector<Index> n_dofs;     ///< per variant
+  std::vector<Index> n_modes;    ///< per variant: modes of the modal method (0 otherwise)
 };
 
 struct SweepResult {
