@@ -89,14 +89,16 @@ Vector maxabs_envelope(const Vector& x, Index window) {
   return out;
 }
 
-Vector hilbert_envelope(const Vector& x) {
-  check(x, "Hilbert envelope");
+Eigen::VectorXcd analytic_signal(const Vector& x) {
+  check(x, "analytic signal");
   const Index n = x.size();
   const ComplexVector X = rfft(x);
   Eigen::VectorXcd Z = Eigen::VectorXcd::Zero(n);
   Z[0] = X[0];
   for (Index k = 1; k < X.size(); ++k) Z[k] = (n % 2 == 0 && k == n / 2) ? X[k] : 2.0 * X[k];
-  return ifft(Z).cwiseAbs();
+  return ifft(Z);
 }
+
+Vector hilbert_envelope(const Vector& x) { return analytic_signal(x).cwiseAbs(); }
 
 }  // namespace viaduct::signal

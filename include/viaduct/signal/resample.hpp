@@ -22,6 +22,10 @@ Vector running_rms(const Vector& x, Index window);
 /// Largest |x| over a centred window of `window` samples (odd, >= 1).
 Vector maxabs_envelope(const Vector& x, Index window);
 
+/// x + i·H[x], the analytic signal (scipy.signal.hilbert), via FFT: its modulus is the envelope,
+/// its unwrapped argument the instantaneous phase.
+Eigen::VectorXcd analytic_signal(const Vector& x);
+
 /// |x + i·H[x]|, the magnitude of the analytic signal (scipy.signal.hilbert), via FFT.
 Vector hilbert_envelope(const Vector& x);
 

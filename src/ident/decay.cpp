@@ -1,0 +1,264 @@
+#include "viaduct/ident/decay.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "viaduct/core/error.hpp"
+#include "viaduct/signal/iir.hpp"
+#include "viaduct/signal/peaks.hpp"
+#include "viaduct/signal/resample.hpp"
+
+namespace viaduct::ident {
+
+namespace {
+
+struct Line {
+  double slope = 0.0, intercept = 0.0;  ///< y ≈ intercept + slope·(x − x_mean)
+  double x_mean = 0.0;
+  double at(double x) const { return intercept + slope * (x - x_mean); }
+};
+
+Line fit_line(const std::vector<double>& x, const std::vector<double>& y) {
+  Line l;
+  const std::size_t n = x.size();
+  if (n < 2) return l;
+  double mx = 0.0, my = 0.0;
+  for (std::size_t i = 0; i < n; ++i) mx += x[i], my += y[i];
+  mx /= static_cast<double>(n);
+  my /= static_cast<double>(n);
+  double sxx = 0.0, sxy = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    sxx += (x[i] - mx) * (x[i] - mx);
+    sxy += (x[i] - mx) * (y[i] - my);
+  }
+  l.x_mean = mx;
+  l.intercept = my;
+  l.slope = sxx > 0.0 ? sxy / sxx : 0.0;
+  return l;
+}
+
+struct TimedPeak {
+  double t = 0.0;
+  double value = 0.0;  ///< |x| at the peak
+};
+
+std::vector<TimedPeak> peaks_of(const Vector& y, double fs, double t0, double f_hz, bool positive) {
+  signal::PeakOptions po;
+  po.min_distance = std::max<Index>(1, static_cast<Index>(0.6 * fs / f_hz));
+  po.min_height = 0.0;
+  const Vector s = positive ? Vector(y) : Vector(-y);
+  std::vector<TimedPeak> out;
+  for (const auto& p : signal::find_peaks(s, po, signal::Interpolation::parabolic))
+    if (p.value > 0.0) out.push_back({t0 + p.position / fs, p.value});
+  return out;
+}
+
+}  // namespace
+
+bool DecayOptions::is_valid(double fs_hz, std::string* why) const {
+  auto fail = [&](const std::string& m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (!(frequency_hz > 0.0) || !std::isfinite(frequency_hz)) return fail("frequency_hz (the mode to isolate) must be > 0");
+  if (!(band_ratio > 0.0 && band_ratio < 0.9)) return fail("band_ratio must be in (0, 0.9)");
+  if (filter_order < 0 || filter_order > 8) return fail("filter_order must be in 0..8");
+  if (!(ripple_db > 0.0)) return fail("ripple_db must be > 0");
+  if (filter_order > 0 && !(frequency_hz * (1.0 + band_ratio) < 0.5 * fs_hz))
+    return fail("the band-pass's upper edge " + std::to_string(frequency_hz * (1.0 + band_ratio)) +
+                " Hz must lie below the Nyquist frequency " + std::to_string(0.5 * fs_hz) + " Hz");
+  if (!(noise_factor >= 1.0)) return fail("noise_factor must be >= 1");
+  if (!(skip_cycles >= 0.0)) return fail("skip_cycles must be >= 0");
+  if (!(min_cycles >= 2.0)) return fail("min_cycles must be >= 2");
+  if (!(window_cycles >= 1.0)) return fail("window_cycles must be >= 1");
+  if (!(rise_tolerance > 0.0)) return fail("rise_tolerance must be > 0");
+  return true;
+}
+
+double passage_end_time(double entry_s, double train_length_m, double bridge_length_m, double speed_mps) {
+  require_finite(entry_s, "train entry time [s]");
+  require_positive(train_length_m, "train length [m]");
+  require_positive(bridge_length_m, "bridge length [m]");
+  require_positive(speed_mps, "train speed [m/s]");
+  return entry_s + (train_length_m + bridge_length_m) / speed_mps;
+}
+
+DecayResult analyse_decay(const Vector& x, double fs_hz, double t0_s, const DecayOptions& o) {
+  require_positive(fs_hz, "sampling rate [Hz]");
+  std::string why;
+  if (!o.is_valid(fs_hz, &why)) throw InputError("decay: " + why);
+  if (x.size() < 16) throw InputError("decay: the record is too short (" + std::to_string(x.size()) + " samples)");
+  if (!x.allFinite()) throw InputError("decay: the record holds NaN or infinite samples");
+  const Index n = x.size();
+  const double t_last = t0_s + static_cast<double>(n - 1) / fs_hz;
+  const double f0 = o.frequency_hz;
+  Vector y = x.array() - x.mean();
+  if (o.filter_order > 0) {
+    signal::Cheby1Spec spec;
+    spec.order = o.filter_order;
+    spec.ripple_db = o.ripple_db;
+    spec.band = signal::BandType::bandpass;
+    spec.low_hz = f0 * (1.0 - o.band_ratio);
+    spec.high_hz = f0 * (1.0 + o.band_ratio);
+    y = signal::sosfiltfilt(signal::cheby1(spec, fs_hz), y);
+  }
+  const Eigen::VectorXcd z = signal::analytic_signal(y);
+  const Vector env = z.cwiseAbs();
+  Vector phase(n);
+  for (Index j = 0; j < n; ++j) {
+    phase[j] = std::arg(z[j]);
+    if (j > 0) {
+      while (phase[j] - phase[j - 1] > M_PI) phase[j] -= 2.0 * M_PI;
+      while (phase[j] - phase[j - 1] < -M_PI) phase[j] += 2.0 * M_PI;
+    }
+  }
+  auto time_of = [&](Index j) { return t0_s + static_cast<double>(j) / fs_hz; };
+  auto index_of = [&](double t) {
+    return std::clamp<Index>(static_cast<Index>(std::llround((t - t0_s) * fs_hz)), 0, n - 1);
+  };
+  const double cycle = 1.0 / f0;
+  const Index edge = std::min<Index>(n / 4, static_cast<Index>(std::ceil(2.0 * cycle * fs_hz)));
+
+  // Noise floor and the end of the analysis.
+  std::vector<double> tail;
+  for (Index j = static_cast<Index>(0.94 * static_cast<double>(n)); j < std::max<Index>(n - edge, static_cast<Index>(0.95 * static_cast<double>(n))); ++j)
+    tail.push_back(env[j]);
+  double noise = 0.0;
+  if (!tail.empty()) {
+    std::nth_element(tail.begin(), tail.begin() + static_cast<std::ptrdiff_t>(tail.size() / 2), tail.end());
+    noise = tail[tail.size() / 2];
+  }
+  const auto pos = peaks_of(y, fs_hz, t0_s, f0, true);
+  const auto neg = peaks_of(y, fs_hz, t0_s, f0, false);
+  std::vector<TimedPeak> half(pos);
+  half.insert(half.end(), neg.begin(), neg.end());
+  std::sort(half.begin(), half.end(), [](const auto& a, const auto& b) { return a.t < b.t; });
+  if (half.size() < 4) throw InputError("decay: fewer than 2 cycles of the mode in the record");
+
+  DecayResult r;
+  const double t_usable_end = time_of(n - 1 - edge);
+  if (std::isfinite(o.start_s)) {
+    if (o.start_s < t0_s || o.start_s >= t_last)
+      throw InputError("decay: start " + std::to_string(o.start_s) + " s lies outside the record [" +
+                       std::to_string(t0_s) + ", " + std::to_string(t_last) + "] s");
+    r.start_s = o.start_s;
+  } else {
+    r.start_detected = true;
+    std::size_t kmax = 0;
+    for (std::size_t k = 1; k < half.size(); ++k)
+      if (half[k].t <= t_usable_end && half[k].value > half[kmax].value) kmax = k;
+    std::size_t ks = kmax;
+    for (std::size_t k = kmax + 1; k < half.size() && half[k].t <= t_usable_end; ++k) {
+      if (half[k].value < o.noise_factor * noise) break;  // into the noise: rises mean nothing
+      // A rise beyond tolerance and noise ends the decay found so far.
+      if (half[k].value > half[k - 1].value * (1.0 + o.rise_tolerance) + 2.0 * noise) ks = k;
+    }
+    r.start_s = half[ks].t;
+  }
+  if (std::isfinite(o.end_s)) {
+    if (o.end_s <= r.start_s || o.end_s > t_last + 0.5 / fs_hz)
+      throw InputError("decay: end " + std::to_string(o.end_s) + " s must lie after the start (" +
+                       std::to_string(r.start_s) + " s) and within the record");
+    r.end_s = std::min(o.end_s, t_usable_end);
+  } else {
+    r.end_s = t_usable_end;
+    for (Index j = index_of(r.start_s); j < n - edge; ++j)
+      if (env[j] < o.noise_factor * noise) {
+        r.end_s = time_of(j);
+        break;
+      }
+  }
+  const double a = r.start_s + o.skip_cycles * cycle;
+  const double b = r.end_s;
+  r.n_cycles = std::max(0.0, (b - a) * f0);
+  if (r.n_cycles < o.min_cycles)
+    throw InputError("decay: too short a decay: " + std::to_string(r.n_cycles) + " cycles of " + std::to_string(f0) +
+                     " Hz between " + std::to_string(a) + " s and " + std::to_string(b) +
+                     " s above the noise, at least " + std::to_string(o.min_cycles) + " needed");
+
+  // Zero crossings (upwards) → damped period.
+  std::vector<double> kx, tx;
+  for (Index j = index_of(a); j < index_of(b); ++j)
+    if (y[j] < 0.0 && y[j + 1] >= 0.0) {
+      const double frac = y[j] / (y[j] - y[j + 1]);
+      kx.push_back(static_cast<double>(kx.size()));
+      tx.push_back(time_of(j) + frac / fs_hz);
+    }
+  if (kx.size() < 3) throw InputError("decay: fewer than 3 zero crossings in the decay");
+  const double wd = 2.0 * M_PI / fit_line(kx, tx).slope;
+
+  // Half-cycle peaks → envelope fit; positive peaks → logarithmic decrement.
+  std::vector<double> tp, lp;
+  for (const auto& p : half)
+    if (p.t >= a && p.t <= b) tp.push_back(p.t), lp.push_back(std::log(p.value));
+  std::vector<TimedPeak> pw;
+  for (const auto& p : pos)
+    if (p.t >= a && p.t <= b) pw.push_back(p);
+  if (pw.size() < 3 || tp.size() < 4) throw InputError("decay: fewer than 3 cycle peaks in the decay");
+  const double sigma_env = -fit_line(tp, lp).slope;
+  const double wn = std::sqrt(wd * wd + sigma_env * sigma_env);
+  r.frequency_hz = wn / (2.0 * M_PI);
+  r.zeta_envelope_fit = sigma_env / wn;
+  const double delta = std::log(pw.front().value / pw.back().value) / static_cast<double>(pw.size() - 1);
+  r.zeta_log_decrement = delta / std::sqrt(4.0 * M_PI * M_PI + delta * delta);
+
+  // Hilbert envelope and phase over the whole window.
+  auto hilbert_fit = [&](double ta, double tb, double* sigma, double* w_d, double* amp_mid) {
+    std::vector<double> t, le, ph;
+    for (Index j = index_of(ta); j <= index_of(tb); ++j)
+      if (env[j] > 0.0) t.push_back(time_of(j)), le.push_back(std::log(env[j])), ph.push_back(phase[j]);
+    const Line l = fit_line(t, le);
+    *sigma = -l.slope;
+    *w_d = std::abs(fit_line(t, ph).slope);
+    if (amp_mid) *amp_mid = std::exp(l.at(0.5 * (ta + tb)));
+  };
+  double sh = 0.0, wdh = 0.0;
+  hilbert_fit(a, b, &sh, &wdh, nullptr);
+  const double wnh = std::sqrt(wdh * wdh + sh * sh);
+  r.zeta_hilbert = sh / wnh;
+  r.frequency_hilbert_hz = wnh / (2.0 * M_PI);
+  r.amplitude_start = env[index_of(a)];
+  r.amplitude_end = env[index_of(b)];
+
+  // Along the decay: windows of window_cycles, one cycle apart.
+  const double W = o.window_cycles * 2.0 * M_PI / wd;
+  const double step = 2.0 * M_PI / wd;
+  std::vector<double> amps, zetas, freqs;
+  for (double ta = a; ta + W <= b + 1e-12; ta += step) {
+    double s = 0.0, w = 0.0, amp = 0.0;
+    hilbert_fit(ta, ta + W, &s, &w, &amp);
+    const double wnw = std::sqrt(w * w + s * s);
+    AmplitudePoint p;
+    p.t_s = ta + 0.5 * W;
+    p.amplitude = amp;
+    p.frequency_hz = wnw / (2.0 * M_PI);
+    p.damping_ratio = s / wnw;
+    r.by_amplitude.push_back(p);
+    amps.push_back(amp);
+    zetas.push_back(p.damping_ratio);
+    freqs.push_back(p.frequency_hz);
+  }
+  if (amps.size() >= 2) {
+    const Line lz = fit_line(amps, zetas), lf = fit_line(amps, freqs);
+    r.law_zeta_slope = lz.slope;
+    r.law_zeta0 = lz.at(0.0);
+    r.law_f_slope_hz = lf.slope;
+    r.law_f0_hz = lf.at(0.0);
+  }
+  return r;
+}
+
+Statistic statistic(const std::vector<double>& values) {
+  Statistic s;
+  for (double v : values)
+    if (std::isfinite(v)) s.mean += v, ++s.n;
+  if (s.n == 0) return s;
+  s.mean /= static_cast<double>(s.n);
+  double ss = 0.0;
+  for (double v : values)
+    if (std::isfinite(v)) ss += (v - s.mean) * (v - s.mean);
+  s.std = s.n > 1 ? std::sqrt(ss / static_cast<double>(s.n - 1)) : 0.0;
+  return s;
+}
+
+}  // namespace viaduct::ident

@@ -1,0 +1,470 @@
+#include "viaduct/ident/modal_fit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include <Eigen/Eigenvalues>
+
+#include "viaduct/core/error.hpp"
+#include "viaduct/signal/peaks.hpp"
+
+namespace viaduct::ident {
+
+namespace {
+
+// Indices of the FRF's frequencies in [f_min, f_max] with f > 0.
+std::vector<Index> band_indices(const Vector& f, double f_min, double f_max) {
+  std::vector<Index> k;
+  for (Index j = 0; j < f.size(); ++j)
+    if (f[j] > 0.0 && f[j] >= f_min && f[j] <= f_max) k.push_back(j);
+  return k;
+}
+
+ComplexVector as_quantity(const Frf& frf, Index c, FrfQuantity to) {
+  return convert(frf.frequency_hz, frf.h.col(c), frf.quantity[static_cast<std::size_t>(c)], to);
+}
+
+// Normalises a shape so that its largest entry is 1 (removes the residue's phase).
+void normalise_shape(ComplexVector& s) {
+  if (s.size() == 0) return;
+  Index imax = 0;
+  s.cwiseAbs().maxCoeff(&imax);
+  if (std::abs(s[imax]) > 0.0) s /= s[imax];
+}
+
+// Linear interpolation of the frequency where |y| crosses `level` between samples a and b.
+double crossing(const Vector& f, const Vector& mag, Index a, Index b, double level) {
+  const double fa = f[a], fb = f[b], ya = mag[a], yb = mag[b];
+  if (ya == yb) return 0.5 * (fa + fb);
+  return fa + (level - ya) * (fb - fa) / (yb - ya);
+}
+
+}  // namespace
+
+bool PeakPickingOptions::is_valid(std::string* why) const {
+  auto fail = [&](const char* m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (!(f_min_hz >= 0.0)) return fail("f_min_hz must be >= 0");
+  if (!(f_max_hz > f_min_hz)) return fail("f_max_hz must be > f_min_hz");
+  if (!(min_relative_prominence >= 0.0 && min_relative_prominence < 1.0))
+    return fail("min_relative_prominence must be in [0, 1)");
+  return true;
+}
+
+std::vector<IdentifiedMode> peak_picking(const Frf& frf, const PeakPickingOptions& o) {
+  std::string why;
+  if (!o.is_valid(&why)) throw InputError("peak picking: " + why);
+  frf.check("peak picking");
+  const std::vector<Index> band = band_indices(frf.frequency_hz, o.f_min_hz, o.f_max_hz);
+  const Index nb = static_cast<Index>(band.size());
+  if (nb < 5) throw InputError("peak picking: fewer than 5 frequencies in the band");
+  const Index nr = frf.n_responses();
+  Vector f(nb);
+  for (Index j = 0; j < nb; ++j) f[j] = frf.frequency_hz[band[static_cast<std::size_t>(j)]];
+  Matrix mag(nb, nr);
+  ComplexMatrix rec(nb, nr);
+  for (Index c = 0; c < nr; ++c) {
+    const ComplexVector y = as_quantity(frf, c, FrfQuantity::mobility);
+    const ComplexVector d = as_quantity(frf, c, FrfQuantity::receptance);
+    for (Index j = 0; j < nb; ++j) {
+      mag(j, c) = std::abs(y[band[static_cast<std::size_t>(j)]]);
+      rec(j, c) = d[band[static_cast<std::size_t>(j)]];
+    }
+  }
+  Vector indicator = Vector::Zero(nb);
+  for (Index c = 0; c < nr; ++c) {
+    const double m = mag.col(c).maxCoeff();
+    if (m > 0.0) indicator += mag.col(c) / m;
+  }
+  signal::PeakOptions po;
+  po.min_prominence = o.min_relative_prominence * indicator.maxCoeff();
+  po.max_peaks = o.max_modes;
+  const auto peaks = signal::find_peaks(indicator, po, signal::Interpolation::parabolic);
+  std::vector<IdentifiedMode> modes;
+  for (const auto& pk : peaks) {
+    IdentifiedMode m;
+    // The channel that responds most (relative to its own maximum) at this peak.
+    Index c = 0;
+    double best = -1.0;
+    for (Index r = 0; r < nr; ++r) {
+      const double v = mag(pk.index, r) / std::max(mag.col(r).maxCoeff(), 1e-300);
+      if (v > best) best = v, c = r;
+    }
+    m.response = c;
+    const Vector y = mag.col(c);
+    Index j = pk.index;
+    for (Index d = -2; d <= 2; ++d) {
+      const Index q = pk.index + d;
+      if (q >= 0 && q < nb && y[q] > y[j]) j = q;
+    }
+    double fpk = f[j], ypk = y[j];
+    if (j > 0 && j < nb - 1) {
+      const double y0 = y[j - 1], y1 = y[j], y2 = y[j + 1];
+      const double den = y0 - 2.0 * y1 + y2;
+      if (den < 0.0) {
+        const double off = 0.5 * (y0 - y2) / den;  // in samples, (-0.5, 0.5)
+        const double h = off >= 0.0 ? f[j + 1] - f[j] : f[j] - f[j - 1];
+        fpk = f[j] + off * h;
+        ypk = y1 - 0.25 * (y0 - y2) * off;
+      }
+    }
+    m.frequency_hz = fpk;
+    const double level = ypk / std::sqrt(2.0);
+    double f1 = std::numeric_limits<double>::quiet_NaN(), f2 = f1;
+    // Walk down each flank to the half-power level; a rise of more than a quarter of the way
+    // from the level to the peak above the lowest point so far is another mode (noise rises
+    // less).
+    const double rise = 0.25 * (ypk - level);
+    double lowest = ypk;
+    for (Index q = j; q > 0; --q) {
+      if (y[q - 1] < level) {
+        f1 = crossing(f, y, q - 1, q, level);
+        break;
+      }
+      lowest = std::min(lowest, y[q - 1]);
+      if (y[q - 1] > lowest + rise) break;
+    }
+    lowest = ypk;
+    for (Index q = j; q < nb - 1; ++q) {
+      if (y[q + 1] < level) {
+        f2 = crossing(f, y, q, q + 1, level);
+        break;
+      }
+      lowest = std::min(lowest, y[q + 1]);
+      if (y[q + 1] > lowest + rise) break;
+    }
+    if (std::isfinite(f1) && std::isfinite(f2)) {
+      m.damping_ratio = (f2 - f1) / (2.0 * fpk);
+      const double df = std::max(f[std::min(j + 1, nb - 1)] - f[std::max<Index>(j - 1, 0)], 0.0) / 2.0;
+      if ((f2 - f1) < 4.0 * df)
+        m.note = "fewer than 4 frequency lines within the half-power band: damping is resolution-limited";
+    } else {
+      m.damping_ratio = std::numeric_limits<double>::quiet_NaN();
+      m.note = "no half-power point on one side before the next mode or the band edge (overlapping modes)";
+    }
+    m.shape = rec.row(j).transpose();
+    normalise_shape(m.shape);
+    modes.push_back(m);
+  }
+  return modes;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+bool CircleFitOptions::is_valid(std::string* why) const {
+  if (!(half_band > 0.0) || !std::isfinite(half_band)) {
+    if (why) *why = "half_band must be > 0";
+    return false;
+  }
+  if (min_points < 4) {
+    if (why) *why = "min_points must be >= 4";
+    return false;
+  }
+  return true;
+}
+
+IdentifiedMode circle_fit(const Frf& frf, Index response, double f_guess_hz, double zeta_guess, const CircleFitOptions& o) {
+  std::string why;
+  if (!o.is_valid(&why)) throw InputError("circle fit: " + why);
+  frf.check("circle fit");
+  if (response < 0 || response >= frf.n_responses()) throw InputError("circle fit: no such response channel");
+  require_positive(f_guess_hz, "circle fit: frequency guess [Hz]");
+  if (!(zeta_guess > 0.0 && zeta_guess < 1.0)) throw InputError("circle fit: damping guess must be in (0, 1)");
+  const ComplexVector y = as_quantity(frf, response, FrfQuantity::mobility);
+  const Vector& f = frf.frequency_hz;
+  std::vector<Index> pts;
+  const double half = o.half_band * zeta_guess * f_guess_hz;
+  for (Index j = 0; j < f.size(); ++j)
+    if (f[j] > 0.0 && std::abs(f[j] - f_guess_hz) <= half) pts.push_back(j);
+  if (static_cast<Index>(pts.size()) < o.min_points) {
+    std::vector<std::pair<double, Index>> by_distance;
+    for (Index j = 0; j < f.size(); ++j)
+      if (f[j] > 0.0) by_distance.push_back({std::abs(f[j] - f_guess_hz), j});
+    if (static_cast<Index>(by_distance.size()) < o.min_points)
+      throw InputError("circle fit: fewer than " + std::to_string(o.min_points) + " points on the FRF");
+    std::sort(by_distance.begin(), by_distance.end());
+    pts.clear();
+    for (Index k = 0; k < o.min_points; ++k) pts.push_back(by_distance[static_cast<std::size_t>(k)].second);
+    std::sort(pts.begin(), pts.end());
+  }
+  const Index n = static_cast<Index>(pts.size());
+  double scale = 0.0;
+  for (Index k : pts) scale = std::max(scale, std::abs(y[k]));
+  if (!(scale > 0.0)) throw InputError("circle fit: the FRF is zero near the mode");
+  // Algebraic (Kåsa) circle: x² + y² + D x + E y + F = 0.
+  Matrix A(n, 3);
+  Vector b(n), w(n);
+  for (Index k = 0; k < n; ++k) {
+    const Complex z = y[pts[static_cast<std::size_t>(k)]] / scale;
+    A(k, 0) = z.real();
+    A(k, 1) = z.imag();
+    A(k, 2) = 1.0;
+    b[k] = -std::norm(z);
+    w[k] = 2.0 * M_PI * f[pts[static_cast<std::size_t>(k)]];
+  }
+  const Vector def = A.colPivHouseholderQr().solve(b);
+  const Complex centre(-0.5 * def[0], -0.5 * def[1]);
+  const double r2 = std::norm(centre) - def[2];
+  if (!(r2 > 0.0)) throw InputError("circle fit: the points do not lie on a circle (no isolated mode here?)");
+  IdentifiedMode m;
+  m.response = response;
+  Vector theta(n);
+  for (Index k = 0; k < n; ++k) {
+    const Complex z = y[pts[static_cast<std::size_t>(k)]] / scale - centre;
+    theta[k] = std::arg(z);
+    if (k > 0) {
+      while (theta[k] - theta[k - 1] > M_PI) theta[k] -= 2.0 * M_PI;
+      while (theta[k] - theta[k - 1] < -M_PI) theta[k] += 2.0 * M_PI;
+    }
+  }
+  // Gauss–Newton on θ_k = θ0 − 2 atan(u_k), u = (ω² − ωn²)/(2 ζ ωn ω).
+  double wn = 2.0 * M_PI * f_guess_hz, zeta = zeta_guess;
+  Index kg = 0;
+  for (Index k = 1; k < n; ++k)
+    if (std::abs(w[k] - wn) < std::abs(w[kg] - wn)) kg = k;
+  double th0 = theta[kg] + 2.0 * std::atan((w[kg] * w[kg] - wn * wn) / (2.0 * zeta * wn * w[kg]));
+  auto residual = [&](double t0, double wn_, double z_, Vector& r) {
+    r.resize(n);
+    for (Index k = 0; k < n; ++k) r[k] = theta[k] - (t0 - 2.0 * std::atan((w[k] * w[k] - wn_ * wn_) / (2.0 * z_ * wn_ * w[k])));
+    return r.squaredNorm();
+  };
+  Vector r;
+  double cost = residual(th0, wn, zeta, r);
+  bool converged = false;
+  for (int it = 0; it < 100 && !converged; ++it) {
+    Matrix J(n, 3);
+    for (Index k = 0; k < n; ++k) {
+      const double u = (w[k] * w[k] - wn * wn) / (2.0 * zeta * wn * w[k]);
+      const double dg_du = -2.0 / (1.0 + u * u);
+      J(k, 0) = 1.0;
+      J(k, 1) = dg_du * (-1.0 / (zeta * w[k]) - u / wn);
+      J(k, 2) = dg_du * (-u / zeta);
+    }
+    // Scaled unknowns: ωn relative, ζ relative.
+    Matrix Js = J;
+    Js.col(1) *= wn;
+    Js.col(2) *= zeta;
+    const Vector d = Js.colPivHouseholderQr().solve(r);
+    double step = 1.0;
+    bool improved = false;
+    for (int h = 0; h < 30; ++h, step *= 0.5) {
+      const double t0 = th0 + step * d[0];
+      const double wn_ = wn * (1.0 + step * d[1]);
+      const double z_ = zeta * (1.0 + step * d[2]);
+      if (!(wn_ > 0.0) || !(z_ > 0.0)) continue;
+      Vector rn;
+      const double cn = residual(t0, wn_, z_, rn);
+      if (cn <= cost) {
+        converged = std::abs(step * d[1]) < 1e-12 && std::abs(step * d[2]) < 1e-10;
+        th0 = t0, wn = wn_, zeta = z_, cost = cn, r = rn;
+        improved = true;
+        break;
+      }
+    }
+    if (!improved) converged = true;  // at a minimum within rounding
+  }
+  if (!(zeta > 0.0 && zeta < 1.0) || !std::isfinite(wn))
+    throw InputError("circle fit: did not converge to a physical mode near " + std::to_string(f_guess_hz) + " Hz");
+  m.frequency_hz = wn / (2.0 * M_PI);
+  m.damping_ratio = zeta;
+  if (m.frequency_hz < f[pts.front()] || m.frequency_hz > f[pts.back()])
+    m.note = "natural frequency outside the fitted points: widen half_band or refine the FRF";
+  return m;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+bool LscfOptions::is_valid(std::string* why) const {
+  auto fail = [&](const char* m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (!(f_min_hz >= 0.0)) return fail("f_min_hz must be >= 0");
+  if (!(f_max_hz > f_min_hz)) return fail("f_max_hz must be > f_min_hz");
+  if (max_order < 4 || max_order > 200 || max_order % 2 != 0) return fail("max_order must be even, in 4..200");
+  if (!(tol_frequency > 0.0)) return fail("tol_frequency must be > 0");
+  if (!(tol_damping > 0.0)) return fail("tol_damping must be > 0");
+  if (!(max_damping > 0.0 && max_damping < 1.0)) return fail("max_damping must be in (0, 1)");
+  if (!(cluster_tol > 0.0)) return fail("cluster_tol must be > 0");
+  if (!(min_cluster_fraction > 0.0 && min_cluster_fraction <= 1.0)) return fail("min_cluster_fraction must be in (0, 1]");
+  return true;
+}
+
+LscfResult lscf(const Frf& frf, const LscfOptions& o) {
+  std::string why;
+  if (!o.is_valid(&why)) throw InputError("LSCF: " + why);
+  frf.check("LSCF");
+  const std::vector<Index> band = band_indices(frf.frequency_hz, o.f_min_hz, o.f_max_hz);
+  const Index nf = static_cast<Index>(band.size());
+  if (nf < o.max_order + 2)
+    throw InputError("LSCF: " + std::to_string(nf) + " frequencies in the band, at least max_order + 2 = " +
+                     std::to_string(o.max_order + 2) + " needed");
+  LscfResult res;
+  res.f_min_hz = frf.frequency_hz[band.front()];
+  res.f_max_hz = frf.frequency_hz[band.back()];
+  const double Ts = 1.0 / (2.0 * res.f_max_hz * 1.000001);
+  const int nmax = o.max_order;
+  const Index np = nmax + 1;
+  ComplexMatrix Z(nf, np);
+  for (Index j = 0; j < nf; ++j) {
+    const double wt = 2.0 * M_PI * frf.frequency_hz[band[static_cast<std::size_t>(j)]] * Ts;
+    for (Index q = 0; q < np; ++q) Z(j, q) = std::polar(1.0, wt * static_cast<double>(q));
+  }
+  // R = Re(XᴴX) is the same for all responses up to the weight; S and T per response.
+  const Matrix R = (Z.adjoint() * Z).real();
+  std::vector<Matrix> S, T;
+  std::vector<double> wsq;
+  for (Index c = 0; c < frf.n_responses(); ++c) {
+    ComplexVector h(nf);
+    for (Index j = 0; j < nf; ++j) h[j] = frf.h(band[static_cast<std::size_t>(j)], c);
+    const double rms = std::sqrt(h.squaredNorm() / static_cast<double>(nf));
+    if (!(rms > 0.0)) continue;
+    const ComplexMatrix Y = -(h.asDiagonal() * Z);
+    S.push_back((Z.adjoint() * Y).real());
+    T.push_back((Y.adjoint() * Y).real());
+    wsq.push_back(1.0 / (rms * rms));
+  }
+  if (S.empty()) throw InputError("LSCF: every response is zero in the band");
+  std::vector<std::vector<StabilizationPole>> by_order;
+  for (int n = 2; n <= nmax; n += 2) {
+    const Index m = n + 1;
+    const Eigen::CompleteOrthogonalDecomposition<Matrix> Rd(R.topLeftCorner(m, m));
+    Matrix M = Matrix::Zero(m, m);
+    for (std::size_t c = 0; c < S.size(); ++c) {
+      const Matrix Sc = S[c].topLeftCorner(m, m);
+      M += wsq[c] * (T[c].topLeftCorner(m, m) - Sc.transpose() * Rd.solve(Sc));
+    }
+    const Vector alpha = M.topLeftCorner(n, n).colPivHouseholderQr().solve(-M.col(n).head(n));
+    Matrix C = Matrix::Zero(n, n);
+    for (Index i = 1; i < n; ++i) C(i, i - 1) = 1.0;
+    for (Index i = 0; i < n; ++i) C(i, n - 1) = -alpha[i];
+    const Eigen::EigenSolver<Matrix> es(C, false);
+    std::vector<StabilizationPole> poles;
+    for (Index i = 0; i < n; ++i) {
+      const Complex z = es.eigenvalues()[i];
+      if (!(std::abs(z) > 0.0)) continue;
+      const Complex lambda = std::log(z) / Ts;
+      if (!(lambda.imag() > 0.0)) continue;
+      const double wn = std::abs(lambda);
+      StabilizationPole p;
+      p.order = n;
+      p.frequency_hz = wn / (2.0 * M_PI);
+      p.damping_ratio = -lambda.real() / wn;
+      if (!(p.damping_ratio > 0.0 && p.damping_ratio <= o.max_damping)) continue;
+      if (p.frequency_hz < res.f_min_hz || p.frequency_hz > res.f_max_hz) continue;
+      if (!by_order.empty()) {
+        const StabilizationPole* best = nullptr;
+        for (const auto& q : by_order.back())
+          if (!best || std::abs(q.frequency_hz - p.frequency_hz) < std::abs(best->frequency_hz - p.frequency_hz)) best = &q;
+        if (best && std::abs(best->frequency_hz - p.frequency_hz) <= o.tol_frequency * p.frequency_hz) {
+          p.status = std::abs(best->damping_ratio - p.damping_ratio) <= o.tol_damping * p.damping_ratio
+                         ? PoleStatus::stable
+                         : PoleStatus::stable_frequency;
+        }
+      }
+      poles.push_back(p);
+    }
+    std::sort(poles.begin(), poles.end(), [](const auto& a, const auto& b) { return a.frequency_hz < b.frequency_hz; });
+    res.orders.push_back(n);
+    res.poles.insert(res.poles.end(), poles.begin(), poles.end());
+    by_order.push_back(std::move(poles));
+  }
+  // Clusters of stable poles.
+  std::vector<StabilizationPole> stable;
+  for (const auto& p : res.poles)
+    if (p.status == PoleStatus::stable) stable.push_back(p);
+  std::sort(stable.begin(), stable.end(), [](const auto& a, const auto& b) { return a.frequency_hz < b.frequency_hz; });
+  const double need = std::max(2.0, o.min_cluster_fraction * static_cast<double>(res.orders.size()));
+  std::size_t i = 0;
+  while (i < stable.size()) {
+    std::size_t j = i + 1;
+    while (j < stable.size() && stable[j].frequency_hz - stable[j - 1].frequency_hz <= o.cluster_tol * stable[j].frequency_hz) ++j;
+    std::set<int> orders;
+    std::vector<double> fs, zs;
+    for (std::size_t k = i; k < j; ++k) {
+      orders.insert(stable[k].order);
+      fs.push_back(stable[k].frequency_hz);
+      zs.push_back(stable[k].damping_ratio);
+    }
+    if (static_cast<double>(orders.size()) >= need) {
+      auto median = [](std::vector<double> v) {
+        std::sort(v.begin(), v.end());
+        const std::size_t h = v.size() / 2;
+        return v.size() % 2 ? v[h] : 0.5 * (v[h - 1] + v[h]);
+      };
+      IdentifiedMode m;
+      m.frequency_hz = median(fs);
+      m.damping_ratio = median(zs);
+      if (orders.size() < fs.size()) m.note = "more than one stable pole per order in this cluster: closely spaced modes? lower cluster_tol";
+      res.modes.push_back(m);
+    }
+    i = j;
+  }
+  if (!res.modes.empty()) fit_shapes(frf, res.f_min_hz, res.f_max_hz, res.modes);
+  return res;
+}
+
+void fit_shapes(const Frf& frf, double f_min_hz, double f_max_hz, std::vector<IdentifiedMode>& modes) {
+  frf.check("LSFD");
+  if (modes.empty()) return;
+  const std::vector<Index> band = band_indices(frf.frequency_hz, f_min_hz, f_max_hz);
+  const Index nf = static_cast<Index>(band.size());
+  const Index nm = static_cast<Index>(modes.size());
+  const Index nu = 2 * nm + 2;
+  if (2 * nf < nu + 1) throw InputError("LSFD: too few frequencies in the band for " + std::to_string(nm) + " modes");
+  ComplexMatrix B(nf, nu);
+  for (Index j = 0; j < nf; ++j) {
+    const double w = 2.0 * M_PI * frf.frequency_hz[band[static_cast<std::size_t>(j)]];
+    const Complex iw(0.0, w);
+    for (Index r = 0; r < nm; ++r) {
+      const auto& m = modes[static_cast<std::size_t>(r)];
+      const double wn = 2.0 * M_PI * m.frequency_hz;
+      const double z = std::isfinite(m.damping_ratio) ? m.damping_ratio : 0.0;
+      const Complex lam(-z * wn, wn * std::sqrt(std::max(0.0, 1.0 - z * z)));
+      const Complex p1 = 1.0 / (iw - lam), p2 = 1.0 / (iw - std::conj(lam));
+      B(j, 2 * r) = p1 + p2;
+      B(j, 2 * r + 1) = Complex(0.0, 1.0) * (p1 - p2);
+    }
+    B(j, 2 * nm) = -1.0 / (w * w);
+    B(j, 2 * nm + 1) = 1.0;
+  }
+  Matrix A(2 * nf, nu);
+  A.topRows(nf) = B.real();
+  A.bottomRows(nf) = B.imag();
+  Vector scale(nu);
+  for (Index q = 0; q < nu; ++q) {
+    scale[q] = A.col(q).norm();
+    if (scale[q] > 0.0) A.col(q) /= scale[q];
+  }
+  const Eigen::ColPivHouseholderQR<Matrix> qr(A);
+  for (auto& m : modes) m.shape.resize(frf.n_responses());
+  for (Index c = 0; c < frf.n_responses(); ++c) {
+    const ComplexVector h = as_quantity(frf, c, FrfQuantity::receptance);
+    Vector b(2 * nf);
+    for (Index j = 0; j < nf; ++j) {
+      b[j] = h[band[static_cast<std::size_t>(j)]].real();
+      b[nf + j] = h[band[static_cast<std::size_t>(j)]].imag();
+    }
+    Vector x = qr.solve(b);
+    for (Index q = 0; q < nu; ++q) x[q] = scale[q] > 0.0 ? x[q] / scale[q] : 0.0;
+    for (Index r = 0; r < nm; ++r) modes[static_cast<std::size_t>(r)].shape[c] = Complex(x[2 * r], x[2 * r + 1]);
+  }
+  for (auto& m : modes) normalise_shape(m.shape);
+}
+
+Matrix mac(const ComplexMatrix& a, const ComplexMatrix& b) {
+  if (a.rows() != b.rows()) throw InputError("MAC: shapes have different lengths (" + std::to_string(a.rows()) + " and " + std::to_string(b.rows()) + ")");
+  Matrix m(a.cols(), b.cols());
+  for (Index i = 0; i < a.cols(); ++i)
+    for (Index j = 0; j < b.cols(); ++j) {
+      const double den = a.col(i).squaredNorm() * b.col(j).squaredNorm();
+      m(i, j) = den > 0.0 ? std::norm(a.col(i).dot(b.col(j))) / den : 0.0;
+    }
+  return m;
+}
+
+}  // namespace viaduct::ident
