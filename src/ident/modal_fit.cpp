@@ -379,29 +379,54 @@ LscfResult lscf(const Frf& frf, const LscfOptions& o) {
     if (p.status == PoleStatus::stable) stable.push_back(p);
   std::sort(stable.begin(), stable.end(), [](const auto& a, const auto& b) { return a.frequency_hz < b.frequency_hz; });
   const double need = std::max(2.0, o.min_cluster_fraction * static_cast<double>(res.orders.size()));
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t h = v.size() / 2;
+    return v.size() % 2 ? v[h] : 0.5 * (v[h - 1] + v[h]);
+  };
+  auto add_mode = [&](const std::vector<StabilizationPole>& members) {
+    std::set<int> orders;
+    std::vector<double> fs, zs;
+    for (const auto& p : members) {
+      orders.insert(p.order);
+      fs.push_back(p.frequency_hz);
+      zs.push_back(p.damping_ratio);
+    }
+    if (static_cast<double>(orders.size()) < need) return;
+    IdentifiedMode m;
+    m.frequency_hz = median(fs);
+    m.damping_ratio = median(zs);
+    res.modes.push_back(m);
+  };
   std::size_t i = 0;
   while (i < stable.size()) {
     std::size_t j = i + 1;
     while (j < stable.size() && stable[j].frequency_hz - stable[j - 1].frequency_hz <= o.cluster_tol * stable[j].frequency_hz) ++j;
-    std::set<int> orders;
-    std::vector<double> fs, zs;
-    for (std::size_t k = i; k < j; ++k) {
-      orders.insert(stable[k].order);
-      fs.push_back(stable[k].frequency_hz);
-      zs.push_back(stable[k].damping_ratio);
+    // A cluster holding k poles of one order is k closely spaced modes: the orders with exactly
+    // k poles give the i-th lowest to sub-cluster i; other orders join the nearest sub-cluster.
+    std::map<int, std::vector<StabilizationPole>> by;
+    for (std::size_t q = i; q < j; ++q) by[stable[q].order].push_back(stable[q]);
+    std::size_t k = 1;
+    for (const auto& [ord, v] : by) k = std::max(k, v.size());
+    std::vector<std::vector<StabilizationPole>> sub(k);
+    for (const auto& [ord, v] : by)
+      if (v.size() == k)
+        for (std::size_t q = 0; q < k; ++q) sub[q].push_back(v[q]);
+    std::vector<double> centre(k);
+    for (std::size_t q = 0; q < k; ++q) {
+      std::vector<double> fs;
+      for (const auto& p : sub[q]) fs.push_back(p.frequency_hz);
+      centre[q] = median(fs);
     }
-    if (static_cast<double>(orders.size()) >= need) {
-      auto median = [](std::vector<double> v) {
-        std::sort(v.begin(), v.end());
-        const std::size_t h = v.size() / 2;
-        return v.size() % 2 ? v[h] : 0.5 * (v[h - 1] + v[h]);
-      };
-      IdentifiedMode m;
-      m.frequency_hz = median(fs);
-      m.damping_ratio = median(zs);
-      if (orders.size() < fs.size()) m.note = "more than one stable pole per order in this cluster: closely spaced modes? lower cluster_tol";
-      res.modes.push_back(m);
-    }
+    for (const auto& [ord, v] : by)
+      if (v.size() != k)
+        for (const auto& p : v) {
+          std::size_t best = 0;
+          for (std::size_t q = 1; q < k; ++q)
+            if (std::abs(p.frequency_hz - centre[q]) < std::abs(p.frequency_hz - centre[best])) best = q;
+          sub[best].push_back(p);
+        }
+    for (const auto& members : sub) add_mode(members);
     i = j;
   }
   if (!res.modes.empty()) fit_shapes(frf, res.f_min_hz, res.f_max_hz, res.modes);

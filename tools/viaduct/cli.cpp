@@ -25,11 +25,13 @@ int dispatch(const Command& cmd, int argc, char** argv) {
       "quiet,q", po::bool_switch(), "print nothing but errors");
   if (cmd.add_options) cmd.add_options(opts);
   po::options_description hidden;
-  hidden.add_options()("scenario", po::value<std::string>(), "scenario file");
+  hidden.add_options()("scenario", po::value<std::string>(), "scenario file")(
+      "more", po::value<std::vector<std::string>>(), "further positional arguments");
   po::options_description all;
   all.add(opts).add(hidden);
   po::positional_options_description pos;
   pos.add("scenario", 1);
+  if (cmd.many_positionals) pos.add("more", -1);
   const std::string prefix = "viaduct " + cmd.name + ": ";
   po::variables_map vm;
   try {
@@ -52,11 +54,12 @@ int dispatch(const Command& cmd, int argc, char** argv) {
   }
   Common c;
   if (vm.count("scenario")) c.scenario = vm["scenario"].as<std::string>();
+  if (vm.count("more")) c.more = vm["more"].as<std::vector<std::string>>();
   if (vm.count("set")) c.set = vm["set"].as<std::vector<std::string>>();
   c.out = vm["out"].as<std::string>();
   c.threads = vm["threads"].as<int>();
   c.quiet = vm["quiet"].as<bool>();
-  if (!c.set.empty() && cmd.positional != "SCENARIO") {
+  if (!c.set.empty() && cmd.positional.find("SCENARIO") == std::string::npos) {
     std::cerr << prefix << "error: --set changes scenario keys; viaduct " << cmd.name << " takes no scenario\n";
     return usage_error;
   }

@@ -18,6 +18,7 @@ enum Exit { ok = 0, runtime_failure = 1, usage_error = 2 };
 /// Options every subcommand takes.
 struct Common {
   std::string scenario;
+  std::vector<std::string> more;  ///< further positional arguments (Command::many_positionals)
   std::vector<std::string> set;
   std::string out = "out";
   int threads = 1;
@@ -33,6 +34,7 @@ struct Command {
   std::function<int(const Common&, const po::variables_map&)> run;
   bool needs_scenario = true;
   std::string positional = "SCENARIO";  ///< what the positional argument is (Common::scenario holds it)
+  bool many_positionals = false;        ///< accept more positionals (Common::more)
 };
 
 /// Parses argv for `cmd`, handles --help, and maps exceptions to exit codes (2 input/usage,
@@ -64,5 +66,9 @@ Command speed_command();
 Command resample_command();
 Command envelope_command();
 Command tradeoff_command();
+Command frf_command();
+Command shaker_command();
+Command modal_fit_command();
+Command decay_command();
 
 }  // namespace viaduct::cli

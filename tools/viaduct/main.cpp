@@ -11,11 +11,12 @@ int main(int argc, char** argv) {
   const std::vector<Command> commands = {check_command(), modes_command(), run_command(), sweep_command(),
                                          schema_command(), filter_command(), spectrum_command(),
                                          peaks_command(), compare_command(), speed_command(),
-                                         resample_command(), envelope_command(), tradeoff_command()};
+                                         resample_command(), envelope_command(), tradeoff_command(),
+                                         frf_command(), shaker_command(), modal_fit_command(), decay_command()};
   auto usage = [&](std::ostream& os) {
     os << "viaduct " << viaduct::io::version() << " — railway train–track–bridge dynamics\n\n"
        << "Usage: viaduct COMMAND SCENARIO|RECORD [options]    (viaduct COMMAND --help for each)\n\nCommands:\n";
-    for (const auto& c : commands) os << "  " << c.name << std::string(10 - c.name.size(), ' ') << c.summary << "\n";
+    for (const auto& c : commands) os << "  " << c.name << std::string(11 - c.name.size(), ' ') << c.summary << "\n";
   };
   if (argc < 2) {
     usage(std::cerr);

@@ -98,7 +98,8 @@ struct LscfResult {
 
 /// Common-denominator LSCF on the z-domain basis zₖ = e^{iωₖTs}, Ts = 1/(2 f_max), each response
 /// weighted by the inverse of its rms magnitude; denominator orders 2, 4, … max_order; poles
-/// compared order to order; stable poles clustered into modes (median f and ζ of the cluster);
+/// compared order to order; stable poles clustered into modes (median f and ζ of the cluster;
+/// a cluster with k poles of one order is split into k modes, so closely spaced modes stay apart);
 /// shapes from an LSFD fit of the receptances with those poles plus lower and upper residuals.
 /// InputError when the band holds fewer than max_order + 2 frequencies.
 LscfResult lscf(const Frf& frf, const LscfOptions& o = {});

@@ -1,0 +1,198 @@
+#include "viaduct/io/frf.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "viaduct/core/error.hpp"
+
+namespace viaduct::io {
+
+namespace {
+
+std::vector<std::string> split_csv(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream ss(line);
+  std::string c;
+  while (std::getline(ss, c, ',')) {
+    while (!c.empty() && (c.back() == '\r' || c.back() == ' ')) c.pop_back();
+    while (!c.empty() && c.front() == ' ') c.erase(c.begin());
+    cells.push_back(c);
+  }
+  if (!line.empty() && line.back() == ',') cells.emplace_back();
+  return cells;
+}
+
+// Rows of numbers after a header; '#' lines skipped. Errors name file, line and column.
+struct Table {
+  std::vector<std::string> header;
+  std::vector<std::vector<double>> rows;
+  std::vector<int> line_of_row;
+};
+
+Table read_table(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open");
+  Table t;
+  std::string line;
+  int ln = 0;
+  while (std::getline(in, line)) {
+    ++ln;
+    if (line.empty() || line[0] == '#' || line == "\r") continue;
+    const auto cells = split_csv(line);
+    if (t.header.empty()) {
+      t.header = cells;
+      continue;
+    }
+    if (cells.size() != t.header.size())
+      throw InputError(path + ":" + std::to_string(ln) + ": " + std::to_string(cells.size()) + " cells, the header has " +
+                       std::to_string(t.header.size()));
+    std::vector<double> row;
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+      char* end = nullptr;
+      const double v = std::strtod(cells[c].c_str(), &end);
+      if (cells[c].empty() || end == cells[c].c_str() || *end != '\0' || !std::isfinite(v))
+        throw InputError(path + ":" + std::to_string(ln) + ": column '" + t.header[c] + "': '" + cells[c] +
+                         "' is not a finite number");
+      row.push_back(v);
+    }
+    t.rows.push_back(std::move(row));
+    t.line_of_row.push_back(ln);
+  }
+  if (t.header.empty()) throw InputError(path + ": no header");
+  if (t.rows.empty()) throw InputError(path + ": no data rows");
+  return t;
+}
+
+std::string fmt(double v) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.10g", v);
+  return b;
+}
+
+}  // namespace
+
+void write_frf_csv(const std::string& path, const ident::Frf& frf) {
+  frf.check(path);
+  std::ofstream out(path);
+  if (!out) throw SolverError("cannot write " + path);
+  const bool coh = frf.coherence.size() != 0;
+  out << "frequency_hz";
+  for (Index c = 0; c < frf.n_responses(); ++c) {
+    const std::string& n = frf.responses[static_cast<std::size_t>(c)];
+    const std::string u = ident::unit_of_quantity(frf.quantity[static_cast<std::size_t>(c)]) + "_per_" + frf.force_unit;
+    out << "," << n << "_re_" << u << "," << n << "_im_" << u << "," << n << "_mag_" << u << "," << n << "_phase_deg";
+    if (coh) out << "," << n << "_coherence";
+  }
+  out << "\n";
+  for (Index k = 0; k < frf.frequency_hz.size(); ++k) {
+    out << fmt(frf.frequency_hz[k]);
+    for (Index c = 0; c < frf.n_responses(); ++c) {
+      const auto h = frf.h(k, c);
+      out << "," << fmt(h.real()) << "," << fmt(h.imag()) << "," << fmt(std::abs(h)) << ","
+          << fmt(std::arg(h) * 180.0 / M_PI);
+      if (coh) out << "," << fmt(frf.coherence(k, c));
+    }
+    out << "\n";
+  }
+  if (!out) throw SolverError("write failed: " + path);
+}
+
+ident::Frf read_frf_csv(const std::string& path) {
+  const Table t = read_table(path);
+  if (t.header[0] != "frequency_hz") throw InputError(path + ": the first column must be frequency_hz, not '" + t.header[0] + "'");
+  ident::Frf frf;
+  struct Cols {
+    int re = -1, im = -1, coh = -1;
+    ident::FrfQuantity q = ident::FrfQuantity::accelerance;
+  };
+  std::vector<std::string> order;
+  std::map<std::string, Cols> cols;
+  std::string force_unit;
+  for (std::size_t c = 1; c < t.header.size(); ++c) {
+    const std::string& h = t.header[c];
+    for (const char* part : {"_re_", "_im_"}) {
+      const auto p = h.rfind(part);
+      if (p == std::string::npos) continue;
+      const std::string name = h.substr(0, p), rest = h.substr(p + 4);
+      const auto per = rest.find("_per_");
+      if (per == std::string::npos) throw InputError(path + ": column '" + h + "' lacks '_per_<force unit>'");
+      const std::string fu = rest.substr(per + 5);
+      if (fu != "N" && fu != "kN") throw InputError(path + ": column '" + h + "': force unit must be N or kN");
+      if (!force_unit.empty() && fu != force_unit) throw InputError(path + ": columns mix force units");
+      force_unit = fu;
+      if (!cols.count(name)) order.push_back(name);
+      Cols& cc = cols[name];
+      try {
+        cc.q = ident::quantity_of_unit(rest.substr(0, per));
+      } catch (const InputError& e) {
+        throw InputError(path + ": column '" + h + "': " + e.what());
+      }
+      (std::string(part) == "_re_" ? cc.re : cc.im) = static_cast<int>(c);
+      break;
+    }
+    const std::string suffix = "_coherence";
+    if (h.size() > suffix.size() && h.compare(h.size() - suffix.size(), suffix.size(), suffix) == 0) {
+      const std::string name = h.substr(0, h.size() - suffix.size());
+      if (!cols.count(name)) order.push_back(name);
+      cols[name].coh = static_cast<int>(c);
+    }
+  }
+  if (order.empty()) throw InputError(path + ": no '<name>_re_<unit>_per_N' column: not an FRF file");
+  bool any_coh = false, all_coh = true;
+  for (const auto& n : order) {
+    const Cols& cc = cols[n];
+    if (cc.re < 0 || cc.im < 0) throw InputError(path + ": response '" + n + "' needs both _re_ and _im_ columns");
+    any_coh = any_coh || cc.coh >= 0;
+    all_coh = all_coh && cc.coh >= 0;
+  }
+  const Index nf = static_cast<Index>(t.rows.size()), nr = static_cast<Index>(order.size());
+  frf.force_unit = force_unit;
+  frf.frequency_hz.resize(nf);
+  frf.h.resize(nf, nr);
+  if (any_coh && all_coh) frf.coherence.resize(nf, nr);
+  for (Index k = 0; k < nf; ++k) {
+    const auto& row = t.rows[static_cast<std::size_t>(k)];
+    frf.frequency_hz[k] = row[0];
+    if (k > 0 && !(row[0] > frf.frequency_hz[k - 1]))
+      throw InputError(path + ":" + std::to_string(t.line_of_row[static_cast<std::size_t>(k)]) + ": frequencies must increase");
+    for (Index c = 0; c < nr; ++c) {
+      const Cols& cc = cols[order[static_cast<std::size_t>(c)]];
+      frf.h(k, c) = {row[static_cast<std::size_t>(cc.re)], row[static_cast<std::size_t>(cc.im)]};
+      if (frf.coherence.size()) frf.coherence(k, c) = row[static_cast<std::size_t>(cc.coh)];
+    }
+  }
+  for (const auto& n : order) {
+    frf.responses.push_back(n);
+    frf.quantity.push_back(cols[n].q);
+  }
+  frf.check(path);
+  return frf;
+}
+
+void write_steps_csv(const std::string& path, const std::vector<ident::SineStep>& steps) {
+  std::ofstream out(path);
+  if (!out) throw SolverError("cannot write " + path);
+  out << "t_start_s,t_end_s,frequency_hz\n";
+  for (const auto& s : steps) out << fmt(s.t_start_s) << "," << fmt(s.t_end_s) << "," << fmt(s.frequency_hz) << "\n";
+  if (!out) throw SolverError("write failed: " + path);
+}
+
+std::vector<ident::SineStep> read_steps_csv(const std::string& path) {
+  const Table t = read_table(path);
+  if (t.header != std::vector<std::string>{"t_start_s", "t_end_s", "frequency_hz"})
+    throw InputError(path + ": the header must be t_start_s,t_end_s,frequency_hz");
+  std::vector<ident::SineStep> s;
+  for (std::size_t k = 0; k < t.rows.size(); ++k) {
+    const auto& r = t.rows[k];
+    const std::string where = path + ":" + std::to_string(t.line_of_row[k]) + ": ";
+    if (!(r[1] > r[0])) throw InputError(where + "t_end_s must exceed t_start_s");
+    if (!(r[2] > 0.0)) throw InputError(where + "frequency_hz must be > 0");
+    s.push_back({r[0], r[1], r[2]});
+  }
+  return s;
+}
+
+}  // namespace viaduct::io
