@@ -18,18 +18,21 @@ struct Line {
   double at(double x) const { return intercept + slope * (x - x_mean); }
 };
 
-Line fit_line(const std::vector<double>& x, const std::vector<double>& y) {
+// Weighted least-squares line (weights w >= 0; empty w: all 1).
+Line fit_line(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& w = {}) {
   Line l;
   const std::size_t n = x.size();
   if (n < 2) return l;
-  double mx = 0.0, my = 0.0;
-  for (std::size_t i = 0; i < n; ++i) mx += x[i], my += y[i];
-  mx /= static_cast<double>(n);
-  my /= static_cast<double>(n);
+  auto wt = [&](std::size_t i) { return w.empty() ? 1.0 : w[i]; };
+  double sw = 0.0, mx = 0.0, my = 0.0;
+  for (std::size_t i = 0; i < n; ++i) sw += wt(i), mx += wt(i) * x[i], my += wt(i) * y[i];
+  if (!(sw > 0.0)) return l;
+  mx /= sw;
+  my /= sw;
   double sxx = 0.0, sxy = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    sxx += (x[i] - mx) * (x[i] - mx);
-    sxy += (x[i] - mx) * (y[i] - my);
+    sxx += wt(i) * (x[i] - mx) * (x[i] - mx);
+    sxy += wt(i) * (x[i] - mx) * (y[i] - my);
   }
   l.x_mean = mx;
   l.intercept = my;
@@ -177,25 +180,32 @@ DecayResult analyse_decay(const Vector& x, double fs_hz, double t0_s, const Deca
                      " s above the noise, at least " + std::to_string(o.min_cycles) + " needed");
 
   // Zero crossings (upwards) → damped period.
-  std::vector<double> kx, tx;
+  // Each crossing's timing error is about noise/(amplitude·ω): weights amplitude².
+  std::vector<double> kx, tx, wx;
   for (Index j = index_of(a); j < index_of(b); ++j)
     if (y[j] < 0.0 && y[j + 1] >= 0.0) {
       const double frac = y[j] / (y[j] - y[j + 1]);
       kx.push_back(static_cast<double>(kx.size()));
       tx.push_back(time_of(j) + frac / fs_hz);
+      wx.push_back(env[j] * env[j]);
     }
   if (kx.size() < 3) throw InputError("decay: fewer than 3 zero crossings in the decay");
-  const double wd = 2.0 * M_PI / fit_line(kx, tx).slope;
+  const double wd = 2.0 * M_PI / fit_line(kx, tx, wx).slope;
 
   // Half-cycle peaks → envelope fit; positive peaks → logarithmic decrement.
-  std::vector<double> tp, lp;
+  // ln(peak) has an error of about noise/peak: weights peak².
+  std::vector<double> tp, lp, wp;
   for (const auto& p : half)
-    if (p.t >= a && p.t <= b) tp.push_back(p.t), lp.push_back(std::log(p.value));
+    if (p.t >= a && p.t <= b) tp.push_back(p.t), lp.push_back(std::log(p.value)), wp.push_back(p.value * p.value);
   std::vector<TimedPeak> pw;
   for (const auto& p : pos)
     if (p.t >= a && p.t <= b) pw.push_back(p);
   if (pw.size() < 3 || tp.size() < 4) throw InputError("decay: fewer than 3 cycle peaks in the decay");
-  const double sigma_env = -fit_line(tp, lp).slope;
+  const Line env_line = fit_line(tp, lp, wp);
+  const double sigma_env = -env_line.slope;
+  double ss = 0.0;
+  for (std::size_t k = 0; k < tp.size(); ++k) ss += std::pow(lp[k] - env_line.at(tp[k]), 2);
+  r.envelope_residual = std::sqrt(ss / static_cast<double>(tp.size()));
   const double wn = std::sqrt(wd * wd + sigma_env * sigma_env);
   r.frequency_hz = wn / (2.0 * M_PI);
   r.zeta_envelope_fit = sigma_env / wn;
@@ -203,13 +213,14 @@ DecayResult analyse_decay(const Vector& x, double fs_hz, double t0_s, const Deca
   r.zeta_log_decrement = delta / std::sqrt(4.0 * M_PI * M_PI + delta * delta);
 
   // Hilbert envelope and phase over the whole window.
+  // ln(envelope) and phase both have errors of about noise/envelope: weights envelope².
   auto hilbert_fit = [&](double ta, double tb, double* sigma, double* w_d, double* amp_mid) {
-    std::vector<double> t, le, ph;
+    std::vector<double> t, le, ph, w;
     for (Index j = index_of(ta); j <= index_of(tb); ++j)
-      if (env[j] > 0.0) t.push_back(time_of(j)), le.push_back(std::log(env[j])), ph.push_back(phase[j]);
-    const Line l = fit_line(t, le);
+      if (env[j] > 0.0) t.push_back(time_of(j)), le.push_back(std::log(env[j])), ph.push_back(phase[j]), w.push_back(env[j] * env[j]);
+    const Line l = fit_line(t, le, w);
     *sigma = -l.slope;
-    *w_d = std::abs(fit_line(t, ph).slope);
+    *w_d = std::abs(fit_line(t, ph, w).slope);
     if (amp_mid) *amp_mid = std::exp(l.at(0.5 * (ta + tb)));
   };
   double sh = 0.0, wdh = 0.0;

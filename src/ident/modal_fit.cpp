@@ -41,6 +41,72 @@ double crossing(const Vector& f, const Vector& mag, Index a, Index b, double lev
   return fa + (level - ya) * (fb - fa) / (yb - ya);
 }
 
+struct HalfPower {
+  bool found = false;  ///< the channel has a local maximum near the indicator's peak
+  Index channel = 0;
+  Index index = 0;     ///< line of the maximum
+  double f_peak = 0.0, zeta = std::numeric_limits<double>::quiet_NaN();
+  std::string note;
+};
+
+// Peak of |Y| within two lines of `near` (a true local maximum), refined by a parabola, and
+// the half-power damping (f2 − f1)/(2 f) of a viscous mode on mobility.
+HalfPower half_power(const Vector& f, const Vector& y, Index near, Index channel) {
+  HalfPower r;
+  r.channel = channel;
+  const Index nb = f.size();
+  Index j = near;
+  for (Index d = -2; d <= 2; ++d) {
+    const Index q = near + d;
+    if (q >= 0 && q < nb && y[q] > y[j]) j = q;
+  }
+  if (j == 0 || j == nb - 1 || !(y[j] >= y[j - 1] && y[j] >= y[j + 1])) return r;
+  r.found = true;
+  r.index = j;
+  double fpk = f[j], ypk = y[j];
+  const double y0 = y[j - 1], y1 = y[j], y2 = y[j + 1];
+  const double den = y0 - 2.0 * y1 + y2;
+  if (den < 0.0) {
+    const double off = 0.5 * (y0 - y2) / den;  // in lines, (-0.5, 0.5)
+    const double h = off >= 0.0 ? f[j + 1] - f[j] : f[j] - f[j - 1];
+    fpk = f[j] + off * h;
+    ypk = y1 - 0.25 * (y0 - y2) * off;
+  }
+  r.f_peak = fpk;
+  const double level = ypk / std::sqrt(2.0);
+  double f1 = std::numeric_limits<double>::quiet_NaN(), f2 = f1;
+  // Walk down each flank to the half-power level; a rise of more than a quarter of the way
+  // from the level to the peak above the lowest point so far is another mode (noise rises
+  // less).
+  const double rise = 0.25 * (ypk - level);
+  double lowest = ypk;
+  for (Index q = j; q > 0; --q) {
+    if (y[q - 1] < level) {
+      f1 = crossing(f, y, q - 1, q, level);
+      break;
+    }
+    lowest = std::min(lowest, y[q - 1]);
+    if (y[q - 1] > lowest + rise) break;
+  }
+  lowest = ypk;
+  for (Index q = j; q < nb - 1; ++q) {
+    if (y[q + 1] < level) {
+      f2 = crossing(f, y, q, q + 1, level);
+      break;
+    }
+    lowest = std::min(lowest, y[q + 1]);
+    if (y[q + 1] > lowest + rise) break;
+  }
+  if (std::isfinite(f1) && std::isfinite(f2)) {
+    r.zeta = (f2 - f1) / (2.0 * fpk);
+    const double df = 0.5 * (f[j + 1] - f[j - 1]);
+    if ((f2 - f1) < 4.0 * df) r.note = "fewer than 4 frequency lines within the half-power band: damping is resolution-limited";
+  } else {
+    r.note = "no half-power point on one side before the next mode or the band edge (overlapping modes)";
+  }
+  return r;
+}
+
 }  // namespace
 
 bool PeakPickingOptions::is_valid(std::string* why) const {
@@ -86,67 +152,33 @@ std::vector<IdentifiedMode> peak_picking(const Frf& frf, const PeakPickingOption
   const auto peaks = signal::find_peaks(indicator, po, signal::Interpolation::parabolic);
   std::vector<IdentifiedMode> modes;
   for (const auto& pk : peaks) {
+    // Half-power damping on every channel that peaks here; the median channel is reported.
+    std::vector<HalfPower> per;
+    for (Index c = 0; c < nr; ++c) {
+      const HalfPower h = half_power(f, mag.col(c), pk.index, c);
+      if (h.found) per.push_back(h);
+    }
     IdentifiedMode m;
-    // The channel that responds most (relative to its own maximum) at this peak.
-    Index c = 0;
-    double best = -1.0;
-    for (Index r = 0; r < nr; ++r) {
-      const double v = mag(pk.index, r) / std::max(mag.col(r).maxCoeff(), 1e-300);
-      if (v > best) best = v, c = r;
+    if (per.empty()) continue;  // no channel peaks here (the indicator's peak comes from their sum)
+    std::vector<HalfPower> valid;
+    for (const auto& h : per)
+      if (std::isfinite(h.zeta)) valid.push_back(h);
+    const std::vector<HalfPower>& pool = valid.empty() ? per : valid;
+    std::vector<std::size_t> order(pool.size());
+    for (std::size_t q = 0; q < order.size(); ++q) order[q] = q;
+    std::sort(order.begin(), order.end(), [&](auto x, auto y) { return pool[x].zeta < pool[y].zeta; });
+    const HalfPower& h = pool[order[order.size() / 2]];
+    m.response = h.channel;
+    m.frequency_hz = h.f_peak;
+    m.damping_ratio = h.zeta;
+    m.note = h.note;
+    if (valid.size() >= 2) {
+      const double lo = pool[order.front()].zeta, hi = pool[order.back()].zeta;
+      if (hi > 1.3 * lo)
+        m.note = "channels disagree on damping (" + std::to_string(100 * lo).substr(0, 5) + " to " +
+                 std::to_string(100 * hi).substr(0, 5) + " %): closely spaced modes? use LSCF";
     }
-    m.response = c;
-    const Vector y = mag.col(c);
-    Index j = pk.index;
-    for (Index d = -2; d <= 2; ++d) {
-      const Index q = pk.index + d;
-      if (q >= 0 && q < nb && y[q] > y[j]) j = q;
-    }
-    double fpk = f[j], ypk = y[j];
-    if (j > 0 && j < nb - 1) {
-      const double y0 = y[j - 1], y1 = y[j], y2 = y[j + 1];
-      const double den = y0 - 2.0 * y1 + y2;
-      if (den < 0.0) {
-        const double off = 0.5 * (y0 - y2) / den;  // in samples, (-0.5, 0.5)
-        const double h = off >= 0.0 ? f[j + 1] - f[j] : f[j] - f[j - 1];
-        fpk = f[j] + off * h;
-        ypk = y1 - 0.25 * (y0 - y2) * off;
-      }
-    }
-    m.frequency_hz = fpk;
-    const double level = ypk / std::sqrt(2.0);
-    double f1 = std::numeric_limits<double>::quiet_NaN(), f2 = f1;
-    // Walk down each flank to the half-power level; a rise of more than a quarter of the way
-    // from the level to the peak above the lowest point so far is another mode (noise rises
-    // less).
-    const double rise = 0.25 * (ypk - level);
-    double lowest = ypk;
-    for (Index q = j; q > 0; --q) {
-      if (y[q - 1] < level) {
-        f1 = crossing(f, y, q - 1, q, level);
-        break;
-      }
-      lowest = std::min(lowest, y[q - 1]);
-      if (y[q - 1] > lowest + rise) break;
-    }
-    lowest = ypk;
-    for (Index q = j; q < nb - 1; ++q) {
-      if (y[q + 1] < level) {
-        f2 = crossing(f, y, q, q + 1, level);
-        break;
-      }
-      lowest = std::min(lowest, y[q + 1]);
-      if (y[q + 1] > lowest + rise) break;
-    }
-    if (std::isfinite(f1) && std::isfinite(f2)) {
-      m.damping_ratio = (f2 - f1) / (2.0 * fpk);
-      const double df = std::max(f[std::min(j + 1, nb - 1)] - f[std::max<Index>(j - 1, 0)], 0.0) / 2.0;
-      if ((f2 - f1) < 4.0 * df)
-        m.note = "fewer than 4 frequency lines within the half-power band: damping is resolution-limited";
-    } else {
-      m.damping_ratio = std::numeric_limits<double>::quiet_NaN();
-      m.note = "no half-power point on one side before the next mode or the band edge (overlapping modes)";
-    }
-    m.shape = rec.row(j).transpose();
+    m.shape = rec.row(h.index).transpose();
     normalise_shape(m.shape);
     modes.push_back(m);
   }

@@ -80,11 +80,20 @@ void add_forced_options(po::options_description& d) {
 
 io::Record load_record(const std::string& path) { return io::read_record(path); }
 
-// FRF names and quantities from record channels.
+// FRF names and quantities from record channels: "S1_mid_acc_mps2" gives the sensor "S1_mid"
+// (the quantity tag _acc, _vel or _disp goes, as the unit says it), matching station names.
 void label(ident::Frf& frf, const io::Record& r, const std::vector<std::size_t>& chans, const std::string& force_unit) {
   frf.force_unit = force_unit;
   for (std::size_t c : chans) {
-    frf.responses.push_back(r.channels[c].substr(0, r.channels[c].size() - r.units[c].size() - 1));
+    std::string name = r.channels[c].substr(0, r.channels[c].size() - r.units[c].size() - 1);
+    for (const char* tag : {"_acc", "_vel", "_disp"}) {
+      const std::string t = tag;
+      if (name.size() > t.size() && name.compare(name.size() - t.size(), t.size(), t) == 0) {
+        name.resize(name.size() - t.size());
+        break;
+      }
+    }
+    frf.responses.push_back(name);
     frf.quantity.push_back(ident::quantity_of_unit(r.units[c]));
   }
 }
@@ -284,7 +293,7 @@ Command shaker_command() {
   c.usage_and_samples =
       "Integrates the structure from rest under a sine force at --force-at (Newmark, fine enough\n"
       "steps that the drive frequencies are exact to 1e-4) and writes OUT/record.csv (t_s, force_N,\n"
-      "<response>_<unit>) and, for stepped sine, OUT/steps.csv: the inputs of viaduct frf.\n\n"
+      "<response>_acc_mps2, or _vel_mps / _disp_m) and, for stepped sine, OUT/steps.csv: the inputs of viaduct frf.\n\n"
       "Sample runs:\n"
       "  viaduct shaker scenarios/old-guadiana-talgo.toml --force-at 6 --stepped 9:11:0.5 --dwell-s 6 --out out/shaker\n"
       "  viaduct shaker scenarios/hslm-simply-supported.toml --force-at 5 --swept 2:30 --sweep-s 60 --snr-db 40 --out out/sweep\n";
@@ -333,8 +342,11 @@ Command shaker_command() {
     rec.channels.push_back("force_N");
     rec.units.push_back("N");
     const std::string unit = ident::unit_of_quantity(setup.quantity);
+    const std::string what = setup.quantity == ident::FrfQuantity::accelerance ? "_acc_"
+                             : setup.quantity == ident::FrfQuantity::mobility  ? "_vel_"
+                                                                               : "_disp_";
     for (const auto& n : r.names) {
-      rec.channels.push_back(n + "_" + unit);
+      rec.channels.push_back(n + what + unit);
       rec.units.push_back(unit);
     }
     rec.data.resize(r.force.size(), 1 + r.responses.cols());
@@ -543,6 +555,7 @@ Command decay_command() {
         const ident::DecayResult r = ident::analyse_decay(rec.data.col(static_cast<Index>(ch)), rec.fs_hz, rec.t0_s, d);
         rows.push_back({path, rec.channels[ch], fmt(r.start_s), r.start_detected ? "detected" : "given", fmt(r.end_s),
                         fmt(r.n_cycles, "%.1f"), fmt(r.frequency_hz), fmt(r.zeta_log_decrement), fmt(r.zeta_envelope_fit),
+                        fmt(r.envelope_residual, "%.4f"),
                         fmt(r.zeta_hilbert), fmt(r.frequency_hilbert_hz), fmt(r.amplitude_start), fmt(r.amplitude_end),
                         fmt(r.law_zeta0), fmt(r.law_zeta_slope), fmt(r.law_f0_hz), fmt(r.law_f_slope_hz)});
         for (const auto& p : r.by_amplitude)
@@ -562,7 +575,7 @@ Command decay_command() {
     make_out_dir(o.out);
     io::write_table_csv(o.out + "/decay.csv",
                         {"record", "channel", "start_s", "start", "end_s", "n_cycles", "frequency_hz", "zeta_log_decrement",
-                         "zeta_envelope_fit", "zeta_hilbert", "frequency_hilbert_hz", "amplitude_start", "amplitude_end",
+                         "zeta_envelope_fit", "envelope_residual", "zeta_hilbert", "frequency_hilbert_hz", "amplitude_start", "amplitude_end",
                          "law_zeta0", "law_zeta_per_amplitude", "law_f0_hz", "law_f_hz_per_amplitude"},
                         rows);
     io::write_table_csv(o.out + "/decay_amplitude.csv", {"record", "t_s", "amplitude", "frequency_hz", "damping_ratio"}, amp_rows);

@@ -29,7 +29,7 @@ struct DecayOptions {
   /// (the envelope's median over the record's last 5 %) or the record ends.
   double end_s = std::numeric_limits<double>::quiet_NaN();
   double noise_factor = 5.0;   ///< [-] >= 1
-  double skip_cycles = 2.0;    ///< [-] cycles left out after the start (filter transients), >= 0
+  double skip_cycles = 4.0;    ///< [-] cycles left out after the start (filter transients), >= 0
   double min_cycles = 5.0;     ///< [-] a decay shorter than this is an InputError, >= 2
   double window_cycles = 4.0;  ///< [-] window of the amplitude-dependent estimates, >= 1
   /// [-] start detection: a rise from one half-cycle peak to the next by more than this fraction
@@ -51,10 +51,16 @@ struct DecayResult {
   bool start_detected = false;
   double end_s = 0.0;          ///< [s] end of the analysis window
   double n_cycles = 0.0;       ///< cycles analysed
-  double frequency_hz = 0.0;   ///< [Hz] natural frequency from zero crossings and the envelope fit's σ
+  /// [Hz] natural frequency from the upward zero crossings (least squares, weighted by the
+  /// envelope², as their timing error is about noise/(amplitude·ω)) and the envelope fit's σ
+  double frequency_hz = 0.0;
   double zeta_log_decrement = 0.0;  ///< [-] from the first and last positive peak
-  double zeta_envelope_fit = 0.0;   ///< [-] least-squares line through the logs of all half-cycle peaks
-  double zeta_hilbert = 0.0;        ///< [-] least-squares line through the log Hilbert envelope
+  double zeta_envelope_fit = 0.0;   ///< [-] line through the logs of all half-cycle peaks (weights peak²)
+  /// [-] rms residual of that line (in ln units): about the noise-to-amplitude ratio for one
+  /// viscous mode; larger when the envelope is not exponential (two modes beating in the band,
+  /// amplitude-dependent damping, forcing left in the window)
+  double envelope_residual = 0.0;
+  double zeta_hilbert = 0.0;        ///< [-] line through the log Hilbert envelope (weights envelope²)
   double frequency_hilbert_hz = 0.0;  ///< [Hz] from the slope of the analytic signal's phase
   double amplitude_start = 0.0;  ///< envelope at the start of the analysis window
   double amplitude_end = 0.0;    ///< envelope at its end

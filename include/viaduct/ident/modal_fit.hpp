@@ -38,11 +38,12 @@ struct PeakPickingOptions {
   bool is_valid(std::string* why) const;
 };
 
-/// Peaks of the mode indicator Σ_o |Y_o|/max|Y_o| (Y: mobility); at each, the natural frequency
-/// from the peak of the channel that responds most (parabola through three points), damping from
-/// its half-power points (|Y| = peak/√2, linear interpolation; NaN with a note when a crossing lies
-/// beyond the neighbouring minimum, i.e. the modes overlap), and the shape from the receptance's
-/// quadrature response at the peak. Resolution-limited: a bin width of Δf biases f by up to
+/// Peaks of the mode indicator Σ_o |Y_o|/max|Y_o| (Y: mobility); at each, every channel that
+/// peaks there gives a natural frequency (parabola through three lines) and half-power damping
+/// (|Y| = peak/√2, linear interpolation; NaN when a crossing lies beyond the neighbouring
+/// minimum, i.e. the modes overlap); the channel with the median damping is reported, with a
+/// note when the channels disagree by more than 30 % (closely spaced modes add on some sensors
+/// and cancel on others). The shape is the receptance at that line across the channels. Resolution-limited: a bin width of Δf biases f by up to
 /// Δf/2 and damping by (Δf/f)/ζ relatively.
 std::vector<IdentifiedMode> peak_picking(const Frf& frf, const PeakPickingOptions& o = {});
 

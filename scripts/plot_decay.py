@@ -1,0 +1,66 @@
+#!/usr/bin/python3
+"""Damping and frequency against amplitude from `viaduct decay`.
+
+Usage: scripts/plot_decay.py DIR [--out FILE]
+
+Reads DIR/decay_amplitude.csv (windows along each decay) and DIR/decay.csv (one row per
+record, with the fitted linear laws); draws damping ratio and natural frequency against
+amplitude, one colour per record, with each record's law as a line. Writes DIR/decay.png.
+"""
+import argparse
+import csv
+import os
+import sys
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def rows_of(path):
+    if not os.path.exists(path):
+        sys.exit(f"plot_decay.py: {path} not found (run viaduct decay first)")
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("dir")
+    ap.add_argument("--out")
+    a = ap.parse_args()
+    pts = rows_of(os.path.join(a.dir, "decay_amplitude.csv"))
+    recs = rows_of(os.path.join(a.dir, "decay.csv"))
+    if not pts:
+        sys.exit("plot_decay.py: no amplitude windows to draw")
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
+    for i, r in enumerate(recs):
+        sel = [p for p in pts if p["record"] == r["record"]]
+        amp = [float(p["amplitude"]) for p in sel]
+        c = f"C{i % 10}"
+        name = os.path.basename(os.path.dirname(r["record"])) or r["record"]
+        ax[0].plot(amp, [100 * float(p["damping_ratio"]) for p in sel], "o", ms=3, color=c, label=name)
+        ax[1].plot(amp, [float(p["frequency_hz"]) for p in sel], "o", ms=3, color=c)
+        if amp:
+            lo, hi = min(amp), max(amp)
+            xs = [lo * (hi / lo) ** (k / 50) for k in range(51)] if lo > 0 else [lo, hi]
+            z0, z1 = float(r["law_zeta0"]), float(r["law_zeta_per_amplitude"])
+            f0, f1 = float(r["law_f0_hz"]), float(r["law_f_hz_per_amplitude"])
+            ax[0].plot(xs, [100 * (z0 + z1 * x) for x in xs], "-", color=c, lw=1)
+            ax[1].plot(xs, [f0 + f1 * x for x in xs], "-", color=c, lw=1)
+    ax[0].set_ylabel("damping ratio [%]")
+    ax[1].set_ylabel("natural frequency [Hz]")
+    for x in ax:
+        x.set_xscale("log")
+        x.set_xlabel("amplitude (envelope of the band-passed record)")
+        x.grid(True, alpha=0.3)
+    ax[0].legend(fontsize=8)
+    fig.suptitle("Free decay: damping and frequency against amplitude")
+    fig.tight_layout()
+    out = a.out or os.path.join(a.dir, "decay.png")
+    fig.savefig(out, dpi=120)
+    print(f"wrote {out}")
+
+
+if __name__ == "__main__":
+    main()
