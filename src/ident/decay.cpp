@@ -209,7 +209,12 @@ DecayResult analyse_decay(const Vector& x, double fs_hz, double t0_s, const Deca
   const double wn = std::sqrt(wd * wd + sigma_env * sigma_env);
   r.frequency_hz = wn / (2.0 * M_PI);
   r.zeta_envelope_fit = sigma_env / wn;
-  const double delta = std::log(pw.front().value / pw.back().value) / static_cast<double>(pw.size() - 1);
+  // Over the cycles down to e^{-2} of the first peak: more cycles average the noise, a last peak
+  // near the noise floor adds it back (error ≈ (ε/p₀ + ε/p_N)/N).
+  std::size_t last = 1;
+  while (last + 1 < pw.size() && pw[last + 1].value >= pw.front().value * std::exp(-2.0)) ++last;
+  last = std::max<std::size_t>(last, std::min<std::size_t>(2, pw.size() - 1));
+  const double delta = std::log(pw.front().value / pw[last].value) / static_cast<double>(last);
   r.zeta_log_decrement = delta / std::sqrt(4.0 * M_PI * M_PI + delta * delta);
 
   // Hilbert envelope and phase over the whole window.

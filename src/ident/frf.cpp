@@ -9,15 +9,6 @@ namespace viaduct::ident {
 
 namespace {
 
-int order_of(FrfQuantity q) {
-  switch (q) {
-    case FrfQuantity::receptance: return 0;
-    case FrfQuantity::mobility: return 1;
-    case FrfQuantity::accelerance: return 2;
-  }
-  return 0;
-}
-
 void check_signal(const Vector& x, const char* what) {
   if (x.size() == 0) throw InputError(std::string(what) + " is empty");
   if (!x.allFinite()) throw InputError(std::string(what) + " holds NaN or infinite samples");
@@ -32,6 +23,15 @@ void check_force_nonzero(const Vector& f) {
 }
 
 }  // namespace
+
+int derivative_order(FrfQuantity q) {
+  switch (q) {
+    case FrfQuantity::receptance: return 0;
+    case FrfQuantity::mobility: return 1;
+    case FrfQuantity::accelerance: return 2;
+  }
+  return 0;
+}
 
 FrfQuantity quantity_of_unit(const std::string& unit) {
   if (unit == "m") return FrfQuantity::receptance;
@@ -64,7 +64,7 @@ void Frf::check(const std::string& what) const {
 }
 
 ComplexVector convert(const Vector& frequency_hz, const ComplexVector& h, FrfQuantity from, FrfQuantity to) {
-  const int k = order_of(to) - order_of(from);
+  const int k = derivative_order(to) - derivative_order(from);
   ComplexVector out = h;
   if (k == 0) return out;
   for (Index j = 0; j < h.size(); ++j) {

@@ -28,10 +28,6 @@ std::complex<double> read(const model::PointCoupling& p, const Eigen::VectorXcd&
   return v;
 }
 
-int order_of(ident::FrfQuantity q) {
-  return q == ident::FrfQuantity::accelerance ? 2 : q == ident::FrfQuantity::mobility ? 1 : 0;
-}
-
 // The exciter's force F(t) distributed on the deck element's DOFs.
 class ExciterSystem : public solve::SecondOrderSystem {
  public:
@@ -106,7 +102,7 @@ ident::Frf model_frf(const model::Structure& s, const ForcedSetup& setup, const 
   std::mutex mu;
   std::size_t done = 0;
   std::string failure;
-  const int k_order = order_of(setup.quantity);
+  const int k_order = ident::derivative_order(setup.quantity);
   parallel_for(static_cast<std::size_t>(frequency_hz.size()), nt, [&](std::size_t i, int worker) {
     const double w = 2.0 * M_PI * frequency_hz[static_cast<Index>(i)];
     const ComplexSparse A = Kc - (w * w) * Mc + std::complex<double>(0.0, w) * Cc;

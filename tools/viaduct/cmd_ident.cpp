@@ -211,7 +211,8 @@ int frf_from_record(const Common& o, const po::variables_map& vm) {
       std::printf("stepped sine: %ld steps; worst settle change %.2e, worst distortion (THD+N) %.2e; wrote %s/stepped.csv\n",
                   static_cast<long>(n), worst_settle, worst_dist, o.out.c_str());
       if (worst_settle > 0.05)
-        std::fprintf(stderr, "viaduct frf: warning: a step changed by %.0f %% between its halves: not settled? raise --settle-cycles\n",
+        std::fprintf(stderr, "viaduct frf: warning: a step's FRF changed by %.0f %% between the halves of its dwell (transient left, "
+                     "or noise on a small response): see settle_change in stepped.csv; raise --settle-cycles if it is the transient\n",
                      100 * worst_settle);
     }
   } else if (method == "swept") {
@@ -379,7 +380,8 @@ Command modal_fit_command() {
   c.positional = "FRF";
   c.summary = "modal parameters from an FRF file: peak picking, circle fit, LSCF + stabilization, MAC";
   c.add_options = [](po::options_description& d) {
-    d.add_options()("f-min", po::value<double>()->default_value(0.0), "[Hz] band fitted")(
+    d.add_options()("no-refine", po::bool_switch(), "LSCF: keep the stabilization diagram's values (no refinement, no split test)")(
+        "f-min", po::value<double>()->default_value(0.0), "[Hz] band fitted")(
         "f-max", po::value<double>()->default_value(1e9), "[Hz] band fitted")(
         "max-order", po::value<int>()->default_value(40), "LSCF: largest model order (even)")(
         "cluster-tol", po::value<double>()->default_value(0.005), "LSCF: relative frequency spread of one mode's stable poles")(
@@ -390,7 +392,9 @@ Command modal_fit_command() {
   };
   c.usage_and_samples =
       "FRF is a frf.csv written by viaduct frf (measured or model). Writes OUT/modes.csv\n"
-      "(method,mode,frequency_hz,damping_ratio,response,note for peak picking, circle fit and LSCF),\n"
+      "(method,mode,frequency_hz,damping_ratio,response,note for peak picking, circle fit, the LSCF\n"
+      "stabilization diagram's modes (lscf-diagram) and the final LSCF modes (lscf: poles refined by\n"
+      "nonlinear least squares on the FRFs, clusters hiding two modes split by a residual test)),\n"
       "OUT/shapes.csv, OUT/stabilization.csv (every physical pole of every order, with its status)\n"
       "and, with --model, OUT/mac.csv (identified LSCF modes against the model's modes).\n"
       "Plot with scripts/plot_stabilization.py OUT.\n\n"
@@ -431,7 +435,9 @@ Command modal_fit_command() {
     lo.f_max_hz = f1;
     lo.max_order = vm["max-order"].as<int>();
     lo.cluster_tol = vm["cluster-tol"].as<double>();
+    lo.refine = !vm["no-refine"].as<bool>();
     const ident::LscfResult ls = ident::lscf(frf, lo);
+    for (std::size_t k = 0; k < ls.diagram_modes.size(); ++k) add_mode("lscf-diagram", k, ls.diagram_modes[k]);
     for (std::size_t k = 0; k < ls.modes.size(); ++k) add_mode("lscf", k, ls.modes[k]);
     make_out_dir(o.out);
     io::write_table_csv(o.out + "/modes.csv", {"method", "mode", "frequency_hz", "damping_ratio", "response", "note"}, mode_rows);

@@ -54,7 +54,9 @@ struct DecayResult {
   /// [Hz] natural frequency from the upward zero crossings (least squares, weighted by the
   /// envelope², as their timing error is about noise/(amplitude·ω)) and the envelope fit's σ
   double frequency_hz = 0.0;
-  double zeta_log_decrement = 0.0;  ///< [-] from the first and last positive peak
+  /// [-] logarithmic decrement from the first positive peak to the last one above e^{-2} of it
+  /// (at least two cycles)
+  double zeta_log_decrement = 0.0;
   double zeta_envelope_fit = 0.0;   ///< [-] line through the logs of all half-cycle peaks (weights peak²)
   /// [-] rms residual of that line (in ln units): about the noise-to-amplitude ratio for one
   /// viscous mode; larger when the envelope is not exponential (two modes beating in the band,

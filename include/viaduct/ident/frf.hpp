@@ -26,6 +26,10 @@ using ComplexMatrix = Eigen::MatrixXcd;
 /// (m → receptance, mps → mobility, mps2 → accelerance).
 enum class FrfQuantity { receptance, mobility, accelerance };
 
+/// Time derivatives of displacement the quantity is: 0 receptance, 1 mobility, 2 accelerance
+/// (an FRF of that quantity is (iω)^k times the receptance).
+int derivative_order(FrfQuantity q);
+
 /// FrfQuantity of a record unit suffix ("m", "mps", "mps2"); InputError for any other unit.
 FrfQuantity quantity_of_unit(const std::string& unit);
 /// The unit suffix of a quantity ("m", "mps", "mps2").

@@ -78,6 +78,14 @@ struct LscfOptions {
   double cluster_tol = 0.005;   ///< [-] stable poles closer than this (relative f) form one mode
   /// [-] a cluster is a mode when it holds stable poles from at least this fraction of the orders
   double min_cluster_fraction = 0.3;
+  /// Refine the selected poles by nonlinear least squares on the FRFs themselves (see
+  /// refine_poles): removes the bias of the linearised LSCF equations at high damping and noise.
+  bool refine = true;
+  /// [-] with refine: each mode is also tried as two poles; the split is kept when the residual
+  /// sum of squares falls by more than this fraction (0: no test), in [0, 1)
+  double split_gain = 0.2;
+  /// [-] ... and by more than this share of the FRFs' weighted energy (1e-4: −40 dB), >= 0
+  double split_min_share = 1e-4;
   bool is_valid(std::string* why) const;
 };
 
@@ -93,7 +101,8 @@ struct StabilizationPole {
 struct LscfResult {
   std::vector<StabilizationPole> poles;  ///< every physical pole of every order
   std::vector<int> orders;               ///< orders computed
-  std::vector<IdentifiedMode> modes;     ///< selected from the diagram, shapes by LSFD
+  std::vector<IdentifiedMode> modes;     ///< selected from the diagram, refined (LscfOptions::refine), shapes by LSFD
+  std::vector<IdentifiedMode> diagram_modes;  ///< the same before refinement (cluster medians)
   double f_min_hz = 0.0, f_max_hz = 0.0; ///< band actually fitted
 };
 
@@ -101,7 +110,9 @@ struct LscfResult {
 /// weighted by the inverse of its rms magnitude; denominator orders 2, 4, … max_order; poles
 /// compared order to order; stable poles clustered into modes (median f and ζ of the cluster;
 /// a cluster with k poles of one order is split into k modes, so closely spaced modes stay apart);
-/// shapes from an LSFD fit of the receptances with those poles plus lower and upper residuals.
+/// refined by refine_poles() (LscfOptions::refine) and tested for a hidden second mode
+/// (LscfOptions::split_gain); shapes from an LSFD fit with those poles plus lower and upper
+/// residuals.
 /// InputError when the band holds fewer than max_order + 2 frequencies.
 LscfResult lscf(const Frf& frf, const LscfOptions& o = {});
 
@@ -109,6 +120,24 @@ LscfResult lscf(const Frf& frf, const LscfOptions& o = {});
 /// [f_min, f_max], with lower (mass-like) and upper (stiffness-like) residuals; fills each
 /// mode's shape (normalised as IdentifiedMode::shape says).
 void fit_shapes(const Frf& frf, double f_min_hz, double f_max_hz, std::vector<IdentifiedMode>& modes);
+
+/// Refines the poles of `modes` (frequency and damping) by Levenberg–Marquardt on the output
+/// error of all responses over [f_min, f_max], each in its measured quantity and weighted by
+/// 1/rms: variable projection, the residues and residual terms solved linearly for each trial
+/// set of poles. The least-squares (maximum-likelihood for white noise of equal variance per
+/// response) counterpart of LSCF's linearised equations. Updates frequency, damping and shapes;
+/// returns the ratio of final to initial residual norm (<= 1).
+double refine_poles(const Frf& frf, double f_min_hz, double f_max_hz, std::vector<IdentifiedMode>& modes);
+
+/// Tries each mode as two poles (at f(1 ∓ max(ζ, 0.2 %)), refined with all the others by
+/// refine_poles); keeps the pair when the residual sum of squares falls by more than
+/// o.split_gain of itself and by more than o.split_min_share of the FRFs' weighted energy, and
+/// both poles are physical (ζ in (0, o.max_damping]), in the band and apart. Returns the number
+/// of modes split. Two modes closer than the stabilization diagram resolves (high damping,
+/// noise) leave a misfit of the order of the FRF; a single mode gains from a second pole only
+/// what it can fit of noise or small systematic errors.
+std::size_t split_hidden_modes(const Frf& frf, double f_min_hz, double f_max_hz, std::vector<IdentifiedMode>& modes,
+                               const LscfOptions& o = {});
 
 /// Modal assurance criterion |aᴴb|²/((aᴴa)(bᴴb)) of every column of a against every column of b
 /// (same number of rows). 1: the same shape; 0: orthogonal. Zero columns give 0.
