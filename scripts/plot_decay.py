@@ -3,9 +3,10 @@
 
 Usage: scripts/plot_decay.py DIR [--out FILE]
 
-Reads DIR/decay_amplitude.csv (windows along each decay) and DIR/decay.csv (one row per
-record, with the fitted linear laws); draws damping ratio and natural frequency against
-amplitude, one colour per record, with each record's law as a line. Writes DIR/decay.png.
+Reads DIR/decay_amplitude.csv (windows along each decay), DIR/decay.csv (one row per record,
+with the fitted linear laws) and DIR/decay_summary.csv; draws damping ratio and natural
+frequency against amplitude, one colour per record, with each record's law as a line, and the
+mean ± standard deviation over the records in the title. Writes DIR/decay.png.
 """
 import argparse
 import csv
@@ -55,7 +56,15 @@ def main():
         x.set_xlabel("amplitude (envelope of the band-passed record)")
         x.grid(True, alpha=0.3)
     ax[0].legend(fontsize=8)
-    fig.suptitle("Free decay: damping and frequency against amplitude")
+    title = "Free decay: damping and frequency against amplitude"
+    summary = os.path.join(a.dir, "decay_summary.csv")
+    if os.path.exists(summary):
+        st = {r["estimate"]: r for r in rows_of(summary)}
+        if "zeta_hilbert" in st and "frequency_hz" in st:
+            z, f = st["zeta_hilbert"], st["frequency_hz"]
+            title += (f"\n{z['n']} records: ζ = {100 * float(z['mean']):.3f} ± {100 * float(z['std']):.3f} % (Hilbert), "
+                      f"f = {float(f['mean']):.4f} ± {float(f['std']):.4f} Hz")
+    fig.suptitle(title)
     fig.tight_layout()
     out = a.out or os.path.join(a.dir, "decay.png")
     fig.savefig(out, dpi=120)

@@ -156,6 +156,9 @@ int frf_from_record(const Common& o, const po::variables_map& vm) {
   if (method == "welch") {
     signal::WelchOptions wo;
     wo.nperseg = vm["nperseg"].as<long>();
+    const std::string win = vm["window"].as<std::string>();
+    if (win == "rectangular") wo.window = signal::Window::rectangular;
+    else if (win != "hann") throw InputError("--window must be hann or rectangular, got '" + win + "'");
     const ident::WelchFrf w = ident::welch_frf(force, resp, rec.fs_hz, wo);
     const double fmin = vm.count("f-min") ? vm["f-min"].as<double>() : 0.0;
     const double fmax = vm.count("f-max") ? vm["f-max"].as<double>() : 0.5 * rec.fs_hz;
@@ -251,6 +254,7 @@ Command frf_command() {
         "method", po::value<std::string>()->default_value("welch"), "record: welch, stepped or swept")(
         "estimator", po::value<std::string>()->default_value("h1"), "welch: h1 or h2")(
         "nperseg", po::value<long>()->default_value(4096), "welch: samples per segment")(
+        "window", po::value<std::string>()->default_value("hann"), "welch: hann or rectangular (half-overlapping segments)")(
         "steps", po::value<std::string>(), "stepped: the schedule CSV (t_start_s,t_end_s,frequency_hz)")(
         "settle-cycles", po::value<double>()->default_value(30.0), "stepped: drive cycles discarded per step")(
         "settle-s", po::value<double>()->default_value(0.0), "stepped: at least this long discarded [s]");
