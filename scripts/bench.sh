@@ -196,7 +196,9 @@ cat > docs/benchmarks.md <<DOC
 Measured by \`scripts/bench.sh\` on $(date -u +%Y-%m-%d), $(nproc) cores ($(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1)),
 release preset, viaduct $($V --version | cut -d' ' -f2). Speed is measured here, never asserted in tests. The machine
 is shared and noisy: 2-thread wall times are medians of $repeats runs, 1-thread times one run each
-(one to two minutes apiece); the thread ratio comes from the same session.
+(one to two minutes apiece); the thread ratio comes from the same session. Identification paths
+(model FRF, shaker test, modal fit, decay): [benchmarks-identification.md](benchmarks-identification.md)
+(\`scripts/bench_ident.sh\`).
 
 ## Studies
 
