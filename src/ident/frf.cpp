@@ -128,6 +128,83 @@ std::vector<SineStep> regular_schedule(double f_start_hz, double f_end_hz, Index
   return s;
 }
 
+bool StepDetectionOptions::is_valid(std::string* why) const {
+  auto fail = [&](const char* m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (!(min_cycles >= 2.0)) return fail("min_cycles must be >= 2");
+  if (!(tolerance > 0.0)) return fail("tolerance must be > 0");
+  if (smooth_cycles < 1 || smooth_cycles % 2 == 0) return fail("smooth_cycles must be odd and >= 1");
+  if (!(hysteresis > 0.0 && hysteresis < 1.0)) return fail("hysteresis must be in (0, 1)");
+  return true;
+}
+
+std::vector<SineStep> detect_steps(const Vector& force, double fs_hz, double t0_s, const StepDetectionOptions& o) {
+  std::string why;
+  if (!o.is_valid(&why)) throw InputError("step detection: " + why);
+  check_signal(force, "force");
+  require_positive(fs_hz, "sampling rate [Hz]");
+  check_force_nonzero(force);
+  const Vector x = force.array() - force.mean();
+  const double h = o.hysteresis * x.cwiseAbs().maxCoeff();
+  // Upward zero crossings, each after the force has been below −h (noise cannot double-count).
+  std::vector<double> tc;
+  bool armed = false;
+  for (Index j = 0; j + 1 < x.size(); ++j) {
+    if (x[j] < -h) armed = true;
+    if (armed && x[j] < 0.0 && x[j + 1] >= 0.0) {
+      tc.push_back(t0_s + (static_cast<double>(j) + x[j] / (x[j] - x[j + 1])) / fs_hz);
+      armed = false;
+    }
+  }
+  if (tc.size() < 3) throw InputError("step detection: the force has fewer than 2 cycles");
+  const std::size_t nc = tc.size() - 1;
+  std::vector<double> fc(nc), g(nc);
+  for (std::size_t k = 0; k < nc; ++k) fc[k] = 1.0 / (tc[k + 1] - tc[k]);
+  const std::size_t half = static_cast<std::size_t>(o.smooth_cycles / 2);
+  for (std::size_t k = 0; k < nc; ++k) {
+    const std::size_t a = k >= half ? k - half : 0, b = std::min(nc, k + half + 1);
+    std::vector<double> w(fc.begin() + static_cast<std::ptrdiff_t>(a), fc.begin() + static_cast<std::ptrdiff_t>(b));
+    std::nth_element(w.begin(), w.begin() + static_cast<std::ptrdiff_t>(w.size() / 2), w.end());
+    g[k] = w[w.size() / 2];
+  }
+  std::vector<SineStep> steps;
+  std::size_t first = 0;
+  // The running median and the persistence test place an edge up to half the median window
+  // plus two cycles late: each step ends that many cycles early, so that no cycle of the next
+  // step is ever fitted (its start is discarded by the settling anyway).
+  const std::size_t margin = half + 2;
+  auto close = [&](std::size_t end) {  // cycles [first, end)
+    end = end > first + margin ? end - margin : first;
+    if (static_cast<double>(end - first) < o.min_cycles) return;
+    std::vector<double> w(fc.begin() + static_cast<std::ptrdiff_t>(first), fc.begin() + static_cast<std::ptrdiff_t>(end));
+    std::nth_element(w.begin(), w.begin() + static_cast<std::ptrdiff_t>(w.size() / 2), w.end());
+    steps.push_back({tc[first], tc[end], w[w.size() / 2]});
+  };
+  // A step ends where the smoothed frequency leaves the step's mean so far by more than the
+  // tolerance for three cycles running (a true change persists; noise does not).
+  double sum = g[0];
+  std::size_t count = 1;
+  auto off = [&](std::size_t k, double ref) { return std::abs(g[k] - ref) > o.tolerance * ref; };
+  for (std::size_t k = 1; k < nc; ++k) {
+    const double ref = sum / static_cast<double>(count);
+    if (off(k, ref) && (k + 1 >= nc || off(k + 1, ref)) && (k + 2 >= nc || off(k + 2, ref))) {
+      close(k);
+      first = k;
+      sum = 0.0;
+      count = 0;
+    }
+    sum += g[k];
+    ++count;
+  }
+  close(nc);
+  if (steps.empty())
+    throw InputError("step detection: no steady sine of at least " + std::to_string(o.min_cycles) +
+                     " cycles in the force channel: give the schedule with --steps");
+  return steps;
+}
+
 bool SteppedSineOptions::is_valid(std::string* why) const {
   auto fail = [&](const char* m) {
     if (why) *why = m;

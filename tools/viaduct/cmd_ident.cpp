@@ -178,8 +178,16 @@ int frf_from_record(const Common& o, const po::variables_map& vm) {
       throw InputError("--estimator must be h1 or h2");
     if (!o.quiet) std::printf("Welch: %ld segments of %ld samples\n", static_cast<long>(w.n_segments), wo.nperseg);
   } else if (method == "stepped") {
-    if (!vm.count("steps")) throw InputError("--method stepped needs --steps FILE (t_start_s,t_end_s,frequency_hz)");
-    const auto steps = io::read_steps_csv(vm["steps"].as<std::string>());
+    std::vector<ident::SineStep> steps;
+    if (vm.count("steps")) {
+      steps = io::read_steps_csv(vm["steps"].as<std::string>());
+    } else {
+      steps = ident::detect_steps(force, rec.fs_hz, rec.t0_s);
+      io::write_steps_csv(o.out + "/steps-detected.csv", steps);
+      if (!o.quiet)
+        std::printf("no --steps: detected %zu steps from the force (%.4g to %.4g Hz); wrote %s/steps-detected.csv\n", steps.size(),
+                    steps.front().frequency_hz, steps.back().frequency_hz, o.out.c_str());
+    }
     ident::SteppedSineOptions so;
     so.settle_cycles = vm["settle-cycles"].as<double>();
     so.settle_s = vm["settle-s"].as<double>();
@@ -255,7 +263,7 @@ Command frf_command() {
         "estimator", po::value<std::string>()->default_value("h1"), "welch: h1 or h2")(
         "nperseg", po::value<long>()->default_value(4096), "welch: samples per segment")(
         "window", po::value<std::string>()->default_value("hann"), "welch: hann or rectangular (half-overlapping segments)")(
-        "steps", po::value<std::string>(), "stepped: the schedule CSV (t_start_s,t_end_s,frequency_hz)")(
+        "steps", po::value<std::string>(), "stepped: the schedule CSV (t_start_s,t_end_s,frequency_hz); default: detected from the force")(
         "settle-cycles", po::value<double>()->default_value(30.0), "stepped: drive cycles discarded per step")(
         "settle-s", po::value<double>()->default_value(0.0), "stepped: at least this long discarded [s]");
   };
@@ -263,13 +271,15 @@ Command frf_command() {
       "With a SCENARIO (.toml): solves (K - w^2 M + i w C) x = F on the assembled structure (track\n"
       "included) for a unit force at --force-at, and writes the responses per newton.\n"
       "With a RECORD (CSV or UFF): estimates the FRF of every response to --force: Welch H1 (or H2)\n"
-      "and coherence, stepped sine (one point per dwell of --steps, with settle and distortion\n"
-      "checks in stepped.csv) or swept sine (ratio of transforms on --f-min..--f-max).\n"
+      "and coherence, stepped sine (one point per dwell of --steps, or of the dwells detected from the\n"
+      "force, with settle and distortion checks in stepped.csv) or swept sine (ratio of transforms on\n"
+      "--f-min..--f-max).\n"
       "Phase convention e^{i w t}: a response lagging the force has a negative phase.\n\n"
       "Sample runs:\n"
       "  viaduct frf scenarios/old-guadiana-talgo.toml --force-at 6 --f-min 5 --f-max 15 --n-freq 201 --out out/frf-model\n"
       "  viaduct shaker scenarios/old-guadiana-talgo.toml --force-at 6 --stepped 9:11:0.5 --dwell-s 6 --out out/shaker\n"
       "  viaduct frf out/shaker/record.csv --force force_N --method stepped --steps out/shaker/steps.csv --out out/frf-test\n"
+      "  viaduct frf out/shaker/record.csv --force force_N --method stepped --out out/frf-detected\n"
       "  viaduct frf out/shaker/record.csv --force force_N --method welch --nperseg 1024 --f-min 2 --f-max 40 --out out/frf-welch\n";
   c.run = [](const Common& o, const po::variables_map& vm) {
     return is_scenario_path(o.scenario) ? frf_from_scenario(o, vm) : frf_from_record(o, vm);

@@ -84,6 +84,24 @@ struct SineStep {
 std::vector<SineStep> regular_schedule(double f_start_hz, double f_end_hz, Index n_steps, double dwell_s,
                                        double t0_s = 0.0);
 
+/// How detect_steps() finds the dwells of a stepped-sine force.
+struct StepDetectionOptions {
+  double min_cycles = 20.0;    ///< [-] shorter runs of one frequency are not steps, >= 2
+  double tolerance = 0.002;    ///< [-] relative change of the (median-smoothed) cycle frequency that starts a new step, > 0
+  int smooth_cycles = 9;       ///< [-] cycles in the running median of the cycle frequencies, odd, >= 1
+  double hysteresis = 0.1;     ///< [-] zero crossings are counted after the force has been below −hysteresis × its peak, in (0, 1)
+  bool is_valid(std::string* why) const;
+};
+
+/// The dwells of a stepped-sine test found from the force alone (when no schedule was logged):
+/// upward zero crossings (with hysteresis against noise), one frequency per cycle, a running
+/// median (which keeps the steps' edges sharp), and a new step wherever it leaves the step's mean
+/// by more than the tolerance for three cycles running. Each step spans whole cycles and ends
+/// smooth_cycles/2 + 2 cycles before the detected change (never late); its frequency is the
+/// median of its cycles.
+/// InputError when the force has no steady sine of min_cycles.
+std::vector<SineStep> detect_steps(const Vector& force, double fs_hz, double t0_s, const StepDetectionOptions& o = {});
+
 struct SteppedSineOptions {
   double settle_cycles = 30.0;  ///< [-] drive cycles discarded at the start of every dwell, >= 0
   double settle_s = 0.0;        ///< [s] at least this much is discarded too, >= 0

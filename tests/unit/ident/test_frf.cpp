@@ -130,6 +130,39 @@ TEST_CASE("Stepped sine recovers the FRF of a 2-DOF system point by point") {
   CHECK(worst_raw > 3 * worst_settled);
 }
 
+TEST_CASE("Stepped-sine steps are found from a noisy force alone") {
+  const auto sched = regular_schedule(8.0, 9.0, 11, 6.0);  // 0.1 Hz steps: 1.25 % to 1.1 % apart
+  const double fs = 200.0;
+  const Index n = static_cast<Index>(sched.back().t_end_s * fs);
+  Vector f(n);
+  double phase = 0.0;
+  for (Index k = 0; k < n; ++k) {
+    const double t = k / fs;
+    std::size_t s = 0;
+    while (s + 1 < sched.size() && t >= sched[s].t_end_s) ++s;
+    f[k] = 5e3 * std::sin(phase);
+    phase += 2 * M_PI * sched[s].frequency_hz / fs;
+  }
+  std::mt19937 rng(4);
+  vt::add_noise(f, 40.0, rng);
+  const auto found = detect_steps(f, fs, 0.0);
+  REQUIRE(found.size() == sched.size());
+  for (std::size_t k = 0; k < sched.size(); ++k) {
+    // Frequency: the median of ~50 cycle periods, each jittered by noise/(amplitude·ω).
+    CHECK(found[k].frequency_hz == Approx(sched[k].frequency_hz).epsilon(1e-3));
+    // Starts within three cycles (crossings, the running median, the persistence test); ends
+    // never late (no cycle of the next step), at most 4 + 6 cycles early (the margin).
+    const double T = 1.0 / sched[k].frequency_hz;
+    CHECK(std::abs(found[k].t_start_s - sched[k].t_start_s) < 3 * T);
+    CHECK(found[k].t_end_s <= sched[k].t_end_s + 1e-9);
+    CHECK(found[k].t_end_s > sched[k].t_end_s - 10 * T);
+  }
+  CHECK_THROWS_WITH(detect_steps(Vector::Zero(n), fs, 0.0), Catch::Contains("zero"));
+  StepDetectionOptions o;
+  o.min_cycles = 1000;  // longer than any step
+  CHECK_THROWS_WITH(detect_steps(f, fs, 0.0, o), Catch::Contains("no steady sine"));
+}
+
 TEST_CASE("Stepped-sine distortion indicator reads a harmonic's share, bad schedules are refused") {
   const double fs = 500.0, f0 = 7.0;
   const Index n = 5000;
