@@ -7,23 +7,13 @@
 #include <sstream>
 
 #include "viaduct/core/error.hpp"
+#include "csv_cells.hpp"
 
 namespace viaduct::io {
 
 namespace {
 
-std::vector<std::string> split_csv(const std::string& line) {
-  std::vector<std::string> cells;
-  std::stringstream ss(line);
-  std::string c;
-  while (std::getline(ss, c, ',')) {
-    while (!c.empty() && (c.back() == '\r' || c.back() == ' ')) c.pop_back();
-    while (!c.empty() && c.front() == ' ') c.erase(c.begin());
-    cells.push_back(c);
-  }
-  if (!line.empty() && line.back() == ',') cells.emplace_back();
-  return cells;
-}
+using detail::split_csv;
 
 // Rows of numbers after a header; '#' lines skipped. Errors name file, line and column.
 struct Table {

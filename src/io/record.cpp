@@ -1,5 +1,7 @@
 #include "viaduct/io/record.hpp"
 
+#include "csv_cells.hpp"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -25,28 +27,8 @@ std::size_t Record::channel(const std::string& name) const {
   throw InputError("no channel '" + name + "' in the record; it has:" + have);
 }
 
-namespace {
-
-std::string trim(const std::string& s) {
-  const auto a = s.find_first_not_of(" \t\r");
-  if (a == std::string::npos) return "";
-  const auto b = s.find_last_not_of(" \t\r");
-  return s.substr(a, b - a + 1);
-}
-
-std::vector<std::string> split_csv(const std::string& line) {
-  std::vector<std::string> out;
-  std::size_t start = 0;
-  while (true) {
-    const auto comma = line.find(',', start);
-    out.push_back(trim(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start)));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return out;
-}
-
-}  // namespace
+using detail::split_csv;
+using detail::trim;
 
 Record read_record_csv(const std::string& path) {
   std::ifstream in(path);

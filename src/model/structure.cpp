@@ -150,6 +150,13 @@ double PointCoupling::value(const Vector& u) const {
   return w;
 }
 
+std::complex<double> PointCoupling::complex_value(const Eigen::VectorXcd& u) const {
+  std::complex<double> w = 0.0;
+  for (std::size_t i = 0; i < 4; ++i)
+    if (dofs[i] >= 0) w += N[i] * u[dofs[i]];
+  return w;
+}
+
 PointCoupling point_on(const std::vector<PathElement>& elements, double x, const char* what) {
   if (elements.empty()) throw InputError(std::string("no ") + what + " to place a point on");
   const double x0 = elements.front().x0, x1 = elements.back().x0 + elements.back().h;

@@ -21,13 +21,6 @@ using ComplexSparse = Eigen::SparseMatrix<std::complex<double>>;
 
 const model::PointCoupling& coupling_of(const ResolvedStation& r) { return r.has_deck ? r.deck : r.rail; }
 
-std::complex<double> read(const model::PointCoupling& p, const Eigen::VectorXcd& x) {
-  std::complex<double> v = 0.0;
-  for (int i = 0; i < 4; ++i)
-    if (p.dofs[static_cast<std::size_t>(i)] >= 0) v += p.N[static_cast<std::size_t>(i)] * x[p.dofs[static_cast<std::size_t>(i)]];
-  return v;
-}
-
 // The exciter's force F(t) distributed on the deck element's DOFs.
 class ExciterSystem : public solve::SecondOrderSystem {
  public:
@@ -121,7 +114,7 @@ ident::Frf model_frf(const model::Structure& s, const ForcedSetup& setup, const 
     const Eigen::VectorXcd x = solver->solve(F);
     const std::complex<double> iwk = std::pow(std::complex<double>(0.0, w), k_order);
     for (std::size_t c = 0; c < stations.size(); ++c)
-      r.h(static_cast<Index>(i), static_cast<Index>(c)) = iwk * read(coupling_of(stations[c]), x);
+      r.h(static_cast<Index>(i), static_cast<Index>(c)) = iwk * coupling_of(stations[c]).complex_value(x);
     if (progress) {
       std::lock_guard<std::mutex> g(mu);
       progress(++done, static_cast<std::size_t>(frequency_hz.size()));

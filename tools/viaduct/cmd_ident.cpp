@@ -154,6 +154,8 @@ int frf_from_record(const Common& o, const po::variables_map& vm) {
   ident::Frf frf;
   make_out_dir(o.out);
   if (method == "welch") {
+    const std::string estimator = vm["estimator"].as<std::string>();
+    if (estimator != "h1" && estimator != "h2") throw InputError("--estimator must be h1 or h2, got '" + estimator + "'");
     signal::WelchOptions wo;
     wo.nperseg = vm["nperseg"].as<long>();
     const std::string win = vm["window"].as<std::string>();
@@ -171,11 +173,9 @@ int frf_from_record(const Common& o, const po::variables_map& vm) {
     frf.coherence.resize(static_cast<Index>(keep.size()), resp.cols());
     for (std::size_t j = 0; j < keep.size(); ++j) {
       frf.frequency_hz[static_cast<Index>(j)] = w.frequency_hz[keep[j]];
-      frf.h.row(static_cast<Index>(j)) = (vm["estimator"].as<std::string>() == "h2" ? w.h2 : w.h1).row(keep[j]);
+      frf.h.row(static_cast<Index>(j)) = (estimator == "h2" ? w.h2 : w.h1).row(keep[j]);
       frf.coherence.row(static_cast<Index>(j)) = w.coherence.row(keep[j]);
     }
-    if (vm["estimator"].as<std::string>() != "h1" && vm["estimator"].as<std::string>() != "h2")
-      throw InputError("--estimator must be h1 or h2");
     if (!o.quiet) std::printf("Welch: %ld segments of %ld samples\n", static_cast<long>(w.n_segments), wo.nperseg);
   } else if (method == "stepped") {
     std::vector<ident::SineStep> steps;
@@ -424,7 +424,7 @@ Command modal_fit_command() {
     std::vector<std::vector<std::string>> mode_rows, shape_rows;
     auto add_mode = [&](const std::string& method, std::size_t k, const ident::IdentifiedMode& m) {
       mode_rows.push_back({method, std::to_string(k + 1), fmt(m.frequency_hz), fmt(m.damping_ratio),
-                           m.response >= 0 ? frf.responses[static_cast<std::size_t>(m.response)] : "all", "\"" + m.note + "\""});
+                           m.response >= 0 ? frf.responses[static_cast<std::size_t>(m.response)] : "all", m.note});
       for (Index r = 0; r < m.shape.size(); ++r)
         shape_rows.push_back({method, std::to_string(k + 1), frf.responses[static_cast<std::size_t>(r)], fmt(m.shape[r].real()),
                               fmt(m.shape[r].imag())});
@@ -464,7 +464,7 @@ Command modal_fit_command() {
     if (!o.quiet) {
       std::printf("%-13s %4s %12s %10s  %s\n", "method", "mode", "f [Hz]", "zeta [%]", "note");
       for (const auto& r : mode_rows)
-        std::printf("%-13s %4s %12.5f %10.3f  %s\n", r[0].c_str(), r[1].c_str(), std::stod(r[2]), 100 * std::stod(r[3]), r[5] == "\"\"" ? "" : r[5].c_str());
+        std::printf("%-13s %4s %12.5f %10.3f  %s\n", r[0].c_str(), r[1].c_str(), std::stod(r[2]), 100 * std::stod(r[3]), r[5].c_str());
     }
     if (vm.count("model")) {
       const io::FlatScenario flat = io::load_flat(vm["model"].as<std::string>(), {});

@@ -7,6 +7,7 @@
 /// act on the deck directly.
 
 #include <array>
+#include <complex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -94,6 +95,7 @@ struct PointCoupling {
   std::array<Index, 4> dofs{{-1, -1, -1, -1}};
   std::array<double, 4> N{{0, 0, 0, 0}};
   double value(const Vector& u) const;
+  std::complex<double> complex_value(const Eigen::VectorXcd& u) const;  ///< value() of a complex field
 };
 
 /// One beam element of the path the axles roll along (rail with track, deck without).
