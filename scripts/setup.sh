@@ -10,6 +10,7 @@ packages=(
   libsundials-dev        # IDA (solve module)
   libsuitesparse-dev     # KLU: sparse direct solver inside IDA's Newton iterations
   libspectra-dev         # partial sparse eigenproblems (modal bases of large models)
+  libceres-dev           # bounded nonlinear least squares (viaduct fit, model updating)
   libboost-program-options-dev  # the CLI
   catch2                 # tests (v2)
   libtoml11-dev          # scenario files

@@ -318,6 +318,11 @@ FlatScenario load_flat(const std::string& path, const std::vector<std::string>& 
   // Train files are relative to where the key was written.
   if (auto it = fsn.values.find("train.files"); it != fsn.values.end())
     for (auto& f : it->second.ss) f = resolve_relative(f, it->second.where);
+  // So are the fit's record and mode files.
+  for (auto& [key, v] : fsn.values) {
+    const bool record_file = key.rfind("fit.records[", 0) == 0 && key.size() > 5 && key.compare(key.size() - 5, 5, ".file") == 0;
+    if ((record_file || key == "fit.modes") && v.type == ValueType::string) v.s = resolve_relative(v.s, v.where);
+  }
   // Defaults for the sections the scenario names.
   std::set<std::string> array_items;  // e.g. "stations[0]"
   static const std::regex item(R"(^(.*\[[0-9]+\])\..*$)");
@@ -367,6 +372,20 @@ void scale_key(FlatScenario& flat, const std::string& key, double factor) {
     }
   }
 }
+
+void set_number(FlatScenario& flat, const std::string& key, double value) {
+  auto it = flat.values.find(key);
+  if (it == flat.values.end())
+    throw InputError(SourceLocation{flat.path, 0, key}, "key is not set in the scenario" + did_you_mean(key));
+  Value& v = it->second;
+  if (v.type == ValueType::number_list && v.xs.size() == 1) v.xs[0] = value;
+  else if (v.type == ValueType::number) v.x = value;
+  else throw InputError(v.where, "must be a single number to be set (not a list of several, an integer, string or boolean)");
+  flat.defaulted.erase(key);
+  if (const KeySpec* spec = find_spec(key)) check_constraint(*spec, v);
+}
+
+const KeySpec* find_key_spec(const std::string& key) { return find_spec(key); }
 
 std::string format_resolved(const FlatScenario& flat) {
   std::ostringstream os;

@@ -70,5 +70,6 @@ Command frf_command();
 Command shaker_command();
 Command modal_fit_command();
 Command decay_command();
+Command fit_command();
 
 }  // namespace viaduct::cli

@@ -66,6 +66,11 @@ std::vector<study::Variant> sweep_variants(const FlatScenario& flat);
 /// Multiplies a numeric key (number or list) by `factor` in place; InputError if not numeric.
 void scale_key(FlatScenario& flat, const std::string& key, double factor);
 
+/// Sets a numeric key (a number, or a list that then holds `value` alone) to `value`, checking
+/// the key's constraint; InputError naming the key and the violated constraint.
+void set_number(FlatScenario& flat, const std::string& key, double value);
+/// Declaration of a key ("stations[2].at" finds "stations[].at"); nullptr when unknown.
+const KeySpec* find_key_spec(const std::string& key);
 /// Human-readable resolved scenario: key = value  # unit, origin.
 std::string format_resolved(const FlatScenario& flat);
 /// The resolved scenario as TOML (quoted dotted keys), for manifests.
