@@ -192,7 +192,6 @@ FitDeclaration fit_declaration(const FlatScenario& flat) {
   if (const Value* v = get("fit.weights.spectrum")) o.weights.spectrum = v->x;
   if (const Value* v = get("fit.envelope_window_s")) o.envelope_window_s = v->x;
   if (const Value* v = get("fit.max_shift_s")) o.max_shift_s = v->x;
-  if (const Value* v = get("fit.shift_range_s")) o.shift_range_s = v->x;
   if (const Value* v = get("fit.starts")) o.starts = static_cast<int>(v->x);
   if (const Value* v = get("fit.max_iterations")) o.max_iterations = static_cast<int>(v->x);
   if (const Value* v = get("fit.max_time_s")) o.max_time_s = v->x;

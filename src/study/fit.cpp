@@ -2,6 +2,7 @@
 #include "viaduct/study/fit.hpp"
 
 #include <ceres/ceres.h>
+#include <glog/logging.h>
 
 #include <algorithm>
 #include <atomic>
@@ -90,16 +91,17 @@ struct PreparedChannel {
 
 struct PreparedRecord {
   const FitRecord* in = nullptr;
-  const load::Train* train = nullptr;  // of the initial scenario (index used later)
   std::size_t train_index = 0;
   std::vector<PreparedChannel> channels;
-  double shift0 = 0.0;
+  signal::Sos band;        // the record's band filter at its rate (filter enabled)
+  signal::Sos anti_alias;  // low-pass of the model before it is sampled at the record's rate (empty: not needed)
 };
 
 // What one simulation at trial values gives.
 struct Simulated {
   double fs_model = 0.0;
-  std::vector<std::vector<Vector>> signal;  // [record][channel], channel unit, filtered accelerations
+  std::vector<std::vector<Vector>> signal;  // [record][channel], channel unit, filtered accelerations (alignment)
+  std::vector<std::vector<Vector>> raw;     // the same before the band filter (anti-aliased for the record's rate)
   Vector modal_f;                           // [Hz] model modes in the pairing range
   Matrix modal_shapes;                      // sensors × modes
 };
@@ -112,16 +114,14 @@ class Evaluator {
     filter_ = sc0.settings.filter;
     const bool records = o.weights.any_record_term();
     if (records) prepare_records(sc0);
-    fit_shifts_ = records && (o.weights.time > 0 || o.weights.envelope > 0);
     if (o.weights.modal > 0) prepare_modal(sc0);
     layout_blocks();
   }
 
   std::size_t n_params() const { return n_params_; }
-  std::size_t n_z() const { return n_params_ + (fit_shifts_ ? records_.size() : 0); }
+  std::size_t n_z() const { return n_params_; }
   Index n_residuals() const { return n_res_; }
   const std::vector<Block>& blocks() const { return blocks_; }
-  bool fits_shifts() const { return fit_shifts_; }
   std::size_t n_records() const { return records_.size(); }
   int simulations() const { return simulations_.load(); }
 
@@ -130,11 +130,32 @@ class Evaluator {
     for (std::size_t i = 0; i < n_params_; ++i) v[i] = from_unit(p_.params[i], std::clamp(z[i], 0.0, 1.0));
     return v;
   }
-  std::vector<double> shifts_of(const double* z) const {
-    std::vector<double> s(records_.size());
-    for (std::size_t r = 0; r < records_.size(); ++r)
-      s[r] = records_[r].shift0 + (fit_shifts_ ? (z[n_params_ + r] - 0.5) * 2.0 * o_.shift_range_s : 0.0);
-    return s;
+  // Alignment of each record: the shift (record time of the model's t = 0) that maximises the
+  // summed, normalised cross-correlation of the mapped channels (parabolic sub-sample peak), so
+  // the misfits are taken after the best alignment at every trial point.
+  std::vector<double> align(const Simulated& s) const {
+    std::vector<double> shifts(records_.size());
+    for (std::size_t r = 0; r < records_.size(); ++r) {
+      const auto& pr = records_[r];
+      const double fs = pr.in->fs_hz;
+      const Index n_y = pr.channels.front().y.size();
+      const auto n_m = static_cast<Index>(std::floor(static_cast<double>(s.signal[r].front().size() - 1) / s.fs_model * fs)) + 1;
+      const auto max_lag = static_cast<Index>(std::ceil(o_.max_shift_s * fs));
+      const Index block = std::max(n_y, n_m) + max_lag;
+      const auto n_c = static_cast<Index>(pr.channels.size());
+      Vector x = Vector::Zero(block * n_c), y = Vector::Zero(block * n_c);
+      for (Index c = 0; c < n_c; ++c) {
+        const auto& ch = pr.channels[static_cast<std::size_t>(c)];
+        const Vector& m = s.signal[r][static_cast<std::size_t>(c)];
+        Vector mr(n_m);
+        for (Index k = 0; k < n_m; ++k) mr[k] = sample_c1(m, s.fs_model, static_cast<double>(k) / fs);
+        const double nm = mr.norm();
+        if (nm > 0) x.segment(c * block, n_m) = mr / nm;
+        y.segment(c * block, n_y) = ch.y / ch.y_norm;
+      }
+      shifts[r] = pr.in->t0_s + signal::best_lag(x, y, max_lag) / fs;
+    }
+    return shifts;
   }
 
   // Runs the model at `values`. Throws on failure.
@@ -151,17 +172,28 @@ class Evaluator {
       signal::Sos sos;
       if (filt) sos = signal::cheby1(filter_.cheby, out.fs_model);
       out.signal.resize(records_.size());
+      out.raw.resize(records_.size());
       for (std::size_t r = 0; r < records_.size(); ++r) {
         const auto& pr = records_[r];
         if (pr.train_index >= sc.trains.size()) throw InputError("fit: the scenario lost its train");
         double speed = pr.in->speed > 0 ? pr.in->speed : sc.run_speed.value_or(0.0);
         if (!(speed > 0)) throw InputError("fit: record " + pr.in->name + " has no speed and the scenario no run.speed_kmh");
-        const RunResult run = simulate(pm, sc.trains[pr.train_index], speed, rs);
+        // The model rings on as long as the record lasts (a model cut short would differ from the
+        // record at its end, after filtering too).
+        RunSettings rs_r = rs;
+        const double duration = static_cast<double>(pr.channels.front().y.size()) / pr.in->fs_hz;
+        rs_r.free_vibration_s = std::max(rs.free_vibration_s, duration);
+        const RunResult run = simulate(pm, sc.trains[pr.train_index], speed, rs_r);
+        // The structure is at rest before t = 0: zeros ahead of the history for the filter.
+        const auto lead = static_cast<Index>(std::ceil(0.5 * out.fs_model));
         for (const auto& ch : pr.channels) {
           const auto& h = run.stations[ch.station];
           Vector s = (ch.acceleration ? h.acc : h.disp) * ch.scale;
-          if (ch.acceleration && filt) s = signal::sosfiltfilt(sos, s);
           if (!s.allFinite()) throw SolverError("fit: the model's response is not finite at these values");
+          Vector padded = Vector::Zero(lead + s.size());
+          padded.tail(s.size()) = s;
+          out.raw[r].push_back(pr.anti_alias.sections.empty() ? s : Vector(signal::sosfiltfilt(pr.anti_alias, padded).tail(s.size())));
+          if (ch.acceleration && filt) s = signal::sosfiltfilt(sos, padded).tail(s.size());
           out.signal[r].push_back(std::move(s));
         }
       }
@@ -170,15 +202,16 @@ class Evaluator {
     return out;
   }
 
-  // Residuals of a simulation with the record shifts.
-  void residuals(const Simulated& s, const std::vector<double>& shifts, double* r) const {
+  // Residuals of a simulation (records aligned first).
+  void residuals(const Simulated& s, double* r) const {
     const FitWeights& w = o_.weights;
+    const std::vector<double> shifts = align(s);
     std::size_t b = 0;
     for (std::size_t ri = 0; ri < records_.size(); ++ri) {
       const auto& pr = records_[ri];
       for (std::size_t c = 0; c < pr.channels.size(); ++c) {
         const auto& ch = pr.channels[c];
-        const Vector m = aligned(s.signal[ri][c], s.fs_model, pr, shifts[ri]);
+        const Vector m = processed(s, ri, c, shifts[ri]);
         if (w.time > 0) {
           const Block& bl = blocks_[b++];
           const double k = std::sqrt(w.time) / ch.y_norm;
@@ -249,6 +282,15 @@ class Evaluator {
     return den > 0 ? std::pow(a.dot(b), 2) / den : 0.0;
   }
 
+  // The model as the record was processed: aligned, sampled on the record's grid (anti-aliased),
+  // then the same zero-phase filter over the same window, so that both share the edge effects.
+  Vector processed(const Simulated& s, std::size_t r, std::size_t c, double shift) const {
+    const auto& pr = records_[r];
+    Vector m = aligned(s.raw[r][c], s.fs_model, pr, shift);
+    if (pr.channels[c].acceleration && filter_.enabled) m = signal::sosfiltfilt(pr.band, m);
+    return m;
+  }
+
   Vector aligned(const Vector& model, double fs_model, const PreparedRecord& pr, double shift) const {
     const Index n = pr.channels.front().y.size();
     Vector m(n);
@@ -300,6 +342,17 @@ class Evaluator {
         std::string why;
         if (!filter_.cheby.is_valid(rec.fs_hz, &why)) throw InputError("fit: filter at the rate of record " + rec.name + ": " + why);
         sos = signal::cheby1(filter_.cheby, rec.fs_hz);
+        pr.band = sos;
+      }
+      if (fs_model > 1.0001 * rec.fs_hz) {
+        signal::Cheby1Spec aa;
+        aa.order = 6;
+        aa.ripple_db = 0.1;
+        aa.band = signal::BandType::lowpass;
+        aa.high_hz = 0.4 * rec.fs_hz;
+        std::string why;
+        if (!aa.is_valid(fs_model, &why)) throw InputError("fit: anti-alias filter for record " + rec.name + ": " + why);
+        pr.anti_alias = signal::cheby1(aa, fs_model);
       }
       const Index n = rec.channels.front().samples.size();
       for (const auto& ch : rec.channels) {
@@ -338,17 +391,6 @@ class Evaluator {
       }
       records_.push_back(std::move(pr));
     }
-    // Initial alignment by cross-correlation of the first channel.
-    const Simulated s0 = simulate_at(initial_values(p_));
-    for (std::size_t r = 0; r < records_.size(); ++r) {
-      auto& pr = records_[r];
-      ComparisonOptions co;
-      co.filter.enabled = false;  // both already filtered
-      co.max_shift_s = o_.max_shift_s;
-      const ChannelComparison cc =
-          compare_channel(pr.channels.front().y, pr.in->fs_hz, pr.in->t0_s, s0.signal[r].front(), s0.fs_model, co);
-      pr.shift0 = cc.shift_s;
-    }
   }
 
   void prepare_modal(const Scenario& sc0) {
@@ -375,7 +417,7 @@ class Evaluator {
     const model::Modes md = model::compute_modes_up_to(s, 0, 2.25 * f_max_target_);
     std::vector<StationSpec> specs;
     for (std::size_t i : sensor_stations_) specs.push_back(sc.stations[i]);
-    const auto st = resolve_stations(s, specs);
+    const auto st = specs.empty() ? std::vector<ResolvedStation>{} : resolve_stations(s, specs);
     out.modal_f = md.frequency_hz;
     out.modal_shapes.resize(static_cast<Index>(st.size()), md.frequency_hz.size());
     for (Index j = 0; j < md.frequency_hz.size(); ++j)
@@ -422,7 +464,6 @@ class Evaluator {
   std::size_t n_params_ = 0;
   FilterSpec filter_;
   std::vector<PreparedRecord> records_;
-  bool fit_shifts_ = false;
   const ModalTarget* modal_ = nullptr;
   std::vector<std::size_t> sensor_stations_;
   double f_max_target_ = 0.0;
@@ -450,9 +491,8 @@ class Cost : public ceres::CostFunction {
       std::vector<double> phys(zv.begin(), zv.begin() + static_cast<std::ptrdiff_t>(np));
       if (!cache_ || cache_->first != phys) cache_ = std::make_unique<std::pair<std::vector<double>, Simulated>>(phys, ev_.simulate_at(ev_.values_of(z)));
       const Simulated& base = cache_->second;
-      const std::vector<double> shifts = ev_.shifts_of(z);
       Vector r0(m);
-      ev_.residuals(base, shifts, r0.data());
+      ev_.residuals(base, r0.data());
       std::copy(r0.data(), r0.data() + m, residuals);
       if (!jacobians || !jacobians[0]) return true;
       Matrix J(m, static_cast<Index>(nz));
@@ -464,8 +504,7 @@ class Cost : public ceres::CostFunction {
           if (zp[j] + h > 1.0) h = -h;
           zp[j] += h;
           Vector r(m);
-          if (j < np) ev_.residuals(ev_.simulate_at(ev_.values_of(zp.data())), ev_.shifts_of(zp.data()), r.data());
-          else ev_.residuals(base, ev_.shifts_of(zp.data()), r.data());
+          ev_.residuals(ev_.simulate_at(ev_.values_of(zp.data())), r.data());
           J.col(static_cast<Index>(j)) = (r - r0) / h;
         } catch (const std::exception& e) {
           errors[j] = e.what();
@@ -613,7 +652,6 @@ bool FitOptions::is_valid(std::string* why) const {
   if (!weights.is_valid(why)) return false;
   if (!(envelope_window_s > 0) || !std::isfinite(envelope_window_s)) return fail("envelope_window_s must be > 0");
   if (!(max_shift_s > 0) || !std::isfinite(max_shift_s)) return fail("max_shift_s must be > 0");
-  if (!(shift_range_s > 0) || !std::isfinite(shift_range_s)) return fail("shift_range_s must be > 0");
   if (starts < 1) return fail("starts must be >= 1");
   if (max_iterations < 1) return fail("max_iterations must be >= 1");
   if (!(max_time_s > 0) || !std::isfinite(max_time_s)) return fail("max_time_s must be > 0");
@@ -646,6 +684,9 @@ double from_unit(const FitParameter& p, double z) {
 
 FitResult fit(const FitProblem& problem, const FitOptions& options) {
   const auto t_start = std::chrono::steady_clock::now();
+  // The library is quiet: Ceres' own log lines (glog) are dropped; its messages reach the result.
+  static std::once_flag quiet_glog;
+  std::call_once(quiet_glog, [] { FLAGS_minloglevel = google::GLOG_FATAL; });
   std::string why;
   if (!options.is_valid(&why)) throw InputError("fit: " + why);
   if (problem.params.empty()) throw InputError("fit: no parameter to fit");
@@ -667,7 +708,7 @@ FitResult fit(const FitProblem& problem, const FitOptions& options) {
   std::vector<double> z_init(nz, 0.5);
   for (std::size_t i = 0; i < np; ++i) z_init[i] = to_unit(problem.params[i], problem.params[i].initial);
 
-  // Starts: the initial values, then Halton points inside the box (shifts from their initial value).
+  // Starts: the initial values, then Halton points inside the box.
   static const int primes[] = {2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53};
   std::vector<StartOutcome> outcomes;
   for (int s = 0; s < options.starts; ++s) {
@@ -688,6 +729,11 @@ FitResult fit(const FitProblem& problem, const FitOptions& options) {
   if (!std::isfinite(bo.cost)) {
     out.message = "every start failed; first: " + outcomes.front().message;
     out.estimate = out.initial;
+    out.std_error.assign(np, kNaN);
+    out.sensitivity.assign(np, kNaN);
+    out.at_bound.assign(np, false);
+    out.determined.assign(np, false);
+    out.correlation = Matrix::Constant(static_cast<Index>(np), static_cast<Index>(np), kNaN);
     out.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
     return out;
   }
@@ -721,12 +767,24 @@ FitResult fit(const FitProblem& problem, const FitOptions& options) {
   Matrix Ainv = Matrix::Zero(nzi, nzi);
   std::vector<bool> in_null(nz, false);
   for (Index k = 0; k < nzi; ++k) {
-    if (lam[k] > 1e-12 * lam_max && lam[k] > 0) {
+    if (lam[k] > 1e-10 * lam_max && lam[k] > 0) {
       Ainv += es.eigenvectors().col(k) * es.eigenvectors().col(k).transpose() / lam[k];
     } else {
       for (Index i = 0; i < nzi; ++i)
         if (std::abs(es.eigenvectors()(i, k)) > 0.1) in_null[static_cast<std::size_t>(i)] = true;
     }
+  }
+  for (Index k = 0; k < nzi; ++k) {
+    if (lam[k] > 1e-10 * lam_max && lam[k] > 0) continue;
+    std::string keys;
+    int n_in = 0;
+    for (Index i = 0; i < nzi; ++i)
+      if (std::abs(es.eigenvectors()(i, k)) > 0.1 && J.col(i).norm() > 1e-9 * std::max(1.0, std::sqrt(lam_max))) {
+        keys += (keys.empty() ? "" : ", ") + problem.params[static_cast<std::size_t>(i)].key;
+        ++n_in;
+      }
+    if (n_in > 1)
+      out.warnings.push_back(keys + " are not determined separately: the data fix only a combination of them (a flat direction of the misfit)");
   }
   const Matrix Cz = Ainv * B * Ainv;
   double col_max = 0.0;
@@ -777,7 +835,7 @@ FitResult fit(const FitProblem& problem, const FitOptions& options) {
       if (std::isfinite(rho) && std::abs(rho) > options.max_correlation) {
         out.determined[i] = out.determined[j] = false;
         out.warnings.push_back(problem.params[i].key + " and " + problem.params[j].key + " are strongly correlated (rho = " +
-                               num(rho) + "): the data determine a combination of them, not each");
+                               num(rho) + "): the data fix a combination of them, not each");
       }
     }
 
@@ -787,7 +845,7 @@ FitResult fit(const FitProblem& problem, const FitOptions& options) {
                          r_fit.segment(b.offset, b.size).squaredNorm()});
   const Simulated s_init = ev.simulate_at(out.initial);
   const Simulated s_fit = ev.simulate_at(out.estimate);
-  const std::vector<double> sh_init = ev.shifts_of(z_init.data()), sh_fit = ev.shifts_of(bo.z.data());
+  const std::vector<double> sh_init = ev.align(s_init), sh_fit = ev.align(s_fit);
   out.shift_s.assign(problem.records.size(), kNaN);
   for (std::size_t r = 0; r < ev.n_records(); ++r) {
     const auto& pr = ev.record(r);
@@ -799,8 +857,8 @@ FitResult fit(const FitProblem& problem, const FitOptions& options) {
       const Index n = pr.channels[c].y.size();
       ov.t = Vector::LinSpaced(n, pr.in->t0_s, pr.in->t0_s + static_cast<double>(n - 1) / pr.in->fs_hz);
       ov.measured = pr.channels[c].y;
-      ov.initial = ev.aligned(s_init.signal[r][c], s_init.fs_model, pr, sh_init[r]);
-      ov.fitted = ev.aligned(s_fit.signal[r][c], s_fit.fs_model, pr, sh_fit[r]);
+      ov.initial = ev.processed(s_init, r, c, sh_init[r]);
+      ov.fitted = ev.processed(s_fit, r, c, sh_fit[r]);
       out.overlays.push_back(std::move(ov));
     }
   }

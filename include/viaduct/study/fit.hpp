@@ -64,7 +64,9 @@ struct ModalTarget {
 
 /// Weights of the objectives (0 leaves an objective out). Each objective is normalised to a
 /// relative misfit, so weights of 1 make them comparable:
-///   time      Σ(m − y)² / Σy² per channel, filtered, aligned (shift per record fitted too)
+///   time      Σ(m − y)² / Σy² per channel, filtered, aligned
+/// Every record objective compares on the record's grid after aligning the model by the shift
+/// that maximises the cross-correlation of the record's channels (re-aligned at every trial point).
 ///   peak      (max|m| / max|y| − 1)² and (rms m / rms y − 1)² per channel
 ///   envelope  windowed RMS envelopes, Σ(e_m − e_y)² / Σe_y² per channel, aligned
 ///   spectrum  Hann amplitude spectra over the filter band, Σ(A_m − A_y)² / ΣA_y² per channel
@@ -87,8 +89,7 @@ struct FitTracePoint {
 struct FitOptions {
   FitWeights weights;
   double envelope_window_s = 0.25;  ///< [s] envelope window, > 0
-  double max_shift_s = 60.0;        ///< [s] range of the initial cross-correlation alignment, > 0
-  double shift_range_s = 0.5;       ///< [s] fitted shift stays within ± this of its initial value, > 0
+  double max_shift_s = 60.0;        ///< [s] alignment search range (record time of the model's t = 0 from t0 − this to t0 + this), > 0
   int starts = 1;                   ///< 1: from the initial values only; more: plus quasi-random points (Halton) in the box
   int max_iterations = 50;          ///< per start, >= 1
   double max_time_s = 600.0;        ///< [s] per start, > 0: the solver stops with a reason
@@ -149,7 +150,7 @@ struct FitResult {
   std::vector<bool> at_bound;        ///< estimate on a bound
   std::vector<bool> determined;      ///< not flagged by any warning
   std::vector<std::string> warnings; ///< undetermined, correlated or bound-limited parameters
-  std::vector<double> shift_s;       ///< per record: record time of the model's t = 0 (NaN without alignment)
+  std::vector<double> shift_s;       ///< per record at the estimate: record time of the model's t = 0
   double cost_initial = 0.0, cost_final = 0.0;  ///< ½ Σ r²
   int n_residuals = 0, iterations = 0, evaluations = 0, simulations = 0;
   int best_start = 0;
