@@ -91,7 +91,8 @@ double number_cell(const std::string& path, int line, const std::string& column,
 
 study::FitParameter fit_parameter(const FlatScenario& flat, const std::string& key, double lower, double upper,
                                   const std::string& scale, const SourceLocation& where) {
-  auto fail = [&](const std::string& m) { throw InputError(where, key + ": " + m); };
+  const SourceLocation at{where.file, where.line, key};
+  auto fail = [&](const std::string& m) { throw InputError(at, m); };
   const KeySpec* spec = find_key_spec(key);
   if (!spec) fail("unknown scenario key");
   if (spec->type != ValueType::number && spec->type != ValueType::number_or_list)

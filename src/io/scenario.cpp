@@ -377,12 +377,13 @@ void set_number(FlatScenario& flat, const std::string& key, double value) {
   auto it = flat.values.find(key);
   if (it == flat.values.end())
     throw InputError(SourceLocation{flat.path, 0, key}, "key is not set in the scenario" + did_you_mean(key));
-  Value& v = it->second;
+  Value v = it->second;
   if (v.type == ValueType::number_list && v.xs.size() == 1) v.xs[0] = value;
   else if (v.type == ValueType::number) v.x = value;
   else throw InputError(v.where, "must be a single number to be set (not a list of several, an integer, string or boolean)");
+  if (const KeySpec* spec = find_spec(key)) check_constraint(*spec, v);  // before anything changes
+  it->second = v;
   flat.defaulted.erase(key);
-  if (const KeySpec* spec = find_spec(key)) check_constraint(*spec, v);
 }
 
 const KeySpec* find_key_spec(const std::string& key) { return find_spec(key); }

@@ -414,7 +414,11 @@ class Evaluator {
   }
 
   void model_modes(const model::Structure& s, const Scenario& sc, Simulated& out) const {
-    const model::Modes md = model::compute_modes_up_to(s, 0, 2.25 * f_max_target_);
+    // The modes up to 2.25 × the highest identified frequency, and at least the lowest
+    // n_identified + 4 modes (the start may be far off).
+    model::Modes md = model::compute_modes_up_to(s, 0, 2.25 * f_max_target_);
+    const auto n_min = static_cast<Index>(modal_->modes.size()) + 4;
+    if (md.frequency_hz.size() < n_min) md = model::compute_modes_up_to(s, n_min, 0.0);
     std::vector<StationSpec> specs;
     for (std::size_t i : sensor_stations_) specs.push_back(sc.stations[i]);
     const auto st = specs.empty() ? std::vector<ResolvedStation>{} : resolve_stations(s, specs);
@@ -423,7 +427,7 @@ class Evaluator {
     for (Index j = 0; j < md.frequency_hz.size(); ++j)
       for (std::size_t r = 0; r < st.size(); ++r)
         out.modal_shapes(static_cast<Index>(r), j) = (st[r].has_deck ? st[r].deck : st[r].rail).value(md.shape.col(j));
-    if (out.modal_f.size() == 0) throw SolverError("fit: the model has no mode below " + num(2.25 * f_max_target_) + " Hz");
+    if (out.modal_f.size() == 0) throw SolverError("fit: the model has no modes");
   }
 
   void layout_blocks() {
@@ -596,7 +600,7 @@ StartOutcome run_start(const Evaluator& ev, const FitOptions& o, std::vector<dou
   ceres::Solver::Summary summary;
   ceres::Solve(so_opts, &problem, &summary);
   out.evaluations += cost->evaluations();
-  so.iterations = static_cast<int>(summary.iterations.size()) - 1;
+  so.iterations = std::max(0, static_cast<int>(summary.iterations.size()) - 1);
   so.cost = summary.final_cost;
   so.message = summary.message;
   switch (summary.termination_type) {
@@ -787,6 +791,10 @@ FitResult fit(const FitProblem& problem, const FitOptions& options) {
       out.warnings.push_back(keys + " are not determined separately: the data fix only a combination of them (a flat direction of the misfit)");
   }
   const Matrix Cz = Ainv * B * Ainv;
+  const bool no_dof = m <= nzi;  // as many residuals as parameters: no noise estimate
+  if (no_dof)
+    out.warnings.push_back("the fit has " + std::to_string(m) + " residuals for " + std::to_string(nzi) +
+                           " parameters: no standard errors without more data (more modes, sensors or records)");
   double col_max = 0.0;
   for (std::size_t i = 0; i < np; ++i) col_max = std::max(col_max, J.col(static_cast<Index>(i)).norm());
   out.std_error.assign(np, kNaN);
@@ -809,14 +817,14 @@ FitResult fit(const FitProblem& problem, const FitOptions& options) {
                              num(p.upper) + "]; it keeps no meaning in this fit");
       continue;
     }
-    out.std_error[i] = in_null[i] ? kInf : dpdz * std::sqrt(std::max(0.0, Cz(ii, ii)));
+    out.std_error[i] = in_null[i] ? kInf : no_dof ? kNaN : dpdz * std::sqrt(std::max(0.0, Cz(ii, ii)));
     const double ref = p.scale == ParameterScale::log || out.estimate[i] != 0.0 ? std::abs(out.estimate[i]) : p.upper - p.lower;
     if (out.at_bound[i]) {
       out.determined[i] = false;
       out.warnings.push_back(p.key + " ended on its " + std::string(z <= 0.5 ? "lower" : "upper") + " bound " +
                              num(z <= 0.5 ? p.lower : p.upper) +
                              ": the data want a value beyond it (widen the bounds or question the model); its standard error is not meaningful");
-    } else if (!(out.std_error[i] <= options.max_relative_std * ref)) {
+    } else if (!no_dof && !(out.std_error[i] <= options.max_relative_std * ref)) {
       out.determined[i] = false;
       out.warnings.push_back(p.key + " is not determined by the data: standard error " +
                              (std::isfinite(out.std_error[i]) ? num(100.0 * out.std_error[i] / ref) + " % of the estimate" : "unbounded (flat direction)"));

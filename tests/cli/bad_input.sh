@@ -121,4 +121,32 @@ expect 2 "fewer than 5 frequencies in the band" -- "$VIADUCT" modal-fit "$WORK/f
 expect 2 "--channel is required" -- "$VIADUCT" decay "$WORK/sh/record.csv" --frequency-hz 5 --out "$WORK/o"
 expect 2 "too short a decay" -- "$VIADUCT" decay "$WORK/sh/record.csv" --channel mid_acc --frequency-hz 5 --start-s 35.5 --out "$WORK/o"
 expect 2 "go together" -- "$VIADUCT" decay "$WORK/sh/record.csv" --channel mid_acc --frequency-hz 5 --speed-kmh 100 --out "$WORK/o"
+# viaduct fit: every refusal names the option or key; a fit that cannot finish exits 1 with the reason.
+FS=$(scen fitok '[run]\nspeed_kmh = 100\n')
+"$VIADUCT" run "$FS" --quiet --out "$WORK/fr" >/dev/null 2>&1
+expect 2 "no parameter to fit" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --out "$WORK/o"
+expect 2 "key 'bridge.EJ': unknown scenario key" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EJ=1e9:4e9 --out "$WORK/o"
+expect 2 "key 'bridge.EI': bounds must be finite with lower < upper" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=4e9:1e9 --out "$WORK/o"
+expect 2 "key 'bridge.EI': its value 2000000000 (the start) is outside the bounds [3000000000, 4000000000]" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=3e9:4e9 --out "$WORK/o"
+expect 2 "key 'bridge.damping.ratio': bound 2 violates the key's constraint [0, 1)" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.damping.ratio=0:2 --out "$WORK/o"
+expect 2 "cannot open" -- "$VIADUCT" fit "$FS" --record "$WORK/nothere.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --out "$WORK/o"
+expect 2 "no station 'nowhere'" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=nowhere --param bridge.EI=1e9:4e9 --out "$WORK/o"
+expect 2 "deck_acc" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map deck_acc=mid --param bridge.EI=1e9:4e9 --out "$WORK/o"
+expect 2 "fit takes _mps2, _g, _m or _mm" -- "$VIADUCT" fit "$FS" --record "$WORK/sh/record.csv" --map force_N=mid --param bridge.EI=1e9:4e9 --out "$WORK/o"
+expect 2 "--weight: unknown objective 'phase'" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --weight phase=1 --out "$WORK/o"
+expect 2 "one speed for all records or one per --record" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --speed-kmh 100 --speed-kmh 110 --out "$WORK/o"
+expect 2 "nothing to fit against" -- "$VIADUCT" fit "$FS" --param bridge.EI=1e9:4e9 --out "$WORK/o"
+expect 2 "the modal objective needs --modes" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --weight modal=1 --out "$WORK/o"
+expect 2 "starts must be >= 1" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --starts 0 --out "$WORK/o"
+expect 2 "given twice" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --param bridge.EI=1e9:5e9 --out "$WORK/o"
+mkdir -p "$WORK/md"
+printf 'method,mode,frequency_hz,damping_ratio,response,note\nlscf,1,4.0,0.02,all,\n' > "$WORK/md/modes.csv"
+printf 'method,mode,response,re,im\nlscf,1,sensor7,1,0\n' > "$WORK/md/shapes.csv"
+expect 2 "response 'sensor7' is not a station of the scenario: add --map sensor7=STATION" -- "$VIADUCT" fit "$FS" --modes "$WORK/md" --param bridge.EI=1e9:4e9 --out "$WORK/o"
+expect 0 "converged" -- "$VIADUCT" fit "$FS" --modes "$WORK/md" --map sensor7=mid --param bridge.EI=1e9:4e9 --out "$WORK/o"
+expect 2 "no mode of method 'circle-fit'" -- "$VIADUCT" fit "$FS" --modes "$WORK/md" --modes-method circle-fit --param bridge.EI=1e9:4e9 --out "$WORK/o"
+expect 2 "fitbad.toml:10: key 'bridge.EJ': unknown scenario key" -- "$VIADUCT" fit "$(scen fitbad '[[fit.params]]\nkey = "bridge.EJ"\nlower = 1e9\nupper = 4e9\n')" --out "$WORK/o"
+expect 2 "fitbad2.toml:10: key 'fit.starts': must be >= 1" -- "$VIADUCT" fit "$(scen fitbad2 '[fit]\nstarts = 0\n')" --out "$WORK/o"
+expect 1 "did not converge" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --param bridge.damping.ratio=0:0.1 --set bridge.EI=1.2e9 --max-iterations 1 --out "$WORK/o"
+[ -s "$WORK/o/fit.csv" ] && grep -q 'status = "no_convergence"' "$WORK/o/fit.toml" && n_pass=$((n_pass + 1)) || { echo "FAIL: a fit without convergence writes fit.csv and says so in fit.toml"; n_fail=$((n_fail + 1)); }
 finish

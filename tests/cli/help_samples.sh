@@ -5,7 +5,7 @@ ln -s "$SRC/scenarios" "$WORK/scenarios"
 ln -s "$SRC/data" "$WORK/data"
 cd "$WORK" || exit 1
 expect 0 "Commands:" -- "$VIADUCT" --help
-for cmd in check modes run sweep schema filter spectrum peaks compare speed resample envelope frf shaker modal-fit decay; do
+for cmd in check modes run sweep schema filter spectrum peaks compare speed resample envelope frf shaker modal-fit decay fit; do
   expect 0 "Sample runs:" -- "$VIADUCT" "$cmd" --help
   while IFS= read -r line; do
     # shellcheck disable=SC2086
