@@ -90,7 +90,8 @@ Command fit_command() {
       "fit_correlation.csv, fit.toml, fitted.toml (the scenario with the fitted values),\n"
       "fit_trace.csv, fit_residuals.csv, fit_time.csv, fit_modes.csv and manifest.toml; plot with\n"
       "scripts/plot_fit.py OUT. Exit 1 when the fit did not converge (the outputs say why).\n\n"
-      "Sample runs (the records and modes come from the samples of viaduct run and modal-fit):\n"
+      "The first two samples use the outputs of the samples of viaduct run and modal-fit.\n\n"
+      "Sample runs:\n"
       "  viaduct fit scenarios/hslm-simply-supported.toml --record out/a4/history.csv --map mid_acc_mps2=mid --train HSLM-A4 --speed-kmh 300 --param bridge.EI=5e9:1e10 --param bridge.damping.ratio=0.005:0.05 --set bridge.EI=7e9 --set bridge.damping.ratio=0.02 --out out/fit-hslm\n"
       "  viaduct fit scenarios/hslm-simply-supported.toml --modes out/fit-sweep --param bridge.EI=5e9:1e10 --set bridge.EI=7e9 --out out/fit-modes\n"
       "  viaduct fit scenarios/old-guadiana-talgo.toml --record data/records/og-calibration.csv --map S1_mid_acc=S1_mid --map S2_mid_acc=S2_mid --param bridge.EI=5e9:1e10 --param track.pad.k=2e7:1e9 --param bridge.damping.ratio1=0.01:0.06 --threads 2 --out out/fit-og\n";
