@@ -6,8 +6,9 @@ Usage: scripts/plot_fit.py DIR [--out-prefix PREFIX]
 Reads DIR/fit_time.csv, fit_trace.csv, fit.csv and fit_modes.csv and writes
 DIR/fit_time.png: per record channel the filtered record against the aligned model with the
 initial and the fitted values (residual energy of each in the title), and
-DIR/fit_trace.png: every parameter against the iteration (each start a line, estimate and
-+-2 standard errors shaded, bounds dotted) and the cost on a log scale.
+DIR/fit_trace.png: every parameter against the iteration (each start a line, the spectral
+pre-stage then the fit; estimate and +-2 standard errors shaded, bounds dotted) and the cost on a
+log scale.
 """
 import argparse
 import csv
@@ -74,8 +75,7 @@ def plot_trace(d, out):
         key = p["key"]
         for s in starts:
             sel = [r for r in trace if int(r["start"]) == s]
-            ax.plot([int(r["iteration"]) for r in sel], [float(r[key]) for r in sel], marker="o", ms=3, lw=1,
-                    label="start %d" % s)
+            ax.plot(range(len(sel)), [float(r[key]) for r in sel], marker="o", ms=3, lw=1, label="start %d" % s)
         est, se = float(p["estimate"]), float(p["std_error"])
         if math.isfinite(se):
             ax.axhspan(est - 2 * se, est + 2 * se, color="C3", alpha=0.15, lw=0)
@@ -92,9 +92,12 @@ def plot_trace(d, out):
     ax = axes[n, 0]
     for s in starts:
         sel = [r for r in trace if int(r["start"]) == s]
-        ax.semilogy([int(r["iteration"]) for r in sel], [max(float(r["cost"]), 1e-300) for r in sel], marker="o", ms=3, lw=1)
-    ax.set_ylabel("cost", fontsize=8)
-    ax.set_xlabel("iteration")
+        ax.semilogy(range(len(sel)), [max(float(r["cost"]), 1e-300) for r in sel], marker="o", ms=3, lw=1)
+        n_spec = sum(1 for r in sel if r.get("stage") == "spectral")
+        if n_spec:
+            ax.axvline(n_spec - 0.5, color="0.5", ls="--", lw=0.8)
+    ax.set_ylabel("cost (stage's objectives)", fontsize=8)
+    ax.set_xlabel("iteration (spectral pre-stage left of the dashed line, then the fit)")
     ax.grid(alpha=0.3, which="both")
     fig.tight_layout()
     path = out + "fit_trace.png"

@@ -194,6 +194,7 @@ FitDeclaration fit_declaration(const FlatScenario& flat) {
   if (const Value* v = get("fit.envelope_window_s")) o.envelope_window_s = v->x;
   if (const Value* v = get("fit.max_shift_s")) o.max_shift_s = v->x;
   if (const Value* v = get("fit.starts")) o.starts = static_cast<int>(v->x);
+  if (const Value* v = get("fit.spectral_start")) o.spectral_start = v->b;
   if (const Value* v = get("fit.max_iterations")) o.max_iterations = static_cast<int>(v->x);
   if (const Value* v = get("fit.max_time_s")) o.max_time_s = v->x;
   if (const Value* v = get("fit.fd_step")) {

@@ -114,6 +114,7 @@ const std::vector<KeySpec>& scenario_schema() {
       {"fit.envelope_window_s", T::number, "0.25", "s", "> 0", "Envelope window."},
       {"fit.max_shift_s", T::number, "60.0", "s", "> 0", "Alignment of records and model: cross-correlation search range around the record start."},
       {"fit.starts", T::integer, "1", "-", ">= 1", "Solver starts: the scenario's values, then quasi-random points in the bounds."},
+      {"fit.spectral_start", T::boolean, "true", "", "", "With the time or envelope objective, each start first fits the amplitude spectra (phase-free: converges from further away)."},
       {"fit.max_iterations", T::integer, "50", "-", ">= 1", "Iterations per start."},
       {"fit.max_time_s", T::number, "600.0", "s", "> 0", "Wall time per start; the solver stops with a reason."},
       {"fit.fd_step", T::number, "1e-4", "-", "> 0", "Forward-difference step in the normalised coordinates (at most 0.1)."},

@@ -556,11 +556,12 @@ class Cost : public ceres::CostFunction {
 
 class Trace : public ceres::IterationCallback {
  public:
-  Trace(const Evaluator& ev, const double* z, int start, FitResult& out, const FitOptions& o)
-      : ev_(ev), z_(z), start_(start), out_(out), o_(o) {}
+  Trace(const Evaluator& ev, const double* z, int start, int stage, FitResult& out, const FitOptions& o)
+      : ev_(ev), z_(z), start_(start), stage_(stage), out_(out), o_(o) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
     FitTracePoint tp;
     tp.start = start_;
+    tp.stage = stage_;
     tp.iteration = s.iteration;
     tp.cost = s.cost;
     tp.values = ev_.values_of(z_);
@@ -573,6 +574,7 @@ class Trace : public ceres::IterationCallback {
   const Evaluator& ev_;
   const double* z_;
   int start_;
+  int stage_;
   FitResult& out_;
   const FitOptions& o_;
 };
@@ -585,7 +587,8 @@ struct StartOutcome {
   int iterations = 0;
 };
 
-StartOutcome run_start(const Evaluator& ev, const FitOptions& o, std::vector<double> z0, int start, FitResult& out) {
+StartOutcome run_start(const Evaluator& ev, const FitOptions& o, std::vector<double> z0, int start, int stage,
+                       FitResult& out) {
   StartOutcome so;
   so.z = std::move(z0);
   auto* cost = new Cost(ev, o);  // owned by the problem
@@ -609,7 +612,7 @@ StartOutcome run_start(const Evaluator& ev, const FitOptions& o, std::vector<dou
   so_opts.logging_type = ceres::SILENT;
   so_opts.minimizer_progress_to_stdout = false;
   so_opts.update_state_every_iteration = true;
-  Trace trace(ev, so.z.data(), start, out, o);
+  Trace trace(ev, so.z.data(), start, stage, out, o);
   so_opts.callbacks.push_back(&trace);
   std::string why;
   if (!so_opts.IsValid(&why)) throw InputError("fit: solver options: " + why);
@@ -721,6 +724,12 @@ FitResult fit(const FitProblem& problem, const FitOptions& options) {
       throw InputError(k + "initial value " + num(p.initial) + " is outside the bounds [" + num(p.lower) + ", " + num(p.upper) + "]");
   }
   const Evaluator ev(problem, options);
+  // The spectral pre-stage: amplitude spectra (and the modal objective) only.
+  FitOptions pre_options = options;
+  pre_options.weights = FitWeights{0, 0, 0, 1, options.weights.modal};
+  std::unique_ptr<Evaluator> pre;
+  if (options.spectral_start && (options.weights.time > 0 || options.weights.envelope > 0))
+    pre = std::make_unique<Evaluator>(problem, pre_options);
   FitResult out;
   out.n_residuals = static_cast<int>(ev.n_residuals());
   out.initial = initial_values(problem);
@@ -735,7 +744,12 @@ FitResult fit(const FitProblem& problem, const FitOptions& options) {
     std::vector<double> z0 = z_init;
     if (s > 0)
       for (std::size_t i = 0; i < np; ++i) z0[i] = 0.05 + 0.9 * halton(s, primes[i % 16] + static_cast<int>(i / 16) * 59);
-    outcomes.push_back(run_start(ev, options, z0, s, out));
+    if (pre) {
+      const StartOutcome so = run_start(*pre, pre_options, z0, s, 1, out);
+      out.iterations += so.iterations;
+      if (std::isfinite(so.cost)) z0 = so.z;
+    }
+    outcomes.push_back(run_start(ev, options, z0, s, 0, out));
     out.start_costs.push_back(outcomes.back().cost);
     out.iterations += outcomes.back().iterations;
   }
@@ -902,7 +916,7 @@ FitResult fit(const FitProblem& problem, const FitOptions& options) {
       mp.mac_after = tm.shape.size() ? Evaluator::mac_real(tm.shape, s_fit.modal_shapes.col(j1)) : kNaN;
       out.modal_pairs.push_back(mp);
     }
-  out.simulations = ev.simulations();
+  out.simulations = ev.simulations() + (pre ? pre->simulations() : 0);
   out.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   return out;
 }

@@ -75,6 +75,7 @@ Command fit_command() {
         "weight", po::value<std::vector<std::string>>()->composing(),
         "OBJECTIVE=W with OBJECTIVE time, peak, envelope, spectrum or modal (repeatable; default time=1 with records, modal=1 with --modes)")(
         "starts", po::value<int>(), "solver starts: the scenario's values, then quasi-random points in the bounds (default 1)")(
+        "no-spectral-start", po::bool_switch(), "skip the spectral pre-stage of each start (fit.spectral_start = false)")(
         "max-iterations", po::value<int>(), "iterations per start (default 50)")(
         "max-time-s", po::value<double>(), "wall time per start [s] (default 600)");
   };
@@ -184,6 +185,7 @@ Command fit_command() {
     if (opt.weights.time + opt.weights.peak + opt.weights.envelope + opt.weights.spectrum + opt.weights.modal <= 0)
       throw InputError("nothing to fit against: give --record FILE --map CHANNEL=STATION and/or --modes DIR");
     if (vm.count("starts")) opt.starts = vm["starts"].as<int>();
+    if (vm["no-spectral-start"].as<bool>()) opt.spectral_start = false;
     if (vm.count("max-iterations")) opt.max_iterations = vm["max-iterations"].as<int>();
     if (vm.count("max-time-s")) opt.max_time_s = vm["max-time-s"].as<double>();
     opt.threads = o.threads;
@@ -191,7 +193,8 @@ Command fit_command() {
     if (!opt.is_valid(&why)) throw InputError(why);
     if (!o.quiet)
       opt.progress = [&problem](const study::FitTracePoint& tp) {
-        std::fprintf(stderr, "  start %d iteration %2d: cost %.6e ", tp.start + 1, tp.iteration, tp.cost);
+        std::fprintf(stderr, "  start %d %s iteration %2d: cost %.6e ", tp.start + 1, tp.stage == 1 ? "spectral" : "fit     ",
+                     tp.iteration, tp.cost);
         for (std::size_t i = 0; i < tp.values.size(); ++i)
           std::fprintf(stderr, " %s=%.5g", problem.params[i].key.c_str(), tp.values[i]);
         std::fprintf(stderr, "\n");
@@ -233,11 +236,11 @@ Command fit_command() {
       io::write_table_csv(o.out + "/fit_correlation.csv", head, cr);
     }
     {
-      std::vector<std::string> head = {"start", "iteration", "cost"};
+      std::vector<std::string> head = {"start", "stage", "iteration", "cost"};
       for (const auto& p : problem.params) head.push_back(p.key);
       std::vector<std::vector<std::string>> tr;
       for (const auto& tp : r.trace) {
-        std::vector<std::string> row = {std::to_string(tp.start + 1), std::to_string(tp.iteration), fmt(tp.cost)};
+        std::vector<std::string> row = {std::to_string(tp.start + 1), tp.stage == 1 ? "spectral" : "fit", std::to_string(tp.iteration), fmt(tp.cost)};
         for (double v : tp.values) row.push_back(fmt(v));
         tr.push_back(row);
       }
