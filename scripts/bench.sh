@@ -198,7 +198,9 @@ release preset, viaduct $($V --version | cut -d' ' -f2). Speed is measured here,
 is shared and noisy: 2-thread wall times are medians of $repeats runs, 1-thread times one run each
 (one to two minutes apiece); the thread ratio comes from the same session. Identification paths
 (model FRF, shaker test, modal fit, decay): [benchmarks-identification.md](benchmarks-identification.md)
-(\`scripts/bench_ident.sh\`).
+(\`scripts/bench_ident.sh\`). Model updating: the 3-parameter fit of the Old Guadiana model to one
+record takes $(sed -n 's/^| Newmark, dt = 1 ms (default) | 2 | \([0-9.]*\) .*/\1/p' docs/benchmarks-fitting.md) s on 2 threads (target < 60 s), [benchmarks-fitting.md](benchmarks-fitting.md)
+(\`scripts/bench_fit.sh\`).
 
 ## Studies
 

@@ -1,8 +1,11 @@
 #pragma once
-// Private to src/io: one CSV line split into trimmed cells (no quoting: record, FRF and schedule
-// files are numbers and plain names).
+// Private to src/io: CSV lines split into trimmed cells (plain for record, FRF and schedule files,
+// which hold numbers and plain names; quoted for tables written by write_table_csv).
+#include <fstream>
 #include <string>
 #include <vector>
+
+#include "viaduct/core/error.hpp"
 
 namespace viaduct::io::detail {
 
@@ -24,6 +27,63 @@ inline std::vector<std::string> split_csv(const std::string& line) {
     start = comma + 1;
   }
   return out;
+}
+
+/// Cells of a line as write_table_csv writes them: a double-quoted cell may hold commas and "".
+inline std::vector<std::string> split_quoted_csv(const std::string& line) {
+  std::vector<std::string> out;
+  std::string cell;
+  bool quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') cell += '"', ++i;
+      else if (c == '"') quoted = false;
+      else cell += c;
+    } else if (c == '"') {
+      quoted = true;
+    } else if (c == ',') {
+      out.push_back(trim(cell));
+      cell.clear();
+    } else {
+      cell += c;
+    }
+  }
+  out.push_back(trim(cell));
+  return out;
+}
+
+/// A CSV file as text: the header, then rows of as many cells with their line numbers; '#' and
+/// empty lines skipped. InputError naming file and line for a missing file or header, or a row
+/// whose width differs from the header.
+struct TextTable {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+  std::vector<int> lines;
+};
+
+inline TextTable read_text_table(const std::string& path, bool quoted) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open");
+  TextTable t;
+  std::string line;
+  int ln = 0;
+  while (std::getline(in, line)) {
+    ++ln;
+    if (line.empty() || line[0] == '#' || line == "\r") continue;
+    auto cells = quoted ? split_quoted_csv(line) : split_csv(line);
+    if (t.header.empty()) {
+      t.header = std::move(cells);
+      continue;
+    }
+    if (cells.size() != t.header.size())
+      throw InputError(path + ":" + std::to_string(ln) + ": " + std::to_string(cells.size()) + " cells, the header has " +
+                       std::to_string(t.header.size()));
+    t.rows.push_back(std::move(cells));
+    t.lines.push_back(ln);
+  }
+  if (t.header.empty()) throw InputError(path + ": no header");
+  return t;
 }
 
 }  // namespace viaduct::io::detail

@@ -20,63 +20,12 @@ namespace {
 
 std::string num(double v) { return format_number(v, 12); }
 
-// Cells of a CSV line written by write_table_csv (double-quoted cells may hold commas and "").
-std::vector<std::string> split_quoted(const std::string& line) {
-  std::vector<std::string> out;
-  std::string cell;
-  bool quoted = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') cell += '"', ++i;
-      else if (c == '"') quoted = false;
-      else cell += c;
-    } else if (c == '"') {
-      quoted = true;
-    } else if (c == ',') {
-      out.push_back(detail::trim(cell));
-      cell.clear();
-    } else {
-      cell += c;
-    }
-  }
-  out.push_back(detail::trim(cell));
-  return out;
-}
+using detail::TextTable;
 
-struct TextTable {
-  std::vector<std::string> header;
-  std::vector<std::vector<std::string>> rows;
-  std::vector<int> lines;
-  std::size_t col(const std::string& path, const std::string& name) const {
-    for (std::size_t i = 0; i < header.size(); ++i)
-      if (header[i] == name) return i;
-    throw InputError(path + ":1: no column '" + name + "'");
-  }
-};
-
-TextTable read_text_table(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open");
-  TextTable t;
-  std::string line;
-  int ln = 0;
-  while (std::getline(in, line)) {
-    ++ln;
-    if (line.empty() || line[0] == '#' || line == "\r") continue;
-    auto cells = split_quoted(line);
-    if (t.header.empty()) {
-      t.header = cells;
-      continue;
-    }
-    if (cells.size() != t.header.size())
-      throw InputError(path + ":" + std::to_string(ln) + ": " + std::to_string(cells.size()) + " cells, the header has " +
-                       std::to_string(t.header.size()));
-    t.rows.push_back(std::move(cells));
-    t.lines.push_back(ln);
-  }
-  if (t.header.empty()) throw InputError(path + ": no header");
-  return t;
+std::size_t column(const TextTable& t, const std::string& path, const std::string& name) {
+  for (std::size_t i = 0; i < t.header.size(); ++i)
+    if (t.header[i] == name) return i;
+  throw InputError(path + ": no column '" + name + "'");
 }
 
 double number_cell(const std::string& path, int line, const std::string& column, const std::string& cell) {
@@ -218,8 +167,8 @@ study::ModalTarget read_identified_modes(const std::string& path, const std::str
   fs::path modes_path = path;
   if (fs::is_directory(modes_path)) modes_path /= "modes.csv";
   const std::string mp = modes_path.string();
-  const TextTable t = read_text_table(mp);
-  const std::size_t c_method = t.col(mp, "method"), c_mode = t.col(mp, "mode"), c_f = t.col(mp, "frequency_hz");
+  const TextTable t = detail::read_text_table(mp, /*quoted=*/true);
+  const std::size_t c_method = column(t, mp, "method"), c_mode = column(t, mp, "mode"), c_f = column(t, mp, "frequency_hz");
   std::map<int, double> freq;
   std::set<std::string> methods;
   for (std::size_t i = 0; i < t.rows.size(); ++i) {
@@ -240,9 +189,9 @@ study::ModalTarget read_identified_modes(const std::string& path, const std::str
   const fs::path shapes_path = modes_path.parent_path() / "shapes.csv";
   if (fs::exists(shapes_path)) {
     const std::string sp = shapes_path.string();
-    const TextTable s = read_text_table(sp);
-    const std::size_t s_method = s.col(sp, "method"), s_mode = s.col(sp, "mode"), s_resp = s.col(sp, "response"),
-                      s_re = s.col(sp, "re");
+    const TextTable s = detail::read_text_table(sp, /*quoted=*/true);
+    const std::size_t s_method = column(s, sp, "method"), s_mode = column(s, sp, "mode"),
+                      s_resp = column(s, sp, "response"), s_re = column(s, sp, "re");
     for (std::size_t i = 0; i < s.rows.size(); ++i) {
       if (s.rows[i][s_method] != method) continue;
       const int mode = static_cast<int>(number_cell(sp, s.lines[i], "mode", s.rows[i][s_mode]));

@@ -23,35 +23,23 @@ struct Table {
 };
 
 Table read_table(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open");
+  const detail::TextTable text = detail::read_text_table(path, /*quoted=*/false);
   Table t;
-  std::string line;
-  int ln = 0;
-  while (std::getline(in, line)) {
-    ++ln;
-    if (line.empty() || line[0] == '#' || line == "\r") continue;
-    const auto cells = split_csv(line);
-    if (t.header.empty()) {
-      t.header = cells;
-      continue;
-    }
-    if (cells.size() != t.header.size())
-      throw InputError(path + ":" + std::to_string(ln) + ": " + std::to_string(cells.size()) + " cells, the header has " +
-                       std::to_string(t.header.size()));
+  t.header = text.header;
+  for (std::size_t r = 0; r < text.rows.size(); ++r) {
+    const auto& cells = text.rows[r];
     std::vector<double> row;
     for (std::size_t c = 0; c < cells.size(); ++c) {
       char* end = nullptr;
       const double v = std::strtod(cells[c].c_str(), &end);
       if (cells[c].empty() || end == cells[c].c_str() || *end != '\0' || !std::isfinite(v))
-        throw InputError(path + ":" + std::to_string(ln) + ": column '" + t.header[c] + "': '" + cells[c] +
+        throw InputError(path + ":" + std::to_string(text.lines[r]) + ": column '" + t.header[c] + "': '" + cells[c] +
                          "' is not a finite number");
       row.push_back(v);
     }
     t.rows.push_back(std::move(row));
-    t.line_of_row.push_back(ln);
+    t.line_of_row.push_back(text.lines[r]);
   }
-  if (t.header.empty()) throw InputError(path + ": no header");
   if (t.rows.empty()) throw InputError(path + ": no data rows");
   return t;
 }

@@ -78,7 +78,7 @@ expect 2 "no station 'S9'" -- "$VIADUCT" compare "$TALGO" --record "$REC" --map 
 expect 2 "no channel 'strain'" -- "$VIADUCT" compare "$TALGO" --record "$REC" --map strain=S1_mid
 expect 2 "--map needs CHANNEL=STATION" -- "$VIADUCT" compare "$TALGO" --record "$REC" --map deck_acc
 printf '# sampling_rate_hz = 100\nv_V\n1\n2\n3\n' > "$WORK/volts.csv"
-expect 2 "compare takes _mps2, _g, _m or _mm" -- "$VIADUCT" compare "$TALGO" --record "$WORK/volts.csv" --map v=S1_mid
+expect 2 "only _mps2, _g, _m or _mm compare with the model" -- "$VIADUCT" compare "$TALGO" --record "$WORK/volts.csv" --map v=S1_mid
 
 # Sizes that would exhaust memory or time are refused with the key to change.
 expect 2 "elements; at most 1000 per span (raise bridge.element_size)" -- "$VIADUCT" check "$OG" --set bridge.element_size=1e-6
@@ -132,7 +132,7 @@ expect 2 "key 'bridge.damping.ratio': bound 2 violates the key's constraint [0, 
 expect 2 "cannot open" -- "$VIADUCT" fit "$FS" --record "$WORK/nothere.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --out "$WORK/o"
 expect 2 "no station 'nowhere'" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=nowhere --param bridge.EI=1e9:4e9 --out "$WORK/o"
 expect 2 "deck_acc" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map deck_acc=mid --param bridge.EI=1e9:4e9 --out "$WORK/o"
-expect 2 "fit takes _mps2, _g, _m or _mm" -- "$VIADUCT" fit "$FS" --record "$WORK/sh/record.csv" --map force_N=mid --param bridge.EI=1e9:4e9 --out "$WORK/o"
+expect 2 "channel 'force_N' is in N; only _mps2, _g, _m or _mm compare with the model" -- "$VIADUCT" fit "$FS" --record "$WORK/sh/record.csv" --map force_N=mid --param bridge.EI=1e9:4e9 --out "$WORK/o"
 expect 2 "--weight: unknown objective 'phase'" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --weight phase=1 --out "$WORK/o"
 expect 2 "one speed for all records or one per --record" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --speed-kmh 100 --speed-kmh 110 --out "$WORK/o"
 expect 2 "nothing to fit against" -- "$VIADUCT" fit "$FS" --param bridge.EI=1e9:4e9 --out "$WORK/o"

@@ -72,15 +72,6 @@ std::vector<Stats> run_case(const FitProblem& base, const std::vector<double>& t
   return st;
 }
 
-FitParameter param(const std::string& key, double lo, double hi, double x0) {
-  FitParameter p;
-  p.key = key;
-  p.lower = lo;
-  p.upper = hi;
-  p.initial = x0;
-  return p;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -96,7 +87,7 @@ int main(int argc, char** argv) {
   {
     const std::vector<double> truth = {5.5e9, 0.025};
     FitProblem p;
-    p.params = {param("bridge.EI", 3e9, 8e9, 5.0e9), param("bridge.damping.ratio", 0.005, 0.08, 0.015)};
+    p.params = {test::param("bridge.EI", 3e9, 8e9, 5.0e9), test::param("bridge.damping.ratio", 0.005, 0.08, 0.015)};
     p.scenario_at = test::small_scenario;
     FitOptions o;
     o.threads = 2;

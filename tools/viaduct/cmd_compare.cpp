@@ -86,12 +86,9 @@ Command compare_command() {
           found = true;
         }
       if (!found) throw InputError("--map: no station '" + st + "' in the scenario");
-      const std::string& u = rec.units[mp.channel];
-      if (u == "mps2") mp.quantity = "acc";
-      else if (u == "g") { mp.quantity = "acc"; mp.scale = 1.0 / 9.80665; }
-      else if (u == "m") mp.quantity = "disp";
-      else if (u == "mm") { mp.quantity = "disp"; mp.scale = 1e3; }
-      else throw InputError("--map: channel '" + rec.channels[mp.channel] + "' is in " + u + "; compare takes _mps2, _g, _m or _mm");
+      const ChannelQuantity q = channel_quantity(rec.units[mp.channel], rec.channels[mp.channel], "--map");
+      mp.quantity = q.acceleration ? "acc" : "disp";
+      mp.scale = q.scale;
       maps.push_back(mp);
     }
     if (vm.count("identify-speed-m")) {

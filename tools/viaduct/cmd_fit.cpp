@@ -42,12 +42,9 @@ study::FitRecord load_fit_record(const std::string& file, const std::vector<std:
     const std::size_t c = rec.channel(channel);
     ch.name = rec.channels[c];
     ch.station = station;
-    const std::string& u = rec.units[c];
-    if (u == "mps2") ch.acceleration = true;
-    else if (u == "g") ch.acceleration = true, ch.scale = 1.0 / 9.80665;
-    else if (u == "m") ch.acceleration = false;
-    else if (u == "mm") ch.acceleration = false, ch.scale = 1e3;
-    else throw InputError(where + ": channel '" + ch.name + "' is in " + u + "; fit takes _mps2, _g, _m or _mm");
+    const ChannelQuantity q = channel_quantity(rec.units[c], ch.name, where);
+    ch.acceleration = q.acceleration;
+    ch.scale = q.scale;
     ch.samples = rec.data.col(static_cast<Index>(c));
     fr.channels.push_back(std::move(ch));
   }

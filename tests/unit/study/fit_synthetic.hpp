@@ -3,6 +3,7 @@
 // benchmark (tools/bench/fit_recovery.cpp).
 #include <cmath>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "viaduct/study/fit.hpp"
@@ -68,6 +69,17 @@ inline FitRecord synthetic_record(const std::vector<double>& truth, double noise
     rec.channels.push_back(ch);
   }
   return rec;
+}
+
+inline FitParameter param(const std::string& key, double lo, double hi, double x0,
+                          ParameterScale scale = ParameterScale::log) {
+  FitParameter p;
+  p.key = key;
+  p.lower = lo;
+  p.upper = hi;
+  p.initial = x0;
+  p.scale = scale;
+  return p;
 }
 
 }  // namespace viaduct::test

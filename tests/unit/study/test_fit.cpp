@@ -13,19 +13,7 @@ using namespace viaduct::study;
 using viaduct::test::small_scenario;
 using viaduct::test::synthetic_record;
 
-namespace {
-
-FitParameter param(const std::string& key, double lo, double hi, double x0, ParameterScale s = ParameterScale::log) {
-  FitParameter p;
-  p.key = key;
-  p.lower = lo;
-  p.upper = hi;
-  p.initial = x0;
-  p.scale = s;
-  return p;
-}
-
-}  // namespace
+using viaduct::test::param;
 
 TEST_CASE("normalised coordinates map the bounds onto [0, 1] and back") {
   const FitParameter lg = param("k", 1e6, 1e9, 1e7);
