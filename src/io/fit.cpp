@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <regex>
 #include <set>
@@ -140,6 +141,7 @@ FitDeclaration fit_declaration(const FlatScenario& flat) {
   if (const Value* v = get("fit.weights.peak")) o.weights.peak = v->x;
   if (const Value* v = get("fit.weights.envelope")) o.weights.envelope = v->x;
   if (const Value* v = get("fit.weights.spectrum")) o.weights.spectrum = v->x;
+  if (const Value* v = get("fit.weights.damping")) o.weights.damping = v->x;
   if (const Value* v = get("fit.envelope_window_s")) o.envelope_window_s = v->x;
   if (const Value* v = get("fit.max_shift_s")) o.max_shift_s = v->x;
   if (const Value* v = get("fit.starts")) o.starts = static_cast<int>(v->x);
@@ -163,13 +165,43 @@ study::ScenarioBuilder scenario_builder(const FlatScenario& flat, const std::vec
   };
 }
 
+namespace {
+
+// One mode from viaduct decay's decay_summary.csv: mean frequency and envelope-fit damping.
+study::ModalTarget read_decay_summary(const std::string& path) {
+  const TextTable t = detail::read_text_table(path, /*quoted=*/true);
+  const std::size_t c_est = column(t, path, "estimate"), c_mean = column(t, path, "mean");
+  study::ModalTarget target;
+  study::ModalTarget::Mode m;
+  for (std::size_t i = 0; i < t.rows.size(); ++i) {
+    if (t.rows[i][c_est] == "frequency_hz") m.frequency_hz = number_cell(path, t.lines[i], "mean", t.rows[i][c_mean]);
+    if (t.rows[i][c_est] == "zeta_envelope_fit") m.damping_ratio = number_cell(path, t.lines[i], "mean", t.rows[i][c_mean]);
+  }
+  if (!(m.frequency_hz > 0) || !std::isfinite(m.frequency_hz))
+    throw InputError(path + ": no finite frequency_hz row (a decay_summary.csv of viaduct decay?)");
+  if (!(m.damping_ratio > 0 && m.damping_ratio < 1)) m.damping_ratio = std::numeric_limits<double>::quiet_NaN();
+  target.modes.push_back(m);
+  return target;
+}
+
+}  // namespace
+
 study::ModalTarget read_identified_modes(const std::string& path, const std::string& method) {
   fs::path modes_path = path;
-  if (fs::is_directory(modes_path)) modes_path /= "modes.csv";
+  if (fs::is_directory(modes_path)) {
+    if (!fs::exists(modes_path / "modes.csv") && fs::exists(modes_path / "decay_summary.csv"))
+      return read_decay_summary((modes_path / "decay_summary.csv").string());
+    modes_path /= "modes.csv";
+  } else if (modes_path.filename() == "decay_summary.csv") {
+    return read_decay_summary(modes_path.string());
+  }
   const std::string mp = modes_path.string();
   const TextTable t = detail::read_text_table(mp, /*quoted=*/true);
   const std::size_t c_method = column(t, mp, "method"), c_mode = column(t, mp, "mode"), c_f = column(t, mp, "frequency_hz");
-  std::map<int, double> freq;
+  std::map<int, double> freq, zeta;
+  std::size_t c_zeta = t.header.size();
+  for (std::size_t i = 0; i < t.header.size(); ++i)
+    if (t.header[i] == "damping_ratio") c_zeta = i;
   std::set<std::string> methods;
   for (std::size_t i = 0; i < t.rows.size(); ++i) {
     methods.insert(t.rows[i][c_method]);
@@ -178,6 +210,12 @@ study::ModalTarget read_identified_modes(const std::string& path, const std::str
     const double f = number_cell(mp, t.lines[i], "frequency_hz", t.rows[i][c_f]);
     if (!(f > 0) || !std::isfinite(f)) throw InputError(mp + ":" + std::to_string(t.lines[i]) + ": frequency_hz must be > 0");
     freq[mode] = f;
+    if (c_zeta < t.header.size()) {
+      const std::string& cell = t.rows[i][c_zeta];
+      char* end = nullptr;
+      const double z = std::strtod(cell.c_str(), &end);
+      zeta[mode] = !cell.empty() && *end == '\0' && z > 0 && z < 1 ? z : std::numeric_limits<double>::quiet_NaN();
+    }
   }
   if (freq.empty()) {
     std::string have;
@@ -203,6 +241,7 @@ study::ModalTarget read_identified_modes(const std::string& path, const std::str
   for (const auto& [mode, f] : freq) {
     study::ModalTarget::Mode m;
     m.frequency_hz = f;
+    if (zeta.count(mode)) m.damping_ratio = zeta[mode];
     if (shape.count(mode)) {
       m.shape.resize(static_cast<Index>(target.sensors.size()));
       for (std::size_t k = 0; k < target.sensors.size(); ++k) {

@@ -111,6 +111,7 @@ const std::vector<KeySpec>& scenario_schema() {
       {"fit.weights.envelope", T::number, "0.0", "-", ">= 0", "Weight of the windowed RMS envelope misfit."},
       {"fit.weights.spectrum", T::number, "0.0", "-", ">= 0", "Weight of the amplitude-spectrum misfit over the filter band."},
       {"fit.weights.modal", T::number, "", "-", ">= 0", "Weight of the frequency and mode-shape (MAC) misfit (default 1 with fit.modes, else 0)."},
+      {"fit.weights.damping", T::number, "0.0", "-", ">= 0", "Weight of the damping misfit against identified damping ratios (fit.modes)."},
       {"fit.envelope_window_s", T::number, "0.25", "s", "> 0", "Envelope window."},
       {"fit.max_shift_s", T::number, "60.0", "s", "> 0", "Alignment of records and model: cross-correlation search range around the record start."},
       {"fit.starts", T::integer, "1", "-", ">= 1", "Solver starts: the scenario's values, then quasi-random points in the bounds."},

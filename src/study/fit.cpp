@@ -30,6 +30,7 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kPi = 3.14159265358979323846;
 
 std::string num(double v, int digits = 6) {
   std::ostringstream os;
@@ -105,6 +106,7 @@ struct Simulated {
   std::vector<std::vector<Vector>> raw;     // the same before the band filter (anti-aliased for the record's rate)
   Vector modal_f;                           // [Hz] model modes in the pairing range
   Matrix modal_shapes;                      // sensors × modes
+  Vector modal_zeta;                        // φᵀCφ / (2ω) of each mode
 };
 
 class Evaluator {
@@ -128,7 +130,7 @@ class Evaluator {
         pr.free_vibration_s = std::max(0.0, pr.in->t0_s + duration - shifts[r] - passage) + 1.0;
       }
     }
-    if (o.weights.modal > 0) prepare_modal(sc0);
+    if (o.weights.modal > 0 || o.weights.damping > 0) prepare_modal(sc0);
     layout_blocks();
   }
 
@@ -252,7 +254,7 @@ class Evaluator {
         }
       }
     }
-    if (modal_) {
+    if (modal_ && w.modal > 0) {
       const double k = std::sqrt(w.modal);
       for (std::size_t mi = 0; mi < modal_->modes.size(); ++mi) {
         const Block& bl = blocks_[b++];
@@ -266,6 +268,14 @@ class Evaluator {
           const double alpha = mm > 0 ? phi_m.dot(phi_t) / mm : 0.0;
           for (Index i = 0; i < phi_t.size(); ++i) r[bl.offset + 1 + i] = k * (alpha * phi_m[i] - phi_t[i]);
         }
+      }
+    }
+    if (modal_ && w.damping > 0) {
+      const double k = std::sqrt(w.damping);
+      for (const auto& tm : modal_->modes) {
+        if (!std::isfinite(tm.damping_ratio)) continue;
+        const Block& bl = blocks_[b++];
+        r[bl.offset] = k * (s.modal_zeta[pair_mode(s, tm)] / tm.damping_ratio - 1.0);
       }
     }
   }
@@ -410,7 +420,7 @@ class Evaluator {
   }
 
   void prepare_modal(const Scenario& sc0) {
-    if (!p_.modal || p_.modal->modes.empty()) throw InputError("fit: the modal objective needs identified modes");
+    if (!p_.modal || p_.modal->modes.empty()) throw InputError("fit: the modal and damping objectives need identified modes");
     modal_ = &*p_.modal;
     std::map<std::string, std::size_t> station_index;
     for (std::size_t i = 0; i < sc0.stations.size(); ++i) station_index[sc0.stations[i].name] = i;
@@ -425,6 +435,8 @@ class Evaluator {
         throw InputError("fit: an identified shape has " + std::to_string(m.shape.size()) + " entries for " +
                          std::to_string(modal_->sensors.size()) + " sensors");
       if (m.shape.size() > 0 && !(m.shape.norm() > 0)) throw InputError("fit: an identified shape is zero");
+      if (!std::isnan(m.damping_ratio) && !(m.damping_ratio > 0 && m.damping_ratio < 1))
+        throw InputError("fit: identified damping ratios must be in (0, 1), got " + num(m.damping_ratio));
       f_max_target_ = std::max(f_max_target_, m.frequency_hz);
     }
   }
@@ -432,13 +444,21 @@ class Evaluator {
   void model_modes(const model::Structure& s, const Scenario& sc, Simulated& out) const {
     // The modes up to 2.25 × the highest identified frequency, and at least the lowest
     // n_identified + 4 modes (the start may be far off).
-    model::Modes md = model::compute_modes_up_to(s, 0, 2.25 * f_max_target_);
+    // A few modes of a large model: shift-invert Lanczos (sparse), not all of them (dense).
+    const auto solver = s.n_dofs > 200 ? model::ModeSolver::sparse : model::ModeSolver::dense;
+    model::Modes md = model::compute_modes_up_to(s, 0, 2.25 * f_max_target_, solver);
     const auto n_min = static_cast<Index>(modal_->modes.size()) + 4;
-    if (md.frequency_hz.size() < n_min) md = model::compute_modes_up_to(s, n_min, 0.0);
+    if (md.frequency_hz.size() < n_min) md = model::compute_modes_up_to(s, n_min, 0.0, solver);
     std::vector<StationSpec> specs;
     for (std::size_t i : sensor_stations_) specs.push_back(sc.stations[i]);
     const auto st = specs.empty() ? std::vector<ResolvedStation>{} : resolve_stations(s, specs);
     out.modal_f = md.frequency_hz;
+    out.modal_zeta.resize(md.frequency_hz.size());
+    for (Index j = 0; j < md.frequency_hz.size(); ++j) {
+      const Vector phi = md.shape.col(j);
+      const double omega = 2.0 * kPi * md.frequency_hz[j];
+      out.modal_zeta[j] = omega > 0 ? phi.dot(s.C * phi) / (2.0 * omega) : 0.0;
+    }
     out.modal_shapes.resize(static_cast<Index>(st.size()), md.frequency_hz.size());
     for (Index j = 0; j < md.frequency_hz.size(); ++j)
       for (std::size_t r = 0; r < st.size(); ++r)
@@ -471,10 +491,17 @@ class Evaluator {
         if (w.spectrum > 0) add("spectrum", pr.in->name, name, static_cast<Index>(ch.lines.size()), 1.0);
       }
     }
-    if (modal_)
+    if (modal_ && w.modal > 0)
       for (std::size_t k = 0; k < modal_->modes.size(); ++k)
         add("modal", "", "mode " + std::to_string(k + 1) + " (" + num(modal_->modes[k].frequency_hz) + " Hz)",
             1 + modal_->modes[k].shape.size(), 1.0);
+    if (modal_ && w.damping > 0) {
+      for (std::size_t k = 0; k < modal_->modes.size(); ++k)
+        if (std::isfinite(modal_->modes[k].damping_ratio))
+          add("damping", "", "mode " + std::to_string(k + 1) + " (" + num(modal_->modes[k].frequency_hz) + " Hz)", 1, 1.0);
+      if (blocks_.empty() || blocks_.back().objective != "damping")
+        throw InputError("fit: the damping objective needs identified damping ratios (none of the identified modes has one)");
+    }
     n_res_ = off;
     if (n_res_ == 0) throw InputError("fit: no residuals: every objective weight is 0");
   }
@@ -661,9 +688,9 @@ bool FitWeights::is_valid(std::string* why) const {
     return false;
   };
   for (auto [name, w] : {std::pair<const char*, double>{"time", time}, {"peak", peak}, {"envelope", envelope},
-                         {"spectrum", spectrum}, {"modal", modal}})
+                         {"spectrum", spectrum}, {"modal", modal}, {"damping", damping}})
     if (bad_weight(w)) return fail(std::string("weight of ") + name + " must be >= 0 and finite");
-  if (time + peak + envelope + spectrum + modal <= 0) return fail("at least one objective weight must be > 0");
+  if (time + peak + envelope + spectrum + modal + damping <= 0) return fail("at least one objective weight must be > 0");
   return true;
 }
 
@@ -726,7 +753,7 @@ FitResult fit(const FitProblem& problem, const FitOptions& options) {
   const Evaluator ev(problem, options);
   // The spectral pre-stage: amplitude spectra (and the modal objective) only.
   FitOptions pre_options = options;
-  pre_options.weights = FitWeights{0, 0, 0, 1, options.weights.modal};
+  pre_options.weights = FitWeights{0, 0, 0, 1, options.weights.modal, options.weights.damping};
   std::unique_ptr<Evaluator> pre;
   if (options.spectral_start && (options.weights.time > 0 || options.weights.envelope > 0))
     pre = std::make_unique<Evaluator>(problem, pre_options);
@@ -914,6 +941,9 @@ FitResult fit(const FitProblem& problem, const FitOptions& options) {
       mp.model_after_hz = s_fit.modal_f[j1];
       mp.mac_before = tm.shape.size() ? Evaluator::mac_real(tm.shape, s_init.modal_shapes.col(j0)) : kNaN;
       mp.mac_after = tm.shape.size() ? Evaluator::mac_real(tm.shape, s_fit.modal_shapes.col(j1)) : kNaN;
+      mp.damping_ratio = tm.damping_ratio;
+      mp.model_damping_before = s_init.modal_zeta[j0];
+      mp.model_damping_after = s_fit.modal_zeta[j1];
       out.modal_pairs.push_back(mp);
     }
   out.simulations = ev.simulations() + (pre ? pre->simulations() : 0);

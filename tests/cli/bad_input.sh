@@ -136,7 +136,7 @@ expect 2 "channel 'force_N' is in N; only _mps2, _g, _m or _mm compare with the 
 expect 2 "--weight: unknown objective 'phase'" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --weight phase=1 --out "$WORK/o"
 expect 2 "one speed for all records or one per --record" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --speed-kmh 100 --speed-kmh 110 --out "$WORK/o"
 expect 2 "nothing to fit against" -- "$VIADUCT" fit "$FS" --param bridge.EI=1e9:4e9 --out "$WORK/o"
-expect 2 "the modal objective needs --modes" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --weight modal=1 --out "$WORK/o"
+expect 2 "the modal and damping objectives need --modes" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --weight modal=1 --out "$WORK/o"
 expect 2 "starts must be >= 1" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --starts 0 --out "$WORK/o"
 expect 2 "given twice" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --param bridge.EI=1e9:5e9 --out "$WORK/o"
 mkdir -p "$WORK/md"

@@ -67,10 +67,10 @@ Command fit_command() {
         "speed-kmh", po::value<std::vector<double>>()->composing(),
         "speed of the passages [km/h]: one for all records or one per --record (default: run.speed_kmh)")(
         "train", po::value<std::string>(), "train of the passages (default: the first of train.files)")(
-        "modes", po::value<std::string>(), "modal-fit output (directory or modes.csv, shapes.csv beside it) for the modal objective")(
+        "modes", po::value<std::string>(), "identified modes for the modal and damping objectives: modal-fit output (directory or modes.csv, shapes.csv beside it) or decay output (directory or decay_summary.csv)")(
         "modes-method", po::value<std::string>(), "rows of modes.csv to fit: lscf (default), circle-fit or peak-picking")(
         "weight", po::value<std::vector<std::string>>()->composing(),
-        "OBJECTIVE=W with OBJECTIVE time, peak, envelope, spectrum or modal (repeatable; default time=1 with records, modal=1 with --modes)")(
+        "OBJECTIVE=W with OBJECTIVE time, peak, envelope, spectrum, modal or damping (repeatable; default time=1 with records, modal=1 with --modes)")(
         "starts", po::value<int>(), "solver starts: the scenario's values, then quasi-random points in the bounds (default 1)")(
         "no-spectral-start", po::bool_switch(), "skip the spectral pre-stage of each start (fit.spectral_start = false)")(
         "max-iterations", po::value<int>(), "iterations per start (default 50)")(
@@ -170,7 +170,8 @@ Command fit_command() {
         else if (name == "envelope") opt.weights.envelope = x;
         else if (name == "spectrum") opt.weights.spectrum = x;
         else if (name == "modal") opt.weights.modal = x;
-        else throw InputError("--weight: unknown objective '" + name + "' (time, peak, envelope, spectrum, modal)");
+        else if (name == "damping") opt.weights.damping = x;
+        else throw InputError("--weight: unknown objective '" + name + "' (time, peak, envelope, spectrum, modal, damping)");
       }
     } else {
       if (opt.weights.time < 0) opt.weights.time = problem.records.empty() ? 0.0 : 1.0;
@@ -178,8 +179,10 @@ Command fit_command() {
     }
     if (opt.weights.any_record_term() && problem.records.empty())
       throw InputError("the record objectives need a record: give --record FILE --map CHANNEL=STATION (or [[fit.records]])");
-    if (opt.weights.modal > 0 && !problem.modal) throw InputError("the modal objective needs --modes (or fit.modes)");
-    if (opt.weights.time + opt.weights.peak + opt.weights.envelope + opt.weights.spectrum + opt.weights.modal <= 0)
+    if ((opt.weights.modal > 0 || opt.weights.damping > 0) && !problem.modal)
+      throw InputError("the modal and damping objectives need --modes (or fit.modes)");
+    if (opt.weights.time + opt.weights.peak + opt.weights.envelope + opt.weights.spectrum + opt.weights.modal +
+            opt.weights.damping <= 0)
       throw InputError("nothing to fit against: give --record FILE --map CHANNEL=STATION and/or --modes DIR");
     if (vm.count("starts")) opt.starts = vm["starts"].as<int>();
     if (vm["no-spectral-start"].as<bool>()) opt.spectral_start = false;
@@ -260,10 +263,13 @@ Command fit_command() {
       for (std::size_t k = 0; k < r.modal_pairs.size(); ++k) {
         const auto& mp = r.modal_pairs[k];
         tr.push_back({std::to_string(k + 1), fmt(mp.frequency_hz), fmt(mp.model_before_hz), fmt(mp.model_after_hz),
-                      fmt(mp.mac_before), fmt(mp.mac_after)});
+                      fmt(mp.mac_before), fmt(mp.mac_after), fmt(mp.damping_ratio), fmt(mp.model_damping_before),
+                      fmt(mp.model_damping_after)});
       }
       io::write_table_csv(o.out + "/fit_modes.csv",
-                          {"mode", "identified_hz", "model_before_hz", "model_after_hz", "mac_before", "mac_after"}, tr);
+                          {"mode", "identified_hz", "model_before_hz", "model_after_hz", "mac_before", "mac_after",
+                           "identified_damping_ratio", "model_damping_before", "model_damping_after"},
+                          tr);
     }
     // fit.toml: the summary.
     {
@@ -281,7 +287,8 @@ Command fit_command() {
         << "\nsimulations = " << r.simulations << "\nstarts = " << opt.starts << "\nbest_start = " << r.best_start + 1 << "\n";
       t << "wall_s = " << fmt(r.wall_s) << "\nthreads = " << opt.threads << "\n";
       t << "weights = { time = " << fmt(opt.weights.time) << ", peak = " << fmt(opt.weights.peak) << ", envelope = "
-        << fmt(opt.weights.envelope) << ", spectrum = " << fmt(opt.weights.spectrum) << ", modal = " << fmt(opt.weights.modal) << " }\n";
+        << fmt(opt.weights.envelope) << ", spectrum = " << fmt(opt.weights.spectrum) << ", modal = " << fmt(opt.weights.modal)
+        << ", damping = " << fmt(opt.weights.damping) << " }\n";
       t << "warnings = [";
       for (std::size_t i = 0; i < r.warnings.size(); ++i) t << (i ? ", " : "") << q(r.warnings[i]);
       t << "]\n";
@@ -326,8 +333,9 @@ Command fit_command() {
       for (const auto& w : r.warnings) std::printf("warning: %s\n", w.c_str());
       for (std::size_t k = 0; k < r.modal_pairs.size(); ++k) {
         const auto& mp = r.modal_pairs[k];
-        std::printf("mode %zu: identified %.4f Hz, model %.4f -> %.4f Hz, MAC %.3f -> %.3f\n", k + 1, mp.frequency_hz,
-                    mp.model_before_hz, mp.model_after_hz, mp.mac_before, mp.mac_after);
+        std::printf("mode %zu: identified %.4f Hz, model %.4f -> %.4f Hz, MAC %.3f -> %.3f, damping %.3f %% identified, model %.3f -> %.3f %%\n",
+                    k + 1, mp.frequency_hz, mp.model_before_hz, mp.model_after_hz, mp.mac_before, mp.mac_after,
+                    100 * mp.damping_ratio, 100 * mp.model_damping_before, 100 * mp.model_damping_after);
       }
       std::printf("wrote %s/fit.csv, fit.toml, fitted.toml, fit_trace.csv, fit_residuals.csv, fit_time.csv\n", o.out.c_str());
     }

@@ -38,8 +38,10 @@ FitDeclaration fit_declaration(const FlatScenario& flat);
 study::ScenarioBuilder scenario_builder(const FlatScenario& flat, const std::vector<study::FitParameter>& params);
 
 /// Identified modes read from modal-fit's modes.csv (`path`: the file or its directory) for one
-/// method, with the real parts of the shapes from shapes.csv beside it when present. The sensor
-/// names are the FRF response names. InputError with file and line.
+/// method, with damping ratios and the real parts of the shapes from shapes.csv beside it when
+/// present (sensor names: the FRF response names); or one mode (mean frequency, envelope-fit
+/// damping, no shape) from viaduct decay's decay_summary.csv (`path`: the file, or a directory
+/// holding it and no modes.csv; `method` is then unused). InputError with file and line.
 study::ModalTarget read_identified_modes(const std::string& path, const std::string& method);
 
 /// Writes `flat` as a scenario file loadable on its own (component files merged, paths absolute,

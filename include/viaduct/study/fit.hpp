@@ -10,6 +10,7 @@
 /// coordinates z ∈ [0, 1] (logarithmic for positive parameters), with finite-difference
 /// Jacobians whose columns are computed in parallel.
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -58,6 +59,7 @@ struct ModalTarget {
   struct Mode {
     double frequency_hz = 0.0;  ///< [Hz] > 0
     Vector shape;               ///< one real entry per sensor; empty: frequency only
+    double damping_ratio = std::numeric_limits<double>::quiet_NaN();  ///< [-] identified; NaN: unknown
   };
   std::vector<Mode> modes;  ///< at least one
 };
@@ -72,8 +74,10 @@ struct ModalTarget {
 ///   spectrum  Hann amplitude spectra over the filter band, Σ(A_m − A_y)² / ΣA_y² per channel
 ///   modal     (f_model / f_id − 1)² and 1 − MAC per identified mode (paired by MAC, or by
 ///             frequency without shapes)
+///   damping   (ζ_model / ζ_id − 1)² per identified mode with a damping ratio, ζ_model = φᵀCφ / (2ω)
+///             of the paired undamped mode (mass-normalised φ: exact for proportional damping)
 struct FitWeights {
-  double time = 1.0, peak = 0.0, envelope = 0.0, spectrum = 0.0, modal = 0.0;
+  double time = 1.0, peak = 0.0, envelope = 0.0, spectrum = 0.0, modal = 0.0, damping = 0.0;
   bool any_record_term() const { return time > 0 || peak > 0 || envelope > 0 || spectrum > 0; }
   bool is_valid(std::string* why) const;
 };
@@ -116,13 +120,13 @@ using ScenarioBuilder = std::function<Scenario(const std::vector<double>& values
 struct FitProblem {
   std::vector<FitParameter> params;     ///< at least one
   std::vector<FitRecord> records;       ///< needed by the record objectives
-  std::optional<ModalTarget> modal;     ///< needed by the modal objective
+  std::optional<ModalTarget> modal;     ///< needed by the modal and damping objectives
   ScenarioBuilder scenario_at;
 };
 
 /// Residual sums of one objective for one record channel (or identified mode) before and after.
 struct FitTerm {
-  std::string objective;  ///< time | peak | envelope | spectrum | modal
+  std::string objective;  ///< time | peak | envelope | spectrum | modal | damping
   std::string record;     ///< record name ("" for modal terms)
   std::string channel;    ///< channel or "mode k (f Hz)"
   double before = 0.0;    ///< weighted Σ r² at the initial values
@@ -141,6 +145,8 @@ struct ModalPair {
   double frequency_hz = 0.0;                       ///< identified
   double model_before_hz = 0.0, model_after_hz = 0.0;
   double mac_before = 0.0, mac_after = 0.0;        ///< NaN without shapes
+  double damping_ratio = 0.0;                      ///< identified (NaN: unknown)
+  double model_damping_before = 0.0, model_damping_after = 0.0;  ///< φᵀCφ / (2ω) of the paired mode
 };
 
 struct FitResult {

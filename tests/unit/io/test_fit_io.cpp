@@ -120,6 +120,17 @@ TEST_CASE("identified modes are read from modal-fit's modes.csv and shapes.csv")
   REQUIRE(pp.modes[0].shape.size() == 0);  // no shapes of that method: frequency only
   REQUIRE_THROWS_WITH(read_identified_modes(d.p.string(), "circle-fit"),
                       Catch::Contains("no mode of method 'circle-fit'") && Catch::Contains("lscf"));
+  REQUIRE(t.modes[1].damping_ratio == 0.030);
+  // viaduct decay's summary: one mode, mean frequency and envelope-fit damping.
+  vt::ScratchDir dd("decay");
+  dd.write("decay_summary.csv", "estimate,mean,std,n\nfrequency_hz,10.02,0.01,3\nzeta_log_decrement,0.029,0.001,3\n"
+                                "zeta_envelope_fit,0.0285,0.001,3\nzeta_hilbert,0.0288,0.001,3\n");
+  const study::ModalTarget dt = read_identified_modes(dd.p.string(), "lscf");
+  REQUIRE(dt.modes.size() == 1);
+  REQUIRE(dt.modes[0].frequency_hz == 10.02);
+  REQUIRE(dt.modes[0].damping_ratio == 0.0285);
+  REQUIRE(dt.modes[0].shape.size() == 0);
+  REQUIRE(dt.sensors.empty());
   d.write("modes.csv", "method,mode,frequency_hz\nlscf,1,abc\n");
   REQUIRE_THROWS_WITH(read_identified_modes(d.p.string(), "lscf"), Catch::Contains("modes.csv:2") && Catch::Contains("not a number"));
 }

@@ -1,5 +1,6 @@
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "viaduct/core/error.hpp"
@@ -274,7 +275,7 @@ TEST_CASE("inconsistent fit problems are refused with the reason") {
   expect(p, oo, "at least one objective weight");
   oo = o;
   oo.weights.modal = 1;
-  expect(p, oo, "needs identified modes");
+  expect(p, oo, "need identified modes");
   oo = o;
   oo.fd_step = 0.5;
   expect(p, oo, "fd_step");
@@ -304,4 +305,32 @@ TEST_CASE("a train speed 5 % off is recovered through the spectral pre-stage") {
   // (an order above) and 4 standard errors.
   REQUIRE(r.estimate[0] == Approx(108.0).epsilon(1e-4));
   REQUIRE(std::abs(r.estimate[0] - 108.0) < 4 * r.std_error[0]);
+}
+
+TEST_CASE("the damping objective recovers a damping ratio from identified modal damping") {
+  // Modal damping: every span mode has the scenario's ratio, so phi'C phi / (2 omega) is it.
+  const Scenario truth = small_scenario({6.2e9, 0.031});
+  const model::Structure s = model::build_structure(truth.bridge, std::nullopt);
+  const model::Modes md = model::compute_modes(s, 1);
+  ModalTarget t;
+  ModalTarget::Mode m;
+  m.frequency_hz = md.frequency_hz[0];
+  m.damping_ratio = 0.031;
+  t.modes.push_back(m);
+  FitProblem p;
+  p.params = {param("bridge.EI", 3e9, 8e9, 5e9), param("bridge.damping.ratio", 0.005, 0.08, 0.02)};
+  p.modal = t;
+  p.scenario_at = small_scenario;
+  FitOptions o;
+  o.weights = FitWeights{0, 0, 0, 0, 1, 1};
+  const FitResult r = fit(p, o);
+  INFO(r.message);
+  REQUIRE(r.status == FitResult::Status::converged);
+  REQUIRE(r.estimate[0] == Approx(6.2e9).epsilon(1e-6));  // exact data: solver tolerance only
+  REQUIRE(r.estimate[1] == Approx(0.031).epsilon(1e-6));
+  REQUIRE(r.modal_pairs[0].model_damping_after == Approx(0.031).epsilon(1e-6));
+  REQUIRE(r.modal_pairs[0].model_damping_before == Approx(0.02).epsilon(1e-9));
+  // Without identified damping the objective has nothing to fit.
+  p.modal->modes[0].damping_ratio = std::numeric_limits<double>::quiet_NaN();
+  REQUIRE_THROWS_WITH(fit(p, o), Catch::Contains("needs identified damping ratios"));
 }
