@@ -80,5 +80,22 @@ expect 0 "envelope.png" -- /usr/bin/python3 "$SRC/scripts/plot_envelope.py" "$WO
 expect 0 "envelope_disp.png" -- /usr/bin/python3 "$SRC/scripts/plot_envelope.py" "$WORK/s1" --quantity disp
 expect 0 "history.png" -- /usr/bin/python3 "$SRC/scripts/plot_history.py" "$WORK/og"
 expect 0 "" -- test -s "$WORK/og/history.png"
+# Model updating: every output, the fitted scenario runs, the plots draw, threads agree.
+FIT=(fit "$HS" --record "$WORK/run/history.csv" --map mid_acc_mps2=mid --param bridge.EI=5e9:1e10 --param bridge.damping.ratio=0.005:0.05
+     --set bridge.EI=7e9 --set bridge.damping.ratio=0.02 --set 'train.files=["'"$SRC"'/data/trains/hslm/A1.toml"]' --speed-kmh 300)
+expect 0 "converged" -- "$VIADUCT" "${FIT[@]}" --threads 1 --out "$WORK/fit1"
+expect 0 "converged" -- "$VIADUCT" "${FIT[@]}" --threads 2 --out "$WORK/fit2"
+expect 0 "" -- cmp "$WORK/fit1/fit.csv" "$WORK/fit2/fit.csv"
+expect 0 "key,unit,scale,lower,upper,initial,estimate,std_error,relative_std_error,sensitivity,at_bound,determined" -- head -1 "$WORK/fit1/fit.csv"
+expect 0 "bridge.EI,N·m²,log,5000000000,1e+10,7000000000,7694" -- cat "$WORK/fit1/fit.csv"
+expect 0 'status = "converged"' -- cat "$WORK/fit1/fit.toml"
+expect 0 "record,channel,t_s,measured,initial,fitted" -- head -1 "$WORK/fit1/fit_time.csv"
+expect 0 "start,stage,iteration,cost,bridge.EI,bridge.damping.ratio" -- head -1 "$WORK/fit1/fit_trace.csv"
+expect 0 "time," -- cat "$WORK/fit1/fit_residuals.csv"
+expect 0 "key,bridge.EI,bridge.damping.ratio" -- head -1 "$WORK/fit1/fit_correlation.csv"
+expect 0 "bridge.EI = 7694" -- "$VIADUCT" check "$WORK/fit1/fitted.toml"
+expect 0 "wrote" -- "$VIADUCT" run "$WORK/fit1/fitted.toml" --out "$WORK/fitrun"
+expect 0 "fit_trace.png" -- /usr/bin/python3 "$SRC/scripts/plot_fit.py" "$WORK/fit1"
+expect 0 "" -- test -s "$WORK/fit1/fit_time.png"
 expect 1 "not found" -- /usr/bin/python3 "$SRC/scripts/plot_envelope.py" "$WORK/nothing"
 finish

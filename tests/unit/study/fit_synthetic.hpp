@@ -38,16 +38,17 @@ inline Scenario small_scenario(const std::vector<double>& v) {
 
 // The "measurement": the model at `truth`, unfiltered accelerations at both stations, 500 Hz,
 // the logger started 0.7 s before the train arrived (t0 = 5 s), Gaussian noise of `noise` x the
-// peak.
-inline FitRecord synthetic_record(const std::vector<double>& truth, double noise, unsigned seed = 3) {
+// peak; the train at `speed` [m/s].
+inline FitRecord synthetic_record(const std::vector<double>& truth, double noise, unsigned seed = 3, double speed = 30.0) {
   const Scenario sc = small_scenario(truth);
   RunSettings rs = sc.settings;
   rs.filter.enabled = false;
   rs.free_vibration_s = 3.0;  // rings past the record's end, as a real bridge does
   const PreparedModel pm = prepare_model(sc);
-  const RunResult r = simulate(pm, sc.trains[0], 30.0, rs);
+  const RunResult r = simulate(pm, sc.trains[0], speed, rs);
   FitRecord rec;
   rec.name = "synthetic";
+  rec.speed = speed;
   rec.fs_hz = 500.0;
   rec.t0_s = 5.0;
   const double lead = 0.7;

@@ -334,3 +334,29 @@ TEST_CASE("the damping objective recovers a damping ratio from identified modal 
   p.modal->modes[0].damping_ratio = std::numeric_limits<double>::quiet_NaN();
   REQUIRE_THROWS_WITH(fit(p, o), Catch::Contains("needs identified damping ratios"));
 }
+
+TEST_CASE("several passages are fitted jointly") {
+  // Two passages at 30 and 24 m/s, both channels each: four time-history blocks in one fit.
+  const std::vector<double> truth = {5.5e9, 0.025};
+  FitProblem p;
+  p.params = {param("bridge.EI", 3e9, 8e9, 5.0e9), param("bridge.damping.ratio", 0.005, 0.08, 0.015)};
+  p.records = {synthetic_record(truth, 0.03, 3, 30.0), synthetic_record(truth, 0.03, 4, 24.0)};
+  p.records[1].name = "slow";
+  p.scenario_at = small_scenario;
+  FitOptions o;
+  o.threads = 2;
+  const FitResult r = fit(p, o);
+  INFO(r.message);
+  REQUIRE(r.status == FitResult::Status::converged);
+  REQUIRE(r.terms.size() == 4);
+  REQUIRE(r.terms[2].record == "slow");
+  REQUIRE(r.shift_s.size() == 2);
+  REQUIRE(r.shift_s[1] == Approx(5.7).margin(0.5 / 500));
+  for (std::size_t i = 0; i < 2; ++i) REQUIRE(std::abs(r.estimate[i] - truth[i]) < 4 * r.std_error[i]);
+  // Twice the data: the standard errors are below those of one passage with the same noise.
+  FitProblem one = p;
+  one.records.pop_back();
+  const FitResult r1 = fit(one, o);
+  REQUIRE(r.std_error[0] < r1.std_error[0]);
+  REQUIRE(r.std_error[1] < r1.std_error[1]);
+}
