@@ -23,6 +23,8 @@ out=docs/fitting-accuracy.md
   echo "\`time\`. The Old Guadiana case: the scenario \`old-guadiana-talgo.toml\` (528 DOFs, Newmark 1 ms)"
   echo "made with EI = 7.8e9, pad stiffness 2e8 N/m and ζ₁ = 2.5 %, recorded at mid-span of both spans at"
   echo "1 kHz after 1.5 s of logging; fitted from the scenario's 7.09e9, 1e8, 3.1 %."
+  echo "Fit times here are indicative (other work may share the machine); the benchmark is"
+  echo "[benchmarks-fitting.md](benchmarks-fitting.md)."
   echo
   build/release/viaduct_fit_recovery . "$seeds"
 } > "$out.tmp"

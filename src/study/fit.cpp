@@ -530,13 +530,13 @@ class Cost : public ceres::CostFunction {
 
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
     const double* z = parameters[0];
-    const std::size_t nz = ev_.n_z(), np = ev_.n_params();
+    const std::size_t nz = ev_.n_z();
     ++evaluations_;
     try {
-      std::vector<double> zv(z, z + nz);
+      const std::vector<double> zv(z, z + nz);
       const Index m = ev_.n_residuals();
-      std::vector<double> phys(zv.begin(), zv.begin() + static_cast<std::ptrdiff_t>(np));
-      if (!cache_ || cache_->first != phys) cache_ = std::make_unique<std::pair<std::vector<double>, Simulated>>(phys, ev_.simulate_at(ev_.values_of(z)));
+      if (!cache_ || cache_->first != zv)
+        cache_ = std::make_unique<std::pair<std::vector<double>, Simulated>>(zv, ev_.simulate_at(ev_.values_of(z)));
       const Simulated& base = cache_->second;
       Vector r0(m);
       ev_.residuals(base, r0.data());
@@ -561,7 +561,6 @@ class Cost : public ceres::CostFunction {
         if (!e.empty()) throw SolverError(e);
       for (Index i = 0; i < m; ++i)
         for (std::size_t j = 0; j < nz; ++j) jacobians[0][static_cast<std::size_t>(i) * nz + j] = J(i, static_cast<Index>(j));
-      last_jacobian_ = J;
       return true;
     } catch (const std::exception& e) {
       last_error_ = e.what();
@@ -576,7 +575,6 @@ class Cost : public ceres::CostFunction {
   const Evaluator& ev_;
   const FitOptions& o_;
   mutable std::unique_ptr<std::pair<std::vector<double>, Simulated>> cache_;
-  mutable Matrix last_jacobian_;
   mutable int evaluations_ = 0;
   mutable std::string last_error_;
 };
