@@ -118,10 +118,8 @@ Command fit_command() {
       const auto files = vm["record"].as<std::vector<std::string>>();
       if (speeds.size() > 1 && speeds.size() != files.size())
         throw InputError("--speed-kmh: give one speed for all records or one per --record (" + std::to_string(files.size()) + ")");
-      std::vector<std::string> rec_maps;
-      for (const auto& m : maps) rec_maps.push_back(m);
       for (std::size_t i = 0; i < files.size(); ++i)
-        problem.records.push_back(load_fit_record(files[i], rec_maps, speeds.empty() ? 0.0 : speeds[speeds.size() > 1 ? i : 0], train,
+        problem.records.push_back(load_fit_record(files[i], maps, speeds.empty() ? 0.0 : speeds[speeds.size() > 1 ? i : 0], train,
                                                   "--record " + files[i]));
     } else {
       if (!speeds.empty()) throw InputError("--speed-kmh needs --record (declared records carry their own speed_kmh)");
