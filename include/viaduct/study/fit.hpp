@@ -38,7 +38,7 @@ struct FitParameter {
 struct FitChannel {
   std::string name;          ///< record channel (for reports)
   std::string station;       ///< scenario station name
-  bool acceleration = true;  ///< true: filtered deck acceleration; false: deflection (unfiltered)
+  bool acceleration = true;  ///< true: the station's acceleration (filtered); false: its deflection (unfiltered)
   double scale = 1.0;        ///< model SI value → channel unit (1/g for _g, 1e3 for _mm)
   Vector samples;            ///< as measured, in the channel unit, finite
 };

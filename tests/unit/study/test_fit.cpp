@@ -176,13 +176,12 @@ TEST_CASE("the modal objective recovers the stiffness from identified frequencie
 
 TEST_CASE("bounds hold: a value beyond them stops on the bound and is flagged") {
   FitProblem p;
-  p.params = {param("bridge.EI", 3e9, 5e9, 4e9), param("bridge.damping.ratio", 0.005, 0.08, 0.02)};
+  p.params = {param("bridge.EI", 3e9, 5e9, 4.7e9)};  // 15 % below the truth, 6 % below the bound
   p.records = {synthetic_record({5.5e9, 0.02}, 0.01)};
-  p.scenario_at = small_scenario;
   std::vector<double> seen_max(1, 0.0);
   p.scenario_at = [&seen_max](const std::vector<double>& v) {
     seen_max[0] = std::max(seen_max[0], v[0]);  // evaluations are serial here (threads = 1)
-    return small_scenario(v);
+    return small_scenario({v[0], 0.02});
   };
   FitOptions o;
   const FitResult r = fit(p, o);
@@ -211,7 +210,7 @@ TEST_CASE("a fit that cannot finish says why instead of hanging") {
     if (v[0] > 4.0e9) throw SolverError("model refuses EI > 4e9");
     return small_scenario(v);
   };
-  o.max_iterations = 20;
+  o.max_iterations = 6;
   r = fit(p, o);
   REQUIRE(r.estimate[0] <= 4.0e9);
   REQUIRE(r.cost_final <= r.cost_initial);
