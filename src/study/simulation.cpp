@@ -8,6 +8,7 @@
 #include "viaduct/core/error.hpp"
 #include "viaduct/model/modes.hpp"
 #include "viaduct/signal/iir.hpp"
+#include "modal_path_table.hpp"
 
 namespace viaduct::study {
 
@@ -37,14 +38,6 @@ std::vector<ResolvedStation> resolve_stations(const model::Structure& s,
   }
   return out;
 }
-
-struct ModalPathTable {
-  std::vector<double> x0, h, inv_h;  // per path element
-  std::vector<double> coef;   // per element: 4 cubic coefficients per mode, then per output
-  std::size_t m = 0, n_out = 0, stride = 0;
-  bool flex = false;
-  double x_start = 0.0, x_end = 0.0;
-};
 
 namespace {
 

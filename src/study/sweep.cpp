@@ -7,6 +7,7 @@
 
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/thread_pool.hpp"
+#include "viaduct/study/modal_peaks.hpp"
 
 namespace viaduct::study {
 
@@ -18,9 +19,11 @@ struct Prepared {
 // One job: a (variant, train, speed) case, or with unit-response superposition a (variant,
 // speed) pair covering every train (train = kAllTrains).
 constexpr std::size_t kAllTrains = static_cast<std::size_t>(-1);
+// Peaks-kernel variants take a block of speeds per job (the kernel advances four in lock-step).
 struct Job {
-  std::size_t variant, train, speed;
+  std::size_t variant, train, speed, n_speeds = 1;
 };
+constexpr std::size_t kSpeedBlock = 8;
 struct CaseOutcome {
   std::vector<StationPeaks> peaks;
   std::string error;
@@ -47,6 +50,25 @@ SweepResult run_sweep(const std::vector<Variant>& variants, const SweepOptions& 
       prepared[v].error = e.what();
     }
   });
+  // Variants whose cases need no histories (modal, classical modes, no filter) run the fused
+  // peaks kernel on each train folded once over the model (a custom runner opts out).
+  std::vector<std::vector<std::shared_ptr<const TrainModalLoads>>> folded(variants.size());
+  std::vector<std::pair<std::size_t, std::size_t>> to_fold;
+  for (std::size_t v = 0; v < variants.size(); ++v) {
+    folded[v].resize(variants[v].scenario.trains.size());
+    if (!options.runner && prepared[v].model && modal_peaks_apply(*prepared[v].model, variants[v].scenario.settings))
+      for (std::size_t t = 0; t < folded[v].size(); ++t) to_fold.emplace_back(v, t);
+  }
+  parallel_for(to_fold.size(), options.threads, [&](std::size_t i, int) {
+    const auto [v, t] = to_fold[i];
+    const Scenario& sc = variants[v].scenario;
+    try {
+      folded[v][t] = fold_train(*prepared[v].model, sc.trains[t], sc.settings.load_factor);
+    } catch (const std::exception&) {
+      folded[v][t].reset();  // the case runs the general path and reports its own error
+    }
+  });
+
   std::vector<Job> jobs;
   std::size_t n_cases = 0;
   for (std::size_t v = 0; v < variants.size(); ++v) {
@@ -57,7 +79,11 @@ SweepResult run_sweep(const std::vector<Variant>& variants, const SweepOptions& 
     for (std::size_t s = 0; s < sc.sweep_speeds.size(); ++s) {
       if (unit) jobs.push_back({v, kAllTrains, s});
       else
-        for (std::size_t t = 0; t < sc.trains.size(); ++t) jobs.push_back({v, t, s});
+        for (std::size_t t = 0; t < sc.trains.size(); ++t) {
+          if (!folded[v][t]) jobs.push_back({v, t, s});
+          else if (s % kSpeedBlock == 0)
+            jobs.push_back({v, t, s, std::min(kSpeedBlock, sc.sweep_speeds.size() - s)});
+        }
     }
     n_cases += sc.trains.size() * sc.sweep_speeds.size();
   }
@@ -70,8 +96,9 @@ SweepResult run_sweep(const std::vector<Variant>& variants, const SweepOptions& 
     const Job& c = jobs[i];
     const Scenario& sc = variants[c.variant].scenario;
     const std::size_t n_trains = c.train == kAllTrains ? sc.trains.size() : 1;
+    const std::size_t n_out = std::max(n_trains, c.n_speeds);  // outcomes of this job
     auto& o = outcome[i];
-    o.resize(n_trains);
+    o.resize(n_out);
     auto fail_all = [&](const std::string& m) {
       for (auto& x : o) x.error = m;
     };
@@ -82,9 +109,19 @@ SweepResult run_sweep(const std::vector<Variant>& variants, const SweepOptions& 
         const PreparedModel& pm = *prepared[c.variant].model;
         const double speed = sc.sweep_speeds[c.speed];
         std::vector<RunResult> runs;
-        if (c.train == kAllTrains) runs = simulate_by_unit_response(pm, sc.trains, speed, sc.settings);
+        if (c.train != kAllTrains && folded[c.variant][c.train]) {
+          const auto first = sc.sweep_speeds.begin() + static_cast<std::ptrdiff_t>(c.speed);
+          const std::vector<PeaksRun> pr = modal_peaks(
+              pm, *folded[c.variant][c.train],
+              std::vector<double>(first, first + static_cast<std::ptrdiff_t>(c.n_speeds)), sc.settings);
+          for (std::size_t k = 0; k < pr.size(); ++k) {
+            o[k].peaks = pr[k].peaks;
+            o[k].n_steps = pr[k].n_steps;
+            o[k].done = true;
+          }
+        } else if (c.train == kAllTrains) runs = simulate_by_unit_response(pm, sc.trains, speed, sc.settings);
         else runs.push_back(runner(pm, sc.trains[c.train], speed, sc.settings));
-        for (std::size_t k = 0; k < n_trains; ++k) {
+        for (std::size_t k = 0; k < runs.size(); ++k) {
           o[k].peaks = peaks(runs[k]);
           // A composed run shares one unit run: count its steps once.
           o[k].n_steps = (c.train == kAllTrains && k > 0) ? 0 : runs[k].summary.n_steps;
@@ -98,7 +135,7 @@ SweepResult run_sweep(const std::vector<Variant>& variants, const SweepOptions& 
     }
     if (options.progress) {
       std::lock_guard<std::mutex> lock(progress_mutex);
-      n_done += n_trains;
+      n_done += n_out;
       options.progress(n_done, n_cases);
     }
   });
@@ -113,7 +150,7 @@ SweepResult run_sweep(const std::vector<Variant>& variants, const SweepOptions& 
     if (c.train == kAllTrains)
       for (std::size_t k = 0; k < outcome[i].size(); ++k) at[c.variant][k][c.speed] = &outcome[i][k];
     else
-      at[c.variant][c.train][c.speed] = &outcome[i][0];
+      for (std::size_t k = 0; k < c.n_speeds; ++k) at[c.variant][c.train][c.speed + k] = &outcome[i][k];
   }
   for (std::size_t v = 0; v < variants.size(); ++v) {
     const Scenario& sc = variants[v].scenario;

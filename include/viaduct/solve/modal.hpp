@@ -102,6 +102,10 @@ class ModalReduction {
   /// Static-correction flexibilities, row-major n_dofs × n_outputs (empty without correction).
   const RowMatrix& flexibility_rows() const { return out_flex_rows_; }
   Index n_outputs() const { return out_shape_.rows(); }
+  /// Classical modes: the outputs of the mass-normalised modes, row-major n_outputs × n_modes
+  /// (y = S q), and the same divided by ω² (the modes' share of the static response, S Ω⁻²).
+  const RowMatrix& output_rows() const { return out_rows_; }
+  const RowMatrix& output_static_rows() const { return out_static_rows_; }
 
  private:
   ModalSummary integrate_complex(ModalForce& force, const ModalOptions& opt, const OutputObserver& observe) const;

@@ -1,0 +1,368 @@
+#include "viaduct/study/modal_peaks.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "modal_path_table.hpp"
+#include "viaduct/core/error.hpp"
+
+namespace viaduct::study {
+
+bool modal_peaks_apply(const PreparedModel& m, const RunSettings& s) {
+  return s.method == Method::modal && s.superposition == Superposition::direct && !s.filter.enabled && m.modal &&
+         m.modal_path && !m.modal->complex_modes();
+}
+
+std::shared_ptr<const TrainModalLoads> fold_train(const PreparedModel& m, const load::Train& train,
+                                                  double load_factor) {
+  if (!m.modal || !m.modal_path) throw InputError("folding a train needs a model prepared for the modal method");
+  require_positive(load_factor, "train.load_factor");
+  train.validate();
+  const ModalPathTable& T = *m.modal_path;
+  const solve::ModalReduction& r = *m.modal;
+  const std::size_t nm = T.m, no = T.flex ? T.n_out : 0, nc = nm + no, ne = T.x0.size();
+
+  // Per element and channel, the cubic in ξ: the load channels as tabulated, and the residual
+  // flexibility of each output, g_j − Σᵢ (S Ω⁻²)ⱼᵢ φᵢ: what the static correction adds to the
+  // modes' deflection (and, times v² and differentiated twice, to their acceleration).
+  std::vector<double> elem(ne * nc * 4, 0.0);
+  const auto& Ss = r.output_static_rows();
+  for (std::size_t e = 0; e < ne; ++e) {
+    const double* ce = &T.coef[e * T.stride];
+    double* out = &elem[e * nc * 4];
+    for (std::size_t i = 0; i < nm; ++i)
+      for (std::size_t p = 0; p < 4; ++p) out[4 * i + p] = ce[4 * i + p];
+    for (std::size_t j = 0; j < no; ++j)
+      for (std::size_t p = 0; p < 4; ++p) {
+        double v = ce[4 * (nm + j) + p];
+        for (std::size_t i = 0; i < nm; ++i)
+          v -= Ss(static_cast<Index>(j), static_cast<Index>(i)) * ce[4 * i + p];
+        out[4 * (nm + j) + p] = v;
+      }
+  }
+
+  auto t = std::make_shared<TrainModalLoads>();
+  t->n_modes = nm;
+  t->n_outputs = no;
+  t->n_channels = nc;
+  t->train_length = train.length();
+  t->x_start = T.x_start;
+  t->x_end = T.x_end;
+  // Breakpoints: every axle at every element boundary and at the path's end. The very numbers
+  // used below as element limits are inserted, so the lookups find them exactly.
+  auto elem_end = [&](std::size_t k, std::size_t e) {
+    return train.offset[k] + (e + 1 < ne ? T.x0[e + 1] : T.x_end);
+  };
+  std::vector<double>& B = t->breaks;
+  B.reserve(train.offset.size() * (ne + 1));
+  for (std::size_t k = 0; k < train.offset.size(); ++k) {
+    for (std::size_t e = 0; e < ne; ++e) B.push_back(train.offset[k] + T.x0[e]);
+    B.push_back(elem_end(k, ne - 1));
+  }
+  std::sort(B.begin(), B.end());
+  B.erase(std::unique(B.begin(), B.end()), B.end());
+  const std::size_t n_pieces = B.size() - 1;
+  // The first axle (offset 0, Train::validate) enters at the path's start: no piece before it.
+  if (B.front() != T.x_start) throw InputError("train '" + train.name + "': the first axle must have offset 0");
+  if (static_cast<double>(n_pieces) * static_cast<double>(4 * nc) * sizeof(double) > kMaxHistoryBytes)
+    throw InputError("train '" + train.name + "' folded over " + std::to_string(nc) +
+                     " modal channels would not fit in memory: lower modal.max_frequency_hz or modal.n_modes");
+  t->coef.assign((n_pieces + 1) * 4 * nc, 0.0);  // the last block (beyond the last break) stays zero
+  for (std::size_t k = 0; k < train.offset.size(); ++k) {
+    const double o = train.offset[k], P = train.load[k] * load_factor;
+    for (std::size_t e = 0; e < ne; ++e) {
+      const double lo = o + T.x0[e], hi = elem_end(k, e), w = T.inv_h[e];
+      const auto i0 = static_cast<std::size_t>(std::lower_bound(B.begin(), B.end(), lo) - B.begin());
+      const auto i1 = static_cast<std::size_t>(std::lower_bound(B.begin(), B.end(), hi) - B.begin());
+      const double* c = &elem[e * nc * 4];
+      for (std::size_t i = i0; i < i1 && i < n_pieces; ++i) {
+        // ξ = ξa + w s: the element cubic re-expanded in powers of s.
+        const double xa = (B[i] - lo) * w;
+        double* d = &t->coef[i * 4 * nc];
+        for (std::size_t ch = 0; ch < nc; ++ch) {
+          const double* a = c + 4 * ch;
+          d[ch] += P * (a[0] + xa * (a[1] + xa * (a[2] + xa * a[3])));
+          d[nc + ch] += P * w * (a[1] + xa * (2.0 * a[2] + 3.0 * xa * a[3]));
+          d[2 * nc + ch] += P * w * w * (a[2] + 3.0 * xa * a[3]);
+          d[3 * nc + ch] += P * w * w * w * a[3];
+        }
+      }
+    }
+  }
+  return t;
+}
+
+namespace {
+
+constexpr std::size_t W = 4;  // cases (speeds of one train) advanced together, one per SIMD lane
+// Four doubles as one value (GCC/Clang vector extension: SSE2 pairs by default, one AVX register
+// where the build enables it). may_alias: the dynamic-size kernel views double buffers as lanes.
+typedef double lanes __attribute__((vector_size(W * sizeof(double)), __may_alias__));
+
+struct KernelInput {
+  const double *c8, *two_zw, *w2;  // per mode: exact step coefficients, 2ζω, ω²
+  const double* S;                 // row-major no × nm: station outputs of the modes
+  const double *breaks, *coef;     // the folded train (coef: n_pieces + 1 blocks, the last zero)
+  std::size_t n_pieces;
+  double x_start, dt;
+  double v[W];        // [m/s] per lane
+  Index n_steps[W];   // per lane
+  Index n_max;        // largest of n_steps
+  std::size_t nm, nc, no;  // modes, channels (modes, then residuals), stations
+  bool flex;               // residual channels present (static correction)
+};
+
+// W cases in lock-step. Per lane, the channel values along the current piece are advanced by
+// forward differences (the load is a cubic in X and X advances by v·dt per step: three additions
+// per channel and step, exact up to rounding), re-initialised from the piece's coefficients
+// whenever the lane's head crosses a breakpoint. Every quantity is a `lanes` value, so the
+// arithmetic runs on all four cases at once. NM, NC, NO > 0 fix the sizes at compile time (the
+// common small bases); 0 reads them from `in`. Only the residual channels' curvature is needed
+// (the modes' accelerations come from their equations), so only those carry it.
+template <std::size_t NM, std::size_t NC, std::size_t NO>
+#if defined(__GNUC__)
+__attribute__((always_inline))
+#endif
+inline void kernel_body(const KernelInput& in, double* q_out, double* qd_out, double* ma_out, double* md_out) {
+  constexpr bool fixed = NM && NC && NO;
+  const std::size_t nm = NM ? NM : in.nm, nc = NC ? NC : in.nc, no = NO ? NO : in.no;
+  const bool flex = NC ? (NC > NM) : in.flex;
+  const std::size_t nr = flex ? no : 0;  // residual channels used (the stations')
+  constexpr std::size_t cm = NM ? NM : 1, cc = NC ? NC : 1, co = NO ? NO : 1;
+  const lanes zero = {0.0, 0.0, 0.0, 0.0}, one = zero + 1.0;
+  lanes q_f[cm], qd_f[cm], pp_f[cm], f_f[cc], d1_f[cc], d2_f[cc], d3_f[cc], c_f[co], dc_f[co], ma_f[co], md_f[co],
+      dj_f[co], aj_f[co];
+  lanes *q = q_f, *qd = qd_f, *pp = pp_f, *f = f_f, *d1 = d1_f, *d2 = d2_f, *d3 = d3_f, *c = c_f, *dc = dc_f,
+        *ma = ma_f, *md = md_f, *dj = dj_f, *aj = aj_f;
+  std::vector<double> dyn;
+  if constexpr (!fixed) {
+    dyn.assign((3 * nm + 4 * nc + 6 * no + 1) * W, 0.0);
+    // Aligned to the lanes' full size inside the buffer (one spare group at the end): an AVX2
+    // build moves them with aligned 32-byte loads, whatever alignof says in the baseline build.
+    constexpr std::uintptr_t align = sizeof(lanes);
+    auto* at = reinterpret_cast<lanes*>((reinterpret_cast<std::uintptr_t>(dyn.data()) + align - 1) & ~(align - 1));
+    for (lanes** a : {&q, &qd, &pp}) *a = at, at += nm;
+    for (lanes** a : {&f, &d1, &d2, &d3}) *a = at, at += nc;
+    for (lanes** a : {&c, &dc, &ma, &md, &dj, &aj}) *a = at, at += no;
+  }
+  for (std::size_t i = 0; i < nm; ++i) q[i] = qd[i] = pp[i] = zero;
+  for (std::size_t ch = 0; ch < nc; ++ch) f[ch] = d1[ch] = d2[ch] = d3[ch] = zero;
+  for (std::size_t j = 0; j < no; ++j) c[j] = dc[j] = ma[j] = md[j] = zero;
+
+  const double* B = in.breaks;
+  const std::size_t n_pieces = in.n_pieces;
+  std::size_t ip[W];
+  double next[W], h[W], v2[W];
+  lanes v = zero, n_steps = zero;
+  for (std::size_t l = 0; l < W; ++l) {
+    ip[l] = 0;
+    h[l] = in.v[l] * in.dt;
+    v2[l] = in.v[l] * in.v[l];
+    v[l] = in.v[l];
+    n_steps[l] = static_cast<double>(in.n_steps[l]);
+  }
+  // Lane l at head position x: find its piece, set the values and differences there.
+  auto reinit = [&](std::size_t l, double x) {
+    std::size_t i = ip[l];
+    while (i < n_pieces && x >= B[i + 1]) ++i;
+    ip[l] = i;
+    next[l] = i < n_pieces ? B[i + 1] : std::numeric_limits<double>::infinity();
+    const double s = i < n_pieces ? x - B[i] : 0.0, hh = h[l], h2 = hh * hh, h3 = h2 * hh;
+    const double* d = in.coef + i * 4 * nc;
+    for (std::size_t ch = 0; ch < nc; ++ch) {
+      const double a0 = d[ch], a1 = d[nc + ch], a2 = d[2 * nc + ch], a3 = d[3 * nc + ch];
+      f[ch][l] = a0 + s * (a1 + s * (a2 + s * a3));
+      d1[ch][l] = a1 * hh + a2 * (2.0 * s * hh + h2) + a3 * (3.0 * s * s * hh + 3.0 * s * h2 + h3);
+      d2[ch][l] = 2.0 * a2 * h2 + a3 * (6.0 * s * h2 + 6.0 * h3);
+      d3[ch][l] = 6.0 * a3 * h3;
+    }
+    for (std::size_t j = 0; j < nr; ++j) {
+      const double a2 = d[2 * nc + nm + j], a3 = d[3 * nc + nm + j];
+      c[j][l] = v2[l] * (2.0 * a2 + 6.0 * a3 * s);
+      dc[j][l] = v2[l] * 6.0 * a3 * hh;
+    }
+  };
+  // Running maxima from dj, aj (the modes' share, accumulated by the step); a lane past its own
+  // last step keeps its maxima.
+  auto emit = [&](double k) {
+    const lanes live = k <= n_steps ? one : zero;
+    for (std::size_t j = 0; j < no; ++j) {
+      lanes dv = dj[j], av = aj[j];
+      if (flex) dv += f[nm + j], av += c[j];
+      dv = live * (dv < zero ? -dv : dv);
+      av = live * (av < zero ? -av : av);
+      md[j] = dv > md[j] ? dv : md[j];
+      ma[j] = av > ma[j] ? av : ma[j];
+    }
+  };
+  for (std::size_t l = 0; l < W; ++l) reinit(l, in.x_start);
+  for (std::size_t j = 0; j < no; ++j) {  // from rest: q = 0, q̈ = p
+    dj[j] = aj[j] = zero;
+    for (std::size_t i = 0; i < nm; ++i) aj[j] += in.S[j * nm + i] * f[i];
+  }
+  emit(0.0);
+  const lanes x_start = zero + in.x_start;
+  for (Index k = 1; k <= in.n_max; ++k) {
+    for (std::size_t i = 0; i < nm; ++i) pp[i] = f[i];
+    for (std::size_t ch = 0; ch < nc; ++ch) {
+      f[ch] += d1[ch];
+      d1[ch] += d2[ch];
+      d2[ch] += d3[ch];
+    }
+    for (std::size_t j = 0; j < nr; ++j) c[j] += dc[j];
+    const double t = static_cast<double>(k) * in.dt;
+    const lanes X = x_start + v * t;
+    for (std::size_t l = 0; l < W; ++l)
+      if (X[l] >= next[l]) reinit(l, X[l]);
+    for (std::size_t j = 0; j < no; ++j) dj[j] = aj[j] = zero;
+    for (std::size_t i = 0; i < nm; ++i) {
+      const double* cf = in.c8 + 8 * i;
+      const lanes q0 = q[i], v0 = qd[i], p0 = pp[i], p1 = f[i];
+      const lanes q1 = cf[0] * q0 + cf[1] * v0 + cf[2] * p0 + cf[3] * p1;
+      const lanes v1 = cf[4] * q0 + cf[5] * v0 + cf[6] * p0 + cf[7] * p1;
+      const lanes a1 = p1 - in.two_zw[i] * v1 - in.w2[i] * q1;
+      q[i] = q1;
+      qd[i] = v1;
+      for (std::size_t j = 0; j < no; ++j) {
+        const double sji = in.S[j * nm + i];
+        dj[j] += sji * q1;
+        aj[j] += sji * a1;
+      }
+    }
+    emit(static_cast<double>(k));
+  }
+  for (std::size_t l = 0; l < W; ++l) {
+    for (std::size_t i = 0; i < nm; ++i) q_out[i * W + l] = q[i][l], qd_out[i * W + l] = qd[i][l];
+    for (std::size_t j = 0; j < no; ++j) ma_out[j * W + l] = ma[j][l], md_out[j * W + l] = md[j][l];
+  }
+}
+
+// The same loop built twice on x86-64: for the baseline ISA and for AVX2 (one instruction per
+// four-lane operation instead of two), chosen at run time by what the processor supports.
+#if defined(__GNUC__) && defined(__x86_64__)
+#define VIADUCT_KERNEL_AVX2 1
+template <std::size_t NM, std::size_t NC, std::size_t NO>
+__attribute__((target("avx2"))) void kernel_avx2(const KernelInput& in, double* q, double* qd, double* ma,
+                                                 double* md) {
+  kernel_body<NM, NC, NO>(in, q, qd, ma, md);
+}
+bool cpu_has_avx2() {
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+}
+#endif
+
+template <std::size_t NM, std::size_t NC, std::size_t NO>
+void kernel(const KernelInput& in, double* q, double* qd, double* ma, double* md) {
+#ifdef VIADUCT_KERNEL_AVX2
+  if (cpu_has_avx2()) return kernel_avx2<NM, NC, NO>(in, q, qd, ma, md);
+#endif
+  kernel_body<NM, NC, NO>(in, q, qd, ma, md);
+}
+
+template <std::size_t NM, std::size_t NO>
+bool dispatch_fixed(const KernelInput& in, double* q, double* qd, double* ma, double* md) {
+  if (in.nm != NM || in.no != NO) return false;
+  if (in.flex && in.nc == NM + NO) kernel<NM, NM + NO, NO>(in, q, qd, ma, md);
+  else if (!in.flex && in.nc == NM) kernel<NM, NM, NO>(in, q, qd, ma, md);
+  else return false;
+  return true;
+}
+
+template <std::size_t... I>
+bool dispatch_modes(std::index_sequence<I...>, const KernelInput& in, double* q, double* qd, double* ma, double* md) {
+  return ((dispatch_fixed<I + 1, 1>(in, q, qd, ma, md) || dispatch_fixed<I + 1, 2>(in, q, qd, ma, md)) || ...);
+}
+
+// Bases of up to 6 modes with 1–2 stations get the unrolled loops; others the general one.
+void dispatch(const KernelInput& in, double* q, double* qd, double* ma, double* md) {
+  if (!dispatch_modes(std::make_index_sequence<6>{}, in, q, qd, ma, md)) kernel<0, 0, 0>(in, q, qd, ma, md);
+}
+
+}  // namespace
+
+std::vector<PeaksRun> modal_peaks(const PreparedModel& m, const TrainModalLoads& L, const std::vector<double>& speeds,
+                                  const RunSettings& settings) {
+  if (!modal_peaks_apply(m, settings))
+    throw InputError("the peaks kernel needs the modal method with classical modes and no filter");
+  for (double v : speeds) require_positive(v, "speed [m/s]");
+  require_non_negative(settings.free_vibration_s, "free_vibration_s [s]");
+  require_positive(settings.newmark.dt, "analysis.dt [s]");
+  const solve::ModalReduction& r = *m.modal;
+  if (L.n_modes != static_cast<std::size_t>(r.n_modes()) || L.x_start != m.structure.path_start() ||
+      L.x_end != m.structure.path_end())
+    throw InputError("the folded train belongs to another model");
+  // The stations are the reduction's first outputs (rails above deck stations may follow).
+  const std::size_t nm = L.n_modes, no = m.stations.size(), nc = L.n_channels;
+  if (no > static_cast<std::size_t>(r.n_outputs())) throw InputError("the modal model lacks station outputs");
+  const double dt = settings.newmark.dt;
+  std::vector<double> c8(8 * nm), two_zw(nm), w2(nm);
+  for (std::size_t i = 0; i < nm; ++i) {
+    const double om = r.omega()[static_cast<Index>(i)], ze = r.zeta()[static_cast<Index>(i)];
+    const auto cf = solve::exact_step_coefficients(om, ze, dt);
+    std::copy(cf.begin(), cf.end(), c8.begin() + static_cast<std::ptrdiff_t>(8 * i));
+    two_zw[i] = 2.0 * ze * om;
+    w2[i] = om * om;
+  }
+  KernelInput in;
+  in.c8 = c8.data();
+  in.two_zw = two_zw.data();
+  in.w2 = w2.data();
+  in.S = r.output_rows().data();
+  in.breaks = L.breaks.data();
+  in.coef = L.coef.data();
+  in.n_pieces = L.breaks.size() - 1;
+  in.x_start = L.x_start;
+  in.dt = dt;
+  in.nm = nm;
+  in.nc = nc;
+  in.no = no;
+  in.flex = L.n_outputs > 0;
+  std::vector<PeaksRun> out;
+  std::vector<double> q(nm * W), qd(nm * W), ma(no * W), md(no * W);
+  for (std::size_t first = 0; first < speeds.size(); first += W) {
+    const auto wall0 = std::chrono::steady_clock::now();
+    const std::size_t n_lanes = std::min(W, speeds.size() - first);
+    in.n_max = 0;
+    for (std::size_t l = 0; l < W; ++l) {
+      // Spare lanes repeat the last speed; their results are dropped.
+      in.v[l] = speeds[first + std::min(l, n_lanes - 1)];
+      // The duration of simulate(): until free_vibration_s after the last axle leaves the path.
+      const double t_end = (L.x_end - L.x_start + L.train_length) / in.v[l] + settings.free_vibration_s;
+      in.n_steps[l] = static_cast<Index>(std::ceil(t_end / dt - 1e-9));
+      in.n_max = std::max(in.n_max, in.n_steps[l]);
+    }
+    dispatch(in, q.data(), qd.data(), ma.data(), md.data());
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    for (std::size_t l = 0; l < n_lanes; ++l) {
+      // A non-finite state stays so (the recurrence is linear), and std::max would skip a NaN.
+      double state = 0.0;
+      for (std::size_t i = 0; i < nm; ++i) state += q[i * W + l] + qd[i * W + l];
+      PeaksRun run;
+      for (std::size_t j = 0; j < no; ++j) {
+        const double a = ma[j * W + l], d = md[j * W + l];
+        if (!std::isfinite(state) || !std::isfinite(a) || !std::isfinite(d))
+          throw SolverError("modal superposition: the state became non-finite (speed " +
+                            format_number(in.v[l], 6) + " m/s)");
+        StationPeaks pk;
+        pk.max_abs_acc = a;
+        pk.max_abs_disp = d;
+        run.peaks.push_back(pk);
+      }
+      run.n_steps = in.n_steps[l];
+      run.wall_s = wall / static_cast<double>(n_lanes);
+      out.push_back(std::move(run));
+    }
+  }
+  return out;
+}
+
+PeaksRun modal_peaks(const PreparedModel& m, const TrainModalLoads& L, double speed, const RunSettings& settings) {
+  return modal_peaks(m, L, std::vector<double>{speed}, settings).front();
+}
+
+}  // namespace viaduct::study

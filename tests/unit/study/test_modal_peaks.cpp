@@ -1,0 +1,132 @@
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "../../verification/helpers.hpp"
+#include "viaduct/core/error.hpp"
+#include "viaduct/study/modal_peaks.hpp"
+#include "viaduct/study/sweep.hpp"
+
+using namespace viaduct;
+using namespace viaduct::study;
+
+// The fused peaks kernel must give what peaks(simulate(...)) gives on the same modal model: it
+// evaluates the same piecewise cubics (folded over the train instead of summed per axle) and the
+// same exact modal step. Differences are rounding plus the forward-difference drift within a
+// piece (a few dozen additions): 1e-9 relative is far above both and far below any modelling
+// error, so a wrong piece, lane, sign or missing term fails it.
+namespace {
+constexpr double kRel = 1e-9;
+
+Scenario hslm_span(int n_modes, bool static_correction) {
+  Scenario sc = vt::shipped("hslm-simply-supported",
+                            {"analysis.method=\"modal\"", "modal.n_modes=" + std::to_string(n_modes),
+                             "modal.static_correction=" + std::string(static_correction ? "true" : "false"),
+                             "filter.enabled=false", "analysis.dt=0.0005", "analysis.free_vibration_s=0.5"});
+  sc.stations.push_back({"quarter", true, 0, 3.75, 0.0});
+  return sc;
+}
+
+void require_same_as_simulate(const Scenario& sc, const std::vector<double>& speeds) {
+  const PreparedModel pm = prepare_model(sc, /*rail_outputs=*/false);
+  REQUIRE(modal_peaks_apply(pm, sc.settings));
+  for (const auto& train : sc.trains) {
+    const auto folded = fold_train(pm, train, sc.settings.load_factor);
+    const std::vector<PeaksRun> fast = modal_peaks(pm, *folded, speeds, sc.settings);
+    REQUIRE(fast.size() == speeds.size());
+    for (std::size_t s = 0; s < speeds.size(); ++s) {
+      const RunResult full = simulate(pm, train, speeds[s], sc.settings);
+      const std::vector<StationPeaks> ref = peaks(full);
+      REQUIRE(fast[s].n_steps == full.summary.n_steps);
+      REQUIRE(fast[s].peaks.size() == ref.size());
+      for (std::size_t j = 0; j < ref.size(); ++j) {
+        INFO(train.name << " at " << speeds[s] << " m/s, station " << j);
+        REQUIRE(ref[j].max_abs_acc > 0.0);
+        REQUIRE(fast[s].peaks[j].max_abs_acc == Approx(ref[j].max_abs_acc).epsilon(kRel));
+        REQUIRE(fast[s].peaks[j].max_abs_disp == Approx(ref[j].max_abs_disp).epsilon(kRel));
+      }
+    }
+  }
+}
+}  // namespace
+
+TEST_CASE("modal peaks kernel: the same peaks as the full run on a single span, with and without static correction") {
+  // 7 speeds: one full group of four lanes and a partial one (spare lanes must not leak);
+  // speeds far apart so the lanes' cases end at very different steps.
+  const std::vector<double> speeds = {140 / 3.6, 420 / 3.6, 200 / 3.6, 301 / 3.6, 250 / 3.6, 333 / 3.6, 180 / 3.6};
+  for (bool sc_on : {true, false}) {
+    INFO("static correction " << sc_on);
+    Scenario sc = hslm_span(3, sc_on);
+    sc.trains.resize(2);  // A1 and A2: 3.5 m bogies as well as 2 m
+    require_same_as_simulate(sc, speeds);
+  }
+}
+
+TEST_CASE("modal peaks kernel: a larger basis and three stations run the general-size loop") {
+  Scenario sc = hslm_span(9, true);  // 9 modes: beyond the unrolled sizes
+  sc.stations.push_back({"three-quarter", true, 0, 11.25, 0.0});
+  sc.trains.resize(1);
+  require_same_as_simulate(sc, {160 / 3.6, 390 / 3.6});
+}
+
+TEST_CASE("modal peaks kernel: a track model with classical damping (rail load path, many modes)") {
+  // Without dashpots the track model's modes stay classical; every mode below 150 Hz.
+  Scenario sc = vt::shipped("old-guadiana-sensitivity",
+                            {"analysis.method=\"modal\"", "modal.max_frequency_hz=150", "filter.enabled=false",
+                             "track.pad.c=0", "track.ballast.c=0", "track.shear.c=0", "track.subgrade.c=0",
+                             "bridge.damping.kind=\"none\"", "analysis.free_vibration_s=0.3",
+                             "sweep.mode=\"reference\""});
+  const PreparedModel pm = prepare_model(sc, false);
+  REQUIRE_FALSE(pm.modal->complex_modes());
+  REQUIRE(pm.modal->n_modes() > 20);
+  // The rail's ends are free, so an axle's load steps onto the model at the path's start. At
+  // speeds where a sample falls exactly on such a step (60 or 80 m/s with dt = 1 ms: the head
+  // moves a whole fraction of the 18 m axle spacing per step) rounding decides on which side it
+  // is counted, differently in the two codes; these speeds keep clear of that.
+  require_same_as_simulate(sc, {45.0, 83.7, 99.0});
+}
+
+TEST_CASE("modal peaks kernel: only where no history is needed") {
+  Scenario sc = hslm_span(3, true);
+  PreparedModel pm = prepare_model(sc, false);
+  REQUIRE(modal_peaks_apply(pm, sc.settings));
+  RunSettings filtered = sc.settings;
+  filtered.filter.enabled = true;
+  REQUIRE_FALSE(modal_peaks_apply(pm, filtered));
+  RunSettings unit = sc.settings;
+  unit.superposition = Superposition::unit_response;
+  REQUIRE_FALSE(modal_peaks_apply(pm, unit));
+  const auto folded = fold_train(pm, sc.trains[0], 1.0);
+  REQUIRE_THROWS_AS(modal_peaks(pm, *folded, 0.0, sc.settings), InputError);
+  REQUIRE_THROWS_AS(modal_peaks(pm, *folded, 50.0, filtered), InputError);
+  REQUIRE_THROWS_AS(fold_train(pm, sc.trains[0], -1.0), InputError);
+  // Damping that couples the modes (track dashpots): complex modes, the general path.
+  Scenario og = vt::shipped("old-guadiana-sensitivity",
+                            {"analysis.method=\"modal\"", "modal.max_frequency_hz=60", "filter.enabled=false"});
+  REQUIRE_FALSE(modal_peaks_apply(prepare_model(og, false), og.settings));
+}
+
+TEST_CASE("a sweep on the peaks kernel gives the rows of the general path") {
+  Scenario sc = hslm_span(3, true);
+  sc.trains.resize(3);
+  sc.sweep_speeds.clear();
+  for (int k = 0; k < 11; ++k) sc.sweep_speeds.push_back((150.0 + 25.0 * k) / 3.6);  // two blocks of speeds
+  const std::vector<Variant> v = {{"reference", sc}};
+  SweepOptions fast, general;
+  fast.threads = 2;
+  general.threads = 2;
+  general.runner = [](const PreparedModel& m, const load::Train& t, double speed, const RunSettings& rs) {
+    return simulate(m, t, speed, rs);  // a custom runner opts out of the kernel
+  };
+  const SweepResult a = run_sweep(v, fast), b = run_sweep(v, general);
+  REQUIRE(a.failures.empty());
+  REQUIRE(a.rows.size() == 3 * 11 * 2);
+  REQUIRE(a.rows.size() == b.rows.size());
+  REQUIRE(a.summary.n_steps_total == b.summary.n_steps_total);
+  for (std::size_t i = 0; i < a.rows.size(); ++i) {
+    REQUIRE(a.rows[i].train == b.rows[i].train);
+    REQUIRE(a.rows[i].station == b.rows[i].station);
+    REQUIRE(a.rows[i].speed == b.rows[i].speed);
+    REQUIRE(a.rows[i].max_abs_acc == Approx(b.rows[i].max_abs_acc).epsilon(kRel));
+    REQUIRE(a.rows[i].max_abs_disp == Approx(b.rows[i].max_abs_disp).epsilon(kRel));
+  }
+}
