@@ -2,13 +2,13 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdint>
 #include <cmath>
 #include <limits>
 #include <utility>
 
 #include "modal_path_table.hpp"
 #include "viaduct/core/error.hpp"
+#include "viaduct/core/lanes.hpp"
 
 namespace viaduct::study {
 
@@ -98,10 +98,7 @@ std::shared_ptr<const TrainModalLoads> fold_train(const PreparedModel& m, const 
 
 namespace {
 
-constexpr std::size_t W = 4;  // cases (speeds of one train) advanced together, one per SIMD lane
-// Four doubles as one value (GCC/Clang vector extension: SSE2 pairs by default, one AVX register
-// where the build enables it). may_alias: the dynamic-size kernel views double buffers as lanes.
-typedef double lanes __attribute__((vector_size(W * sizeof(double)), __may_alias__));
+constexpr std::size_t W = kLanes;  // cases (speeds of one train) advanced together, one per SIMD lane
 
 struct KernelInput {
   const double *c8, *two_zw, *w2;  // per mode: exact step coefficients, 2ζω, ω²
@@ -124,10 +121,7 @@ struct KernelInput {
 // common small bases); 0 reads them from `in`. Only the residual channels' curvature is needed
 // (the modes' accelerations come from their equations), so only those carry it.
 template <std::size_t NM, std::size_t NC, std::size_t NO>
-#if defined(__GNUC__)
-__attribute__((always_inline))
-#endif
-inline void kernel_body(const KernelInput& in, double* q_out, double* qd_out, double* ma_out, double* md_out) {
+VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, double* qd_out, double* ma_out, double* md_out) {
   constexpr bool fixed = NM && NC && NO;
   const std::size_t nm = NM ? NM : in.nm, nc = NC ? NC : in.nc, no = NO ? NO : in.no;
   const bool flex = NC ? (NC > NM) : in.flex;
@@ -141,10 +135,7 @@ inline void kernel_body(const KernelInput& in, double* q_out, double* qd_out, do
   std::vector<double> dyn;
   if constexpr (!fixed) {
     dyn.assign((3 * nm + 4 * nc + 6 * no + 1) * W, 0.0);
-    // Aligned to the lanes' full size inside the buffer (one spare group at the end): an AVX2
-    // build moves them with aligned 32-byte loads, whatever alignof says in the baseline build.
-    constexpr std::uintptr_t align = sizeof(lanes);
-    auto* at = reinterpret_cast<lanes*>((reinterpret_cast<std::uintptr_t>(dyn.data()) + align - 1) & ~(align - 1));
+    lanes* at = align_lanes(dyn.data());  // one spare group at the end
     for (lanes** a : {&q, &qd, &pp}) *a = at, at += nm;
     for (lanes** a : {&f, &d1, &d2, &d3}) *a = at, at += nc;
     for (lanes** a : {&c, &dc, &ma, &md, &dj, &aj}) *a = at, at += no;
@@ -243,22 +234,16 @@ inline void kernel_body(const KernelInput& in, double* q_out, double* qd_out, do
 
 // The same loop built twice on x86-64: for the baseline ISA and for AVX2 (one instruction per
 // four-lane operation instead of two), chosen at run time by what the processor supports.
-#if defined(__GNUC__) && defined(__x86_64__)
-#define VIADUCT_KERNEL_AVX2 1
+#ifdef VIADUCT_HAVE_AVX2_VARIANT
 template <std::size_t NM, std::size_t NC, std::size_t NO>
-__attribute__((target("avx2"))) void kernel_avx2(const KernelInput& in, double* q, double* qd, double* ma,
-                                                 double* md) {
+VIADUCT_TARGET_AVX2 void kernel_avx2(const KernelInput& in, double* q, double* qd, double* ma, double* md) {
   kernel_body<NM, NC, NO>(in, q, qd, ma, md);
-}
-bool cpu_has_avx2() {
-  static const bool has = __builtin_cpu_supports("avx2");
-  return has;
 }
 #endif
 
 template <std::size_t NM, std::size_t NC, std::size_t NO>
 void kernel(const KernelInput& in, double* q, double* qd, double* ma, double* md) {
-#ifdef VIADUCT_KERNEL_AVX2
+#ifdef VIADUCT_HAVE_AVX2_VARIANT
   if (cpu_has_avx2()) return kernel_avx2<NM, NC, NO>(in, q, qd, ma, md);
 #endif
   kernel_body<NM, NC, NO>(in, q, qd, ma, md);
