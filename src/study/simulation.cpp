@@ -361,6 +361,59 @@ RunResult simulate(const model::Structure& s, const std::vector<ResolvedStation>
   return r;
 }
 
+std::vector<RunResult> simulate_batch(const PreparedModel& m, const load::Train& train,
+                                      const std::vector<double>& speeds, const RunSettings& settings) {
+  std::vector<RunResult> out;
+  if (settings.method != Method::newmark) {
+    for (double v : speeds) out.push_back(simulate(m, train, v, settings));
+    return out;
+  }
+  require_non_negative(settings.free_vibration_s, "free_vibration_s [s]");
+  require_positive(settings.newmark.dt, "analysis.dt [s]");
+  // Outputs: station main points, then the rail above deck stations (as simulate() records).
+  std::vector<solve::Functional> outputs;
+  std::vector<Index> rail_out(m.stations.size(), -1);
+  for (const auto& st : m.stations) outputs.push_back(functional_of(st.has_deck ? st.deck : st.rail));
+  for (std::size_t i = 0; i < m.stations.size(); ++i)
+    if (m.stations[i].has_deck && m.stations[i].has_rail) {
+      rail_out[i] = static_cast<Index>(outputs.size());
+      outputs.push_back(functional_of(m.stations[i].rail));
+    }
+  for (std::size_t first = 0; first < speeds.size(); first += solve::kNewmarkBatch) {
+    const std::size_t n = std::min(solve::kNewmarkBatch, speeds.size() - first);
+    std::vector<std::unique_ptr<load::MovingLoads>> loads;
+    std::vector<std::unique_ptr<MovingLoadSystem>> systems;
+    std::vector<solve::BatchCase> cases;
+    std::vector<RunResult> runs;
+    for (std::size_t l = 0; l < n; ++l) {
+      const double v = speeds[first + l];
+      require_positive(v, "speed [m/s]");
+      loads.push_back(std::make_unique<load::MovingLoads>(m.structure, train, v, settings.load_factor));
+      systems.push_back(std::make_unique<MovingLoadSystem>(m.structure, *loads.back()));
+      const double t_end = loads.back()->t_exit() + settings.free_vibration_s;
+      cases.push_back({systems.back().get(), t_end});
+      runs.push_back(allocate_histories(m.stations, t_end, settings.newmark.dt));  // refuses oversized runs
+    }
+    std::vector<solve::BatchHistories> h = solve::newmark_batch(cases, settings.newmark, outputs);
+    for (std::size_t l = 0; l < n; ++l) {
+      RunResult& r = runs[l];
+      r.method = Method::newmark;
+      r.speed = speeds[first + l];
+      r.summary = h[l].summary;
+      for (Index k = 0; k < r.t.size(); ++k) r.t[k] = static_cast<double>(k) * settings.newmark.dt;
+      for (std::size_t i = 0; i < m.stations.size(); ++i) {
+        StationHistory& sh = r.stations[i];
+        sh.disp = h[l].disp.col(static_cast<Index>(i));
+        sh.acc = h[l].acc.col(static_cast<Index>(i));
+        if (rail_out[i] >= 0) sh.rail_disp = h[l].disp.col(rail_out[i]);
+      }
+      apply_filter(r, settings);
+      out.push_back(std::move(r));
+    }
+  }
+  return out;
+}
+
 std::vector<RunResult> simulate_by_unit_response(const PreparedModel& m, const std::vector<load::Train>& trains,
                                                  double speed, const RunSettings& settings) {
   require_positive(speed, "speed [m/s]");

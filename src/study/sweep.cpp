@@ -22,6 +22,7 @@ constexpr std::size_t kAllTrains = static_cast<std::size_t>(-1);
 // Peaks-kernel variants take a block of speeds per job (the kernel advances four in lock-step).
 struct Job {
   std::size_t variant, train, speed, n_speeds = 1;
+  bool batched = false;  // a block for the peaks kernel or batched Newmark
 };
 constexpr std::size_t kSpeedBlock = 8;
 struct CaseOutcome {
@@ -76,13 +77,15 @@ SweepResult run_sweep(const std::vector<Variant>& variants, const SweepOptions& 
     out.summary.n_dofs.push_back(prepared[v].model ? prepared[v].model->structure.n_dofs : 0);
     out.summary.n_modes.push_back(prepared[v].model && prepared[v].model->modal ? prepared[v].model->modal->n_modes() : 0);
     const bool unit = sc.settings.superposition == Superposition::unit_response;
+    // Newmark cases of one train run in batches of kNewmarkBatch speeds (a custom runner opts out).
+    const bool newmark_batched = !options.runner && !unit && sc.settings.method == Method::newmark;
     for (std::size_t s = 0; s < sc.sweep_speeds.size(); ++s) {
       if (unit) jobs.push_back({v, kAllTrains, s});
       else
         for (std::size_t t = 0; t < sc.trains.size(); ++t) {
-          if (!folded[v][t]) jobs.push_back({v, t, s});
+          if (!folded[v][t] && !newmark_batched) jobs.push_back({v, t, s});
           else if (s % kSpeedBlock == 0)
-            jobs.push_back({v, t, s, std::min(kSpeedBlock, sc.sweep_speeds.size() - s)});
+            jobs.push_back({v, t, s, std::min(kSpeedBlock, sc.sweep_speeds.size() - s), true});
         }
     }
     n_cases += sc.trains.size() * sc.sweep_speeds.size();
@@ -105,38 +108,57 @@ SweepResult run_sweep(const std::vector<Variant>& variants, const SweepOptions& 
     if (!prepared[c.variant].error.empty()) {
       fail_all("model: " + prepared[c.variant].error);
     } else {
+      const PreparedModel& pm = *prepared[c.variant].model;
+      const double speed = sc.sweep_speeds[c.speed];
+      auto take = [&](std::size_t k, const std::vector<StationPeaks>& p, Index n_steps) {
+        o[k].peaks = p;
+        o[k].n_steps = n_steps;
+        o[k].done = true;
+      };
+      bool retry_alone = false;
       try {
-        const PreparedModel& pm = *prepared[c.variant].model;
-        const double speed = sc.sweep_speeds[c.speed];
-        std::vector<RunResult> runs;
-        if (c.train != kAllTrains && folded[c.variant][c.train]) {
+        if (c.batched) {
           const auto first = sc.sweep_speeds.begin() + static_cast<std::ptrdiff_t>(c.speed);
-          const std::vector<PeaksRun> pr = modal_peaks(
-              pm, *folded[c.variant][c.train],
-              std::vector<double>(first, first + static_cast<std::ptrdiff_t>(c.n_speeds)), sc.settings);
-          for (std::size_t k = 0; k < pr.size(); ++k) {
-            o[k].peaks = pr[k].peaks;
-            o[k].n_steps = pr[k].n_steps;
-            o[k].done = true;
+          const std::vector<double> speeds(first, first + static_cast<std::ptrdiff_t>(c.n_speeds));
+          if (folded[c.variant][c.train]) {
+            const std::vector<PeaksRun> pr = modal_peaks(pm, *folded[c.variant][c.train], speeds, sc.settings);
+            for (std::size_t k = 0; k < pr.size(); ++k) take(k, pr[k].peaks, pr[k].n_steps);
+          } else {
+            const std::vector<RunResult> runs = simulate_batch(pm, sc.trains[c.train], speeds, sc.settings);
+            for (std::size_t k = 0; k < runs.size(); ++k) take(k, peaks(runs[k]), runs[k].summary.n_steps);
           }
-        } else if (c.train == kAllTrains) runs = simulate_by_unit_response(pm, sc.trains, speed, sc.settings);
-        else runs.push_back(runner(pm, sc.trains[c.train], speed, sc.settings));
-        for (std::size_t k = 0; k < runs.size(); ++k) {
-          o[k].peaks = peaks(runs[k]);
+        } else if (c.train == kAllTrains) {
+          const std::vector<RunResult> runs = simulate_by_unit_response(pm, sc.trains, speed, sc.settings);
           // A composed run shares one unit run: count its steps once.
-          o[k].n_steps = (c.train == kAllTrains && k > 0) ? 0 : runs[k].summary.n_steps;
-          o[k].done = true;
+          for (std::size_t k = 0; k < runs.size(); ++k) take(k, peaks(runs[k]), k > 0 ? 0 : runs[k].summary.n_steps);
+        } else {
+          const RunResult r = runner(pm, sc.trains[c.train], speed, sc.settings);
+          take(0, peaks(r), r.summary.n_steps);
         }
       } catch (const std::exception& e) {
         fail_all(e.what());
+        retry_alone = c.batched;
       } catch (...) {
         fail_all("unknown error");
+        retry_alone = c.batched;
       }
+      // A failing block: every speed again on its own, so only the failing ones are lost.
+      if (retry_alone)
+        for (std::size_t k = 0; k < c.n_speeds; ++k) {
+          try {
+            const RunResult r = runner(pm, sc.trains[c.train], sc.sweep_speeds[c.speed + k], sc.settings);
+            o[k].error.clear();
+            take(k, peaks(r), r.summary.n_steps);
+          } catch (const std::exception& e) {
+            o[k].error = e.what();
+          } catch (...) {
+            o[k].error = "unknown error";
+          }
+        }
     }
     if (options.progress) {
       std::lock_guard<std::mutex> lock(progress_mutex);
-      n_done += n_out;
-      options.progress(n_done, n_cases);
+      for (std::size_t k = 0; k < n_out; ++k) options.progress(++n_done, n_cases);  // once per case
     }
   });
 

@@ -22,12 +22,6 @@
 
 namespace viaduct::solve {
 
-/// A recorded quantity y = Σ weight[k] · u[dof[k]] (e.g. deflection at a point of a beam).
-struct Functional {
-  std::vector<Index> dof;
-  std::vector<double> weight;
-};
-
 struct ModalOptions {
   double dt = 1e-3;    ///< [s] output and load-sampling interval, > 0
   double t_end = 1.0;  ///< [s] last time, > 0 (steps: ceil(t_end/dt))

@@ -48,6 +48,32 @@ NewmarkSummary newmark(const SecondOrderSystem& sys, const NewmarkOptions& opt,
                        const StepObserver& observe, const Vector* u0 = nullptr,
                        const Vector* v0 = nullptr);
 
+/// One load case of newmark_batch(): its loads (the system's M, C, K must be those of every
+/// other case) and its duration.
+struct BatchCase {
+  const SecondOrderSystem* system = nullptr;
+  double t_end = 1.0;  ///< [s] > 0; steps: ceil(t_end/dt)
+};
+
+/// Output histories of one case: row k is t = k·dt, one column per Functional.
+struct BatchHistories {
+  Matrix disp;  ///< (n_steps + 1) × n_outputs, Σ w u
+  Matrix acc;   ///< (n_steps + 1) × n_outputs, Σ w a
+  NewmarkSummary summary;  ///< wall_s: the batch's wall time shared equally among its cases
+};
+
+/// Cases newmark_batch() advances together.
+constexpr std::size_t kNewmarkBatch = 4;
+
+/// Newmark / HHT-α of up to kNewmarkBatch load cases on one structure (the same M, C and K
+/// objects): the scheme, step and answers of newmark() for each (from rest, opt.t_end ignored
+/// for each case's own), with one factorisation and every sparse product and triangular solve
+/// done on all the cases at once (four SIMD lanes). Records only the outputs. InputError for
+/// invalid options, an empty or oversized batch, cases on different matrices or outputs out of
+/// range; SolverError as newmark().
+std::vector<BatchHistories> newmark_batch(const std::vector<BatchCase>& cases, const NewmarkOptions& opt,
+                                          const std::vector<Functional>& outputs);
+
 /// [rad/s] estimate of the largest ω of K φ = ω² M φ by power iteration (upper-biased by 2 %).
 double estimate_max_omega(const SparseMatrix& M, const SparseMatrix& K);
 

@@ -8,6 +8,12 @@
 
 namespace viaduct::solve {
 
+/// A recorded quantity y = Σ weight[k] · u[dof[k]] (e.g. deflection at a point of a beam).
+struct Functional {
+  std::vector<Index> dof;
+  std::vector<double> weight;
+};
+
 class SecondOrderSystem {
  public:
   virtual ~SecondOrderSystem() = default;
