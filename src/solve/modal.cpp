@@ -99,9 +99,12 @@ ModalReduction::ModalReduction(const SparseMatrix& M, const SparseMatrix& C, con
     load_rows_ = phi;
   } else {
     // ẋ = A x + B p with x = [q; q̇], A = [0 I; -Ω² -Cm], B = [0; I]; A = V Λ V⁻¹, y = V⁻¹ x.
+    // Solved in the scaled state x' = [Ω q; q̇] (A' = [0 Ω; −Ω −Cm] = D A D⁻¹, D = diag(Ω, I)):
+    // with frequencies from 10 Hz to tens of kHz the unscaled A spans ω² over ten decades and
+    // its eigenvectors come out inaccurate; A' has entries of size ω. Then V = D⁻¹ V'.
     Matrix A = Matrix::Zero(2 * m, 2 * m);
-    A.topRightCorner(m, m).setIdentity();
-    A.bottomLeftCorner(m, m) = -Matrix(omega.cwiseAbs2().asDiagonal());
+    A.topRightCorner(m, m) = omega.asDiagonal();
+    A.bottomLeftCorner(m, m) = -Matrix(omega.asDiagonal());
     A.bottomRightCorner(m, m) = -Cm;
     Eigen::EigenSolver<Matrix> es(A);
     if (es.info() != Eigen::Success) throw SolverError("modal reduction: the complex eigenproblem failed");
@@ -133,6 +136,22 @@ ModalReduction::ModalReduction(const SparseMatrix& M, const SparseMatrix& C, con
     Eigen::PartialPivLU<CMatrix> lu(V);
     const CMatrix Vinv = lu.inverse();
     if (!Vinv.allFinite()) throw SolverError("modal reduction: complex mode basis is singular");
+    // A wrong decomposition must not pass for a result: check A' V' = V' Λ and V'⁻¹ V' = I.
+    {
+      CVector lam_v(2 * m);
+      Index c = 0;
+      for (std::size_t k = 0; k < kept.size(); ++k) {
+        lam_v[c++] = lam[kept[k]];
+        if (is_pair[k]) lam_v[c++] = std::conj(lam[kept[k]]);
+      }
+      const CMatrix Ac = A.cast<std::complex<double>>();
+      const double r_eig = (Ac * V - V * lam_v.asDiagonal()).norm() / (Ac.norm() * V.norm());
+      const double r_inv = (Vinv * V - CMatrix::Identity(2 * m, 2 * m)).norm() / std::sqrt(2.0 * m);
+      if (!(r_eig < 1e-8 && r_inv < 1e-6))
+        throw SolverError("modal reduction: the complex modes are not accurate (eigen-residual " + num(r_eig) +
+                          ", inverse residual " + num(r_inv) + "): the damping makes the basis ill-conditioned; "
+                          "lower modal.max_frequency_hz or modal.n_modes");
+    }
     const auto nk = static_cast<Index>(kept.size());
     lambda_.resize(nk);
     weight_.resize(nk);
@@ -161,7 +180,7 @@ ModalReduction::ModalReduction(const SparseMatrix& M, const SparseMatrix& C, con
     }
     load_rows_ = L;
     const CMatrix S = out_shape_.cast<std::complex<double>>();
-    const CMatrix Vtop = Vk.topRows(m), Vbot = Vk.bottomRows(m);
+    const CMatrix Vtop = omega.cwiseInverse().asDiagonal() * Vk.topRows(m), Vbot = Vk.bottomRows(m);  // V = D⁻¹ V'
     c_disp_ = S * Vtop;  // q = V_top y
     c_acc_ = S * Vbot;   // q̈ = V_bot ẏ = V_bot (Λ y + u)
     c_static_ = out_static_.cast<std::complex<double>>() * Vbot;  // p = V_bot u (all coordinates)
