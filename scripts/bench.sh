@@ -33,6 +33,7 @@ fi
 
 field() { sed -n "s/^$2 = //p" "$1/manifest.toml" | tr -d '"'; }
 fmt() { printf '%.1f' "$1"; }
+fmt2() { printf '%.2f' "$1"; }
 median() { sort -g | awk '{a[NR]=$1} END{print (NR%2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2)}'; }
 
 # 1. wall time: median of N runs each, for 1 and 2 threads
@@ -59,23 +60,23 @@ o_var=$(field "$os" n_variants)
 
 # 2. accuracy against the time step (Old Guadiana reference variant, all speeds)
 echo "bench: time-step convergence" >&2
-dts=(0.002 0.001 0.0005 0.00025)
+dts=(0.002 0.001 0.0005 0.00025 0.0001)
 for dt in "${dts[@]}"; do
   "$V" sweep scenarios/old-guadiana-sensitivity.toml --set analysis.dt=$dt --set sweep.mode=reference \
     --threads 2 --quiet --out "$B/dt-$dt" "${extra_og[@]}"
 done
 conv_rows=""
-for dt in 0.002 0.001 0.0005; do
+for dt in 0.002 0.001 0.0005 0.00025; do
   row=$(awk -F, -v dt="$dt" '
     NR==FNR { if (FNR>1) { a[$3","$4]=$5; d[$3","$4]=$6; if ($5>m) m=$5; if ($6>md) md=$6 }; next }
     FNR>1 { k=$3","$4; e=$5-a[k]; if (e<0) e=-e; if (e>me) me=e; if (e/a[k]>mr) mr=e/a[k];
             f=$6-d[k]; if (f<0) f=-f; if (f>mf) mf=f }
     END { printf "| %s ms | %.3f | %.2f %% | %.2f %% | %.3f %% |", dt*1000, me, 100*me/m, 100*mr, 100*mf/md }' \
-    "$B/dt-0.00025/envelope.csv" "$B/dt-$dt/envelope.csv")
+    "$B/dt-0.0001/envelope.csv" "$B/dt-$dt/envelope.csv")
   wall=$(field "$B/dt-$dt" sweep_wall_s)
   conv_rows+="$row $(fmt "$wall") |"$'\n'
 done
-wall_ref=$(field "$B/dt-0.00025" sweep_wall_s)
+wall_ref=$(field "$B/dt-0.0001" sweep_wall_s)
 
 # 3. what modal damping costs: the same sweeps with Rayleigh damping of equal ratios (1 thread)
 echo "bench: cost of modal damping" >&2
@@ -126,13 +127,19 @@ hm_steps=$(field "$B/hslm-modal-t2-1" n_steps_total)
   "${extra_hslm[@]}" --threads 2 --quiet --out "$B/hslm-full-ref"
 read -r hf_ea hf_ed <<<"$(env_err "$B/hslm-full-ref" "$B/hslm-modal-t2-1")"
 hf_wall=$(field "$B/hslm-full-ref" sweep_wall_s)
-# (b) Old Guadiana sensitivity, all variants: presets against Newmark at 0.25 ms
+# (b) Old Guadiana sensitivity, all variants: Newmark steps and presets against Newmark at 0.1 ms
+#     (second order: 0.25 ms is still ~1 % off on the undamped-pad curve, see the rows)
 og_rows=""
-"$V" sweep scenarios/old-guadiana-sensitivity.toml --set analysis.dt=0.00025 "${extra_og[@]}" --threads 2 --quiet \
+"$V" sweep scenarios/old-guadiana-sensitivity.toml --set analysis.dt=0.0001 "${extra_og[@]}" --threads 2 --quiet \
   --out "$B/og-ref"
 og_ref_wall=$(field "$B/og-ref" sweep_wall_s)
 read -r nm_ea nm_ed <<<"$(env_err "$B/og-ref" "$B/og-t2-1")"
 og_rows+="| Newmark, dt = 1 ms (the shipped setting) | $(fmt "$o2") | $(pct "$nm_ea") | $(pct "$nm_ed") |"$'\n'
+for dt in 0.0005 0.00025; do
+  w=$(time_runs "og-nm$dt" scenarios/old-guadiana-sensitivity.toml 2 1 --set analysis.dt=$dt "${extra_og[@]}")
+  read -r ea ed <<<"$(env_err "$B/og-ref" "$B/og-nm$dt-t2-1")"
+  og_rows+="| Newmark, dt = $(awk -v d=$dt 'BEGIN{print d*1000}') ms | $(fmt "$w") | $(pct "$ea") | $(pct "$ed") |"$'\n'
+done
 for preset in fast default; do
   w=$(time_runs "og-$preset" scenarios/old-guadiana-sensitivity.toml 2 "$repeats" --set "analysis.preset=\"$preset\"" "${extra_og[@]}")
   read -r ea ed <<<"$(env_err "$B/og-ref" "$B/og-$preset-t2-1")"
@@ -211,9 +218,13 @@ record takes $(sed -n 's/^| Newmark, dt = 1 ms (default) | 2 | \([0-9.]*\) .*/\1
 
 Commands: \`build/release/viaduct sweep SCENARIO --threads N\` (wall time from \`sweep_wall_s\` in
 the manifest: model assembly, integration, filtering and envelopes). Time step 1 ms, Newmark
-average acceleration, one sparse LDLT factorisation per case.
+average acceleration. A sweep runs the speeds of one train four at a time through
+\`solve::newmark_batch\`: one sparse LDLᵀ factorisation per batch, and every product and triangular
+substitution done on the four cases at once (one AVX2 operation per matrix entry where the
+processor has it, two SSE2 ones otherwise), with partial sums so that the chains of dependent
+additions do not set the pace. The \`µs per step\` column counts each case's steps.
 
-Where the time goes: every step does two sparse products (C v, K u) and one sparse LDLT solve.
+Where the time goes: every step does two sparse products (C v, K u) and one sparse LDLᵀ solve.
 Modal damping of the bridge (one ratio for every span mode) makes C dense within each span,
 which makes both the products and the factor denser. Measured: the same sweeps with Rayleigh
 damping of the same ratio at two frequencies (1 thread, wall seconds):
@@ -225,17 +236,17 @@ The fast paths below (modal superposition, unit-response superposition) avoid mo
 
 ## Accuracy bought with the time step
 
-Old Guadiana reference model, 60 speeds × 3 stations, against the same sweep at dt = 0.25 ms
+Old Guadiana reference model, 60 speeds × 3 stations, against the same sweep at dt = 0.1 ms
 (which took $(fmt "$wall_ref") s on 2 threads). Errors of the envelope of the filtered
 (1–60 Hz) deck acceleration and of the deck deflection:
 
 | dt | max abs acc error [m/s²] | … of the peak acceleration | worst relative, any speed | max disp error, of peak | 2-thread wall [s] |
 |---|---|---|---|---|---|
 $conv_rows
-The default 1 ms step of the shipped scenarios keeps the acceleration envelope within about
-1.5 % of its peak (the worst relative error is on the steep flanks of the resonance peaks,
-where a small frequency shift moves the curve); halve it for sub-percent envelopes at twice
-the cost. Newmark's convergence order is 2 (\`tests/verification/test_convergence.cpp\`).
+The worst relative error is on the steep flanks of the resonance peaks, where a small
+frequency shift (Newmark's period elongation) moves the curve. Newmark's convergence order is
+2 (\`tests/verification/test_convergence.cpp\`): each halving of the step divides the error by
+about four at twice the cost.
 
 Command: \`viaduct sweep scenarios/old-guadiana-sensitivity.toml --set analysis.dt=DT --set sweep.mode=reference\`.
 
@@ -247,17 +258,21 @@ the curve's peak (\`docs/accuracy.md\` has the whole ladder).
 **HSLM-A1…A10 × 281 speeds, single 15 m span, 3 modes, 2000 Hz output, 2 s free vibration**
 (\`viaduct sweep scenarios/hslm-simply-supported.toml --set analysis.method='"modal"' --set modal.n_modes=3
 --set analysis.dt=0.0005 --set analysis.free_vibration_s=2 --set filter.enabled=false --threads N\`):
-$hm_steps samples in all; **$(fmt "$hm1") s on 1 thread, $(fmt "$hm2") s on 2 threads** (target 0.3 s;
-$(awk -v w="$hm2" -v s="$hm_steps" 'BEGIN{printf "%.0f", 1e9*w*2/s}') ns per sample and thread: the modal loads of the axles on the
-span are evaluated from tabulated cubic influence lines, the three modal equations advanced
-exactly). Envelope error against the same model at 20 kHz: $(pct "$hm_ea") (acceleration),
+$hm_steps samples in all; **$(fmt2 "$hm1") s on 1 thread, $(fmt2 "$hm2") s on 2 threads** (target 0.3 s;
+$(awk -v w="$hm2" -v s="$hm_steps" 'BEGIN{printf "%.1f", 1e9*w*2/s}') ns per sample and thread, the whole sweep included). No history
+is needed for an envelope without a filter, so the sweep runs the peaks kernel
+(\`study/modal_peaks\`): each train folded once into one piecewise cubic of the head position
+(the per-element influence cubics re-expanded on all axles' merged breakpoints: exact,
+speed-independent), four speeds advanced in SIMD lanes, the loads along each piece by forward
+differences, the three modal equations exactly, only the running maxima kept. The same model
+as before this kernel (1.4 s on 2 threads on 2026-11-22), the same envelope to 1e-9. Envelope error against the same model at 20 kHz: $(pct "$hm_ea") (acceleration),
 $(pct "$hm_ed") (deflection) — target 0.1 %. Against the full model (Newmark, 0.25 ms, with the
 scenario's 45 Hz low-pass; $(fmt "$hf_wall") s on 2 threads) the three unfiltered modes differ by $(pct "$hf_ea")
 and $(pct "$hf_ed"): truncation and filter together — the low-pass edge sits on the third mode (45 Hz)
 and attenuates it in the reference; not the time step.
 
 **Old Guadiana sensitivity study, all 13 models × 60 speeds, full track model** (reference:
-Newmark at 0.25 ms, $(fmt "$og_ref_wall") s on 2 threads; target: ≤ 10 s with ≤ 1 % error):
+Newmark at 0.1 ms, $(fmt "$og_ref_wall") s on 2 threads; target: ≤ 10 s with ≤ 1 % error):
 
 | method | 2-thread wall [s] | acceleration envelope error | deflection envelope error |
 |---|---|---|---|
