@@ -67,6 +67,29 @@ double estimate_max_omega(const SparseMatrix& M, const SparseMatrix& K) {
   return 1.02 * std::sqrt(std::max(lambda, 0.0));
 }
 
+namespace {
+// Refuses a conditionally stable scheme beyond its limit, then factors the effective matrix
+// S = M + (1+α)γ dt C + (1+α)β dt² K (once per run or batch).
+void factor_effective(const NewmarkOptions& opt, const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K,
+                      Eigen::SimplicialLDLT<SparseMatrix>& ls) {
+  const double dt = opt.dt, b = opt.beta, g = opt.gamma, al = opt.alpha;
+  if (!opt.unconditionally_stable()) {
+    // Conditionally stable (e.g. linear acceleration): undamped limit Ω = ω dt <= 1/sqrt(γ/2 - β).
+    const double w_max = estimate_max_omega(M, K);
+    const double limit = 1.0 / std::sqrt(g / 2.0 - b);
+    if (w_max * dt > limit)
+      throw SolverError("Newmark with beta = " + num(b) + ", gamma = " + num(g) +
+                        " is only conditionally stable: needs dt <= " + num(limit / w_max) +
+                        " s for the highest frequency " + num(w_max / (2 * M_PI)) +
+                        " Hz, got dt = " + num(dt) + " s");
+  }
+  const SparseMatrix S = M + ((1.0 + al) * g * dt) * C + ((1.0 + al) * b * dt * dt) * K;
+  ls.compute(S);
+  if (ls.info() != Eigen::Success)
+    throw SolverError("Newmark: effective matrix is not positive definite (negative mass or stiffness?)");
+}
+}  // namespace
+
 NewmarkSummary newmark(const SecondOrderSystem& sys, const NewmarkOptions& opt,
                        const StepObserver& observe, const Vector* u0, const Vector* v0) {
   const auto wall0 = std::chrono::steady_clock::now();
@@ -80,22 +103,8 @@ NewmarkSummary newmark(const SecondOrderSystem& sys, const NewmarkOptions& opt,
     throw InputError("Newmark: M, C and K must be square and of one size");
   const double dt = opt.dt, b = opt.beta, g = opt.gamma, al = opt.alpha;
 
-  if (!opt.unconditionally_stable()) {
-    // Conditionally stable (e.g. linear acceleration): undamped limit Ω = ω dt <= 1/sqrt(γ/2 - β).
-    const double w_max = estimate_max_omega(M, K);
-    const double limit = 1.0 / std::sqrt(g / 2.0 - b);
-    if (w_max * dt > limit)
-      throw SolverError("Newmark with beta = " + num(b) + ", gamma = " + num(g) +
-                        " is only conditionally stable: needs dt <= " + num(limit / w_max) +
-                        " s for the highest frequency " + num(w_max / (2 * M_PI)) +
-                        " Hz, got dt = " + num(dt) + " s");
-  }
-
-  // Effective matrix S = M + (1+α)γ dt C + (1+α)β dt² K, factored once.
-  const SparseMatrix S = M + ((1.0 + al) * g * dt) * C + ((1.0 + al) * b * dt * dt) * K;
-  Eigen::SimplicialLDLT<SparseMatrix> ls(S);
-  if (ls.info() != Eigen::Success)
-    throw SolverError("Newmark: effective matrix is not positive definite (negative mass or stiffness?)");
+  Eigen::SimplicialLDLT<SparseMatrix> ls;
+  factor_effective(opt, M, C, K, ls);
 
   Vector u = u0 ? *u0 : Vector::Zero(n);
   Vector v = v0 ? *v0 : Vector::Zero(n);
@@ -411,19 +420,8 @@ std::vector<BatchHistories> newmark_batch(const std::vector<BatchCase>& cases, c
     R.n_max = std::max(R.n_max, R.n_steps[l]);
   }
   const double dt = opt.dt, b = opt.beta, g = opt.gamma, al = opt.alpha;
-  if (!opt.unconditionally_stable()) {
-    const double w_max = estimate_max_omega(M, K);
-    const double limit = 1.0 / std::sqrt(g / 2.0 - b);
-    if (w_max * dt > limit)
-      throw SolverError("Newmark with beta = " + num(b) + ", gamma = " + num(g) +
-                        " is only conditionally stable: needs dt <= " + num(limit / w_max) +
-                        " s for the highest frequency " + num(w_max / (2 * M_PI)) +
-                        " Hz, got dt = " + num(dt) + " s");
-  }
-  const SparseMatrix S = M + ((1.0 + al) * g * dt) * C + ((1.0 + al) * b * dt * dt) * K;
-  Eigen::SimplicialLDLT<SparseMatrix> ls(S);
-  if (ls.info() != Eigen::Success)
-    throw SolverError("Newmark: effective matrix is not positive definite (negative mass or stiffness?)");
+  Eigen::SimplicialLDLT<SparseMatrix> ls;
+  factor_effective(opt, M, C, K, ls);
   const BatchPlan plan = make_plan(C, K, ls);
   R.plan = &plan;
   R.cases = &cases;
