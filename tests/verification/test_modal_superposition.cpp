@@ -136,7 +136,7 @@ TEST_CASE("unit-response superposition reproduces direct runs of several trains"
   }
 }
 
-TEST_CASE("track model: complex modes converge to Newmark; every basis from one mode to all is stable") {
+TEST_CASE("track model: complex modes converge to Newmark and every basis from one mode to all is stable") {
   // The Old Guadiana model with 3 m of approach and exit track and a 4-axle train at 100 m/s,
   // where the pads' and ballast's dashpots couple the modes strongly.
   Scenario sc = vt::shipped("old-guadiana-sensitivity", {"track.approach_length=3.0", "track.exit_length=3.0"});

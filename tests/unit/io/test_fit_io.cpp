@@ -41,7 +41,7 @@ TEST_CASE("fit parameters: key, bounds, scale and start checked against the scen
   refused("=1:2", "expected KEY=LO:HI");
 }
 
-TEST_CASE("the [fit] section declares parameters, records and weights; errors name file and line") {
+TEST_CASE("the [fit] section declares parameters, records and weights and errors name file and line") {
   vt::ScratchDir d("fitio");
   const std::string base = "[bridge]\nspan_lengths = [10.0]\nEI = 2e9\nmass_per_m = 5000.0\n"
                            "[train]\nfiles = [\"" + src + "/data/trains/talgo-altaria.csv\"]\n"

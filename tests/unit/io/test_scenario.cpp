@@ -87,7 +87,7 @@ TEST_CASE("component files, relative paths, defaults and origins") {
   REQUIRE(text.find("bridge.EI = 2000000000.0   # [N·m²] ") != std::string::npos);
 }
 
-TEST_CASE("set overrides scenario and component keys; precedence set > scenario > component") {
+TEST_CASE("set overrides scenario and component keys and precedence set > scenario > component") {
   Scratch s;
   const std::string p = s.scenario("[bridge.damping]\nratio = 0.03\n");
   FlatScenario f = load_flat(p);
@@ -202,7 +202,7 @@ TEST_CASE("docs/scenarios.md documents every key (regenerate with scripts/gen_do
   REQUIRE(ss.str().find(schema_markdown()) != std::string::npos);
 }
 
-TEST_CASE("solution methods and presets resolve from the scenario; explicit keys override a preset") {
+TEST_CASE("solution methods and presets resolve from the scenario and explicit keys override a preset") {
   Scratch s;
   // Default: Newmark, direct.
   study::Scenario d = to_scenario(load_flat(s.scenario("")));

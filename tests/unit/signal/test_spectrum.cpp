@@ -158,7 +158,7 @@ TEST_CASE("spectra reject bad records with a clear error") {
   REQUIRE_THROWS_AS(rfft(Vector()), InputError);
 }
 
-TEST_CASE("irfft inverts rfft; best_lag finds a known delay to a fraction of a sample") {
+TEST_CASE("irfft inverts rfft and best_lag finds a known delay to a fraction of a sample") {
   Vector x(1000);
   for (Index j = 0; j < x.size(); ++j) x[j] = std::exp(-0.5 * std::pow((j - 300.0) / 20.0, 2)) + 0.1 * std::sin(0.05 * j);
   REQUIRE((irfft(rfft(x), x.size()) - x).cwiseAbs().maxCoeff() < 1e-13);
