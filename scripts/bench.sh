@@ -264,8 +264,13 @@ is needed for an envelope without a filter, so the sweep runs the peaks kernel
 (\`study/modal_peaks\`): each train folded once into one piecewise cubic of the head position
 (the per-element influence cubics re-expanded on all axles' merged breakpoints: exact,
 speed-independent), four speeds advanced in SIMD lanes, the loads along each piece by forward
-differences, the three modal equations exactly, only the running maxima kept. The same model
-as before this kernel (1.4 s on 2 threads on 2026-11-22), the same envelope to 1e-9. Envelope error against the same model at 20 kHz: $(pct "$hm_ea") (acceleration),
+differences, the three modal equations exactly, only the running maxima kept; the same
+envelope as the general path to 1e-9. Before this kernel (commit f0dc791, the same command on
+this machine on 2026-12-01, one run each): 1.28 s on 2 threads, 2.43 s on 1. Likewise the
+batched Newmark of the studies above: the Old Guadiana reference variant at 60 speeds took
+7.9–8.3 s on 2 threads before it and 1.6–1.9 s after (\`--set sweep.mode='"reference"'\`, two runs
+each, same session). Figures of earlier dates in the project's history were measured on another
+processor (AMD EPYC): compare within one page only. Envelope error against the same model at 20 kHz: $(pct "$hm_ea") (acceleration),
 $(pct "$hm_ed") (deflection) — target 0.1 %. Against the full model (Newmark, 0.25 ms, with the
 scenario's 45 Hz low-pass; $(fmt "$hf_wall") s on 2 threads) the three unfiltered modes differ by $(pct "$hf_ea")
 and $(pct "$hf_ed"): truncation and filter together — the low-pass edge sits on the third mode (45 Hz)
