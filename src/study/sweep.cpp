@@ -19,7 +19,9 @@ struct Prepared {
 // One job: a (variant, train, speed) case, or with unit-response superposition a (variant,
 // speed) pair covering every train (train = kAllTrains).
 constexpr std::size_t kAllTrains = static_cast<std::size_t>(-1);
-// Peaks-kernel variants take a block of speeds per job (the kernel advances four in lock-step).
+// Peaks-kernel and Newmark variants take a block of kSpeedBlock speeds of one train per job
+// (both kernels advance four cases in lock-step; two groups per job keep the jobs few but many
+// enough to share between threads).
 struct Job {
   std::size_t variant, train, speed, n_speeds = 1;
   bool batched = false;  // a block for the peaks kernel or batched Newmark
