@@ -281,9 +281,11 @@ Sos cheby1(const Cheby1Spec& spec, double fs_hz) {
   return zpk2sos(bilinear(analog, fs));
 }
 
-void sosfilt(const Sos& sos, const Vector& x, Vector& y, const std::vector<std::array<double, 2>>* zi) {
+void sosfilt(const Sos& sos, const Vector& x, Vector& y, const std::vector<std::array<double, 2>>* zi,
+             std::vector<std::array<double, 2>>* zf) {
   const std::size_t ns = sos.n_sections();
   if (zi && zi->size() != ns) throw InputError("sosfilt: zi must have one row per section");
+  if (zf) zf->assign(ns, {0.0, 0.0});
   y = x;
   for (std::size_t s = 0; s < ns; ++s) {
     const Section& c = sos.sections[s];
@@ -295,6 +297,7 @@ void sosfilt(const Sos& sos, const Vector& x, Vector& y, const std::vector<std::
       z1 = c[2] * xi - c[5] * yi;
       y[i] = yi;
     }
+    if (zf) (*zf)[s] = {z0, z1};
   }
 }
 
@@ -323,6 +326,63 @@ std::size_t default_padlen(const Sos& sos) {
     na2 += (s[5] == 0.0);
   }
   return 3 * (2 * sos.n_sections() + 1 - std::min(nb2, na2));
+}
+
+Vector filtfilt_from_rest(const Sos& sos, const Vector& x) {
+  const std::size_t ns = sos.n_sections();
+  const Index n = x.size();
+  if (n == 0 || ns == 0) return x;
+  using State = std::vector<std::array<double, 2>>;
+  // One sample through the cascade from `z` with input u (transposed direct form II, as sosfilt).
+  auto step = [&](State& z, double u) {
+    for (std::size_t s = 0; s < ns; ++s) {
+      const Section& c = sos.sections[s];
+      const double yi = c[0] * u + z[s][0];
+      z[s][0] = c[1] * u - c[4] * yi + z[s][1];
+      z[s][1] = c[2] * u - c[5] * yi;
+      u = yi;
+    }
+    return u;
+  };
+  const Index m = static_cast<Index>(2 * ns);
+  auto flat = [&](const State& z) {
+    Vector v(m);
+    for (std::size_t s = 0; s < ns; ++s) {
+      v[static_cast<Index>(2 * s)] = z[s][0];
+      v[static_cast<Index>(2 * s + 1)] = z[s][1];
+    }
+    return v;
+  };
+  // State space of one step: z' = A z + B u, output y = C z + D u.
+  Matrix A(m, m), C(1, m);
+  for (Index j = 0; j < m; ++j) {
+    State z(ns, {0.0, 0.0});
+    z[static_cast<std::size_t>(j / 2)][static_cast<std::size_t>(j % 2)] = 1.0;
+    C(0, j) = step(z, 0.0);
+    A.col(j) = flat(z);
+  }
+  State zb(ns, {0.0, 0.0});
+  step(zb, 1.0);
+  const Vector B = flat(zb);
+  // Beyond the record the forward pass rings freely: y_{N+k} = C A^k s_N. The backward pass,
+  // run from infinitely far back over those samples, arrives in W s_N with
+  // W = sum_k A^k B C A^k, i.e. W = B C + A W A; doubling sums 2^i terms after i rounds.
+  Matrix W = B * C, P = A;
+  for (int i = 0; i < 64 && P.cwiseAbs().maxCoeff() > 1e-18; ++i) {
+    W += P * W * P;
+    P = P * P;
+  }
+  if (!W.allFinite() || P.cwiseAbs().maxCoeff() > 1e-18)
+    throw InputError("zero-phase filtering: the filter is not stable (its free response does not decay)");
+  Vector y;
+  State zf;
+  sosfilt(sos, x, y, nullptr, &zf);
+  const Vector w = W * flat(zf);
+  State z1(ns);
+  for (std::size_t s = 0; s < ns; ++s) z1[s] = {w[static_cast<Index>(2 * s)], w[static_cast<Index>(2 * s + 1)]};
+  Vector rev = y.reverse();
+  sosfilt(sos, rev, y, &z1);
+  return y.reverse();
 }
 
 Vector sosfiltfilt(const Sos& sos, const Vector& x) {

@@ -193,7 +193,9 @@ RunResult allocate_histories(const std::vector<ResolvedStation>& stations, doubl
 void apply_filter(RunResult& r, const RunSettings& settings) {
   if (!settings.filter.enabled) return;
   const signal::Sos sos = signal::cheby1(settings.filter.cheby, 1.0 / settings.newmark.dt);
-  for (auto& h : r.stations) h.acc_filt = signal::sosfiltfilt(sos, h.acc);
+  // The response starts at rest and is cut after free_vibration_s: filtered as zero outside
+  // the record, so that maxima do not depend on the step (docs/accuracy.md).
+  for (auto& h : r.stations) h.acc_filt = signal::filtfilt_from_rest(sos, h.acc);
 }
 
 // Integrates the loads of `sys` for t in [0, t_end] into histories (unfiltered).

@@ -40,7 +40,9 @@ Sos cheby1(const Cheby1Spec& spec, double fs_hz);
 
 /// Causal filtering with initial state zi (n_sections × 2, transposed direct form II), or zero
 /// state when zi is empty. Writes y (resized to x.size()).
-void sosfilt(const Sos& sos, const Vector& x, Vector& y, const std::vector<std::array<double, 2>>* zi = nullptr);
+/// zf, when given, receives the final state (same layout).
+void sosfilt(const Sos& sos, const Vector& x, Vector& y, const std::vector<std::array<double, 2>>* zi = nullptr,
+             std::vector<std::array<double, 2>>* zf = nullptr);
 
 /// Steady-state initial conditions for a unit step (SciPy `sosfilt_zi`).
 std::vector<std::array<double, 2>> sosfilt_zi(const Sos& sos);
@@ -52,5 +54,16 @@ std::size_t default_padlen(const Sos& sos);
 /// and steady-state initial conditions (SciPy `sosfiltfilt` defaults). The magnitude is
 /// squared: band edges sit at -2·ripple_db. Requires x.size() > padlen (InputError otherwise).
 Vector sosfiltfilt(const Sos& sos, const Vector& x);
+
+/// Zero-phase forward–backward filtering of a signal that is zero before its first sample and
+/// after its last (a simulated response that starts at rest and is cut at the record's end):
+/// the forward pass starts from rest; the backward pass starts in the state it would reach after
+/// running back over the forward pass's infinite free ringing beyond the record (a 2·n_sections
+/// Stein equation, solved by doubling: exact, no padding). The result is the zero-phase filter of
+/// the zero-extended signal, so appending zeros to a record changes nothing and two records of
+/// the same response at different rates give the same filtered maxima (the odd extension of
+/// sosfiltfilt spans padlen samples, a length in time that changes with the rate, and moves
+/// maxima a second away by per cent). Any length, including 0.
+Vector filtfilt_from_rest(const Sos& sos, const Vector& x);
 
 }  // namespace viaduct::signal
