@@ -167,6 +167,7 @@ study::Scenario to_scenario(const FlatScenario& f) {
   st.modal.n_modes = static_cast<Index>(get_number(f, "modal.n_modes"));
   st.modal.max_frequency_hz = get_number(f, "modal.max_frequency_hz");
   st.modal.static_correction = get_bool(f, "modal.static_correction");
+  st.modal.damping_vectors = static_cast<int>(get_number(f, "modal.damping_vectors"));
   st.load_factor = get_number(f, "train.load_factor");
   st.filter.enabled = get_bool(f, "filter.enabled");
   const std::string& band = get_string(f, "filter.band");
@@ -192,6 +193,7 @@ study::Scenario to_scenario(const FlatScenario& f) {
     if (!given("modal.n_modes")) st.modal.n_modes = p.modal.n_modes;
     if (!given("modal.max_frequency_hz")) st.modal.max_frequency_hz = p.modal.max_frequency_hz;
     if (!given("modal.static_correction")) st.modal.static_correction = p.modal.static_correction;
+    if (!given("modal.damping_vectors")) st.modal.damping_vectors = p.modal.damping_vectors;
   }
   if (st.filter.enabled) {
     std::string why;

@@ -67,6 +67,7 @@ const std::vector<KeySpec>& scenario_schema() {
       {"modal.n_modes", T::integer, "0", "-", ">= 0", "modal: keep at most this many of the lowest modes (0: no count limit)."},
       {"modal.max_frequency_hz", T::number, "0.0", "Hz", ">= 0", "modal: keep the modes up to this frequency (0: no frequency limit)."},
       {"modal.static_correction", T::boolean, "true", "", "", "modal: add the quasi-static response of the dropped modes to displacements (mode-acceleration method)."},
+      {"modal.damping_vectors", T::integer, "1", "-", "[0, 3]", "modal: blocks of damping-correction vectors (K⁻¹ − ΦΩ⁻²Φᵀ)Cφ appended to the modes when discrete dashpots couple them (the part of the low complex modes that the undamped modes miss; 0: the modes alone; docs/accuracy.md)."},
       {"analysis.free_vibration_s", T::number, "1.0", "s", ">= 0", "Time simulated after the last axle has left the model."},
       // filter
       {"filter.enabled", T::boolean, "true", "", "", "Filter accelerations before taking maxima."},

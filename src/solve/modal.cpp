@@ -28,6 +28,69 @@ bool ModalOptions::is_valid(std::string* why) const {
   return true;
 }
 
+Matrix damping_enriched_basis(const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K,
+                              const Matrix& shapes, const Vector& omega, int blocks, Vector* omega_out,
+                              double max_omega) {
+  const Index n = M.rows(), m = shapes.cols();
+  if (blocks < 0) throw InputError("damping enrichment: blocks must be >= 0");
+  if (shapes.rows() != n || omega.size() != m) throw InputError("damping enrichment: shapes and omega do not match");
+  if (omega_out) *omega_out = omega;
+  if (blocks == 0 || m == 0 || m >= n) return shapes;  // every mode kept: R = 0
+  Eigen::SimplicialLDLT<SparseMatrix> kf(K);
+  if (kf.info() != Eigen::Success) throw SolverError("damping enrichment: the stiffness matrix cannot be factored");
+  const Vector om2inv = omega.cwiseAbs2().cwiseInverse();  // R x = K⁻¹ x − Φ Ω⁻² Φᵀ x
+  Matrix basis = shapes;  // M-orthonormal columns
+  Matrix block = shapes;
+  for (int b = 0; b < blocks; ++b) {
+    const Matrix cb = C * block;
+    const Matrix full = kf.solve(cb);  // K⁻¹ C b: the scale against which R C b is judged
+    Matrix rcb = full;
+    rcb.noalias() -= shapes * (om2inv.asDiagonal() * (shapes.transpose() * cb));
+    Matrix kept(n, 0);
+    for (Index j = 0; j < rcb.cols(); ++j) {
+      const double scale = std::sqrt(std::max(full.col(j).dot(M * full.col(j)), 0.0));
+      if (!(scale > 0.0)) continue;
+      Vector v = rcb.col(j);
+      // two passes of M-orthogonal Gram–Schmidt against everything kept so far
+      for (int pass = 0; pass < 2; ++pass) {
+        const Vector mv = M * v;
+        v.noalias() -= basis * (basis.transpose() * mv);
+        if (kept.cols() > 0) v.noalias() -= kept * (kept.transpose() * mv);
+      }
+      // Classical damping leaves rounding only (C φ ∝ M φ, so R C φ = 0): dropped here.
+      const double norm = std::sqrt(std::max(v.dot(M * v), 0.0));
+      if (!(norm > 1e-8 * scale)) continue;
+      kept.conservativeResize(n, kept.cols() + 1);
+      kept.col(kept.cols() - 1) = v / norm;
+    }
+    if (kept.cols() == 0) break;
+    Matrix grown(n, basis.cols() + kept.cols());
+    grown << basis, kept;
+    basis.swap(grown);
+    block = kept;
+  }
+  if (basis.cols() == m) return shapes;
+  // Rayleigh–Ritz on the enrichment: Φ is K-orthogonal to it, so only its block needs solving.
+  const Matrix E = basis.rightCols(basis.cols() - m);
+  Matrix Kr = E.transpose() * (K * E);
+  Kr = 0.5 * (Kr + Kr.transpose()).eval();
+  Eigen::SelfAdjointEigenSolver<Matrix> es(Kr);
+  if (es.info() != Eigen::Success) throw SolverError("damping enrichment: the Ritz eigenproblem failed");
+  const Vector lam = es.eigenvalues();
+  if (!(lam.minCoeff() > 0.0)) throw SolverError("damping enrichment: a Ritz vector has no stiffness");
+  Index n_keep = 0;  // ascending: the Ritz pairs up to max_omega
+  while (n_keep < lam.size() && (!(max_omega > 0.0) || std::sqrt(lam[n_keep]) <= max_omega)) ++n_keep;
+  Matrix out(n, m + n_keep);
+  out.leftCols(m) = shapes;
+  out.rightCols(n_keep) = E * es.eigenvectors().leftCols(n_keep);
+  if (omega_out) {
+    omega_out->resize(m + n_keep);
+    omega_out->head(m) = omega;
+    omega_out->tail(n_keep) = lam.head(n_keep).cwiseSqrt();
+  }
+  return out;
+}
+
 std::array<double, 8> exact_step_coefficients(double omega, double zeta, double dt) {
   // z = [q, q̇, p, ṗ]: ż = F z with ṗ constant over the step; z₁ = exp(F dt) z₀.
   Eigen::Matrix4d F = Eigen::Matrix4d::Zero();

@@ -150,7 +150,8 @@ std::vector<solve::Functional> station_functionals(const std::vector<ResolvedSta
 
 std::shared_ptr<const solve::ModalReduction> make_modal(const model::Structure& s,
                                                         const std::vector<ResolvedStation>& stations,
-                                                        const ModalSettings& ms, bool rail, Vector* kept_hz) {
+                                                        const ModalSettings& ms, bool rail, Vector* kept_hz,
+                                                        double dt) {
   if (ms.n_modes < 0) throw InputError("modal.n_modes must be >= 0");
   require_non_negative(ms.max_frequency_hz, "modal.max_frequency_hz [Hz]");
   const model::Modes modes = model::compute_modes_up_to(s, ms.n_modes, ms.max_frequency_hz);
@@ -161,9 +162,17 @@ std::shared_ptr<const solve::ModalReduction> make_modal(const model::Structure& 
                      " Hz keeps no mode: the lowest is " + format_number(first.frequency_hz[0], 6) + " Hz");
   }
   if (kept_hz) *kept_hz = modes.frequency_hz.head(n);
-  return std::make_shared<const solve::ModalReduction>(
-      s.M, s.C, s.K, modes.shape.leftCols(n), (2.0 * M_PI) * modes.frequency_hz.head(n),
-      station_functionals(stations, rail), ms.static_correction);
+  Matrix shapes = modes.shape.leftCols(n);
+  for (Index j = 0; j < n; ++j) shapes.col(j) /= std::sqrt(shapes.col(j).dot(s.M * shapes.col(j)));
+  Vector omega = (2.0 * M_PI) * modes.frequency_hz.head(n);
+  if (ms.damping_vectors < 0 || ms.damping_vectors > 3) throw InputError("modal.damping_vectors must be in [0, 3]");
+  if (ms.damping_vectors > 0)
+    // Ritz pairs up to 80 % of the output's Nyquist frequency π/dt: above it they would alias
+    // into the filter's band (their quasi-static share stays in the static correction).
+    shapes = solve::damping_enriched_basis(s.M, s.C, s.K, shapes, Vector(omega), ms.damping_vectors, &omega,
+                                           0.8 * M_PI / dt);
+  return std::make_shared<const solve::ModalReduction>(s.M, s.C, s.K, shapes, omega, station_functionals(stations, rail),
+                                                      ms.static_correction);
 }
 
 RunResult allocate_histories(const std::vector<ResolvedStation>& stations, double t_end, double dt) {
@@ -334,7 +343,7 @@ PreparedModel prepare_model(model::Structure s, const std::vector<StationSpec>& 
   m.structure = std::move(s);
   m.stations = resolve_stations(m.structure, stations);
   if (settings.method == Method::modal) {
-    m.modal = make_modal(m.structure, m.stations, settings.modal, rail_outputs, &m.modal_frequency_hz);
+    m.modal = make_modal(m.structure, m.stations, settings.modal, rail_outputs, &m.modal_frequency_hz, settings.newmark.dt);
     m.modal_path = make_path_table(m.structure, *m.modal);
   }
   return m;
@@ -355,7 +364,7 @@ RunResult simulate(const model::Structure& s, const std::vector<ResolvedStation>
   std::shared_ptr<const solve::ModalReduction> modal;
   std::shared_ptr<const ModalPathTable> path;
   if (settings.method == Method::modal) {
-    modal = make_modal(s, stations, settings.modal, true, nullptr);
+    modal = make_modal(s, stations, settings.modal, true, nullptr, settings.newmark.dt);
     path = make_path_table(s, *modal);
   }
   RunResult r = simulate_impl(s, stations, modal.get(), path.get(), train, speed, settings);

@@ -74,6 +74,16 @@ std::vector<TradeoffRung> default_ladder(const Scenario& sc, bool with_ida) {
       s.modal.static_correction = sc_on;
       out.push_back({"modal " + format_number(k * fc, 4) + " Hz" + (sc_on ? " +sc" : "") + " dt=" + ms(dt), s});
     }
+  // The same as the presets' bases without the damping vectors: what they buy.
+  for (double k : {1.5, 3.0}) {
+    RunSettings s = sc.settings;
+    s.method = Method::modal;
+    s.superposition = Superposition::direct;
+    s.modal = ModalSettings{};
+    s.modal.max_frequency_hz = k * fc;
+    s.modal.damping_vectors = 0;
+    out.push_back({"modal " + format_number(k * fc, 4) + " Hz +sc dv=0 dt=" + ms(dt), s});
+  }
   for (const char* name : {"fast", "default"}) {
     const RunSettings s = preset_settings(name, sc);
     out.push_back({std::string("preset ") + name + " (modal " + format_number(s.modal.max_frequency_hz, 4) +

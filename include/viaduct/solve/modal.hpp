@@ -120,6 +120,24 @@ class ModalReduction {
   double max_coupling_ = 0.0;
 };
 
+/// A Ritz basis that carries non-proportional damping past a truncated set of modes.
+/// With discrete dashpots (a track's pads and ballast) the low complex modes of (M, C, K) are
+/// not in the span of the low undamped modes Φ: to first order in C, complex mode j gains
+/// iωⱼ R C φⱼ with R = K⁻¹ − Φ Ω⁻² Φᵀ, the flexibility of the dropped modes. Appends `blocks`
+/// Krylov blocks (R C)ᵏ Φ, k = 1..blocks (M-orthonormalised, vectors whose share is below 1e-8
+/// of their norm before orthogonalisation dropped), then solves the Rayleigh–Ritz problem on the
+/// whole basis: the modes Φ come back unchanged (R C Φ is M- and K-orthogonal to them) followed
+/// by the enrichment's Ritz pairs. Returns the shapes (n × m', mass-normalised) and writes their
+/// ω [rad/s] to omega_out. With blocks = 0, or classical damping (R C Φ = 0), returns Φ.
+/// Ritz pairs above max_omega [rad/s] (> 0; 0: no limit) are left out: sampled every dt, a mode
+/// above the Nyquist frequency π/dt aliases into the band of a filter (measured: Old Guadiana,
+/// 180 Hz basis, Ritz pairs to 1.3 kHz at dt = 1 ms, envelope 23 % off); their quasi-static share
+/// stays in the static correction. shapes: mass-normalised undamped modes with frequencies
+/// omega. Throws SolverError when K cannot be factored.
+Matrix damping_enriched_basis(const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K,
+                              const Matrix& shapes, const Vector& omega, int blocks, Vector* omega_out,
+                              double max_omega = 0.0);
+
 /// Exact one-step coefficients of q̈ + 2ζω q̇ + ω² q = p(t), p linear over the step:
 /// q₁ = a[0] q₀ + a[1] q̇₀ + a[2] p₀ + a[3] p₁ and q̇₁ = a[4] q₀ + a[5] q̇₀ + a[6] p₀ + a[7] p₁.
 std::array<double, 8> exact_step_coefficients(double omega, double zeta, double dt);

@@ -55,6 +55,9 @@ struct ModalSettings {
   Index n_modes = 0;              ///< at most this many (0: no count limit)
   double max_frequency_hz = 0.0;  ///< [Hz] only modes up to this frequency (0: no limit)
   bool static_correction = true;  ///< mode-acceleration correction of displacements
+  /// Blocks of damping-correction vectors appended to the modes when the damping couples them
+  /// (solve::damping_enriched_basis); 0: the modes alone.
+  int damping_vectors = 1;
 };
 
 /// Integration and run settings shared by `run` and `sweep`.

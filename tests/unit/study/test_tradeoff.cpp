@@ -31,8 +31,9 @@ TEST_CASE("tradeoff: a rung equal to the reference has zero error, a coarser one
   REQUIRE(r.rungs[2].n_modes == 2);
   REQUIRE(r.rungs[1].station_acc_error.size() == 2);
   REQUIRE(r.rungs[1].max_acc_error == std::max(r.rungs[1].station_acc_error[0], r.rungs[1].station_acc_error[1]));
-  // The default ladder has the dt rungs, both static-correction variants of each basis and the presets.
+  // The default ladder has the dt rungs, both static-correction variants of each basis, two bases
+  // without damping vectors and the presets.
   const auto ladder = default_ladder(sc);
-  REQUIRE(ladder.size() == 4 + 10 + 2);
+  REQUIRE(ladder.size() == 4 + 10 + 2 + 2);
   REQUIRE(default_ladder(sc, true).size() == ladder.size() + 3);
 }
