@@ -69,7 +69,14 @@ preparation — assembly, eigenproblem — included) and are one run each on a s
   overestimated the Old Guadiana envelope by up to 70 % at low speeds. **+sc**: static correction
   (mode-acceleration): the dropped modes' quasi-static response is added to deflections, and,
   for moving axles, its second time derivative (v² times the curvature of the tabulated
-  influence lines) to accelerations.
+  influence lines) to accelerations. **Damping vectors** (\`modal.damping_vectors\`, 1 block by
+  default; rungs marked dv=0 go without): with discrete dashpots the low complex modes are not in
+  the span of the low undamped modes — to first order complex mode j gains iωⱼ R C φⱼ, R the
+  flexibility of the dropped modes — so R C φⱼ are appended (M-orthonormalised, Rayleigh–Ritz;
+  the modes themselves unchanged, nothing added for classical damping; Ritz pairs above 80 % of
+  the output's Nyquist frequency π/dt left out, as they would alias into the filter's band —
+  before that cap the 180 Hz basis had pairs to 1.3 kHz at dt = 1 ms and was 23 % off). They
+  bring the modal error of the doubled-pad-damping variant (Cp ×2) from 1.5 % to 0.4 % at 90 Hz.
 - **modal, no filter** (classical modes): sweeps need no history, so they run the peaks kernel —
   each train folded once into one piecewise cubic of the head position (exact), four speeds in
   SIMD lanes, only running maxima kept; the same envelope to 1e-9, several times faster.
@@ -124,12 +131,24 @@ Pareto front).
 is coarser than the scenarios' 1 ms (1.04 ms at 60 Hz, 1.39 ms at 45 Hz): the modal step is exact,
 the step only samples the load and the output.
 
-Why the Old Guadiana modal error levels off near 1 % between 120 and 300 Hz: the axles pass the
-sleepers at v/0.6 m (67–167 Hz over the sweep) and excite track modes of a few hundred hertz
-whose response reaches the deck's band. Measured at 360 km/h, S1 at 3/4 span (filtered peak,
-Newmark at 0.1 ms: 1.3838 m/s²): modes up to 200 Hz 1.3667, 300 Hz 1.3690, 500 Hz 1.3765,
-1000 Hz 1.3836, all 528 modes 1.3833. Sub-percent envelopes on track models therefore need
-either Newmark at ≤ 0.5 ms or a modal basis up to about 1 kHz.
+Filtering. Simulated accelerations start at rest and are cut free_vibration_s after the last
+axle: they are filtered as zero outside the record (\`signal::filtfilt_from_rest\`: the backward
+pass starts in the state of the forward pass's exact free ringing beyond the end). Until
+2026-12-01 they were filtered as measured records are (SciPy's sosfiltfilt: 21 samples of odd
+extension at each end, a length in time that changes with dt), and with the 1 Hz edge (poles
+decaying in 0.6 s) that moved maxima a second before the end by per cent: on the Old Guadiana
+model at 323 km/h, ending the record 50 ms later moved the filtered peak from 3.460 to 3.526 m/s²,
+and 1.6 points of the 1.9 % between dt = 1 ms and 0.0625 ms were that edge, not the integrator.
+Errors now converge as the methods do (Newmark: dt²).
+
+Old Guadiana, the whole sensitivity study (13 models × 60 speeds) against Newmark at 0.1 ms,
+measured 2026-12-01 (\`viaduct sweep scenarios/old-guadiana-sensitivity.toml --set
+analysis.preset='"fast"' --threads 2\`, the reference with \`--set analysis.dt=0.0001\`): preset
+\`fast\` 1.04 % (worst curve: Kp ×2 at 3/4 of span 1), 8.9–10.8 s; the same without damping
+vectors 1.79 % (Kb ×0.5), 5.8 s; modes up to 120 Hz with damping vectors 0.86 %, 16.1 s; Newmark
+1 ms 2.85 %, 22.5 s. The remaining modal error is largest on the stiffness variants at high
+speed: the axles pass the sleepers at v/0.6 m (67–167 Hz over the sweep) and excite track modes
+above the basis whose response reaches the deck's band.
 
 ## Stability at the extremes
 
