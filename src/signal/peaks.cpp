@@ -52,6 +52,28 @@ void refine(const Vector& y, Peak& p, Interpolation interp) {
 
 }  // namespace
 
+double max_abs_between_samples(const Vector& y) {
+  const Index n = y.size();
+  if (n == 0) return 0.0;
+  Index i = 0;
+  double best = std::abs(y[0]);
+  for (Index k = 1; k < n; ++k) {
+    const double a = std::abs(y[k]);
+    if (a > best || std::isnan(a)) {
+      best = a;
+      i = k;
+      if (std::isnan(a)) return a;
+    }
+  }
+  if (i == 0 || i == n - 1) return best;
+  // signed, as a maximum: s·y with s the sign of the extremum
+  const double s = y[i] < 0.0 ? -1.0 : 1.0, a = s * y[i - 1], b = s * y[i], c = s * y[i + 1];
+  const double curv = a - 2.0 * b + c;
+  if (!(a <= b && c <= b && curv < 0.0)) return best;  // not an extremum of a smooth curve
+  if (c == b && i + 2 < n && s * y[i + 2] >= b) return best;  // a plateau, not a crest between two samples
+  return b - (c - a) * (c - a) / (8.0 * curv);
+}
+
 std::vector<Peak> find_peaks(const Vector& y, const PeakOptions& o, Interpolation interp) {
   std::string why;
   if (!o.is_valid(&why)) throw InputError("peak picking: " + why);

@@ -8,6 +8,7 @@
 #include "viaduct/core/error.hpp"
 #include "viaduct/model/modes.hpp"
 #include "viaduct/signal/iir.hpp"
+#include "viaduct/signal/peaks.hpp"
 #include "modal_path_table.hpp"
 
 namespace viaduct::study {
@@ -168,7 +169,7 @@ std::shared_ptr<const solve::ModalReduction> make_modal(const model::Structure& 
   if (ms.damping_vectors < 0 || ms.damping_vectors > 3) throw InputError("modal.damping_vectors must be in [0, 3]");
   if (ms.damping_vectors > 0)
     // Ritz pairs up to 80 % of the output's Nyquist frequency π/dt: above it they would alias
-    // into the filter's band (their quasi-static share stays in the static correction).
+    // into the filter's band (the vectors are then seeded by fewer modes).
     shapes = solve::damping_enriched_basis(s.M, s.C, s.K, shapes, Vector(omega), ms.damping_vectors, &omega,
                                            0.8 * M_PI / dt);
   return std::make_shared<const solve::ModalReduction>(s.M, s.C, s.K, shapes, omega, station_functionals(stations, rail),
@@ -489,9 +490,12 @@ std::vector<StationPeaks> peaks(const RunResult& r) {
   std::vector<StationPeaks> out;
   for (const auto& h : r.stations) {
     StationPeaks p;
-    const Vector& acc = h.acc_filt.size() > 0 ? h.acc_filt : h.acc;
     const Vector& disp = h.disp;
-    p.max_abs_acc = acc.size() ? acc.cwiseAbs().maxCoeff() : 0.0;
+    // A filtered acceleration is band-limited and well sampled: its maximum between samples is
+    // taken (parabolic vertex), so that it does not depend on where the samples fall (up to
+    // 1 − cos(π f dt): 0.6 % for 35 Hz at 1 ms). Raw accelerations are not band-limited.
+    p.max_abs_acc = h.acc_filt.size() > 0 ? signal::max_abs_between_samples(h.acc_filt)
+                                          : (h.acc.size() ? h.acc.cwiseAbs().maxCoeff() : 0.0);
     p.max_abs_disp = disp.size() ? disp.cwiseAbs().maxCoeff() : 0.0;
     out.push_back(p);
   }

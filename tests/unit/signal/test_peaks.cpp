@@ -61,3 +61,24 @@ TEST_CASE("interpolated peaks of Hann-windowed sines: frequency within 0.1 bin, 
     REQUIRE(p.value == Approx(2.0).epsilon(0.05));
   }
 }
+
+TEST_CASE("the maximum between samples of a well-sampled signal") {
+  // A 35 Hz sine sampled at 1 kHz with its crest between two samples: the samples miss it by
+  // up to 1 − cos(π·35/1000) = 0.6 %; the parabola's vertex by ~(2π·35/1000)⁴/64 ≈ 4e-5.
+  for (double phase : {0.0, 0.3, 0.5, 0.77}) {
+    Vector y(21);  // one trough, at sample 10 + phase
+    for (Index k = 0; k < y.size(); ++k) y[k] = -2.0 * std::cos(2 * M_PI * 35.0 * (k - 10.0 - phase) / 1000.0);
+    const double sampled = y.cwiseAbs().maxCoeff(), between = max_abs_between_samples(y);
+    INFO("phase " << phase);
+    REQUIRE(between >= sampled);
+    REQUIRE(std::abs(between / 2.0 - 1.0) < 1e-4);
+    if (phase == 0.5) REQUIRE(sampled / 2.0 < 0.999);  // the case the vertex is for
+  }
+  // Ends and degenerate lengths: the sample itself; two equal top samples: the crest between.
+  REQUIRE(max_abs_between_samples(Vector()) == 0.0);
+  REQUIRE(max_abs_between_samples((Vector(3) << 1.0, 2.0, 3.0).finished()) == 3.0);
+  REQUIRE(max_abs_between_samples((Vector(4) << 0.0, 2.0, 2.0, 0.0).finished()) == Approx(2.25));
+  REQUIRE(max_abs_between_samples((Vector(4) << 0.0, 2.0, 2.0, 2.0).finished()) == 2.0);  // no curvature
+  REQUIRE(max_abs_between_samples((Vector(3) << -1.0, -3.0, -2.0).finished()) == Approx(3.0 + 1.0 / 24.0));
+  REQUIRE(std::isnan(max_abs_between_samples((Vector(3) << 1.0, std::nan(""), 2.0).finished())));
+}
