@@ -28,6 +28,35 @@ bool ModalOptions::is_valid(std::string* why) const {
   return true;
 }
 
+Matrix ModalReduction::static_channel_weights() const {
+  if (!complex_) return out_static_;
+  Matrix w = Matrix::Zero(out_shape_.rows(), n_channels());
+  for (Index j = 0; j < w.rows(); ++j)
+    for (Index k = 0; k < lambda_.size(); ++k) {
+      const std::complex<double> st = weight_[k] * c_static_(j, k);
+      const Index c = channel_[static_cast<std::size_t>(k)];
+      w(j, c) += st.real();
+      if (weight_[k] == 2.0) w(j, c + 1) -= st.imag();
+    }
+  return w;
+}
+
+ModalReduction::ComplexForm ModalReduction::complex_form() const {
+  ComplexForm f;
+  if (!complex_) throw InputError("modal reduction: complex_form() of classical modes");
+  const Index nk = lambda_.size();
+  f.disp.resize(out_shape_.rows(), nk);
+  f.acc.resize(out_shape_.rows(), nk);
+  for (Index k = 0; k < nk; ++k) {
+    f.lambda.push_back(lambda_[k]);
+    f.channel.push_back(channel_[static_cast<std::size_t>(k)]);
+    f.pair.push_back(weight_[k] == 2.0);
+    f.disp.col(k) = weight_[k] * c_disp_.col(k);
+    f.acc.col(k) = weight_[k] * c_acc_.col(k);
+  }
+  return f;
+}
+
 Matrix damping_enriched_basis(const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K,
                               const Matrix& shapes, const Vector& omega, int blocks, Vector* omega_out,
                               double max_omega) {
@@ -39,56 +68,81 @@ Matrix damping_enriched_basis(const SparseMatrix& M, const SparseMatrix& C, cons
   Eigen::SimplicialLDLT<SparseMatrix> kf(K);
   if (kf.info() != Eigen::Success) throw SolverError("damping enrichment: the stiffness matrix cannot be factored");
   const Vector om2inv = omega.cwiseAbs2().cwiseInverse();  // R x = K⁻¹ x − Φ Ω⁻² Φᵀ x
-  Matrix basis = shapes;  // M-orthonormal columns
-  Matrix block = shapes;
-  for (int b = 0; b < blocks; ++b) {
-    const Matrix cb = C * block;
-    const Matrix full = kf.solve(cb);  // K⁻¹ C b: the scale against which R C b is judged
-    Matrix rcb = full;
-    rcb.noalias() -= shapes * (om2inv.asDiagonal() * (shapes.transpose() * cb));
-    Matrix kept(n, 0);
-    for (Index j = 0; j < rcb.cols(); ++j) {
-      const double scale = std::sqrt(std::max(full.col(j).dot(M * full.col(j)), 0.0));
-      if (!(scale > 0.0)) continue;
-      Vector v = rcb.col(j);
-      // two passes of M-orthogonal Gram–Schmidt against everything kept so far
-      for (int pass = 0; pass < 2; ++pass) {
-        const Vector mv = M * v;
-        v.noalias() -= basis * (basis.transpose() * mv);
-        if (kept.cols() > 0) v.noalias() -= kept * (kept.transpose() * mv);
+  // The enrichment seeded by the n_seed lowest modes: shapes, ω, and the highest Ritz ω.
+  struct Built {
+    Matrix shapes;
+    Vector omega;
+    double top = 0.0;
+  };
+  auto build = [&](Index n_seed) {
+    Built r{shapes, omega, 0.0};
+    Matrix basis = shapes;  // M-orthonormal columns
+    Matrix block = shapes.leftCols(n_seed);
+    for (int b = 0; b < blocks && block.cols() > 0; ++b) {
+      const Matrix cb = C * block;
+      const Matrix full = kf.solve(cb);  // K⁻¹ C b: the scale against which R C b is judged
+      Matrix rcb = full;
+      rcb.noalias() -= shapes * (om2inv.asDiagonal() * (shapes.transpose() * cb));
+      Matrix kept(n, 0);
+      for (Index j = 0; j < rcb.cols(); ++j) {
+        const double scale = std::sqrt(std::max(full.col(j).dot(M * full.col(j)), 0.0));
+        if (!(scale > 0.0)) continue;
+        Vector v = rcb.col(j);
+        // two passes of M-orthogonal Gram–Schmidt against everything kept so far
+        for (int pass = 0; pass < 2; ++pass) {
+          const Vector mv = M * v;
+          v.noalias() -= basis * (basis.transpose() * mv);
+          if (kept.cols() > 0) v.noalias() -= kept * (kept.transpose() * mv);
+        }
+        // Classical damping leaves rounding only (C φ ∝ M φ, so R C φ = 0): dropped here.
+        const double norm = std::sqrt(std::max(v.dot(M * v), 0.0));
+        if (!(norm > 1e-8 * scale)) continue;
+        kept.conservativeResize(n, kept.cols() + 1);
+        kept.col(kept.cols() - 1) = v / norm;
       }
-      // Classical damping leaves rounding only (C φ ∝ M φ, so R C φ = 0): dropped here.
-      const double norm = std::sqrt(std::max(v.dot(M * v), 0.0));
-      if (!(norm > 1e-8 * scale)) continue;
-      kept.conservativeResize(n, kept.cols() + 1);
-      kept.col(kept.cols() - 1) = v / norm;
+      if (kept.cols() == 0) break;
+      Matrix grown(n, basis.cols() + kept.cols());
+      grown << basis, kept;
+      basis.swap(grown);
+      block = kept;
     }
-    if (kept.cols() == 0) break;
-    Matrix grown(n, basis.cols() + kept.cols());
-    grown << basis, kept;
-    basis.swap(grown);
-    block = kept;
+    if (basis.cols() == m) return r;
+    // Rayleigh–Ritz on the enrichment: Φ is K-orthogonal to it, so only its block needs solving.
+    const Matrix E = basis.rightCols(basis.cols() - m);
+    Matrix Kr = E.transpose() * (K * E);
+    Kr = 0.5 * (Kr + Kr.transpose()).eval();
+    Eigen::SelfAdjointEigenSolver<Matrix> es(Kr);
+    if (es.info() != Eigen::Success) throw SolverError("damping enrichment: the Ritz eigenproblem failed");
+    const Vector lam = es.eigenvalues();
+    if (!(lam.minCoeff() > 0.0)) throw SolverError("damping enrichment: a Ritz vector has no stiffness");
+    r.shapes.resize(n, basis.cols());
+    r.shapes.leftCols(m) = shapes;
+    r.shapes.rightCols(E.cols()) = E * es.eigenvectors();
+    r.omega.resize(basis.cols());
+    r.omega.head(m) = omega;
+    r.omega.tail(E.cols()) = lam.cwiseSqrt();
+    r.top = r.omega.tail(E.cols()).maxCoeff();
+    return r;
+  };
+  Built best = build(m);
+  if (max_omega > 0.0 && best.top > max_omega) {
+    // Fewer seeds span a subspace, so the highest Ritz ω can only fall (Cauchy interlacing):
+    // bisect for the most seeds whose Ritz pairs all stay at or below max_omega.
+    Index lo = 0, hi = m;  // build(lo) fits (no seed: nothing added), build(hi) does not
+    best = build(0);
+    while (hi - lo > 1) {
+      const Index mid = (lo + hi) / 2;
+      Built t = build(mid);
+      if (t.top <= max_omega) {
+        lo = mid;
+        best = std::move(t);
+      } else {
+        hi = mid;
+      }
+    }
   }
-  if (basis.cols() == m) return shapes;
-  // Rayleigh–Ritz on the enrichment: Φ is K-orthogonal to it, so only its block needs solving.
-  const Matrix E = basis.rightCols(basis.cols() - m);
-  Matrix Kr = E.transpose() * (K * E);
-  Kr = 0.5 * (Kr + Kr.transpose()).eval();
-  Eigen::SelfAdjointEigenSolver<Matrix> es(Kr);
-  if (es.info() != Eigen::Success) throw SolverError("damping enrichment: the Ritz eigenproblem failed");
-  const Vector lam = es.eigenvalues();
-  if (!(lam.minCoeff() > 0.0)) throw SolverError("damping enrichment: a Ritz vector has no stiffness");
-  Index n_keep = 0;  // ascending: the Ritz pairs up to max_omega
-  while (n_keep < lam.size() && (!(max_omega > 0.0) || std::sqrt(lam[n_keep]) <= max_omega)) ++n_keep;
-  Matrix out(n, m + n_keep);
-  out.leftCols(m) = shapes;
-  out.rightCols(n_keep) = E * es.eigenvectors().leftCols(n_keep);
-  if (omega_out) {
-    omega_out->resize(m + n_keep);
-    omega_out->head(m) = omega;
-    omega_out->tail(n_keep) = lam.head(n_keep).cwiseSqrt();
-  }
-  return out;
+  if (omega_out) *omega_out = best.omega;
+  return best.shapes;
 }
 
 std::array<double, 8> exact_step_coefficients(double omega, double zeta, double dt) {

@@ -3,18 +3,20 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <complex>
 #include <limits>
 #include <utility>
 
 #include "modal_path_table.hpp"
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/lanes.hpp"
+#include "viaduct/signal/iir.hpp"
+#include "viaduct/signal/peaks.hpp"
 
 namespace viaduct::study {
 
 bool modal_peaks_apply(const PreparedModel& m, const RunSettings& s) {
-  return s.method == Method::modal && s.superposition == Superposition::direct && !s.filter.enabled && m.modal &&
-         m.modal_path && !m.modal->complex_modes();
+  return s.method == Method::modal && s.superposition == Superposition::direct && m.modal && m.modal_path;
 }
 
 std::shared_ptr<const TrainModalLoads> fold_train(const PreparedModel& m, const load::Train& train,
@@ -27,10 +29,11 @@ std::shared_ptr<const TrainModalLoads> fold_train(const PreparedModel& m, const 
   const std::size_t nm = T.m, no = T.flex ? T.n_out : 0, nc = nm + no, ne = T.x0.size();
 
   // Per element and channel, the cubic in ξ: the load channels as tabulated, and the residual
-  // flexibility of each output, g_j − Σᵢ (S Ω⁻²)ⱼᵢ φᵢ: what the static correction adds to the
-  // modes' deflection (and, times v² and differentiated twice, to their acceleration).
+  // flexibility of each output, g_j − Σᵢ Wⱼᵢ pᵢ (W p: the kept coordinates' static share, S Ω⁻² φ
+  // for classical modes): what the static correction adds to the coordinates' deflection (and,
+  // times v² and differentiated twice, to their acceleration).
   std::vector<double> elem(ne * nc * 4, 0.0);
-  const auto& Ss = r.output_static_rows();
+  const Matrix Ss = r.static_channel_weights();  // n_outputs × load channels
   for (std::size_t e = 0; e < ne; ++e) {
     const double* ce = &T.coef[e * T.stride];
     double* out = &elem[e * nc * 4];
@@ -111,7 +114,16 @@ struct KernelInput {
   Index n_max;        // largest of n_steps
   std::size_t nm, nc, no;  // modes, channels (modes, then residuals), stations
   bool flex;               // residual channels present (static correction)
+  double* hist = nullptr;  // when set: acceleration of lane l, station j, step k at (l·no + j)·stride + k
+  std::size_t stride = 0;
 };
+
+// Raw station accelerations of step k into the history of each lane still running.
+inline void store_history(double* hist, std::size_t stride, std::size_t no, std::size_t j, const Index* n_steps,
+                          Index k, const lanes& av) {
+  for (std::size_t l = 0; l < kLanes; ++l)
+    if (k <= n_steps[l]) hist[(l * no + j) * stride + static_cast<std::size_t>(k)] = av[l];
+}
 
 // W cases in lock-step. Per lane, the channel values along the current piece are advanced by
 // forward differences (the load is a cubic in X and X advances by v·dt per step: three additions
@@ -184,6 +196,7 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
     for (std::size_t j = 0; j < no; ++j) {
       lanes dv = dj[j], av = aj[j];
       if (flex) dv += f[nm + j], av += c[j];
+      if (in.hist) store_history(in.hist, in.stride, no, j, in.n_steps, static_cast<Index>(k), av);
       dv = live * (dv < zero ? -dv : dv);
       av = live * (av < zero ? -av : av);
       md[j] = dv > md[j] ? dv : md[j];
@@ -268,80 +281,309 @@ void dispatch(const KernelInput& in, double* q, double* qd, double* ma, double* 
   if (!dispatch_modes(std::make_index_sequence<6>{}, in, q, qd, ma, md)) kernel<0, 0, 0>(in, q, qd, ma, md);
 }
 
+// Complex modes (damping that couples the modes): per coordinate k, y ← E y + α u₀ + β u₁ with
+// u = p[c] + i p[c+1] (p[c] alone for a real coordinate), in split real arithmetic; the same
+// folded loads, forward differences and lanes as kernel_body.
+struct ComplexInput {
+  std::size_t nk = 0, nch = 0, nc = 0, no = 0;  // coordinates, load channels, all channels, stations
+  bool flex = false;
+  const double* co = nullptr;    // per coordinate: Er, Ei, αr, αi, βr, βi
+  const std::size_t* ch = nullptr;
+  const unsigned char* pair = nullptr;
+  const double* rows = nullptr;  // per station and coordinate: Dr, Di, Lr, Li (= Re, Im of acc·λ), Ar, Ai
+  const double *breaks = nullptr, *coef = nullptr;
+  std::size_t n_pieces = 0;
+  double x_start = 0.0, dt = 0.0;
+  double v[W];
+  Index n_steps[W];
+  Index n_max = 0;
+  double* hist = nullptr;
+  std::size_t stride = 0;
+};
+
+VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_out, double* ma_out, double* md_out) {
+  const std::size_t nk = in.nk, nch = in.nch, nc = in.nc, no = in.no, nr = in.flex ? no : 0;
+  const lanes zero = {0.0, 0.0, 0.0, 0.0}, one = zero + 1.0;
+  std::vector<double> buf((2 * nk + nch + 4 * nc + 6 * no + 1) * W, 0.0);
+  lanes* at = align_lanes(buf.data());
+  lanes *yr = at, *yi = yr + nk, *pp = yi + nk, *f = pp + nch, *d1 = f + nc, *d2 = d1 + nc, *d3 = d2 + nc,
+        *c = d3 + nc, *dc = c + no, *ma = dc + no, *md = ma + no, *dj = md + no, *aj = dj + no;
+  const double* B = in.breaks;
+  const std::size_t n_pieces = in.n_pieces;
+  std::size_t ip[W];
+  double next[W], h[W], v2[W];
+  lanes v = zero, n_steps = zero;
+  for (std::size_t l = 0; l < W; ++l) {
+    ip[l] = 0;
+    h[l] = in.v[l] * in.dt;
+    v2[l] = in.v[l] * in.v[l];
+    v[l] = in.v[l];
+    n_steps[l] = static_cast<double>(in.n_steps[l]);
+  }
+  auto reinit = [&](std::size_t l, double x) {
+    std::size_t i = ip[l];
+    while (i < n_pieces && x >= B[i + 1]) ++i;
+    ip[l] = i;
+    next[l] = i < n_pieces ? B[i + 1] : std::numeric_limits<double>::infinity();
+    const double s = i < n_pieces ? x - B[i] : 0.0, hh = h[l], h2 = hh * hh, h3 = h2 * hh;
+    const double* d = in.coef + i * 4 * nc;
+    for (std::size_t k = 0; k < nc; ++k) {
+      const double a0 = d[k], a1 = d[nc + k], a2 = d[2 * nc + k], a3 = d[3 * nc + k];
+      f[k][l] = a0 + s * (a1 + s * (a2 + s * a3));
+      d1[k][l] = a1 * hh + a2 * (2.0 * s * hh + h2) + a3 * (3.0 * s * s * hh + 3.0 * s * h2 + h3);
+      d2[k][l] = 2.0 * a2 * h2 + a3 * (6.0 * s * h2 + 6.0 * h3);
+      d3[k][l] = 6.0 * a3 * h3;
+    }
+    for (std::size_t j = 0; j < nr; ++j) {
+      const double a2 = d[2 * nc + nch + j], a3 = d[3 * nc + nch + j];
+      c[j][l] = v2[l] * (2.0 * a2 + 6.0 * a3 * s);
+      dc[j][l] = v2[l] * 6.0 * a3 * hh;
+    }
+  };
+  auto emit = [&](Index k) {
+    const lanes live = static_cast<double>(k) <= n_steps ? one : zero;
+    for (std::size_t j = 0; j < no; ++j) {
+      lanes dv = dj[j], av = aj[j];
+      if (in.flex) dv += f[nch + j], av += c[j];
+      if (in.hist) store_history(in.hist, in.stride, no, j, in.n_steps, k, av);
+      dv = live * (dv < zero ? -dv : dv);
+      av = live * (av < zero ? -av : av);
+      md[j] = dv > md[j] ? dv : md[j];
+      ma[j] = av > ma[j] ? av : ma[j];
+    }
+  };
+  // The coordinates' outputs for the current y and the load channels u = f.
+  auto outputs = [&]() {
+    for (std::size_t j = 0; j < no; ++j) dj[j] = aj[j] = zero;
+    for (std::size_t k = 0; k < nk; ++k) {
+      const std::size_t cc = in.ch[k];
+      const lanes ur = f[cc], ui = in.pair[k] ? f[cc + 1] : zero, a = yr[k], b = yi[k];
+      for (std::size_t j = 0; j < no; ++j) {
+        const double* r = in.rows + 6 * (j * nk + k);
+        dj[j] += r[0] * a - r[1] * b;
+        aj[j] += r[2] * a - r[3] * b + r[4] * ur - r[5] * ui;
+      }
+    }
+  };
+  for (std::size_t l = 0; l < W; ++l) reinit(l, in.x_start);
+  outputs();
+  emit(0);
+  const lanes x_start = zero + in.x_start;
+  for (Index step = 1; step <= in.n_max; ++step) {
+    for (std::size_t k = 0; k < nch; ++k) pp[k] = f[k];
+    for (std::size_t k = 0; k < nc; ++k) {
+      f[k] += d1[k];
+      d1[k] += d2[k];
+      d2[k] += d3[k];
+    }
+    for (std::size_t j = 0; j < nr; ++j) c[j] += dc[j];
+    const lanes X = x_start + v * (static_cast<double>(step) * in.dt);
+    for (std::size_t l = 0; l < W; ++l)
+      if (X[l] >= next[l]) reinit(l, X[l]);
+    for (std::size_t j = 0; j < no; ++j) dj[j] = aj[j] = zero;
+    for (std::size_t k = 0; k < nk; ++k) {
+      const double* e = in.co + 6 * k;
+      const std::size_t cc = in.ch[k];
+      const bool pr_ = in.pair[k] != 0;
+      const lanes u0r = pp[cc], u0i = pr_ ? pp[cc + 1] : zero, u1r = f[cc], u1i = pr_ ? f[cc + 1] : zero;
+      const lanes a = yr[k], b = yi[k];
+      const lanes nr_ = e[0] * a - e[1] * b + e[2] * u0r - e[3] * u0i + e[4] * u1r - e[5] * u1i;
+      const lanes ni_ = e[0] * b + e[1] * a + e[2] * u0i + e[3] * u0r + e[4] * u1i + e[5] * u1r;
+      yr[k] = nr_;
+      yi[k] = ni_;
+      for (std::size_t j = 0; j < no; ++j) {
+        const double* r = in.rows + 6 * (j * nk + k);
+        dj[j] += r[0] * nr_ - r[1] * ni_;
+        aj[j] += r[2] * nr_ - r[3] * ni_ + r[4] * u1r - r[5] * u1i;
+      }
+    }
+    emit(step);
+  }
+  for (std::size_t l = 0; l < W; ++l) {
+    double st = 0.0;
+    for (std::size_t k = 0; k < nk; ++k) st += yr[k][l] + yi[k][l];
+    state_out[l] = st;
+    for (std::size_t j = 0; j < no; ++j) ma_out[j * W + l] = ma[j][l], md_out[j * W + l] = md[j][l];
+  }
+}
+
+#ifdef VIADUCT_HAVE_AVX2_VARIANT
+VIADUCT_TARGET_AVX2 void complex_avx2(const ComplexInput& in, double* st, double* ma, double* md) {
+  complex_body(in, st, ma, md);
+}
+#endif
+
+void complex_kernel(const ComplexInput& in, double* st, double* ma, double* md) {
+#ifdef VIADUCT_HAVE_AVX2_VARIANT
+  if (cpu_has_avx2()) return complex_avx2(in, st, ma, md);
+#endif
+  complex_body(in, st, ma, md);
+}
+
 }  // namespace
 
 std::vector<PeaksRun> modal_peaks(const PreparedModel& m, const TrainModalLoads& L, const std::vector<double>& speeds,
                                   const RunSettings& settings) {
   if (!modal_peaks_apply(m, settings))
-    throw InputError("the peaks kernel needs the modal method with classical modes and no filter");
+    throw InputError("the peaks kernel needs the modal method with direct superposition");
   for (double v : speeds) require_positive(v, "speed [m/s]");
   require_non_negative(settings.free_vibration_s, "free_vibration_s [s]");
   require_positive(settings.newmark.dt, "analysis.dt [s]");
   const solve::ModalReduction& r = *m.modal;
-  if (L.n_modes != static_cast<std::size_t>(r.n_modes()) || L.x_start != m.structure.path_start() ||
+  if (L.n_modes != static_cast<std::size_t>(r.n_channels()) || L.x_start != m.structure.path_start() ||
       L.x_end != m.structure.path_end())
     throw InputError("the folded train belongs to another model");
   // The stations are the reduction's first outputs (rails above deck stations may follow).
   const std::size_t nm = L.n_modes, no = m.stations.size(), nc = L.n_channels;
   if (no > static_cast<std::size_t>(r.n_outputs())) throw InputError("the modal model lacks station outputs");
   const double dt = settings.newmark.dt;
-  std::vector<double> c8(8 * nm), two_zw(nm), w2(nm);
-  for (std::size_t i = 0; i < nm; ++i) {
-    const double om = r.omega()[static_cast<Index>(i)], ze = r.zeta()[static_cast<Index>(i)];
-    const auto cf = solve::exact_step_coefficients(om, ze, dt);
-    std::copy(cf.begin(), cf.end(), c8.begin() + static_cast<std::ptrdiff_t>(8 * i));
-    two_zw[i] = 2.0 * ze * om;
-    w2[i] = om * om;
-  }
+  const bool complex = r.complex_modes();
+  // Classical modes: the exact step of each damped oscillator.
+  std::vector<double> c8, two_zw, w2;
   KernelInput in;
-  in.c8 = c8.data();
-  in.two_zw = two_zw.data();
-  in.w2 = w2.data();
-  in.S = r.output_rows().data();
-  in.breaks = L.breaks.data();
-  in.coef = L.coef.data();
-  in.n_pieces = L.breaks.size() - 1;
-  in.x_start = L.x_start;
-  in.dt = dt;
-  in.nm = nm;
-  in.nc = nc;
-  in.no = no;
-  in.flex = L.n_outputs > 0;
+  // Complex modes: the exact step of each coordinate and the split output rows.
+  std::vector<double> co, rows;
+  std::vector<std::size_t> chan;
+  std::vector<unsigned char> pair;
+  ComplexInput ci;
+  if (!complex) {
+    c8.resize(8 * nm), two_zw.resize(nm), w2.resize(nm);
+    for (std::size_t i = 0; i < nm; ++i) {
+      const double om = r.omega()[static_cast<Index>(i)], ze = r.zeta()[static_cast<Index>(i)];
+      const auto cf = solve::exact_step_coefficients(om, ze, dt);
+      std::copy(cf.begin(), cf.end(), c8.begin() + static_cast<std::ptrdiff_t>(8 * i));
+      two_zw[i] = 2.0 * ze * om;
+      w2[i] = om * om;
+    }
+    in.c8 = c8.data();
+    in.two_zw = two_zw.data();
+    in.w2 = w2.data();
+    in.S = r.output_rows().data();
+    in.breaks = L.breaks.data();
+    in.coef = L.coef.data();
+    in.n_pieces = L.breaks.size() - 1;
+    in.x_start = L.x_start;
+    in.dt = dt;
+    in.nm = nm;
+    in.nc = nc;
+    in.no = no;
+    in.flex = L.n_outputs > 0;
+  } else {
+    using cd = std::complex<double>;
+    const solve::ModalReduction::ComplexForm cf = r.complex_form();
+    const std::size_t nk = cf.lambda.size();
+    co.resize(6 * nk);
+    chan.resize(nk);
+    pair.resize(nk);
+    for (std::size_t k = 0; k < nk; ++k) {
+      // y₁ = E y₀ + α u₀ + β u₁ for u linear over the step: α = I₁ − I₂, β = I₂ with
+      // I₁ = (E − 1)/λ, I₂ = (E − 1 − λh)/(λ² h) (series for small |λh|), as ModalReduction.
+      const cd l = cf.lambda[k], z = l * dt, e = std::exp(z);
+      cd I1, I2;
+      if (std::abs(z) < 1e-3) {
+        I1 = dt * (1.0 + z / 2.0 + z * z / 6.0 + z * z * z / 24.0);
+        I2 = dt * (0.5 + z / 6.0 + z * z / 24.0 + z * z * z / 120.0);
+      } else {
+        I1 = (e - 1.0) / l;
+        I2 = (e - 1.0 - z) / (l * z);
+      }
+      const cd al = I1 - I2, be = I2;
+      const double v6[6] = {e.real(), e.imag(), al.real(), al.imag(), be.real(), be.imag()};
+      std::copy(v6, v6 + 6, co.begin() + static_cast<std::ptrdiff_t>(6 * k));
+      chan[k] = static_cast<std::size_t>(cf.channel[k]);
+      pair[k] = cf.pair[k] ? 1 : 0;
+    }
+    rows.resize(6 * no * nk);
+    for (std::size_t j = 0; j < no; ++j)
+      for (std::size_t k = 0; k < nk; ++k) {
+        const auto jj = static_cast<Index>(j), kk = static_cast<Index>(k);
+        const cd d = cf.disp(jj, kk), a = cf.acc(jj, kk), al = a * cf.lambda[k];
+        const double v6[6] = {d.real(), d.imag(), al.real(), al.imag(), a.real(), a.imag()};
+        std::copy(v6, v6 + 6, rows.begin() + static_cast<std::ptrdiff_t>(6 * (j * nk + k)));
+      }
+    ci.nk = nk;
+    ci.nch = nm;
+    ci.nc = nc;
+    ci.no = no;
+    ci.flex = L.n_outputs > 0;
+    ci.co = co.data();
+    ci.ch = chan.data();
+    ci.pair = pair.data();
+    ci.rows = rows.data();
+    ci.breaks = L.breaks.data();
+    ci.coef = L.coef.data();
+    ci.n_pieces = L.breaks.size() - 1;
+    ci.x_start = L.x_start;
+    ci.dt = dt;
+  }
+  // With a filter the maxima are taken after it, on the recorded accelerations.
+  const bool filtered = settings.filter.enabled;
+  signal::Sos sos;
+  if (filtered) sos = signal::cheby1(settings.filter.cheby, 1.0 / dt);
+  std::vector<double> hist;
   std::vector<PeaksRun> out;
-  std::vector<double> q(nm * W), qd(nm * W), ma(no * W), md(no * W);
+  std::vector<double> q(nm * W), qd(nm * W), ma(no * W), md(no * W), state(W);
   for (std::size_t first = 0; first < speeds.size(); first += W) {
     const auto wall0 = std::chrono::steady_clock::now();
     const std::size_t n_lanes = std::min(W, speeds.size() - first);
-    in.n_max = 0;
+    double v[W];
+    Index n_steps[W], n_max = 0;
     for (std::size_t l = 0; l < W; ++l) {
       // Spare lanes repeat the last speed; their results are dropped.
-      in.v[l] = speeds[first + std::min(l, n_lanes - 1)];
+      v[l] = speeds[first + std::min(l, n_lanes - 1)];
       // The duration of simulate(): until free_vibration_s after the last axle leaves the path.
-      const double t_end = (L.x_end - L.x_start + L.train_length) / in.v[l] + settings.free_vibration_s;
-      in.n_steps[l] = static_cast<Index>(std::ceil(t_end / dt - 1e-9));
-      in.n_max = std::max(in.n_max, in.n_steps[l]);
+      const double t_end = (L.x_end - L.x_start + L.train_length) / v[l] + settings.free_vibration_s;
+      n_steps[l] = static_cast<Index>(std::ceil(t_end / dt - 1e-9));
+      n_max = std::max(n_max, n_steps[l]);
     }
-    dispatch(in, q.data(), qd.data(), ma.data(), md.data());
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    const std::size_t stride = static_cast<std::size_t>(n_max) + 1;
+    if (filtered) {
+      if (static_cast<double>(W * no * stride) * sizeof(double) > kMaxHistoryBytes)
+        throw InputError("the station histories of four speeds would not fit in memory: raise analysis.dt");
+      hist.assign(W * no * stride, 0.0);
+    }
+    if (!complex) {
+      std::copy(v, v + W, in.v);
+      std::copy(n_steps, n_steps + W, in.n_steps);
+      in.n_max = n_max;
+      in.hist = filtered ? hist.data() : nullptr;
+      in.stride = stride;
+      dispatch(in, q.data(), qd.data(), ma.data(), md.data());
+      for (std::size_t l = 0; l < W; ++l) {
+        state[l] = 0.0;
+        for (std::size_t i = 0; i < nm; ++i) state[l] += q[i * W + l] + qd[i * W + l];
+      }
+    } else {
+      std::copy(v, v + W, ci.v);
+      std::copy(n_steps, n_steps + W, ci.n_steps);
+      ci.n_max = n_max;
+      ci.hist = filtered ? hist.data() : nullptr;
+      ci.stride = stride;
+      complex_kernel(ci, state.data(), ma.data(), md.data());
+    }
     for (std::size_t l = 0; l < n_lanes; ++l) {
       // A non-finite state stays so (the recurrence is linear), and std::max would skip a NaN.
-      double state = 0.0;
-      for (std::size_t i = 0; i < nm; ++i) state += q[i * W + l] + qd[i * W + l];
       PeaksRun run;
       for (std::size_t j = 0; j < no; ++j) {
-        const double a = ma[j * W + l], d = md[j * W + l];
-        if (!std::isfinite(state) || !std::isfinite(a) || !std::isfinite(d))
-          throw SolverError("modal superposition: the state became non-finite (speed " +
-                            format_number(in.v[l], 6) + " m/s)");
+        double a = ma[j * W + l];
+        const double d = md[j * W + l];
+        if (filtered) {
+          const Vector raw = Eigen::Map<const Vector>(hist.data() + (l * no + j) * stride, n_steps[l] + 1);
+          a = raw.allFinite() ? signal::max_abs_between_samples(signal::filtfilt_from_rest(sos, raw)) : raw.sum();
+        }
+        if (!std::isfinite(state[l]) || !std::isfinite(a) || !std::isfinite(d))
+          throw SolverError("modal superposition: the state became non-finite (speed " + format_number(v[l], 6) +
+                            " m/s)");
         StationPeaks pk;
         pk.max_abs_acc = a;
         pk.max_abs_disp = d;
         run.peaks.push_back(pk);
       }
-      run.n_steps = in.n_steps[l];
-      run.wall_s = wall / static_cast<double>(n_lanes);
+      run.n_steps = n_steps[l];
       out.push_back(std::move(run));
     }
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    for (std::size_t l = out.size() - n_lanes; l < out.size(); ++l) out[l].wall_s = wall / static_cast<double>(n_lanes);
   }
   return out;
 }

@@ -53,8 +53,8 @@ SweepResult run_sweep(const std::vector<Variant>& variants, const SweepOptions& 
       prepared[v].error = e.what();
     }
   });
-  // Variants whose cases need no histories (modal, classical modes, no filter) run the fused
-  // peaks kernel on each train folded once over the model (a custom runner opts out).
+  // Modal variants run the fused peaks kernel on each train folded once over the model (a custom
+  // runner opts out).
   std::vector<std::vector<std::shared_ptr<const TrainModalLoads>>> folded(variants.size());
   std::vector<std::pair<std::size_t, std::size_t>> to_fold;
   for (std::size_t v = 0; v < variants.size(); ++v) {

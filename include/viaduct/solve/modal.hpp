@@ -14,6 +14,7 @@
 /// truncated modes to displacements: u = Φ q + (K⁻¹ − Φ Ω⁻² Φᵀ) f.
 
 #include <array>
+#include <complex>
 #include <functional>
 #include <string>
 #include <vector>
@@ -100,6 +101,22 @@ class ModalReduction {
   /// (y = S q), and the same divided by ω² (the modes' share of the static response, S Ω⁻²).
   const RowMatrix& output_rows() const { return out_rows_; }
   const RowMatrix& output_static_rows() const { return out_static_rows_; }
+  /// Weights W (n_outputs × n_channels) such that W p is the kept coordinates' share of the
+  /// static response (S Ω⁻² for classical modes, Re(S_c u) for complex ones), p the load channels.
+  Matrix static_channel_weights() const;
+
+  /// Complex modes (complex_modes()): one coordinate per conjugate pair or real mode, ẏ_k = λ_k y_k
+  /// + u_k with u_k = p[c] + i p[c + 1] for a pair (p[c] alone for a real one), c = channel[k],
+  /// p the load channels. Outputs of the coordinates: deflection Re Σ_k disp_jk y_k, acceleration
+  /// Re Σ_k acc_jk (λ_k y_k + u_k); the rows are weighted (2 for a pair, which stands for its
+  /// conjugate too). The static correction comes on top (static_channel_weights()).
+  struct ComplexForm {
+    std::vector<std::complex<double>> lambda;
+    std::vector<Index> channel;
+    std::vector<bool> pair;
+    Eigen::MatrixXcd disp, acc;  ///< n_outputs × n_coordinates, weighted
+  };
+  ComplexForm complex_form() const;
 
  private:
   ModalSummary integrate_complex(ModalForce& force, const ModalOptions& opt, const OutputObserver& observe) const;
@@ -129,11 +146,13 @@ class ModalReduction {
 /// whole basis: the modes Φ come back unchanged (R C Φ is M- and K-orthogonal to them) followed
 /// by the enrichment's Ritz pairs. Returns the shapes (n × m', mass-normalised) and writes their
 /// ω [rad/s] to omega_out. With blocks = 0, or classical damping (R C Φ = 0), returns Φ.
-/// Ritz pairs above max_omega [rad/s] (> 0; 0: no limit) are left out: sampled every dt, a mode
-/// above the Nyquist frequency π/dt aliases into the band of a filter (measured: Old Guadiana,
-/// 180 Hz basis, Ritz pairs to 1.3 kHz at dt = 1 ms, envelope 23 % off); their quasi-static share
-/// stays in the static correction. shapes: mass-normalised undamped modes with frequencies
-/// omega. Throws SolverError when K cannot be factored.
+/// With max_omega [rad/s] > 0 (0: no limit) the vectors are seeded by as many of the lowest modes
+/// as keep every Ritz pair at or below it: sampled every dt, a pair above the Nyquist frequency
+/// π/dt aliases into the band of a filter, and dropping pairs from the enrichment unbalances it
+/// (measured on Old Guadiana, 180 Hz basis at dt = 1 ms: pairs to 1.3 kHz, 23 % off when kept,
+/// 3 % when dropped; seeding fewer modes instead: see docs/accuracy.md). shapes:
+/// mass-normalised undamped modes with frequencies omega. Throws SolverError when K cannot be
+/// factored.
 Matrix damping_enriched_basis(const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K,
                               const Matrix& shapes, const Vector& omega, int blocks, Vector* omega_out,
                               double max_omega = 0.0);

@@ -1,12 +1,14 @@
 #pragma once
-/// \file Peaks without histories: the fused modal kernel of envelope sweeps.
+/// \file The fused modal kernel of envelope sweeps.
 ///
-/// A sweep only keeps each station's maximum |acceleration| and |deflection|. When the method is
-/// modal with classical modes (Φᵀ C Φ diagonal) and no filter is asked for, nothing needs the
-/// time histories, and the case reduces to one tight loop: the train's modal loads read from a
-/// table folded once per train, the exact step of every modal equation, the station outputs and
-/// their running maxima. Same model, same step, same values as peaks(simulate(...)) up to
-/// rounding (tests/unit/study/test_modal_peaks.cpp); only the bookkeeping is gone.
+/// A sweep only keeps each station's maximum |acceleration| and |deflection|. With the modal
+/// method each case reduces to one tight loop: the train's modal loads read from a table folded
+/// once per train, the exact step of every modal equation (classical modes) or complex coordinate
+/// (damping that couples the modes, in split real arithmetic), the station outputs and their
+/// running maxima, four speeds in SIMD lanes. With a filter the station accelerations are
+/// recorded and filtered as simulate() filters them (nothing else is kept). Same model, same
+/// step, same values as peaks(simulate(...)) up to rounding (tests/unit/study/test_modal_peaks.cpp);
+/// only the bookkeeping is gone.
 
 #include <memory>
 #include <vector>
@@ -24,15 +26,15 @@ struct TrainModalLoads {
   /// Per piece, 4 powers of s = X − breaks[i] (s⁰ … s³), each with n_channels values; one more
   /// block of zeros follows for X beyond the last break (every axle has left).
   std::vector<double> coef;
-  std::size_t n_modes = 0;    ///< load channels (one per mode)
+  std::size_t n_modes = 0;    ///< load channels (one per classical mode; re and im per complex pair)
   std::size_t n_outputs = 0;  ///< residual channels (static correction only; else 0)
   std::size_t n_channels = 0; ///< n_modes + n_outputs
   double train_length = 0.0;  ///< [m] first to last axle
   double x_start = 0.0, x_end = 0.0;  ///< [m] the load path
 };
 
-/// True when modal_peaks() can run the cases of `m` under `s`: modal method, classical modes
-/// (no damping coupling), filter disabled, direct superposition.
+/// True when modal_peaks() can run the cases of `m` under `s`: modal method (prepared for it) and
+/// direct superposition.
 bool modal_peaks_apply(const PreparedModel& m, const RunSettings& s);
 
 /// Folds `train` (loads × load_factor, > 0) over the unit-axle table of `m` (prepared for the
