@@ -6,6 +6,7 @@
 #include <fstream>
 #include <regex>
 #include <sstream>
+#include <stdexcept>
 
 #include <toml.hpp>
 
@@ -194,6 +195,8 @@ void check_constraint(const KeySpec& spec, const Value& v) {
     else if (c == "[-1/3, 0]") ok = x >= -1.0 / 3.0 - 1e-15 && x <= 0;
     else if (c == "[1e-12, 0.1]") ok = x >= 1e-12 && x <= 0.1;
     else if (c == "[1, 5]") ok = x >= 1 && x <= 5;
+    else if (c == "[0, 3]") ok = x >= 0 && x <= 3;
+    else throw std::logic_error("scenario schema: constraint '" + c + "' of " + spec.key + " is not implemented");
     if (!ok) bad(v.where, "must be " + c + unit + ", got " + num(x));
   }
 }

@@ -40,7 +40,7 @@ RunSettings preset_settings(const std::string& name, const Scenario& sc) {
   s.modal = ModalSettings{};
   if (name == "fast" || name == "default") {
     s.method = Method::modal;
-    s.modal.max_frequency_hz = (name == "fast" ? 1.5 : 3.0) * fc;
+    s.modal.max_frequency_hz = (name == "fast" ? 1.5 : 2.0) * fc;
     s.modal.static_correction = true;
     s.newmark.dt = 1.0 / (16.0 * fc);
   } else if (name == "reference") {

@@ -223,8 +223,12 @@ TEST_CASE("solution methods and presets resolve from the scenario and explicit k
   REQUIRE(e.settings.method == study::Method::modal);
   REQUIRE(e.settings.newmark.dt == 0.002);
   REQUIRE(e.settings.modal.n_modes == 4);
-  REQUIRE(e.settings.modal.max_frequency_hz == Approx(90.0));
+  REQUIRE(e.settings.modal.max_frequency_hz == Approx(60.0));  // default: 2 f_c
   REQUIRE_FALSE(e.settings.modal.static_correction);
+  REQUIRE(e.settings.modal.damping_vectors == 1);  // the default block
+  study::Scenario dv = to_scenario(load_flat(s.scenario("[modal]\ndamping_vectors = 0\n")));
+  REQUIRE(dv.settings.modal.damping_vectors == 0);
+  REQUIRE_THROWS_WITH(load_flat(s.scenario("[modal]\ndamping_vectors = 4\n")), Catch::Contains("modal.damping_vectors"));
   // IDA and unit-response keys.
   study::Scenario i = to_scenario(load_flat(s.scenario("[analysis]\nmethod = \"ida\"\nsuperposition = \"unit-response\"\n"
                                                        "[ida]\nrtol = 1e-4\nmax_order = 3\n")));
@@ -232,4 +236,25 @@ TEST_CASE("solution methods and presets resolve from the scenario and explicit k
   REQUIRE(i.settings.superposition == study::Superposition::unit_response);
   REQUIRE(i.settings.ida.rtol == 1e-4);
   REQUIRE(i.settings.ida.max_order == 3);
+}
+
+TEST_CASE("every numeric constraint of the schema is enforced, none is silently ignored") {
+  // check_constraint knows a fixed list of forms; one it does not know is a logic_error (a
+  // programming error), never a key whose constraint passes unchecked. Each numeric key with a
+  // default is set to that default through an override (the path of --set): it must pass.
+  Scratch s;
+  const std::string path = s.scenario("");
+  int checked = 0;
+  for (const KeySpec& k : scenario_schema()) {
+    if (k.constraint.empty() || k.constraint.find('|') != std::string::npos || k.key.find("[]") != std::string::npos ||
+        k.default_toml.empty())
+      continue;
+    if (k.type != ValueType::number && k.type != ValueType::integer) continue;
+    INFO(k.key << " " << k.constraint << " default " << k.default_toml);
+    REQUIRE_NOTHROW(load_flat(path, {k.key + "=" + k.default_toml}));
+    ++checked;
+  }
+  REQUIRE(checked > 20);
+  REQUIRE_THROWS_WITH(load_flat(path, {"modal.damping_vectors=4"}), Catch::Contains("must be [0, 3]"));
+  REQUIRE_THROWS_WITH(load_flat(path, {"ida.max_order=0"}), Catch::Contains("must be [1, 5]"));
 }
