@@ -73,13 +73,19 @@ preparation — assembly, eigenproblem — included) and are one run each on a s
   default; rungs marked dv=0 go without): with discrete dashpots the low complex modes are not in
   the span of the low undamped modes — to first order complex mode j gains iωⱼ R C φⱼ, R the
   flexibility of the dropped modes — so R C φⱼ are appended (M-orthonormalised, Rayleigh–Ritz;
-  the modes themselves unchanged, nothing added for classical damping; Ritz pairs above 80 % of
-  the output's Nyquist frequency π/dt left out, as they would alias into the filter's band —
-  before that cap the 180 Hz basis had pairs to 1.3 kHz at dt = 1 ms and was 23 % off). They
-  bring the modal error of the doubled-pad-damping variant (Cp ×2) from 1.5 % to 0.4 % at 90 Hz.
-- **modal, no filter** (classical modes): sweeps need no history, so they run the peaks kernel —
-  each train folded once into one piecewise cubic of the head position (exact), four speeds in
-  SIMD lanes, only running maxima kept; the same envelope to 1e-9, several times faster.
+  the modes themselves unchanged, nothing added for classical damping). They are seeded by as
+  many of the lowest modes as keep every Ritz pair below 80 % of the output's Nyquist frequency
+  π/dt: a pair above it aliases into the filter's band (the 180 Hz basis at dt = 1 ms had pairs to
+  1.3 kHz: 23 % off with them, 3 % with them dropped, 0.85 % seeded by fewer modes). They bring
+  the modal error of the doubled-pad-damping variant (Cp ×2) from 1.5 % to 0.4 % at 90 Hz.
+- **modal in sweeps**: the fused kernel — each train folded once into one piecewise cubic of the
+  head position per load channel (exact), four speeds in SIMD lanes, classical modes or complex
+  coordinates (split real arithmetic); with a filter the station accelerations are recorded and
+  filtered as a single run's are, else only running maxima are kept. The same envelope as the
+  general path to 1e-9, several times faster (docs/benchmarks.md).
+- **maxima**: of filtered accelerations, taken between samples (the vertex of the parabola through
+  the largest sample and its neighbours; a sampled 35 Hz crest is up to 0.6 % low at 1 ms); raw
+  accelerations and deflections: the largest sample.
 - **unit-response**: one run of a unit axle per speed, shifted and scaled over every train's axles
   (4-point cubic interpolation of the fractional shifts); exact for linear models, so its error is
   the interpolation's plus that of the method underneath.
@@ -124,7 +130,7 @@ Pareto front).
 | preset | settings | Old Guadiana (f_c = 60 Hz) | HSLM span (f_c = 45 Hz) |
 |---|---|---|---|
 | \`fast\` | modal, modes up to 1.5 f_c, +sc, dt = 1/(16 f_c) | $(preset_cell fast "$O/og/tradeoff.csv") | $(preset_cell fast "$O/hslm/tradeoff.csv") |
-| \`default\` | modal, modes up to 3 f_c, +sc, dt = 1/(16 f_c) | $(preset_cell default "$O/og/tradeoff.csv") | $(preset_cell default "$O/hslm/tradeoff.csv") |
+| \`default\` | modal, modes up to 2 f_c, +sc, dt = 1/(16 f_c) | $(preset_cell default "$O/og/tradeoff.csv") | $(preset_cell default "$O/hslm/tradeoff.csv") |
 | \`reference\` | Newmark, dt = 1/(80 f_c) | the reference itself (0.21 ms ≈ 0.25 ms) | the reference itself (0.28 ms ≈ 0.25 ms) |
 
 (wall time of the whole sweep of the tradeoff's speeds and trains, 2 threads). The presets' step
@@ -141,14 +147,11 @@ model at 323 km/h, ending the record 50 ms later moved the filtered peak from 3.
 and 1.6 points of the 1.9 % between dt = 1 ms and 0.0625 ms were that edge, not the integrator.
 Errors now converge as the methods do (Newmark: dt²).
 
-Old Guadiana, the whole sensitivity study (13 models × 60 speeds) against Newmark at 0.1 ms,
-measured 2026-12-01 (\`viaduct sweep scenarios/old-guadiana-sensitivity.toml --set
-analysis.preset='"fast"' --threads 2\`, the reference with \`--set analysis.dt=0.0001\`): preset
-\`fast\` 1.04 % (worst curve: Kp ×2 at 3/4 of span 1), 8.9–10.8 s; the same without damping
-vectors 1.79 % (Kb ×0.5), 5.8 s; modes up to 120 Hz with damping vectors 0.86 %, 16.1 s; Newmark
-1 ms 2.85 %, 22.5 s. The remaining modal error is largest on the stiffness variants at high
-speed: the axles pass the sleepers at v/0.6 m (67–167 Hz over the sweep) and excite track modes
-above the basis whose response reaches the deck's band.
+The whole Old Guadiana sensitivity study (13 models × 60 speeds, against Newmark at 0.1 ms) with
+each preset and the bases around them is measured by \`scripts/bench.sh\` (docs/benchmarks.md).
+On the reference variant above, the modal error is largest at high speed on the stiffness
+variants: the axles pass the sleepers at v/0.6 m (67–167 Hz over the sweep) and excite track
+modes above the basis whose response reaches the deck's band.
 
 ## Stability at the extremes
 
