@@ -63,8 +63,9 @@ class ModalForce {
 /// correction), then integrate() may be called concurrently for any number of load cases.
 class ModalReduction {
  public:
-  /// shapes: n_dofs × n_modes eigenvectors of K φ = ω² M φ (any scaling: they are
-  /// mass-normalised here); omega [rad/s] >= 0 their circular frequencies. static_correction
+  /// shapes: n_dofs × n_modes eigenvectors of K φ = ω² M φ, or any M- and K-orthogonal Ritz
+  /// basis such as damping_enriched_basis() (any scaling: they are mass-normalised here);
+  /// omega [rad/s] >= 0 their circular (Ritz) frequencies. static_correction
   /// needs K non-singular. Throws InputError for inconsistent sizes, a zero mode or a
   /// non-finite value, SolverError when K cannot be factored for the correction.
   ModalReduction(const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K,
@@ -141,8 +142,8 @@ class ModalReduction {
 /// With discrete dashpots (a track's pads and ballast) the low complex modes of (M, C, K) are
 /// not in the span of the low undamped modes Φ: to first order in C, complex mode j gains
 /// iωⱼ R C φⱼ with R = K⁻¹ − Φ Ω⁻² Φᵀ, the flexibility of the dropped modes. Appends `blocks`
-/// Krylov blocks (R C)ᵏ Φ, k = 1..blocks (M-orthonormalised, vectors whose share is below 1e-8
-/// of their norm before orthogonalisation dropped), then solves the Rayleigh–Ritz problem on the
+/// Krylov blocks (R C)ᵏ Φ, k = 1..blocks (M-orthonormalised; a vector whose remainder after
+/// orthogonalisation is below 1e-8 of ‖K⁻¹ C b‖_M is dropped), then solves the Rayleigh–Ritz problem on the
 /// whole basis: the modes Φ come back unchanged (R C Φ is M- and K-orthogonal to them) followed
 /// by the enrichment's Ritz pairs. Returns the shapes (n × m', mass-normalised) and writes their
 /// ω [rad/s] to omega_out. With blocks = 0, or classical damping (R C Φ = 0), returns Φ.
