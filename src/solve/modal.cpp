@@ -145,6 +145,21 @@ Matrix damping_enriched_basis(const SparseMatrix& M, const SparseMatrix& C, cons
   return best.shapes;
 }
 
+std::array<std::complex<double>, 3> complex_step_coefficients(std::complex<double> lambda, double dt) {
+  // α = I₁ − I₂, β = I₂ with I₁ = (E − 1)/λ and I₂ = (E − 1 − λh)/(λ² h) (series for small |λh|).
+  using cd = std::complex<double>;
+  const cd z = lambda * dt, e = std::exp(z);
+  cd I1, I2;
+  if (std::abs(z) < 1e-3) {
+    I1 = dt * (1.0 + z / 2.0 + z * z / 6.0 + z * z * z / 24.0);
+    I2 = dt * (0.5 + z / 6.0 + z * z / 24.0 + z * z * z / 120.0);
+  } else {
+    I1 = (e - 1.0) / lambda;
+    I2 = (e - 1.0 - z) / (lambda * z);
+  }
+  return {e, I1 - I2, I2};
+}
+
 std::array<double, 8> exact_step_coefficients(double omega, double zeta, double dt) {
   // z = [q, q̇, p, ṗ]: ż = F z with ṗ constant over the step; z₁ = exp(F dt) z₀.
   Eigen::Matrix4d F = Eigen::Matrix4d::Zero();
@@ -473,21 +488,12 @@ ModalSummary ModalReduction::integrate_complex(ModalForce& force, const ModalOpt
   const Index n_out = out_shape_.rows(), nk = lambda_.size(), n_ch = n_channels();
   const auto nkk = static_cast<std::size_t>(nk), no = static_cast<std::size_t>(n_out);
   const double h = opt.dt;
-  // y₁ = E y₀ + α u₀ + β u₁ for u linear over the step: α = I₁ - I₂, β = I₂ with
-  // I₁ = (E - 1)/λ and I₂ = (E - 1 - λh)/(λ² h) (series for small |λh|).
+  // y₁ = E y₀ + α u₀ + β u₁ for u linear over the step.
   std::vector<cd> E(nkk), al(nkk), be(nkk), lam(nkk);
   for (std::size_t k = 0; k < nkk; ++k) {
-    const cd l = lambda_[static_cast<Index>(k)], z = l * h;
-    const cd e = std::exp(z);
-    cd I1, I2;
-    if (std::abs(z) < 1e-3) {
-      I1 = h * (1.0 + z / 2.0 + z * z / 6.0 + z * z * z / 24.0);
-      I2 = h * (0.5 + z / 6.0 + z * z / 24.0 + z * z * z / 120.0);
-    } else {
-      I1 = (e - 1.0) / l;
-      I2 = (e - 1.0 - z) / (l * z);
-    }
-    E[k] = e, al[k] = I1 - I2, be[k] = I2, lam[k] = l;
+    lam[k] = lambda_[static_cast<Index>(k)];
+    const auto eab = complex_step_coefficients(lam[k], h);
+    E[k] = eab[0], al[k] = eab[1], be[k] = eab[2];
   }
   // Real arithmetic on split real/imaginary arrays: std::complex products carry NaN/Inf
   // recovery calls (C99 Annex G) that would dominate this loop.

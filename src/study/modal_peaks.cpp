@@ -125,6 +125,79 @@ inline void store_history(double* hist, std::size_t stride, std::size_t no, std:
     if (k <= n_steps[l]) hist[(l * no + j) * stride + static_cast<std::size_t>(k)] = av[l];
 }
 
+// The folded train's load channels of W lanes along the head position: per lane the piece it is
+// on and, for every channel, the value and forward differences f, d1, d2, d3 of the cubic at the
+// lane's step (and, for the nr residual channels, the curvature term v²·g'' and its difference),
+// re-initialised from the piece's coefficients whenever the lane's head crosses a breakpoint.
+struct LoadCursor {
+  const double *breaks = nullptr, *coef = nullptr;
+  std::size_t n_pieces = 0, nc = 0, nload = 0, nr = 0;  // pieces, channels, load channels, residuals used
+  lanes *f = nullptr, *d1 = nullptr, *d2 = nullptr, *d3 = nullptr, *c = nullptr, *dc = nullptr;
+  std::size_t ip[W];
+  double next[W], h[W], v2[W];
+
+  // Lane l at head position x: find its piece, set the values and differences there.
+  VIADUCT_ALWAYS_INLINE void reinit(std::size_t l, double x) {
+    std::size_t i = ip[l];
+    while (i < n_pieces && x >= breaks[i + 1]) ++i;
+    ip[l] = i;
+    next[l] = i < n_pieces ? breaks[i + 1] : std::numeric_limits<double>::infinity();
+    const double s = i < n_pieces ? x - breaks[i] : 0.0, hh = h[l], h2 = hh * hh, h3 = h2 * hh;
+    const double* d = coef + i * 4 * nc;
+    for (std::size_t k = 0; k < nc; ++k) {
+      const double a0 = d[k], a1 = d[nc + k], a2 = d[2 * nc + k], a3 = d[3 * nc + k];
+      f[k][l] = a0 + s * (a1 + s * (a2 + s * a3));
+      d1[k][l] = a1 * hh + a2 * (2.0 * s * hh + h2) + a3 * (3.0 * s * s * hh + 3.0 * s * h2 + h3);
+      d2[k][l] = 2.0 * a2 * h2 + a3 * (6.0 * s * h2 + 6.0 * h3);
+      d3[k][l] = 6.0 * a3 * h3;
+    }
+    for (std::size_t j = 0; j < nr; ++j) {
+      const double a2 = d[2 * nc + nload + j], a3 = d[3 * nc + nload + j];
+      c[j][l] = v2[l] * (2.0 * a2 + 6.0 * a3 * s);
+      dc[j][l] = v2[l] * 6.0 * a3 * hh;
+    }
+  }
+  // Every lane at the path's start, speeds v [m/s], step dt.
+  VIADUCT_ALWAYS_INLINE void start(const double* v, double dt, double x_start) {
+    for (std::size_t l = 0; l < W; ++l) {
+      ip[l] = 0;
+      h[l] = v[l] * dt;
+      v2[l] = v[l] * v[l];
+      reinit(l, x_start);
+    }
+  }
+  // One step: three additions per channel (n_ch, n_res: the caller's sizes, constants in the
+  // unrolled kernels), then the lanes whose head X crossed a breakpoint start their new piece.
+  VIADUCT_ALWAYS_INLINE void advance(std::size_t n_ch, std::size_t n_res, const lanes& X) {
+    for (std::size_t k = 0; k < n_ch; ++k) {
+      f[k] += d1[k];
+      d1[k] += d2[k];
+      d2[k] += d3[k];
+    }
+    for (std::size_t j = 0; j < n_res; ++j) c[j] += dc[j];
+    for (std::size_t l = 0; l < W; ++l)
+      if (X[l] >= next[l]) reinit(l, X[l]);
+  }
+};
+
+// Station outputs of step k: the coordinates' share dj, aj plus the static correction's
+// residuals (deflection f_res, acceleration c) when flex; recorded when hist is set; running
+// maxima in md, ma (a lane past its own last step, live = 0, keeps its maxima).
+VIADUCT_ALWAYS_INLINE void emit_stations(std::size_t no, bool flex, const lanes* dj, const lanes* aj,
+                                         const lanes* f_res, const lanes* c, lanes* md, lanes* ma, double* hist,
+                                         std::size_t stride, const Index* n_steps, Index k, const lanes& live) {
+  const lanes zero = {0.0, 0.0, 0.0, 0.0};
+  for (std::size_t j = 0; j < no; ++j) {
+    lanes dv = dj[j], av = aj[j];
+    if (flex) dv += f_res[j], av += c[j];
+    if (hist) store_history(hist, stride, no, j, n_steps, k, av);
+    dv = live * (dv < zero ? -dv : dv);
+    av = live * (av < zero ? -av : av);
+    md[j] = dv > md[j] ? dv : md[j];
+    ma[j] = av > ma[j] ? av : ma[j];
+  }
+}
+
 // W cases in lock-step. Per lane, the channel values along the current piece are advanced by
 // forward differences (the load is a cubic in X and X advances by v·dt per step: three additions
 // per channel and step, exact up to rounding), re-initialised from the piece's coefficients
@@ -156,72 +229,33 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
   for (std::size_t ch = 0; ch < nc; ++ch) f[ch] = d1[ch] = d2[ch] = d3[ch] = zero;
   for (std::size_t j = 0; j < no; ++j) c[j] = dc[j] = ma[j] = md[j] = zero;
 
-  const double* B = in.breaks;
-  const std::size_t n_pieces = in.n_pieces;
-  std::size_t ip[W];
-  double next[W], h[W], v2[W];
   lanes v = zero, n_steps = zero;
   for (std::size_t l = 0; l < W; ++l) {
-    ip[l] = 0;
-    h[l] = in.v[l] * in.dt;
-    v2[l] = in.v[l] * in.v[l];
     v[l] = in.v[l];
     n_steps[l] = static_cast<double>(in.n_steps[l]);
   }
-  // Lane l at head position x: find its piece, set the values and differences there.
-  auto reinit = [&](std::size_t l, double x) {
-    std::size_t i = ip[l];
-    while (i < n_pieces && x >= B[i + 1]) ++i;
-    ip[l] = i;
-    next[l] = i < n_pieces ? B[i + 1] : std::numeric_limits<double>::infinity();
-    const double s = i < n_pieces ? x - B[i] : 0.0, hh = h[l], h2 = hh * hh, h3 = h2 * hh;
-    const double* d = in.coef + i * 4 * nc;
-    for (std::size_t ch = 0; ch < nc; ++ch) {
-      const double a0 = d[ch], a1 = d[nc + ch], a2 = d[2 * nc + ch], a3 = d[3 * nc + ch];
-      f[ch][l] = a0 + s * (a1 + s * (a2 + s * a3));
-      d1[ch][l] = a1 * hh + a2 * (2.0 * s * hh + h2) + a3 * (3.0 * s * s * hh + 3.0 * s * h2 + h3);
-      d2[ch][l] = 2.0 * a2 * h2 + a3 * (6.0 * s * h2 + 6.0 * h3);
-      d3[ch][l] = 6.0 * a3 * h3;
-    }
-    for (std::size_t j = 0; j < nr; ++j) {
-      const double a2 = d[2 * nc + nm + j], a3 = d[3 * nc + nm + j];
-      c[j][l] = v2[l] * (2.0 * a2 + 6.0 * a3 * s);
-      dc[j][l] = v2[l] * 6.0 * a3 * hh;
-    }
+  LoadCursor cur;
+  cur.breaks = in.breaks;
+  cur.coef = in.coef;
+  cur.n_pieces = in.n_pieces;
+  cur.nc = nc;
+  cur.nload = nm;
+  cur.nr = nr;
+  cur.f = f, cur.d1 = d1, cur.d2 = d2, cur.d3 = d3, cur.c = c, cur.dc = dc;
+  auto emit = [&](Index k) {
+    emit_stations(no, flex, dj, aj, f + nm, c, md, ma, in.hist, in.stride, in.n_steps, k,
+                  static_cast<double>(k) <= n_steps ? one : zero);
   };
-  // Running maxima from dj, aj (the modes' share, accumulated by the step); a lane past its own
-  // last step keeps its maxima.
-  auto emit = [&](double k) {
-    const lanes live = k <= n_steps ? one : zero;
-    for (std::size_t j = 0; j < no; ++j) {
-      lanes dv = dj[j], av = aj[j];
-      if (flex) dv += f[nm + j], av += c[j];
-      if (in.hist) store_history(in.hist, in.stride, no, j, in.n_steps, static_cast<Index>(k), av);
-      dv = live * (dv < zero ? -dv : dv);
-      av = live * (av < zero ? -av : av);
-      md[j] = dv > md[j] ? dv : md[j];
-      ma[j] = av > ma[j] ? av : ma[j];
-    }
-  };
-  for (std::size_t l = 0; l < W; ++l) reinit(l, in.x_start);
+  cur.start(in.v, in.dt, in.x_start);
   for (std::size_t j = 0; j < no; ++j) {  // from rest: q = 0, q̈ = p
     dj[j] = aj[j] = zero;
     for (std::size_t i = 0; i < nm; ++i) aj[j] += in.S[j * nm + i] * f[i];
   }
-  emit(0.0);
+  emit(0);
   const lanes x_start = zero + in.x_start;
   for (Index k = 1; k <= in.n_max; ++k) {
     for (std::size_t i = 0; i < nm; ++i) pp[i] = f[i];
-    for (std::size_t ch = 0; ch < nc; ++ch) {
-      f[ch] += d1[ch];
-      d1[ch] += d2[ch];
-      d2[ch] += d3[ch];
-    }
-    for (std::size_t j = 0; j < nr; ++j) c[j] += dc[j];
-    const double t = static_cast<double>(k) * in.dt;
-    const lanes X = x_start + v * t;
-    for (std::size_t l = 0; l < W; ++l)
-      if (X[l] >= next[l]) reinit(l, X[l]);
+    cur.advance(nc, nr, x_start + v * (static_cast<double>(k) * in.dt));
     for (std::size_t j = 0; j < no; ++j) dj[j] = aj[j] = zero;
     for (std::size_t i = 0; i < nm; ++i) {
       const double* cf = in.c8 + 8 * i;
@@ -237,7 +271,7 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
         aj[j] += sji * a1;
       }
     }
-    emit(static_cast<double>(k));
+    emit(k);
   }
   for (std::size_t l = 0; l < W; ++l) {
     for (std::size_t i = 0; i < nm; ++i) q_out[i * W + l] = q[i][l], qd_out[i * W + l] = qd[i][l];
@@ -308,49 +342,22 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
   lanes* at = align_lanes(buf.data());
   lanes *yr = at, *yi = yr + nk, *pp = yi + nk, *f = pp + nch, *d1 = f + nc, *d2 = d1 + nc, *d3 = d2 + nc,
         *c = d3 + nc, *dc = c + no, *ma = dc + no, *md = ma + no, *dj = md + no, *aj = dj + no;
-  const double* B = in.breaks;
-  const std::size_t n_pieces = in.n_pieces;
-  std::size_t ip[W];
-  double next[W], h[W], v2[W];
   lanes v = zero, n_steps = zero;
   for (std::size_t l = 0; l < W; ++l) {
-    ip[l] = 0;
-    h[l] = in.v[l] * in.dt;
-    v2[l] = in.v[l] * in.v[l];
     v[l] = in.v[l];
     n_steps[l] = static_cast<double>(in.n_steps[l]);
   }
-  auto reinit = [&](std::size_t l, double x) {
-    std::size_t i = ip[l];
-    while (i < n_pieces && x >= B[i + 1]) ++i;
-    ip[l] = i;
-    next[l] = i < n_pieces ? B[i + 1] : std::numeric_limits<double>::infinity();
-    const double s = i < n_pieces ? x - B[i] : 0.0, hh = h[l], h2 = hh * hh, h3 = h2 * hh;
-    const double* d = in.coef + i * 4 * nc;
-    for (std::size_t k = 0; k < nc; ++k) {
-      const double a0 = d[k], a1 = d[nc + k], a2 = d[2 * nc + k], a3 = d[3 * nc + k];
-      f[k][l] = a0 + s * (a1 + s * (a2 + s * a3));
-      d1[k][l] = a1 * hh + a2 * (2.0 * s * hh + h2) + a3 * (3.0 * s * s * hh + 3.0 * s * h2 + h3);
-      d2[k][l] = 2.0 * a2 * h2 + a3 * (6.0 * s * h2 + 6.0 * h3);
-      d3[k][l] = 6.0 * a3 * h3;
-    }
-    for (std::size_t j = 0; j < nr; ++j) {
-      const double a2 = d[2 * nc + nch + j], a3 = d[3 * nc + nch + j];
-      c[j][l] = v2[l] * (2.0 * a2 + 6.0 * a3 * s);
-      dc[j][l] = v2[l] * 6.0 * a3 * hh;
-    }
-  };
+  LoadCursor cur;
+  cur.breaks = in.breaks;
+  cur.coef = in.coef;
+  cur.n_pieces = in.n_pieces;
+  cur.nc = nc;
+  cur.nload = nch;
+  cur.nr = nr;
+  cur.f = f, cur.d1 = d1, cur.d2 = d2, cur.d3 = d3, cur.c = c, cur.dc = dc;
   auto emit = [&](Index k) {
-    const lanes live = static_cast<double>(k) <= n_steps ? one : zero;
-    for (std::size_t j = 0; j < no; ++j) {
-      lanes dv = dj[j], av = aj[j];
-      if (in.flex) dv += f[nch + j], av += c[j];
-      if (in.hist) store_history(in.hist, in.stride, no, j, in.n_steps, k, av);
-      dv = live * (dv < zero ? -dv : dv);
-      av = live * (av < zero ? -av : av);
-      md[j] = dv > md[j] ? dv : md[j];
-      ma[j] = av > ma[j] ? av : ma[j];
-    }
+    emit_stations(no, in.flex, dj, aj, f + nch, c, md, ma, in.hist, in.stride, in.n_steps, k,
+                  static_cast<double>(k) <= n_steps ? one : zero);
   };
   // The coordinates' outputs for the current y and the load channels u = f.
   auto outputs = [&]() {
@@ -365,21 +372,13 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
       }
     }
   };
-  for (std::size_t l = 0; l < W; ++l) reinit(l, in.x_start);
+  cur.start(in.v, in.dt, in.x_start);
   outputs();
   emit(0);
   const lanes x_start = zero + in.x_start;
   for (Index step = 1; step <= in.n_max; ++step) {
     for (std::size_t k = 0; k < nch; ++k) pp[k] = f[k];
-    for (std::size_t k = 0; k < nc; ++k) {
-      f[k] += d1[k];
-      d1[k] += d2[k];
-      d2[k] += d3[k];
-    }
-    for (std::size_t j = 0; j < nr; ++j) c[j] += dc[j];
-    const lanes X = x_start + v * (static_cast<double>(step) * in.dt);
-    for (std::size_t l = 0; l < W; ++l)
-      if (X[l] >= next[l]) reinit(l, X[l]);
+    cur.advance(nc, nr, x_start + v * (static_cast<double>(step) * in.dt));
     for (std::size_t j = 0; j < no; ++j) dj[j] = aj[j] = zero;
     for (std::size_t k = 0; k < nk; ++k) {
       const double* e = in.co + 6 * k;
@@ -476,18 +475,7 @@ std::vector<PeaksRun> modal_peaks(const PreparedModel& m, const TrainModalLoads&
     chan.resize(nk);
     pair.resize(nk);
     for (std::size_t k = 0; k < nk; ++k) {
-      // y₁ = E y₀ + α u₀ + β u₁ for u linear over the step: α = I₁ − I₂, β = I₂ with
-      // I₁ = (E − 1)/λ, I₂ = (E − 1 − λh)/(λ² h) (series for small |λh|), as ModalReduction.
-      const cd l = cf.lambda[k], z = l * dt, e = std::exp(z);
-      cd I1, I2;
-      if (std::abs(z) < 1e-3) {
-        I1 = dt * (1.0 + z / 2.0 + z * z / 6.0 + z * z * z / 24.0);
-        I2 = dt * (0.5 + z / 6.0 + z * z / 24.0 + z * z * z / 120.0);
-      } else {
-        I1 = (e - 1.0) / l;
-        I2 = (e - 1.0 - z) / (l * z);
-      }
-      const cd al = I1 - I2, be = I2;
+      const auto [e, al, be] = solve::complex_step_coefficients(cf.lambda[k], dt);  // y₁ = E y₀ + α u₀ + β u₁
       const double v6[6] = {e.real(), e.imag(), al.real(), al.imag(), be.real(), be.imag()};
       std::copy(v6, v6 + 6, co.begin() + static_cast<std::ptrdiff_t>(6 * k));
       chan[k] = static_cast<std::size_t>(cf.channel[k]);

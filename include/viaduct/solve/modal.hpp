@@ -158,6 +158,10 @@ Matrix damping_enriched_basis(const SparseMatrix& M, const SparseMatrix& C, cons
                               const Matrix& shapes, const Vector& omega, int blocks, Vector* omega_out,
                               double max_omega = 0.0);
 
+/// Exact one-step coefficients of ẏ = λ y + u for u linear over the step (a complex coordinate):
+/// y₁ = E y₀ + α u₀ + β u₁, returned as {E, α, β}.
+std::array<std::complex<double>, 3> complex_step_coefficients(std::complex<double> lambda, double dt);
+
 /// Exact one-step coefficients of q̈ + 2ζω q̇ + ω² q = p(t), p linear over the step:
 /// q₁ = a[0] q₀ + a[1] q̇₀ + a[2] p₀ + a[3] p₁ and q̇₁ = a[4] q₀ + a[5] q̇₀ + a[6] p₀ + a[7] p₁.
 std::array<double, 8> exact_step_coefficients(double omega, double zeta, double dt);
