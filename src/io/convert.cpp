@@ -151,7 +151,7 @@ study::Scenario to_scenario(const FlatScenario& f) {
 
   // Settings.
   auto& st = sc.settings;
-  st.newmark.dt = get_number(f, "analysis.dt");
+  st.dt = get_number(f, "analysis.dt");
   st.newmark.beta = get_number(f, "analysis.beta");
   st.newmark.gamma = get_number(f, "analysis.gamma");
   st.newmark.alpha = get_number(f, "analysis.alpha");
@@ -189,7 +189,7 @@ study::Scenario to_scenario(const FlatScenario& f) {
     }
     auto given = [&](const char* key) { return f.has(key) && !f.defaulted.count(key); };
     if (!given("analysis.method")) st.method = p.method;
-    if (!given("analysis.dt")) st.newmark.dt = p.newmark.dt;
+    if (!given("analysis.dt")) st.dt = p.dt;
     if (!given("modal.n_modes")) st.modal.n_modes = p.modal.n_modes;
     if (!given("modal.max_frequency_hz")) st.modal.max_frequency_hz = p.modal.max_frequency_hz;
     if (!given("modal.static_correction")) st.modal.static_correction = p.modal.static_correction;
@@ -197,7 +197,7 @@ study::Scenario to_scenario(const FlatScenario& f) {
   }
   if (st.filter.enabled) {
     std::string why;
-    if (!st.filter.cheby.is_valid(1.0 / st.newmark.dt, &why))
+    if (!st.filter.cheby.is_valid(1.0 / st.dt, &why))
       throw InputError(f.at("filter.high_hz").where, why);
   }
 

@@ -14,7 +14,9 @@
 #include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
+#include "checks.hpp"
 #include "viaduct/core/error.hpp"
+#include "viaduct/core/options.hpp"
 
 namespace viaduct::solve {
 
@@ -141,34 +143,28 @@ void error_handler(int code, const char* module, const char* function, char* msg
 }  // namespace
 
 bool IdaOptions::is_valid(std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
-  if (!(std::isfinite(dt_out) && dt_out > 0.0)) return fail("dt_out must be > 0 [s], got " + num(dt_out));
-  if (!(std::isfinite(t_end) && t_end > 0.0)) return fail("t_end must be > 0 [s], got " + num(t_end));
-  if (!(rtol >= 1e-12 && rtol <= 0.1)) return fail("rtol must be in [1e-12, 0.1], got " + num(rtol));
-  if (!(std::isfinite(atol_disp) && atol_disp > 0.0)) return fail("atol_disp must be > 0 [m], got " + num(atol_disp));
-  if (!(std::isfinite(atol_vel) && atol_vel > 0.0)) return fail("atol_vel must be > 0 [m/s], got " + num(atol_vel));
-  if (max_order < 1 || max_order > 5) return fail("max_order must be 1..5, got " + std::to_string(max_order));
-  if (!(std::isfinite(max_step) && max_step >= 0.0)) return fail("max_step must be >= 0 [s], got " + num(max_step));
-  if (max_steps_per_output < 1) return fail("max_steps_per_output must be >= 1");
-  if (t_end / dt_out > 2e9) return fail("t_end/dt_out exceeds 2e9 outputs");
-  return true;
+  OptionsCheck c("IdaOptions", why);
+  return c.require(rtol >= 1e-12 && rtol <= 0.1, "rtol", rtol, "rtol in [1e-12, 0.1]") &&
+         c.require(atol_disp > 0.0, "atol_disp", atol_disp, "atol_disp > 0 [m]") &&
+         c.require(atol_vel > 0.0, "atol_vel", atol_vel, "atol_vel > 0 [m/s]") &&
+         c.require(max_order >= 1 && max_order <= 5, "max_order", max_order, "max_order in 1..5") &&
+         c.require(max_step >= 0.0, "max_step", max_step, "max_step >= 0 [s]") &&
+         c.require(max_steps_per_output >= 1, "max_steps_per_output", static_cast<double>(max_steps_per_output),
+                   "max_steps_per_output >= 1");
 }
 
-IdaSummary ida(const SecondOrderSystem& sys, const IdaOptions& opt, const StepObserver& observe) {
+Summary ida(const SecondOrderSystem& sys, const TimeGrid& grid, const IdaOptions& opt, const StepObserver& observe) {
   const auto wall0 = std::chrono::steady_clock::now();
-  std::string why;
-  if (!opt.is_valid(&why)) throw InputError("IDA: " + why);
+  require_valid(grid, "IDA");
+  require_valid(opt, "IDA");
+  const double t_end = grid.t_end, dt_out = grid.dt;
   Problem P;
   P.sys = &sys;
   P.n = sys.n_dofs();
   P.log = opt.log;
   const Index n = P.n;
   const SparseMatrix &M = sys.mass(), &C = sys.damping(), &K = sys.stiffness();
-  if (M.cols() != n || C.rows() != n || C.cols() != n || K.rows() != n || K.cols() != n)
-    throw InputError("IDA: M, C and K must be square and of one size");
+  detail::require_square_system(M, C, K, "IDA");
   {
     SparseMatrix pattern = M.cwiseAbs() + C.cwiseAbs() + K.cwiseAbs();
     pattern.makeCompressed();
@@ -197,7 +193,7 @@ IdaSummary ida(const SecondOrderSystem& sys, const IdaOptions& opt, const StepOb
   at.tail(n).setConstant(opt.atol_vel);
 
   // Consistent start (from rest) at t: u̇ = v, v̇ = M⁻¹(f(t⁺) − C v − K u).
-  const double eps_t = 1e-9 * std::max(1.0, opt.t_end);
+  const double eps_t = 1e-9 * std::max(1.0, t_end);
   auto consistent = [&](double t_plus) {
     P.f.setZero();
     sys.force(t_plus, P.f);
@@ -223,15 +219,16 @@ IdaSummary ida(const SecondOrderSystem& sys, const IdaOptions& opt, const StepOb
   check(IDASetLinearSolver(ida_mem, LS.get(), J.get()), "IDASetLinearSolver");
   check(IDASetJacFn(ida_mem, jacobian), "IDASetJacFn");
 
-  std::vector<double> events = sys.discontinuities(opt.t_end);
+  std::vector<double> events = sys.discontinuities(t_end);
   std::sort(events.begin(), events.end());
-  events.erase(std::remove_if(events.begin(), events.end(), [&](double e) { return !(e > eps_t && e < opt.t_end); }),
+  events.erase(std::remove_if(events.begin(), events.end(), [&](double e) { return !(e > eps_t && e < t_end); }),
                events.end());
   events.erase(std::unique(events.begin(), events.end(), [&](double a, double b) { return b - a <= eps_t; }),
                events.end());
   std::size_t next_event = 0;
 
-  IdaSummary s;
+  Summary s;
+  s.kernel = "ida";
   Vector u(n), v(n), a(n);
   auto emit = [&](Index k, double t) {
     u = y.head(n), v = y.tail(n), a = ydot.tail(n);
@@ -250,10 +247,10 @@ IdaSummary ida(const SecondOrderSystem& sys, const IdaOptions& opt, const StepOb
   };
 
   emit(0, 0.0);
-  const Index n_out = static_cast<Index>(std::ceil(opt.t_end / opt.dt_out - 1e-9));
+  const Index n_out = grid.n_steps();
   double t_now = 0.0;
   for (Index k = 1; k <= n_out; ++k) {
-    const double tout = std::min(k * opt.dt_out, opt.t_end + 0.5 * opt.dt_out);
+    const double tout = std::min(k * dt_out, t_end + 0.5 * dt_out);
     // Cross every discontinuity before tout: stop exactly there and restart consistently.
     while (next_event < events.size() && events[next_event] <= tout - eps_t) {
       const double te = events[next_event++];
@@ -262,9 +259,9 @@ IdaSummary ida(const SecondOrderSystem& sys, const IdaOptions& opt, const StepOb
       check(IDAReInit(ida_mem, te, yy.get(), yp.get()), "IDAReInit");
       ++s.n_restarts;
     }
-    const double tstop = next_event < events.size() ? events[next_event] : std::max(opt.t_end, tout) + opt.dt_out;
+    const double tstop = next_event < events.size() ? events[next_event] : std::max(t_end, tout) + dt_out;
     t_now = solve_to(tout, tstop);
-    emit(k, k * opt.dt_out);
+    emit(k, k * dt_out);
   }
   long v_long = 0;
   check(IDAGetNumSteps(ida_mem, &v_long), "IDAGetNumSteps");
@@ -272,16 +269,17 @@ IdaSummary ida(const SecondOrderSystem& sys, const IdaOptions& opt, const StepOb
   check(IDAGetNumResEvals(ida_mem, &v_long), "IDAGetNumResEvals");
   s.n_residuals = v_long;
   check(IDAGetNumJacEvals(ida_mem, &v_long), "IDAGetNumJacEvals");
-  s.n_jacobians = v_long;
+  s.n_factorisations = v_long;
   check(IDAGetNumErrTestFails(ida_mem, &v_long), "IDAGetNumErrTestFails");
-  s.n_error_test_failures = v_long;
+  s.n_rejected_steps = v_long;
   check(IDAGetNumNonlinSolvConvFails(ida_mem, &v_long), "IDAGetNumNonlinSolvConvFails");
   s.n_nonlinear_failures = v_long;
   int order = 0;
   check(IDAGetLastOrder(ida_mem, &order), "IDAGetLastOrder");
   s.last_order = order;
-  s.n_outputs = n_out + 1;
-  s.t_reached = n_out * opt.dt_out;
+  s.n_samples = n_out + 1;
+  s.n_dofs = n;
+  s.t_reached = n_out * dt_out;
   s.stop_reason = "t_end reached";
   s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return s;

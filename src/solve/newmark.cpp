@@ -7,8 +7,10 @@
 
 #include <Eigen/SparseCholesky>
 
+#include "checks.hpp"
+#include "lanes.hpp"
 #include "viaduct/core/error.hpp"
-#include "viaduct/core/lanes.hpp"
+#include "viaduct/core/options.hpp"
 
 namespace viaduct::solve {
 
@@ -16,13 +18,11 @@ namespace {
 std::string num(double v) { return format_number(v, 6); }
 }  // namespace
 
-NewmarkOptions NewmarkOptions::hht(double alpha, double dt, double t_end) {
+NewmarkOptions NewmarkOptions::hht(double alpha) {
   NewmarkOptions o;
   o.alpha = alpha;
   o.beta = (1.0 - alpha) * (1.0 - alpha) / 4.0;
   o.gamma = (1.0 - 2.0 * alpha) / 2.0;
-  o.dt = dt;
-  o.t_end = t_end;
   return o;
 }
 
@@ -31,19 +31,10 @@ bool NewmarkOptions::unconditionally_stable() const {
 }
 
 bool NewmarkOptions::is_valid(std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
-  if (!(std::isfinite(dt) && dt > 0.0)) return fail("dt must be > 0 [s], got " + num(dt));
-  if (!(std::isfinite(t_end) && t_end > 0.0)) return fail("t_end must be > 0 [s], got " + num(t_end));
-  if (!(std::isfinite(beta) && beta > 0.0)) return fail("beta must be > 0, got " + num(beta));
-  if (!(std::isfinite(gamma) && gamma >= 0.5))
-    return fail("gamma must be >= 0.5 (gamma < 0.5 adds negative damping), got " + num(gamma));
-  if (!(std::isfinite(alpha) && alpha >= -1.0 / 3.0 - 1e-15 && alpha <= 0.0))
-    return fail("HHT alpha must be in [-1/3, 0], got " + num(alpha));
-  if (t_end / dt > 2e9) return fail("t_end/dt exceeds 2e9 steps");
-  return true;
+  OptionsCheck c("NewmarkOptions", why);
+  return c.require(beta > 0.0, "beta", beta, "beta > 0") &&
+         c.require(gamma >= 0.5, "gamma", gamma, "gamma >= 0.5 (gamma < 0.5 adds negative damping)") &&
+         c.require(alpha >= -1.0 / 3.0 - 1e-15 && alpha <= 0.0, "alpha", alpha, "HHT alpha in [-1/3, 0]");
 }
 
 double estimate_max_omega(const SparseMatrix& M, const SparseMatrix& K) {
@@ -70,9 +61,9 @@ double estimate_max_omega(const SparseMatrix& M, const SparseMatrix& K) {
 namespace {
 // Refuses a conditionally stable scheme beyond its limit, then factors the effective matrix
 // S = M + (1+α)γ dt C + (1+α)β dt² K (once per run or batch).
-void factor_effective(const NewmarkOptions& opt, const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K,
-                      Eigen::SimplicialLDLT<SparseMatrix>& ls) {
-  const double dt = opt.dt, b = opt.beta, g = opt.gamma, al = opt.alpha;
+void factor_effective(double dt, const NewmarkOptions& opt, const SparseMatrix& M, const SparseMatrix& C,
+                      const SparseMatrix& K, Eigen::SimplicialLDLT<SparseMatrix>& ls) {
+  const double b = opt.beta, g = opt.gamma, al = opt.alpha;
   if (!opt.unconditionally_stable()) {
     // Conditionally stable (e.g. linear acceleration): undamped limit Ω = ω dt <= 1/sqrt(γ/2 - β).
     const double w_max = estimate_max_omega(M, K);
@@ -90,21 +81,19 @@ void factor_effective(const NewmarkOptions& opt, const SparseMatrix& M, const Sp
 }
 }  // namespace
 
-NewmarkSummary newmark(const SecondOrderSystem& sys, const NewmarkOptions& opt,
-                       const StepObserver& observe, const Vector* u0, const Vector* v0) {
+Summary newmark(const SecondOrderSystem& sys, const TimeGrid& grid, const NewmarkOptions& opt,
+                const StepObserver& observe, const Vector* u0, const Vector* v0) {
   const auto wall0 = std::chrono::steady_clock::now();
-  std::string why;
-  if (!opt.is_valid(&why)) throw InputError("Newmark: " + why);
+  require_valid(grid, "Newmark");
+  require_valid(opt, "Newmark");
   const SparseMatrix& M = sys.mass();
   const SparseMatrix& C = sys.damping();
   const SparseMatrix& K = sys.stiffness();
-  const Index n = M.rows();
-  if (M.cols() != n || C.rows() != n || C.cols() != n || K.rows() != n || K.cols() != n)
-    throw InputError("Newmark: M, C and K must be square and of one size");
-  const double dt = opt.dt, b = opt.beta, g = opt.gamma, al = opt.alpha;
+  const Index n = detail::require_square_system(M, C, K, "Newmark");
+  const double dt = grid.dt, b = opt.beta, g = opt.gamma, al = opt.alpha;
 
   Eigen::SimplicialLDLT<SparseMatrix> ls;
-  factor_effective(opt, M, C, K, ls);
+  factor_effective(dt, opt, M, C, K, ls);
 
   Vector u = u0 ? *u0 : Vector::Zero(n);
   Vector v = v0 ? *v0 : Vector::Zero(n);
@@ -118,7 +107,7 @@ NewmarkSummary newmark(const SecondOrderSystem& sys, const NewmarkOptions& opt,
     rhs = f - C * v - K * u;
     a = lm.solve(rhs);
   }
-  const Index n_steps = static_cast<Index>(std::ceil(opt.t_end / dt - 1e-9));
+  const Index n_steps = grid.n_steps();
   if (observe) observe(0, 0.0, u, v, a);
 
   for (Index k = 1; k <= n_steps; ++k) {
@@ -147,8 +136,11 @@ NewmarkSummary newmark(const SecondOrderSystem& sys, const NewmarkOptions& opt,
       throw SolverError("Newmark: state became non-finite at t = " + num(t) + " s");
     if (observe) observe(k, t, u, v, a);
   }
-  NewmarkSummary s;
+  Summary s;
+  s.kernel = "newmark";
   s.n_steps = n_steps;
+  s.n_samples = n_steps + 1;
+  s.n_factorisations = 1;
   s.n_dofs = n;
   s.t_reached = n_steps * dt;
   s.stop_reason = "t_end reached";
@@ -391,21 +383,19 @@ VIADUCT_TARGET_AVX2 void batch_loop_avx2(BatchRun& R) { batch_loop(R); }
 
 }  // namespace
 
-std::vector<BatchHistories> newmark_batch(const std::vector<BatchCase>& cases, const NewmarkOptions& opt,
+std::vector<BatchHistories> newmark_batch(const std::vector<BatchCase>& cases, double dt, const NewmarkOptions& opt,
                                           const std::vector<Functional>& outputs) {
   const auto wall0 = std::chrono::steady_clock::now();
   if (cases.empty() || cases.size() > kNewmarkBatch)
     throw InputError("Newmark batch: 1 to " + std::to_string(kNewmarkBatch) + " cases, got " +
                      std::to_string(cases.size()));
-  std::string why;
-  if (!opt.is_valid(&why)) throw InputError("Newmark: " + why);
+  require_valid(opt, "Newmark");
+  if (!cases[0].system) throw InputError("Newmark batch: a case without a system");
   const SecondOrderSystem& s0 = *cases[0].system;
   const SparseMatrix& M = s0.mass();
   const SparseMatrix& C = s0.damping();
   const SparseMatrix& K = s0.stiffness();
-  const Index n = M.rows();
-  if (M.cols() != n || C.rows() != n || C.cols() != n || K.rows() != n || K.cols() != n)
-    throw InputError("Newmark: M, C and K must be square and of one size");
+  const Index n = detail::require_square_system(M, C, K, "Newmark");
   BatchRun R;
   R.n_max = 0;
   for (std::size_t l = 0; l < cases.size(); ++l) {
@@ -413,15 +403,14 @@ std::vector<BatchHistories> newmark_batch(const std::vector<BatchCase>& cases, c
     if (!sys) throw InputError("Newmark batch: a case without a system");
     if (&sys->mass() != &M || &sys->damping() != &C || &sys->stiffness() != &K)
       throw InputError("Newmark batch: every case must use the same M, C and K");
-    NewmarkOptions o = opt;
-    o.t_end = cases[l].t_end;
-    if (!o.is_valid(&why)) throw InputError("Newmark: " + why);
-    R.n_steps[l] = static_cast<Index>(std::ceil(o.t_end / opt.dt - 1e-9));
+    const TimeGrid grid{dt, cases[l].t_end};
+    require_valid(grid, "Newmark");
+    R.n_steps[l] = grid.n_steps();
     R.n_max = std::max(R.n_max, R.n_steps[l]);
   }
-  const double dt = opt.dt, b = opt.beta, g = opt.gamma, al = opt.alpha;
+  const double b = opt.beta, g = opt.gamma, al = opt.alpha;
   Eigen::SimplicialLDLT<SparseMatrix> ls;
-  factor_effective(opt, M, C, K, ls);
+  factor_effective(dt, opt, M, C, K, ls);
   const BatchPlan plan = make_plan(C, K, ls);
   R.plan = &plan;
   R.cases = &cases;
@@ -465,8 +454,11 @@ std::vector<BatchHistories> newmark_batch(const std::vector<BatchCase>& cases, c
 #endif
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   for (std::size_t l = 0; l < cases.size(); ++l) {
-    NewmarkSummary& s = out[l].summary;
+    Summary& s = out[l].summary;
+    s.kernel = "newmark-batch";
     s.n_steps = R.n_steps[l];
+    s.n_samples = R.n_steps[l] + 1;
+    s.n_factorisations = 1;
     s.n_dofs = n;
     s.t_reached = static_cast<double>(R.n_steps[l]) * dt;
     s.stop_reason = "t_end reached";

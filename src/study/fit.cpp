@@ -179,7 +179,7 @@ class Evaluator {
     ++simulations_;
     const Scenario sc = p_.scenario_at(values);
     Simulated out;
-    out.fs_model = 1.0 / sc.settings.newmark.dt;
+    out.fs_model = 1.0 / sc.settings.dt;
     const PreparedModel pm = prepare_model(sc, /*rail_outputs=*/false);
     if (!records_.empty()) {
       RunSettings rs = sc.settings;
@@ -340,7 +340,7 @@ class Evaluator {
     if (p_.records.empty()) throw InputError("fit: the record objectives (time, peak, envelope, spectrum) need at least one record");
     std::map<std::string, std::size_t> station_index;
     for (std::size_t i = 0; i < sc0.stations.size(); ++i) station_index[sc0.stations[i].name] = i;
-    const double fs_model = 1.0 / sc0.settings.newmark.dt;
+    const double fs_model = 1.0 / sc0.settings.dt;
     if (filter_.enabled) {
       std::string why;
       if (!filter_.cheby.is_valid(fs_model, &why)) throw InputError("fit: filter at the model's rate: " + why);

@@ -201,10 +201,11 @@ ShakerRecord simulate_shaker_test(const model::Structure& s, const ForcedSetup& 
   int sub = test.substeps;
   if (sub == 0) sub = std::max(1, static_cast<int>(std::ceil(2.0 * M_PI * test.max_frequency_hz() / (0.03 * test.fs_hz))));
   const ExciterSystem sys(s, at, F);
-  solve::NewmarkOptions o;
-  o.dt = 1.0 / (test.fs_hz * sub);
+  const solve::NewmarkOptions o;
+  solve::TimeGrid grid;
+  grid.dt = 1.0 / (test.fs_hz * sub);
   const Index n_samples = static_cast<Index>(std::floor(test.duration_s() * test.fs_hz + 1e-9)) + 1;
-  o.t_end = static_cast<double>(n_samples - 1) / test.fs_hz;
+  grid.t_end = static_cast<double>(n_samples - 1) / test.fs_hz;
   ShakerRecord r;
   r.fs_hz = test.fs_hz;
   r.force.resize(n_samples);
@@ -213,7 +214,7 @@ ShakerRecord simulate_shaker_test(const model::Structure& s, const ForcedSetup& 
   const Index total_steps = (n_samples - 1) * sub;
   const Index report_every = std::max<Index>(1, total_steps / 100);
   const auto t0 = std::chrono::steady_clock::now();
-  const auto summary = solve::newmark(sys, o, [&](Index k, double t, const Vector& u, const Vector& v, const Vector& a) {
+  const auto summary = solve::newmark(sys, grid, o, [&](Index k, double t, const Vector& u, const Vector& v, const Vector& a) {
     if (k % sub == 0) {
       const Index j = k / sub;
       if (j < n_samples) {

@@ -10,6 +10,7 @@
 #include "viaduct/signal/iir.hpp"
 #include "viaduct/signal/peaks.hpp"
 #include "modal_path_table.hpp"
+#include "viaduct/core/options.hpp"
 
 namespace viaduct::study {
 
@@ -188,6 +189,7 @@ RunResult allocate_histories(const std::vector<ResolvedStation>& stations, doubl
   const auto n_samples = static_cast<Index>(n_samples_real);
   RunResult r;
   r.t.resize(n_samples);
+  for (Index k = 0; k < n_samples; ++k) r.t[k] = static_cast<double>(k) * dt;
   for (const auto& st : stations) {
     StationHistory h;
     h.name = st.name;
@@ -202,103 +204,78 @@ RunResult allocate_histories(const std::vector<ResolvedStation>& stations, doubl
 
 void apply_filter(RunResult& r, const RunSettings& settings) {
   if (!settings.filter.enabled) return;
-  const signal::Sos sos = signal::cheby1(settings.filter.cheby, 1.0 / settings.newmark.dt);
+  const signal::Sos sos = signal::cheby1(settings.filter.cheby, 1.0 / settings.dt);
   // The response starts at rest and is cut after free_vibration_s: filtered as zero outside
   // the record, so that maxima do not depend on the step (docs/accuracy.md).
   for (auto& h : r.stations) h.acc_filt = signal::filtfilt_from_rest(sos, h.acc);
 }
 
-// Integrates the loads of `sys` for t in [0, t_end] into histories (unfiltered).
+// The recorded outputs: each station's main point, then the rail above deck stations (track
+// models; rail_out[i] its column, -1 when not recorded). A modal model holds its own outputs in
+// this order (rails only when prepared with rail_outputs).
+struct OutputMap {
+  std::vector<solve::Functional> outputs;
+  std::vector<Index> rail_out;
+};
+OutputMap output_map(const std::vector<ResolvedStation>& stations, const solve::ModalReduction* modal) {
+  OutputMap o;
+  o.outputs = station_functionals(stations, true);
+  const bool rail = !modal || modal->n_outputs() > static_cast<Index>(stations.size());
+  Index next = static_cast<Index>(stations.size());
+  o.rail_out.assign(stations.size(), -1);
+  for (std::size_t i = 0; i < stations.size(); ++i)
+    if (stations[i].has_deck && stations[i].has_rail) {
+      if (rail) o.rail_out[i] = next;
+      ++next;
+    }
+  if (!rail) o.outputs.resize(stations.size());
+  return o;
+}
+
+// A case's recorded outputs into the station histories of `r` (allocated for the same samples).
+void take_histories(const solve::CaseResult& c, const OutputMap& map, RunResult& r) {
+  for (std::size_t i = 0; i < r.stations.size(); ++i) {
+    StationHistory& h = r.stations[i];
+    h.disp = c.disp.col(static_cast<Index>(i));
+    h.acc = c.acc.col(static_cast<Index>(i));
+    if (map.rail_out[i] >= 0) h.rail_disp = c.disp.col(map.rail_out[i]);
+    else h.rail_disp.resize(0);  // not an output of this modal model
+  }
+  r.summary = c.summary;
+  r.n_modes = c.summary.n_modes;
+}
+
+// Integrates the loads of `sys` for t in [0, t_end] into histories (unfiltered), with the
+// integrator the settings choose.
 RunResult integrate(const std::vector<ResolvedStation>& stations,
-                    const solve::ModalReduction* modal, const ModalPathTable* path,
+                    const std::shared_ptr<const solve::ModalReduction>& modal, const ModalPathTable* path,
                     const solve::SecondOrderSystem& sys, const load::Train& train, double speed, double t_end,
                     const RunSettings& settings) {
-  RunResult r = allocate_histories(stations, t_end, settings.newmark.dt);
+  RunResult r = allocate_histories(stations, t_end, settings.dt);
   r.method = settings.method;
-  if (settings.method == Method::modal) {
-    if (!modal) throw InputError("modal method without a modal model (prepare the model with method = modal)");
-    solve::ModalOptions mo;
-    mo.dt = settings.newmark.dt;
-    mo.t_end = t_end;
-    // Outputs: station main points first, then rails above deck stations (station_functionals).
-    std::vector<Index> rail_out(stations.size(), -1);
-    Index next = static_cast<Index>(stations.size());
-    const bool rail = modal->n_outputs() > next;
-    for (std::size_t i = 0; i < stations.size(); ++i) {
-      if (rail && stations[i].has_deck && stations[i].has_rail) rail_out[i] = next++;
-      else r.stations[i].rail_disp.resize(0);  // not an output of this modal model
-    }
-    auto observe = [&](Index k, double t, const Vector& disp, const Vector& acc) {
-      r.t[k] = t;
-      for (std::size_t i = 0; i < stations.size(); ++i) {
-        StationHistory& h = r.stations[i];
-        h.disp[k] = disp[static_cast<Index>(i)];
-        h.acc[k] = acc[static_cast<Index>(i)];
-        if (rail_out[i] >= 0) h.rail_disp[k] = disp[rail_out[i]];
-      }
-    };
-    solve::ModalSummary ms;
-    if (path) {
-      MovingModalForce force(*path, train, speed, settings.load_factor);
-      ms = modal->integrate(force, mo, observe);
-    } else {
-      ms = modal->integrate(sys, mo, observe);
-    }
-    r.summary.n_steps = ms.n_steps;
-    r.summary.n_dofs = ms.n_dofs;
-    r.summary.t_reached = ms.t_reached;
-    r.summary.wall_s = ms.wall_s;
-    r.summary.stop_reason = ms.stop_reason;
-    r.n_modes = ms.n_modes;
-    return r;
+  const OutputMap map = output_map(stations, settings.method == Method::modal ? modal.get() : nullptr);
+  const auto integrator = solve::make_integrator(settings.integration(), map.outputs, modal);
+  solve::LoadCase c;
+  c.system = &sys;
+  c.t_end = t_end;
+  std::unique_ptr<MovingModalForce> force;
+  if (settings.method == Method::modal && path) {
+    force = std::make_unique<MovingModalForce>(*path, train, speed, settings.load_factor);
+    c.modal_force = force.get();
   }
-  auto observe = [&](Index k, double t, const Vector& u, const Vector&, const Vector& a) {
-    r.t[k] = t;
-    for (std::size_t i = 0; i < stations.size(); ++i) {
-      const ResolvedStation& st = stations[i];
-      StationHistory& h = r.stations[i];
-      const model::PointCoupling& main = st.has_deck ? st.deck : st.rail;
-      h.disp[k] = main.value(u);
-      h.acc[k] = main.value(a);
-      if (h.rail_disp.size() > 0) h.rail_disp[k] = st.rail.value(u);
-    }
-  };
-  if (settings.method == Method::ida) {
-    solve::IdaOptions io;
-    io.dt_out = settings.newmark.dt;
-    io.t_end = t_end;
-    io.rtol = settings.ida.rtol;
-    io.atol_disp = settings.ida.atol_disp;
-    io.atol_vel = settings.ida.atol_vel;
-    io.max_order = settings.ida.max_order;
-    io.log = settings.ida.log;
-    const solve::IdaSummary is = solve::ida(sys, io, observe);
-    r.summary.n_steps = is.n_steps;
-    r.summary.n_dofs = sys.n_dofs();
-    r.summary.t_reached = is.t_reached;
-    r.summary.wall_s = is.wall_s;
-    r.summary.stop_reason = is.stop_reason + " (" + std::to_string(is.n_steps) + " internal steps, " +
-                            std::to_string(is.n_residuals) + " residuals, " + std::to_string(is.n_jacobians) +
-                            " factorisations, " + std::to_string(is.n_error_test_failures) + " error-test and " +
-                            std::to_string(is.n_nonlinear_failures) + " Newton failures, " +
-                            std::to_string(is.n_restarts) + " restarts)";
-    return r;
-  }
-  solve::NewmarkOptions opt = settings.newmark;
-  opt.t_end = t_end;
-  std::string why;
-  if (!opt.is_valid(&why)) throw InputError("Newmark: " + why);
-  r.summary = solve::newmark(sys, opt, observe);
+  solve::Recording rec;
+  rec.max_history_bytes = kMaxHistoryBytes;
+  take_histories(integrator->run(c, rec), map, r);
   return r;
 }
 
 RunResult simulate_impl(const model::Structure& s, const std::vector<ResolvedStation>& stations,
-                        const solve::ModalReduction* modal, const ModalPathTable* path,
+                        const std::shared_ptr<const solve::ModalReduction>& modal, const ModalPathTable* path,
                         const load::Train& train, double speed,
                         const RunSettings& settings, double t_end_min = 0.0) {
   require_positive(speed, "speed [m/s]");
   require_non_negative(settings.free_vibration_s, "free_vibration_s [s]");
-  require_positive(settings.newmark.dt, "analysis.dt [s]");
+  require_positive(settings.dt, "analysis.dt [s]");
   const load::MovingLoads loads(s, train, speed, settings.load_factor);
   const MovingLoadSystem sys(s, loads);
   const double t_end = std::max(loads.t_exit() + settings.free_vibration_s, t_end_min);
@@ -344,7 +321,7 @@ PreparedModel prepare_model(model::Structure s, const std::vector<StationSpec>& 
   m.structure = std::move(s);
   m.stations = resolve_stations(m.structure, stations);
   if (settings.method == Method::modal) {
-    m.modal = make_modal(m.structure, m.stations, settings.modal, rail_outputs, &m.modal_frequency_hz, settings.newmark.dt);
+    m.modal = make_modal(m.structure, m.stations, settings.modal, rail_outputs, &m.modal_frequency_hz, settings.dt);
     m.modal_path = make_path_table(m.structure, *m.modal);
   }
   return m;
@@ -355,7 +332,7 @@ PreparedModel prepare_model(const Scenario& sc, bool rail_outputs) {
 }
 
 RunResult simulate(const PreparedModel& m, const load::Train& train, double speed, const RunSettings& settings) {
-  RunResult r = simulate_impl(m.structure, m.stations, m.modal.get(), m.modal_path.get(), train, speed, settings);
+  RunResult r = simulate_impl(m.structure, m.stations, m.modal, m.modal_path.get(), train, speed, settings);
   apply_filter(r, settings);
   return r;
 }
@@ -365,10 +342,10 @@ RunResult simulate(const model::Structure& s, const std::vector<ResolvedStation>
   std::shared_ptr<const solve::ModalReduction> modal;
   std::shared_ptr<const ModalPathTable> path;
   if (settings.method == Method::modal) {
-    modal = make_modal(s, stations, settings.modal, true, nullptr, settings.newmark.dt);
+    modal = make_modal(s, stations, settings.modal, true, nullptr, settings.dt);
     path = make_path_table(s, *modal);
   }
-  RunResult r = simulate_impl(s, stations, modal.get(), path.get(), train, speed, settings);
+  RunResult r = simulate_impl(s, stations, modal, path.get(), train, speed, settings);
   apply_filter(r, settings);
   return r;
 }
@@ -381,44 +358,35 @@ std::vector<RunResult> simulate_batch(const PreparedModel& m, const load::Train&
     return out;
   }
   require_non_negative(settings.free_vibration_s, "free_vibration_s [s]");
-  require_positive(settings.newmark.dt, "analysis.dt [s]");
-  // Outputs: station main points, then the rail above deck stations (as simulate() records).
-  std::vector<solve::Functional> outputs;
-  std::vector<Index> rail_out(m.stations.size(), -1);
-  for (const auto& st : m.stations) outputs.push_back(functional_of(st.has_deck ? st.deck : st.rail));
-  for (std::size_t i = 0; i < m.stations.size(); ++i)
-    if (m.stations[i].has_deck && m.stations[i].has_rail) {
-      rail_out[i] = static_cast<Index>(outputs.size());
-      outputs.push_back(functional_of(m.stations[i].rail));
-    }
-  for (std::size_t first = 0; first < speeds.size(); first += solve::kNewmarkBatch) {
-    const std::size_t n = std::min(solve::kNewmarkBatch, speeds.size() - first);
+  require_positive(settings.dt, "analysis.dt [s]");
+  const OutputMap map = output_map(m.stations, nullptr);
+  const auto integrator = solve::make_integrator(settings.integration(), map.outputs);
+  const std::size_t width = integrator->batch_width();
+  solve::Recording rec;
+  rec.max_history_bytes = kMaxHistoryBytes;
+  for (std::size_t first = 0; first < speeds.size(); first += width) {
+    const std::size_t n = std::min(width, speeds.size() - first);
     std::vector<std::unique_ptr<load::MovingLoads>> loads;
     std::vector<std::unique_ptr<MovingLoadSystem>> systems;
-    std::vector<solve::BatchCase> cases;
+    std::vector<solve::LoadCase> cases;
     std::vector<RunResult> runs;
     for (std::size_t l = 0; l < n; ++l) {
       const double v = speeds[first + l];
       require_positive(v, "speed [m/s]");
       loads.push_back(std::make_unique<load::MovingLoads>(m.structure, train, v, settings.load_factor));
       systems.push_back(std::make_unique<MovingLoadSystem>(m.structure, *loads.back()));
-      const double t_end = loads.back()->t_exit() + settings.free_vibration_s;
-      cases.push_back({systems.back().get(), t_end});
-      runs.push_back(allocate_histories(m.stations, t_end, settings.newmark.dt));  // refuses oversized runs
+      solve::LoadCase c;
+      c.system = systems.back().get();
+      c.t_end = loads.back()->t_exit() + settings.free_vibration_s;
+      cases.push_back(c);
+      runs.push_back(allocate_histories(m.stations, c.t_end, settings.dt));  // refuses oversized runs
     }
-    std::vector<solve::BatchHistories> h = solve::newmark_batch(cases, settings.newmark, outputs);
+    const std::vector<solve::CaseResult> h = integrator->run_batch(cases, rec);
     for (std::size_t l = 0; l < n; ++l) {
       RunResult& r = runs[l];
       r.method = Method::newmark;
       r.speed = speeds[first + l];
-      r.summary = h[l].summary;
-      for (Index k = 0; k < r.t.size(); ++k) r.t[k] = static_cast<double>(k) * settings.newmark.dt;
-      for (std::size_t i = 0; i < m.stations.size(); ++i) {
-        StationHistory& sh = r.stations[i];
-        sh.disp = h[l].disp.col(static_cast<Index>(i));
-        sh.acc = h[l].acc.col(static_cast<Index>(i));
-        if (rail_out[i] >= 0) sh.rail_disp = h[l].disp.col(rail_out[i]);
-      }
+      take_histories(h[l], map, r);
       apply_filter(r, settings);
       out.push_back(std::move(r));
     }
@@ -432,7 +400,7 @@ std::vector<RunResult> simulate_by_unit_response(const PreparedModel& m, const s
   require_positive(settings.load_factor, "train.load_factor");
   if (trains.empty()) throw InputError("unit-response superposition needs at least one train");
   const auto wall0 = std::chrono::steady_clock::now();
-  const double dt = settings.newmark.dt;
+  const double dt = settings.dt;
   // Every train's duration; the unit run covers the longest.
   double t_end_max = 0.0;
   std::vector<double> t_end(trains.size());
@@ -449,7 +417,7 @@ std::vector<RunResult> simulate_by_unit_response(const PreparedModel& m, const s
   RunSettings us = settings;
   us.load_factor = 1.0;
   const RunResult unit_run =
-      simulate_impl(m.structure, m.stations, m.modal.get(), m.modal_path.get(), unit, speed, us, t_end_max + 3 * dt);
+      simulate_impl(m.structure, m.stations, m.modal, m.modal_path.get(), unit, speed, us, t_end_max + 3 * dt);
   const double unit_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
 
   std::vector<RunResult> out;
@@ -498,6 +466,150 @@ std::vector<StationPeaks> peaks(const RunResult& r) {
                                           : (h.acc.size() ? h.acc.cwiseAbs().maxCoeff() : 0.0);
     p.max_abs_disp = disp.size() ? disp.cwiseAbs().maxCoeff() : 0.0;
     out.push_back(p);
+  }
+  return out;
+}
+
+solve::IntegrationSettings RunSettings::integration() const {
+  solve::IntegrationSettings s;
+  s.method = method;
+  s.dt = dt;
+  s.newmark = newmark;
+  s.ida = ida;
+  return s;
+}
+
+bool folds_trains(const PreparedModel& m, const RunSettings& s) {
+  return s.method == Method::modal && s.superposition == Superposition::direct && m.modal && m.modal_path;
+}
+
+std::shared_ptr<const solve::MovingChannels> fold_train(const PreparedModel& m, const load::Train& train,
+                                                  double load_factor) {
+  if (!m.modal || !m.modal_path) throw InputError("folding a train needs a model prepared for the modal method");
+  require_positive(load_factor, "train.load_factor");
+  train.validate();
+  const ModalPathTable& T = *m.modal_path;
+  const solve::ModalReduction& r = *m.modal;
+  const std::size_t nm = T.m, no = T.flex ? T.n_out : 0, nc = nm + no, ne = T.x0.size();
+
+  // Per element and channel, the cubic in ξ: the load channels as tabulated, and the residual
+  // flexibility of each output, g_j − Σᵢ Wⱼᵢ pᵢ (W p: the kept coordinates' static share, S Ω⁻² φ
+  // for classical modes): what the static correction adds to the coordinates' deflection (and,
+  // times v² and differentiated twice, to their acceleration).
+  std::vector<double> elem(ne * nc * 4, 0.0);
+  const Matrix Ss = r.static_channel_weights();  // n_outputs × load channels
+  for (std::size_t e = 0; e < ne; ++e) {
+    const double* ce = &T.coef[e * T.stride];
+    double* out = &elem[e * nc * 4];
+    for (std::size_t i = 0; i < nm; ++i)
+      for (std::size_t p = 0; p < 4; ++p) out[4 * i + p] = ce[4 * i + p];
+    for (std::size_t j = 0; j < no; ++j)
+      for (std::size_t p = 0; p < 4; ++p) {
+        double v = ce[4 * (nm + j) + p];
+        for (std::size_t i = 0; i < nm; ++i)
+          v -= Ss(static_cast<Index>(j), static_cast<Index>(i)) * ce[4 * i + p];
+        out[4 * (nm + j) + p] = v;
+      }
+  }
+
+  auto t = std::make_shared<solve::MovingChannels>();
+  t->n_modes = nm;
+  t->n_outputs = no;
+  t->n_channels = nc;
+  t->length = train.length();
+  t->x_start = T.x_start;
+  t->x_end = T.x_end;
+  // Breakpoints: every axle at every element boundary and at the path's end. The very numbers
+  // used below as element limits are inserted, so the lookups find them exactly.
+  auto elem_end = [&](std::size_t k, std::size_t e) {
+    return train.offset[k] + (e + 1 < ne ? T.x0[e + 1] : T.x_end);
+  };
+  std::vector<double>& B = t->breaks;
+  B.reserve(train.offset.size() * (ne + 1));
+  for (std::size_t k = 0; k < train.offset.size(); ++k) {
+    for (std::size_t e = 0; e < ne; ++e) B.push_back(train.offset[k] + T.x0[e]);
+    B.push_back(elem_end(k, ne - 1));
+  }
+  std::sort(B.begin(), B.end());
+  B.erase(std::unique(B.begin(), B.end()), B.end());
+  const std::size_t n_pieces = B.size() - 1;
+  // The first axle (offset 0, Train::validate) enters at the path's start: no piece before it.
+  if (B.front() != T.x_start) throw InputError("train '" + train.name + "': the first axle must have offset 0");
+  if (static_cast<double>(n_pieces) * static_cast<double>(4 * nc) * sizeof(double) > kMaxHistoryBytes)
+    throw InputError("train '" + train.name + "' folded over " + std::to_string(nc) +
+                     " modal channels would not fit in memory: lower modal.max_frequency_hz or modal.n_modes");
+  t->coef.assign((n_pieces + 1) * 4 * nc, 0.0);  // the last block (beyond the last break) stays zero
+  for (std::size_t k = 0; k < train.offset.size(); ++k) {
+    const double o = train.offset[k], P = train.load[k] * load_factor;
+    for (std::size_t e = 0; e < ne; ++e) {
+      const double lo = o + T.x0[e], hi = elem_end(k, e), w = T.inv_h[e];
+      const auto i0 = static_cast<std::size_t>(std::lower_bound(B.begin(), B.end(), lo) - B.begin());
+      const auto i1 = static_cast<std::size_t>(std::lower_bound(B.begin(), B.end(), hi) - B.begin());
+      const double* c = &elem[e * nc * 4];
+      for (std::size_t i = i0; i < i1 && i < n_pieces; ++i) {
+        // ξ = ξa + w s: the element cubic re-expanded in powers of s.
+        const double xa = (B[i] - lo) * w;
+        double* d = &t->coef[i * 4 * nc];
+        for (std::size_t ch = 0; ch < nc; ++ch) {
+          const double* a = c + 4 * ch;
+          d[ch] += P * (a[0] + xa * (a[1] + xa * (a[2] + xa * a[3])));
+          d[nc + ch] += P * w * (a[1] + xa * (2.0 * a[2] + 3.0 * xa * a[3]));
+          d[2 * nc + ch] += P * w * w * (a[2] + 3.0 * xa * a[3]);
+          d[3 * nc + ch] += P * w * w * w * a[3];
+        }
+      }
+    }
+  }
+  return t;
+}
+
+std::vector<CasePeaks> simulate_peaks(const PreparedModel& m, const load::Train& train, const std::vector<double>& speeds,
+                                      const RunSettings& settings, const solve::MovingChannels* folded) {
+  std::vector<CasePeaks> out;
+  if (!folded) {
+    for (const RunResult& r : simulate_batch(m, train, speeds, settings))
+      out.push_back({peaks(r), r.summary.n_steps, r.summary.wall_s});
+    return out;
+  }
+  if (!folds_trains(m, settings)) throw InputError("the peaks kernel needs the modal method with direct superposition");
+  if (folded->x_start != m.structure.path_start() || folded->x_end != m.structure.path_end())
+    throw InputError("the folded train belongs to another model");
+  require_non_negative(settings.free_vibration_s, "free_vibration_s [s]");
+  require_positive(settings.dt, "analysis.dt [s]");
+  // Only the stations' peaks: no history but the accelerations the filter takes.
+  const auto integrator =
+      solve::make_integrator(settings.integration(), station_functionals(m.stations, false), m.modal);
+  std::vector<solve::LoadCase> cases;
+  for (double v : speeds) {
+    require_positive(v, "speed [m/s]");
+    solve::LoadCase c;
+    c.moving = folded;
+    c.speed = v;
+    // The duration of simulate(): until free_vibration_s after the last axle leaves the path.
+    c.t_end = folded->t_exit(v) + settings.free_vibration_s;
+    cases.push_back(c);
+  }
+  solve::Recording rec;
+  rec.disp_history = false;
+  rec.acc_history = settings.filter.enabled;
+  rec.max_history_bytes = kMaxHistoryBytes;
+  const std::vector<solve::CaseResult> res = integrator->run_batch(cases, rec);
+  signal::Sos sos;
+  if (settings.filter.enabled) sos = signal::cheby1(settings.filter.cheby, 1.0 / settings.dt);
+  for (const solve::CaseResult& r : res) {
+    CasePeaks p;
+    for (Index j = 0; j < r.max_abs_disp.size(); ++j) {
+      StationPeaks sp;
+      sp.max_abs_disp = r.max_abs_disp[j];
+      // With a filter the maxima are taken after it, on the recorded accelerations.
+      sp.max_abs_acc = settings.filter.enabled
+                           ? signal::max_abs_between_samples(signal::filtfilt_from_rest(sos, Vector(r.acc.col(j))))
+                           : r.max_abs_acc[j];
+      p.peaks.push_back(sp);
+    }
+    p.n_steps = r.summary.n_steps;
+    p.wall_s = r.summary.wall_s;
+    out.push_back(std::move(p));
   }
   return out;
 }

@@ -7,7 +7,6 @@
 
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/thread_pool.hpp"
-#include "viaduct/study/modal_peaks.hpp"
 
 namespace viaduct::study {
 
@@ -55,11 +54,11 @@ SweepResult run_sweep(const std::vector<Variant>& variants, const SweepOptions& 
   });
   // Modal variants run the fused peaks kernel on each train folded once over the model (a custom
   // runner opts out).
-  std::vector<std::vector<std::shared_ptr<const TrainModalLoads>>> folded(variants.size());
+  std::vector<std::vector<std::shared_ptr<const solve::MovingChannels>>> folded(variants.size());
   std::vector<std::pair<std::size_t, std::size_t>> to_fold;
   for (std::size_t v = 0; v < variants.size(); ++v) {
     folded[v].resize(variants[v].scenario.trains.size());
-    if (!options.runner && prepared[v].model && modal_peaks_apply(*prepared[v].model, variants[v].scenario.settings))
+    if (!options.runner && prepared[v].model && folds_trains(*prepared[v].model, variants[v].scenario.settings))
       for (std::size_t t = 0; t < folded[v].size(); ++t) to_fold.emplace_back(v, t);
   }
   parallel_for(to_fold.size(), options.threads, [&](std::size_t i, int) {
@@ -122,13 +121,9 @@ SweepResult run_sweep(const std::vector<Variant>& variants, const SweepOptions& 
         if (c.batched) {
           const auto first = sc.sweep_speeds.begin() + static_cast<std::ptrdiff_t>(c.speed);
           const std::vector<double> speeds(first, first + static_cast<std::ptrdiff_t>(c.n_speeds));
-          if (folded[c.variant][c.train]) {
-            const std::vector<PeaksRun> pr = modal_peaks(pm, *folded[c.variant][c.train], speeds, sc.settings);
-            for (std::size_t k = 0; k < pr.size(); ++k) take(k, pr[k].peaks, pr[k].n_steps);
-          } else {
-            const std::vector<RunResult> runs = simulate_batch(pm, sc.trains[c.train], speeds, sc.settings);
-            for (std::size_t k = 0; k < runs.size(); ++k) take(k, peaks(runs[k]), runs[k].summary.n_steps);
-          }
+          const std::vector<CasePeaks> pr =
+              simulate_peaks(pm, sc.trains[c.train], speeds, sc.settings, folded[c.variant][c.train].get());
+          for (std::size_t k = 0; k < pr.size(); ++k) take(k, pr[k].peaks, pr[k].n_steps);
         } else if (c.train == kAllTrains) {
           const std::vector<RunResult> runs = simulate_by_unit_response(pm, sc.trains, speed, sc.settings);
           // A composed run shares one unit run: count its steps once.

@@ -29,7 +29,7 @@ RunSettings reference_settings(const Scenario& sc, double reference_dt) {
   RunSettings s = sc.settings;
   s.method = Method::newmark;
   s.superposition = Superposition::direct;
-  s.newmark.dt = reference_dt > 0.0 ? reference_dt : sc.settings.newmark.dt / 4.0;
+  s.dt = reference_dt > 0.0 ? reference_dt : sc.settings.dt / 4.0;
   return s;
 }
 
@@ -42,10 +42,10 @@ RunSettings preset_settings(const std::string& name, const Scenario& sc) {
     s.method = Method::modal;
     s.modal.max_frequency_hz = (name == "fast" ? 1.5 : 2.0) * fc;
     s.modal.static_correction = true;
-    s.newmark.dt = 1.0 / (16.0 * fc);
+    s.dt = 1.0 / (16.0 * fc);
   } else if (name == "reference") {
     s.method = Method::newmark;
-    s.newmark.dt = 1.0 / (80.0 * fc);
+    s.dt = 1.0 / (80.0 * fc);
   } else {
     throw InputError("unknown preset '" + name + "': fast, default or reference");
   }
@@ -54,15 +54,15 @@ RunSettings preset_settings(const std::string& name, const Scenario& sc) {
 
 std::vector<TradeoffRung> default_ladder(const Scenario& sc, bool with_ida) {
   std::vector<TradeoffRung> out;
-  const double dt = sc.settings.newmark.dt, fc = band_edge_hz(sc);
+  const double dt = sc.settings.dt, fc = band_edge_hz(sc);
   for (double k : {4.0, 2.0, 1.0, 0.5}) {
     RunSettings s = sc.settings;
     s.method = Method::newmark;
     s.superposition = Superposition::direct;
-    s.newmark.dt = dt * k;
+    s.dt = dt * k;
     // A coarse step must still sample the filter's band.
-    if (sc.settings.filter.enabled && sc.settings.filter.cheby.high_hz >= 0.45 / s.newmark.dt) continue;
-    out.push_back({"newmark dt=" + ms(s.newmark.dt), s});
+    if (sc.settings.filter.enabled && sc.settings.filter.cheby.high_hz >= 0.45 / s.dt) continue;
+    out.push_back({"newmark dt=" + ms(s.dt), s});
   }
   for (double k : {1.0, 1.5, 2.0, 3.0, 5.0})
     for (bool sc_on : {true, false}) {
@@ -87,7 +87,7 @@ std::vector<TradeoffRung> default_ladder(const Scenario& sc, bool with_ida) {
   for (const char* name : {"fast", "default"}) {
     const RunSettings s = preset_settings(name, sc);
     out.push_back({std::string("preset ") + name + " (modal " + format_number(s.modal.max_frequency_hz, 4) +
-                       " Hz +sc dt=" + ms(s.newmark.dt) + ")",
+                       " Hz +sc dt=" + ms(s.dt) + ")",
                    s});
   }
   if (with_ida)
@@ -133,7 +133,7 @@ TradeoffResult run_tradeoff(const Scenario& sc, const RunSettings& reference, co
     row.n_modes = r.summary.n_modes.front();  // the sweep's own basis: no second eigenproblem
     return std::make_pair(row, r);
   };
-  auto [ref_row, ref_sweep] = run("reference newmark dt=" + ms(reference.newmark.dt), reference);
+  auto [ref_row, ref_sweep] = run("reference newmark dt=" + ms(reference.dt), reference);
   if (ref_sweep.summary.n_failed > 0)
     throw SolverError("the reference failed in " + std::to_string(ref_sweep.summary.n_failed) +
                       " case(s), e.g.: " + ref_sweep.failures.front().message);

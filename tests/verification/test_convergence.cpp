@@ -30,12 +30,11 @@ class SmoothForce : public solve::SecondOrderSystem {
 // States (u, v) at t = 0, T/8, ..., T for step dt (all DOFs).
 std::vector<std::pair<Vector, Vector>> states(const solve::SecondOrderSystem& sys, double dt, double T) {
   std::vector<std::pair<Vector, Vector>> out;
-  solve::NewmarkOptions o;
-  o.dt = dt;
-  o.t_end = T;
+  const solve::NewmarkOptions o;
+  const solve::TimeGrid g{dt, T};
   const auto every = static_cast<Index>(std::llround(T / 8 / dt));
   REQUIRE(std::abs(every * dt * 8 - T) < 1e-9 * T);  // samples fall on steps of every run
-  solve::newmark(sys, o, [&](Index k, double, const Vector& u, const Vector& v, const Vector&) {
+  solve::newmark(sys, g, o, [&](Index k, double, const Vector& u, const Vector& v, const Vector&) {
     if (k % every == 0) out.emplace_back(u, v);
   });
   return out;

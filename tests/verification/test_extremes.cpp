@@ -18,12 +18,11 @@ Outcome run(study::Scenario sc, double v, double dt, double free_s = 0.2) {
   const load::Train t = load::regular_train("bogie", 2, 3.0, 210e3);
   const load::MovingLoads loads(s, t, v, 0.5);
   const study::MovingLoadSystem sys(s, loads);
-  solve::NewmarkOptions o = sc.settings.newmark;
-  o.dt = dt;
-  o.t_end = loads.t_exit() + free_s;
+  const solve::NewmarkOptions o = sc.settings.newmark;
+  const solve::TimeGrid g{dt, loads.t_exit() + free_s};
   const auto deck = s.deck_point(0, 11.93 / 2);
   Outcome out;
-  solve::newmark(sys, o, [&](Index, double time, const Vector& u, const Vector& vel, const Vector& a) {
+  solve::newmark(sys, g, o, [&](Index, double time, const Vector& u, const Vector& vel, const Vector& a) {
     out.finite = out.finite && u.allFinite() && vel.allFinite() && a.allFinite();
     out.max_disp = std::max(out.max_disp, std::abs(deck.value(u)));
     out.max_acc = std::max(out.max_acc, std::abs(deck.value(a)));
@@ -87,7 +86,7 @@ TEST_CASE("stability at the extremes: 5 km/h and 600 km/h") {
   sensible(run(sc, 600.0 / 3.6, 1e-3), sc, "600 km/h");
 }
 
-TEST_CASE("stability at the extremes: time steps x10 and /100 of the default") {
+TEST_CASE("stability at the extremes: time steps x10 and /100 of the default", "[long]") {
   const study::Scenario sc = vt::shipped("old-guadiana-sensitivity");
   sensible(run(sc, 50.0, 1e-2), sc, "dt = 10 ms");
   sensible(run(sc, 50.0, 1e-5, 0.02), sc, "dt = 10 us");
@@ -99,7 +98,7 @@ TEST_CASE("stability at the extremes: time steps x10 and /100 of the default") {
 // The same extremes for modal superposition (issue #5): exact per-step modal equations, complex
 // modes for the coupled track damping, modes up to 180 Hz (the `default` preset at f_c = 60 Hz)
 // with the static correction; deflection at mid-span of span 1 against the static deflection.
-TEST_CASE("stability at the extremes with modal superposition: pads and damping and speeds and steps") {
+TEST_CASE("stability at the extremes with modal superposition: pads and damping and speeds and steps", "[long]") {
   struct Case {
     const char* what;
     double pad_factor;
@@ -125,7 +124,7 @@ TEST_CASE("stability at the extremes with modal superposition: pads and damping 
     sc.stations = {{"mid", true, 0, 11.93 / 2, 0.0}};
     sc.settings.method = study::Method::modal;
     sc.settings.modal.max_frequency_hz = 180.0;
-    sc.settings.newmark.dt = c.dt;
+    sc.settings.dt = c.dt;
     sc.settings.filter.enabled = false;  // the 60 Hz filter needs dt < 8.3 ms
     sc.settings.free_vibration_s = 0.2;
     const study::PreparedModel m = study::prepare_model(sc);
@@ -144,7 +143,7 @@ TEST_CASE("stability at the extremes with modal superposition: pads and damping 
 
 // IDA at the extremes (issue #5), at rtol 1e-3 (the tradeoff's middle rung): soft pads on the Old Guadiana model
 // with 3 m of approach and exit track; zero damping, 20 and 600 km/h on the bare 15 m HSLM span.
-TEST_CASE("stability at the extremes with IDA: pads and zero damping and slow and fast axles") {
+TEST_CASE("stability at the extremes with IDA: pads and zero damping and slow and fast axles", "[long]") {
   struct Case {
     const char* what;
     bool track;
@@ -171,7 +170,7 @@ TEST_CASE("stability at the extremes with IDA: pads and zero damping and slow an
     sc.settings.ida.rtol = 1e-3;
     sc.settings.ida.atol_disp = 1e-6;
     sc.settings.ida.atol_vel = 1e-4;
-    sc.settings.newmark.dt = 1e-3;
+    sc.settings.dt = 1e-3;
     sc.settings.filter.enabled = false;
     sc.settings.load_factor = 1.0;
     sc.settings.free_vibration_s = 0.2;

@@ -21,7 +21,7 @@ TEST_CASE("single moving force on an undamped simply supported beam (Frýba)") {
     study::RunSettings rs;
     rs.filter.enabled = false;
     rs.free_vibration_s = 1.0 / f1;
-    rs.newmark.dt = 1.0 / (f1 * 2000);  // 2000 steps per fundamental period
+    rs.dt = 1.0 / (f1 * 2000);  // 2000 steps per fundamental period
     const auto r = study::simulate(s, stations, load::regular_train("P", 1, 0.0, P), v, rs);
     const double got = r.stations[0].disp.maxCoeff() / d_static;
     const double err = got / delta - 1.0;

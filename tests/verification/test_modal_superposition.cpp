@@ -13,7 +13,7 @@ namespace {
 RunSettings settings(double dt, Method method = Method::newmark) {
   RunSettings rs;
   rs.method = method;
-  rs.newmark.dt = dt;
+  rs.dt = dt;
   rs.free_vibration_s = 0.5;
   // The HSLM scenario's 45 Hz low-pass (frequencies up to max(30 Hz, 1.5 f1, f3), EN 1991-2):
   // the unfiltered acceleration of a fine FE model carries kHz content from the element
@@ -136,14 +136,14 @@ TEST_CASE("unit-response superposition reproduces direct runs of several trains"
   }
 }
 
-TEST_CASE("track model: complex modes converge to Newmark and every basis from one mode to all is stable") {
+TEST_CASE("track model: complex modes converge to Newmark and every basis from one mode to all is stable", "[long]") {
   // The Old Guadiana model with 3 m of approach and exit track and a 4-axle train at 100 m/s,
   // where the pads' and ballast's dashpots couple the modes strongly.
   Scenario sc = vt::shipped("old-guadiana-sensitivity", {"track.approach_length=3.0", "track.exit_length=3.0"});
   sc.trains = {load::regular_train("4x", 4, 18.0, 210e3)};
   const double v = 100.0;
   sc.settings.free_vibration_s = 0.3;
-  sc.settings.newmark.dt = 1e-4;
+  sc.settings.dt = 1e-4;
   const PreparedModel nm_model = prepare_model(sc);
   const RunResult ref = simulate(nm_model, sc.trains[0], v, sc.settings);
   const double pa = peak(ref.stations[0].acc_filt), pd = peak(ref.stations[0].disp);
@@ -178,7 +178,7 @@ TEST_CASE("track model: complex modes converge to Newmark and every basis from o
   }
 }
 
-TEST_CASE("IDA on a span under moving axles: tight tolerances agree with Newmark and loose ones stay bounded") {
+TEST_CASE("IDA on a span under moving axles: tight tolerances agree with Newmark and loose ones stay bounded", "[long]") {
   const load::Train train = load::regular_train("4x", 4, 8.0, 170e3);
   const double v = 250 / 3.6;
   const RunSettings ref_s = settings(5e-5);
@@ -206,7 +206,7 @@ TEST_CASE("IDA on a span under moving axles: tight tolerances agree with Newmark
   }
 }
 
-TEST_CASE("track model with doubled pad damping: all complex modes stay accurate") {
+TEST_CASE("track model with doubled pad damping: all complex modes stay accurate", "[long]") {
   // With the pads' dashpots doubled (the sensitivity study's Cp x2) and every mode up to the
   // rail's tens of kHz, the unscaled first-order eigenproblem gave eigenvectors so inaccurate
   // that the deck acceleration came out 10⁴ times too large, finite and unflagged. Solved in
@@ -217,7 +217,7 @@ TEST_CASE("track model with doubled pad damping: all complex modes stay accurate
   sc.trains = {load::regular_train("4x", 4, 18.0, 210e3)};
   const double v = 100.0;
   sc.settings.free_vibration_s = 0.3;
-  sc.settings.newmark.dt = 1e-4;
+  sc.settings.dt = 1e-4;
   const RunResult ref = simulate(prepare_model(sc), sc.trains[0], v, sc.settings);
   sc.settings.method = Method::modal;
   const PreparedModel m = prepare_model(sc);

@@ -119,7 +119,7 @@ int main(int argc, char** argv) {
     auto make = [&](unsigned seed) {
       FitRecord rec;
       rec.name = "og";
-      rec.fs_hz = 1.0 / rs.newmark.dt;
+      rec.fs_hz = 1.0 / rs.dt;
       rec.t0_s = 0.0;
       const auto lead = static_cast<Index>(1.5 * rec.fs_hz);
       const Index n = lead + run.t.size() - static_cast<Index>(1.0 * rec.fs_hz);

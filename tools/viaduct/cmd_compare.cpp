@@ -124,7 +124,7 @@ Command compare_command() {
       const auto& h = run.stations[mp.station];
       const Vector model = (mp.quantity == "acc" ? h.acc : h.disp) * mp.scale;
       const study::ChannelComparison cc = study::compare_channel(rec.data.col(static_cast<Index>(mp.channel)), rec.fs_hz,
-                                                                 rec.t0_s, model, 1.0 / rs.newmark.dt, co);
+                                                                 rec.t0_s, model, 1.0 / rs.dt, co);
       const std::string base = rec.channels[mp.channel].substr(0, rec.channels[mp.channel].size() - rec.units[mp.channel].size() - 1);
       const std::string& u = rec.units[mp.channel];
       if (tcols.empty()) tcols.push_back(cc.t);

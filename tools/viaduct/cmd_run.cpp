@@ -57,10 +57,8 @@ Command run_command() {
                {"speed_kmh", std::to_string(speed * 3.6)},
                {"n_dofs", std::to_string(s.n_dofs)},
                {"n_steps", std::to_string(r.summary.n_steps)},
-               {"method", sc.settings.method == study::Method::modal ? "\"modal\""
-                         : sc.settings.method == study::Method::ida ? "\"ida\""
-                                                                   : "\"newmark\""},
-               {"stop_reason", "\"" + r.summary.stop_reason + "\""},
+               {"method", std::string("\"") + solve::method_name(sc.settings.method) + "\""},
+               {"stop_reason", "\"" + r.summary.describe() + "\""},
                {"n_modes", std::to_string(r.n_modes)},
                {"solver_wall_s", std::to_string(r.summary.wall_s)}};
     m.versions = tool_versions();
@@ -68,7 +66,7 @@ Command run_command() {
     if (!o.quiet) {
       std::printf("%s at %.1f km/h: %ld DOFs, %ld steps, %.2f s\n", train->name.c_str(), speed * 3.6,
                   static_cast<long>(s.n_dofs), static_cast<long>(r.summary.n_steps), r.summary.wall_s);
-      if (sc.settings.method == study::Method::ida) std::printf("IDA: %s\n", r.summary.stop_reason.c_str());
+      if (sc.settings.method == study::Method::ida) std::printf("IDA: %s\n", r.summary.describe().c_str());
       if (pm.modal)
         std::printf("modal: %ld modes, %.2f to %.1f Hz; damping coupling up to %.3f (%s)\n",
                     static_cast<long>(pm.modal->n_modes()), pm.modal_frequency_hz[0],

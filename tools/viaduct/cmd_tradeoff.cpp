@@ -12,16 +12,13 @@ namespace viaduct::cli {
 
 namespace {
 std::string num(double v) { return format_number(v, 6); }
-const char* method_name(study::Method m) {
-  return m == study::Method::modal ? "modal" : m == study::Method::ida ? "ida" : "newmark";
-}
 
 std::vector<std::string> cells(const study::TradeoffRow& r) {
   const auto& s = r.settings;
   const bool modal = s.method == study::Method::modal;
-  return {r.label, method_name(s.method),
+  return {r.label, solve::method_name(s.method),
           s.superposition == study::Superposition::unit_response ? "unit-response" : "direct",
-          num(s.newmark.dt * 1e3), modal ? num(s.modal.max_frequency_hz) : "", modal ? std::to_string(r.n_modes) : "",
+          num(s.dt * 1e3), modal ? num(s.modal.max_frequency_hz) : "", modal ? std::to_string(r.n_modes) : "",
           modal ? (s.modal.static_correction ? "true" : "false") : "", num(r.wall_s), std::to_string(r.n_failed),
           num(r.max_acc_error), num(r.max_disp_error)};
 }
@@ -91,7 +88,7 @@ Command tradeoff_command() {
     m.extra = {{"threads", std::to_string(o.threads)},
                {"n_speeds", std::to_string(sc.sweep_speeds.size())},
                {"n_trains", std::to_string(sc.trains.size())},
-               {"reference_dt_s", num(ref.newmark.dt)}};
+               {"reference_dt_s", num(ref.dt)}};
     m.versions = tool_versions();
     io::write_manifest(o.out + "/manifest.toml", m, flat);
     if (!o.quiet) {

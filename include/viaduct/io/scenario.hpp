@@ -15,7 +15,6 @@
 
 #include "viaduct/core/error.hpp"
 #include "viaduct/study/scenario.hpp"
-#include "viaduct/study/sweep.hpp"
 
 namespace viaduct::io {
 

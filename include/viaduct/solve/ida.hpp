@@ -13,42 +13,18 @@
 #include <functional>
 #include <string>
 
-#include "viaduct/core/log.hpp"
 #include "viaduct/solve/newmark.hpp"
+#include "viaduct/solve/options.hpp"
 #include "viaduct/solve/second_order_system.hpp"
+#include "viaduct/solve/summary.hpp"
 
 namespace viaduct::solve {
 
-struct IdaOptions {
-  double dt_out = 1e-3;      ///< [s] recording interval, > 0 (outputs at k·dt_out, interpolated by IDA)
-  double t_end = 1.0;        ///< [s] > 0
-  double rtol = 1e-6;        ///< [-] relative tolerance, in [1e-12, 1e-1]
-  double atol_disp = 1e-10;  ///< [m] absolute tolerance of displacements, > 0
-  double atol_vel = 1e-8;    ///< [m/s] absolute tolerance of velocities, > 0
-  int max_order = 5;         ///< BDF order limit, 1..5
-  double max_step = 0.0;     ///< [s] largest internal step (0: no limit), >= 0
-  long max_steps_per_output = 100000;  ///< internal steps allowed between two outputs, >= 1
-  LogSink log;               ///< SUNDIALS' warnings (optional; errors are thrown with their message)
-  bool is_valid(std::string* why) const;
-};
 
-/// What a run did (DESIGN.md §3.5).
-struct IdaSummary {
-  Index n_outputs = 0;       ///< samples delivered (t = 0 included)
-  long n_steps = 0;          ///< internal steps
-  long n_residuals = 0;      ///< residual evaluations
-  long n_jacobians = 0;      ///< Jacobian evaluations (each one KLU refactorisation)
-  long n_error_test_failures = 0;
-  long n_nonlinear_failures = 0;
-  long n_restarts = 0;       ///< restarts at discontinuities
-  int last_order = 0;
-  double t_reached = 0.0;    ///< [s]
-  double wall_s = 0.0;       ///< [s]
-  std::string stop_reason;
-};
-
-/// Integrates from rest; calls `observe` at t = 0 and every dt_out with (u, v, a). InputError for
-/// invalid options, SolverError with IDA's flag and message when integration fails.
-IdaSummary ida(const SecondOrderSystem& sys, const IdaOptions& opt, const StepObserver& observe);
+/// Integrates from rest; calls `observe` at t = 0 and every grid.dt with (u, v, a). InputError for
+/// an invalid grid or options, SolverError with IDA's flag and message when integration fails.
+/// Summary: n_steps internal steps, n_factorisations Jacobians (KLU refactorisations),
+/// n_rejected_steps error-test failures, n_nonlinear_failures, n_residuals, n_restarts, last_order.
+Summary ida(const SecondOrderSystem& sys, const TimeGrid& grid, const IdaOptions& opt, const StepObserver& observe);
 
 }  // namespace viaduct::solve

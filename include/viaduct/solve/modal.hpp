@@ -19,26 +19,12 @@
 #include <string>
 #include <vector>
 
+#include "viaduct/solve/options.hpp"
 #include "viaduct/solve/second_order_system.hpp"
+#include "viaduct/solve/summary.hpp"
 
 namespace viaduct::solve {
 
-struct ModalOptions {
-  double dt = 1e-3;    ///< [s] output and load-sampling interval, > 0
-  double t_end = 1.0;  ///< [s] last time, > 0 (steps: ceil(t_end/dt))
-  /// Throw SolverError when the modal state stops being finite.
-  bool check_finite = true;
-  bool is_valid(std::string* why) const;
-};
-
-struct ModalSummary {
-  Index n_steps = 0;
-  Index n_modes = 0;
-  Index n_dofs = 0;
-  double t_reached = 0.0;  ///< [s]
-  double wall_s = 0.0;     ///< [s] integration only (the reduction is built beforehand)
-  std::string stop_reason;
-};
 
 /// Called at t = 0 and after every step with the outputs (one entry per Functional):
 /// disp = y(t) (static correction included when enabled), acc = ÿ(t) from the modes.
@@ -82,12 +68,14 @@ class ModalReduction {
   /// True when the damping couples the modes and complex modes are integrated.
   bool complex_modes() const { return complex_; }
 
-  /// Integrates from rest with the loads of `sys` (its matrices are not used: they must be the
-  /// ones this reduction was built from). Allocation-free per step.
-  ModalSummary integrate(const SecondOrderSystem& sys, const ModalOptions& opt,
-                         const OutputObserver& observe) const;
+  /// Integrates from rest on `grid` with the loads of `sys` (its matrices are not used: they must
+  /// be the ones this reduction was built from). Allocation-free per step. Summary::wall_s:
+  /// integration only (the reduction is built beforehand).
+  Summary integrate(const SecondOrderSystem& sys, const TimeGrid& grid, const ModalOptions& opt,
+                    const OutputObserver& observe) const;
   /// The same with loads that project themselves.
-  ModalSummary integrate(ModalForce& force, const ModalOptions& opt, const OutputObserver& observe) const;
+  Summary integrate(ModalForce& force, const TimeGrid& grid, const ModalOptions& opt,
+                    const OutputObserver& observe) const;
 
   using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   /// Load channels, row-major n_dofs × n_channels: channel values are Lᵀ f. Classical damping:
@@ -120,7 +108,8 @@ class ModalReduction {
   ComplexForm complex_form() const;
 
  private:
-  ModalSummary integrate_complex(ModalForce& force, const ModalOptions& opt, const OutputObserver& observe) const;
+  Summary integrate_complex(ModalForce& force, const TimeGrid& grid, const ModalOptions& opt,
+                            const OutputObserver& observe) const;
   RowMatrix load_rows_;  // n × n_channels
   Vector omega_, zeta_;
   bool complex_ = false;

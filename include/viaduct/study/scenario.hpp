@@ -9,7 +9,7 @@
 #include "viaduct/load/train.hpp"
 #include "viaduct/model/structure.hpp"
 #include "viaduct/signal/iir.hpp"
-#include "viaduct/solve/newmark.hpp"
+#include "viaduct/solve/options.hpp"
 
 namespace viaduct::study {
 
@@ -28,21 +28,8 @@ struct FilterSpec {
   signal::Cheby1Spec cheby;
 };
 
-/// How the equations of motion are solved.
-enum class Method {
-  newmark,  ///< direct Newmark/HHT integration of every DOF
-  modal,    ///< modal superposition (solve::ModalReduction)
-  ida,      ///< adaptive BDF (SUNDIALS IDA) of every DOF, sampled every analysis.dt
-};
-
-/// IDA tolerances (solve::IdaOptions).
-struct IdaSettings {
-  double rtol = 1e-6;        ///< [-]
-  double atol_disp = 1e-10;  ///< [m]
-  double atol_vel = 1e-8;    ///< [m/s]
-  int max_order = 5;         ///< 1..5
-  LogSink log;               ///< SUNDIALS' messages (optional; called from any sweep thread)
-};
+/// How the equations of motion are solved (chosen in one place: solve::make_integrator).
+using Method = solve::Method;
 
 /// How a train's response is composed.
 enum class Superposition {
@@ -63,13 +50,16 @@ struct ModalSettings {
 /// Integration and run settings shared by `run` and `sweep`.
 struct RunSettings {
   Method method = Method::newmark;
+  double dt = 1e-3;                ///< [s] the analysis step: Newmark's step, modal load sampling, recording interval
   Superposition superposition = Superposition::direct;
-  ModalSettings modal;
-  IdaSettings ida;
-  solve::NewmarkOptions newmark;   ///< dt (also the modal and output step), beta, gamma, alpha
+  ModalSettings modal;             ///< the modal basis (Method::modal)
+  solve::NewmarkOptions newmark;   ///< beta, gamma, alpha (Method::newmark)
+  solve::IdaOptions ida;           ///< tolerances; log: SUNDIALS' messages, called from any sweep thread (Method::ida)
   double free_vibration_s = 1.0;   ///< [s] simulated after the last axle leaves, >= 0
   double load_factor = 1.0;        ///< [-] multiplies every axle load, > 0
   FilterSpec filter;
+  /// What solve::make_integrator() takes: the method, dt and the options of each method.
+  solve::IntegrationSettings integration() const;
 };
 
 struct Scenario {
@@ -81,6 +71,12 @@ struct Scenario {
   RunSettings settings;
   std::optional<double> run_speed;           ///< [m/s] default speed of `viaduct run`
   std::vector<double> sweep_speeds;          ///< [m/s] speeds of `viaduct sweep`
+};
+
+/// One parameter variant of a sweep: a fully resolved scenario (trains, speeds, stations included).
+struct Variant {
+  std::string label;  ///< e.g. "reference", "Kp x0.5"
+  Scenario scenario;
 };
 
 }  // namespace viaduct::study

@@ -1,5 +1,8 @@
 #pragma once
-/// \file One train at one speed over one structure: station time histories.
+/// \file The engine of every study: one train at one speed (or one batch of speeds) over one
+/// structure, integrated by the solve::Integrator that the settings choose; station time
+/// histories or only their peaks. Workflows (sweep, trade-off, compare, fit, forced tests) call
+/// these and never a kernel.
 
 #include <memory>
 #include <string>
@@ -7,9 +10,7 @@
 
 #include "viaduct/load/moving_loads.hpp"
 #include "viaduct/model/structure.hpp"
-#include "viaduct/solve/ida.hpp"
-#include "viaduct/solve/modal.hpp"
-#include "viaduct/solve/newmark.hpp"
+#include "viaduct/solve/integrator.hpp"
 #include "viaduct/study/scenario.hpp"
 
 namespace viaduct::study {
@@ -70,7 +71,7 @@ struct StationHistory {
 struct RunResult {
   Vector t;  ///< [s] sample times (every step, t = 0 included)
   std::vector<StationHistory> stations;
-  solve::NewmarkSummary summary;  ///< steps, DOFs, time reached, wall time (any method)
+  solve::Summary summary;         ///< kernel, steps, counters, time reached, wall time (any method)
   double speed = 0.0;             ///< [m/s]
   Method method = Method::newmark;
   Index n_modes = 0;              ///< modes used (modal method)
@@ -110,10 +111,10 @@ RunResult simulate(const PreparedModel& m, const load::Train& train, double spee
 RunResult simulate(const model::Structure& s, const std::vector<ResolvedStation>& stations,
                    const load::Train& train, double speed, const RunSettings& settings);
 
-/// The same as simulate() at each of `speeds` [m/s], in order. With the Newmark method the
-/// speeds run kNewmarkBatch at a time through solve::newmark_batch (one factorisation, the
-/// sparse products and solves on all of them at once: same answers, a fraction of the time);
-/// other methods run one simulate() per speed.
+/// The same as simulate() at each of `speeds` [m/s], in order, through the integrator's batch
+/// (solve::Integrator::run_batch). Newmark: kNewmarkBatch speeds at a time (one factorisation, the
+/// sparse products and solves on all of them at once: same answers up to rounding, a fraction of
+/// the time); other methods one case at a time.
 std::vector<RunResult> simulate_batch(const PreparedModel& m, const load::Train& train,
                                       const std::vector<double>& speeds, const RunSettings& settings);
 
@@ -131,5 +132,30 @@ struct StationPeaks {
   double max_abs_disp = 0.0;  ///< [m] deflection
 };
 std::vector<StationPeaks> peaks(const RunResult& r);
+
+/// True when the cases of `m` under `s` can run on a folded train (fold_train, simulate_peaks):
+/// modal method (the model prepared for it) and direct superposition.
+bool folds_trains(const PreparedModel& m, const RunSettings& s);
+
+/// `train` (loads × load_factor, > 0) folded over the unit-axle table of `m` (prepared for the
+/// modal method): its modal loads as one piecewise cubic of the head position, exact and
+/// speed-independent, built once per (model, train). InputError for an invalid train or a model
+/// without a modal table.
+std::shared_ptr<const solve::MovingChannels> fold_train(const PreparedModel& m, const load::Train& train,
+                                                        double load_factor);
+
+/// Peaks of one case, as peaks(simulate(...)) gives them.
+struct CasePeaks {
+  std::vector<StationPeaks> peaks;  ///< per station
+  Index n_steps = 0;
+  double wall_s = 0.0;  ///< [s]
+};
+
+/// The peaks of `train` at each of `speeds` [m/s], in order, the cheapest way the settings allow:
+/// with a folded train (`folded` from fold_train, folds_trains(m, settings)) the modal peaks kernel
+/// (no history but the accelerations a filter needs, four speeds per SIMD pass); otherwise
+/// simulate_batch(). Same values as peaks(simulate()) up to rounding.
+std::vector<CasePeaks> simulate_peaks(const PreparedModel& m, const load::Train& train, const std::vector<double>& speeds,
+                                      const RunSettings& settings, const solve::MovingChannels* folded = nullptr);
 
 }  // namespace viaduct::study

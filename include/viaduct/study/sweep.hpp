@@ -11,12 +11,6 @@
 
 namespace viaduct::study {
 
-/// One parameter variant: a fully resolved scenario (trains, speeds, stations included).
-struct Variant {
-  std::string label;  ///< e.g. "reference", "Kp x0.5"
-  Scenario scenario;
-};
-
 /// One envelope row (tidy: one observation per row).
 struct EnvelopeRow {
   std::string variant, train, station;

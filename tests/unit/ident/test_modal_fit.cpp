@@ -80,7 +80,7 @@ TEST_CASE("LSCF, peak picking and circle fit recover a single mode from 0.5 % to
   }
 }
 
-TEST_CASE("LSCF separates two modes 2 % apart and recovers their shapes") {
+TEST_CASE("LSCF separates two modes 2 % apart and recovers their shapes", "[long]") {
   for (double zeta : {0.005, 0.01, 0.02}) {
     INFO("zeta " << zeta);
     vt::ModalSystem m;

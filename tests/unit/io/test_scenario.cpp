@@ -212,16 +212,16 @@ TEST_CASE("solution methods and presets resolve from the scenario and explicit k
   study::Scenario f = to_scenario(load_flat(s.scenario("[analysis]\npreset = \"fast\"\n")));
   REQUIRE(f.settings.method == study::Method::modal);
   REQUIRE(f.settings.modal.max_frequency_hz == Approx(45.0));
-  REQUIRE(f.settings.newmark.dt == Approx(1.0 / (16 * 30.0)));
+  REQUIRE(f.settings.dt == Approx(1.0 / (16 * 30.0)));
   REQUIRE(f.settings.modal.static_correction);
   study::Scenario r = to_scenario(load_flat(s.scenario("[analysis]\npreset = \"reference\"\n")));
   REQUIRE(r.settings.method == study::Method::newmark);
-  REQUIRE(r.settings.newmark.dt == Approx(1.0 / (80 * 30.0)));
+  REQUIRE(r.settings.dt == Approx(1.0 / (80 * 30.0)));
   // Explicit keys win over the preset, from the file or from --set.
   study::Scenario e = to_scenario(load_flat(s.scenario("[analysis]\npreset = \"default\"\ndt = 0.002\n[modal]\nn_modes = 4\n"),
                                             {"modal.static_correction=false"}));
   REQUIRE(e.settings.method == study::Method::modal);
-  REQUIRE(e.settings.newmark.dt == 0.002);
+  REQUIRE(e.settings.dt == 0.002);
   REQUIRE(e.settings.modal.n_modes == 4);
   REQUIRE(e.settings.modal.max_frequency_hz == Approx(60.0));  // default: 2 f_c
   REQUIRE_FALSE(e.settings.modal.static_correction);

@@ -54,17 +54,16 @@ TEST_CASE("IDA converges to the step response as the tolerance tightens") {
   double prev = 1e9;
   for (double rtol : {1e-3, 1e-5, 1e-7, 1e-9}) {
     IdaOptions o;
-    o.t_end = 3.0;
-    o.dt_out = 0.01;
+    const TimeGrid g{0.01, 3.0};
     o.rtol = rtol;
     o.atol_disp = rtol * 1e-3;
     o.atol_vel = rtol * 1e-2;
     double err = 0.0, peak = 0.0;
-    const IdaSummary s = ida(sys, o, [&](Index, double t, const Vector& u, const Vector&, const Vector&) {
+    const Summary s = ida(sys, g, o, [&](Index, double t, const Vector& u, const Vector&, const Vector&) {
       err = std::max(err, std::abs(u[0] - step_response(t, w, z, 5.0)));
       peak = std::max(peak, std::abs(u[0]));
     });
-    REQUIRE(s.n_outputs == 301);
+    REQUIRE(s.n_samples == 301);
     REQUIRE(s.n_steps > 0);
     // Global error of an adaptive BDF: a small multiple of the tolerance (here < 100 rtol) and
     // decreasing with it.
@@ -84,13 +83,12 @@ TEST_CASE("IDA stops and restarts at a reported discontinuity") {
   for (bool report : {true, false}) {
     const Step sys(1.0, 2 * z * w, w * w, 5.0, t_off, report);
     IdaOptions o;
-    o.t_end = 1.5;
-    o.dt_out = 0.005;
+    const TimeGrid g{0.005, 1.5};
     o.rtol = 1e-8;
     o.atol_disp = 1e-12;
     o.atol_vel = 1e-10;
     double err = 0.0, peak = 0.0;
-    const IdaSummary s = ida(sys, o, [&](Index, double t, const Vector& u, const Vector&, const Vector&) {
+    const Summary s = ida(sys, g, o, [&](Index, double t, const Vector& u, const Vector&, const Vector&) {
       err = std::max(err, std::abs(u[0] - exact(t)));
       peak = std::max(peak, std::abs(u[0]));
     });
@@ -107,29 +105,27 @@ TEST_CASE("IDA stops and restarts at a reported discontinuity") {
 TEST_CASE("an exception thrown in the system's callback crosses IDA intact") {
   Step sys(1.0, 0.1, 100.0, 1.0, 0.0, false);
   sys.throw_at_ = 0.25;
-  IdaOptions o;
-  o.t_end = 1.0;
-  REQUIRE_THROWS_WITH(ida(sys, o, nullptr), Catch::StartsWith("callback failure at 0.25"));
+  const IdaOptions o;
+  REQUIRE_THROWS_WITH(ida(sys, TimeGrid{1e-3, 1.0}, o, nullptr), Catch::StartsWith("callback failure at 0.25"));
 }
 
 TEST_CASE("IDA: invalid options are refused and failures carry IDA's flag and message") {
   const Step sys(1.0, 0.1, 100.0, 1.0, 0.0, false);
+  const TimeGrid g{1e-3, 1.0};
   IdaOptions o;
   o.rtol = 0.0;
-  REQUIRE_THROWS_WITH(ida(sys, o, nullptr), Catch::Contains("rtol must be in [1e-12, 0.1]"));
+  REQUIRE_THROWS_WITH(ida(sys, g, o, nullptr), Catch::Contains("IdaOptions::rtol = 0: violated constraint rtol in [1e-12, 0.1]"));
   o = IdaOptions{};
   o.max_order = 6;
-  REQUIRE_THROWS_WITH(ida(sys, o, nullptr), Catch::Contains("max_order must be 1..5"));
+  REQUIRE_THROWS_WITH(ida(sys, g, o, nullptr), Catch::Contains("IdaOptions::max_order = 6: violated constraint max_order in 1..5"));
   o = IdaOptions{};
-  o.dt_out = -1.0;
-  REQUIRE_THROWS_AS(ida(sys, o, nullptr), InputError);
+  REQUIRE_THROWS_WITH(ida(sys, TimeGrid{-1.0, 1.0}, o, nullptr), Catch::Contains("TimeGrid::dt = -1"));
   // Too little work allowed per output: IDA gives up with its flag and its own message (which
   // goes into the exception, not to stderr).
   o = IdaOptions{};
   o.rtol = 1e-10;
   o.atol_disp = 1e-14;
   o.atol_vel = 1e-12;
-  o.dt_out = 0.5;
   o.max_steps_per_output = 3;
-  REQUIRE_THROWS_WITH(ida(sys, o, nullptr), Catch::Contains("IDA_TOO_MUCH_WORK") && Catch::Contains("IDASolve"));
+  REQUIRE_THROWS_WITH(ida(sys, TimeGrid{0.5, 1.0}, o, nullptr), Catch::Contains("IDA_TOO_MUCH_WORK") && Catch::Contains("IDASolve"));
 }

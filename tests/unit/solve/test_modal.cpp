@@ -53,19 +53,16 @@ Functional at(Index d) { return Functional{{d}, {1.0}}; }
 // of u[0] and of a[dof_acc].
 std::pair<double, double> modal_vs_newmark(const Chain& sys, const ModalReduction& red, Index dof_acc, double dt,
                                            double t_end) {
-  ModalOptions mo;
-  mo.dt = dt;
-  mo.t_end = t_end;
+  const ModalOptions mo;
+  const TimeGrid g{dt, t_end};
   std::vector<double> md, ma;
-  red.integrate(sys, mo, [&](Index, double, const Vector& d, const Vector& a) {
+  red.integrate(sys, g, mo, [&](Index, double, const Vector& d, const Vector& a) {
     md.push_back(d[0]);
     ma.push_back(a[1]);
   });
-  NewmarkOptions no;
-  no.dt = dt;
-  no.t_end = t_end;
+  const NewmarkOptions no;
   std::vector<double> nd, na;
-  newmark(sys, no, [&](Index, double, const Vector& u, const Vector&, const Vector& a) {
+  newmark(sys, g, no, [&](Index, double, const Vector& u, const Vector&, const Vector& a) {
     nd.push_back(u[0]);
     na.push_back(a[dof_acc]);
   });
@@ -141,11 +138,10 @@ TEST_CASE("the static correction restores the quasi-static response of dropped m
   const double u_static = lk.solve(f)[6];
   auto final_disp = [&](bool correction) {
     const ModalReduction red(sys.M_, sys.C_, sys.K_, shape.leftCols(1), omega.head(1), {at(6)}, correction);
-    ModalOptions mo;
-    mo.dt = 0.5;  // exact per step: a coarse step is fine
-    mo.t_end = 1200.0;
+    const ModalOptions mo;
+    const TimeGrid g{0.5, 1200.0};  // exact per step: a coarse step is fine
     double last = 0;
-    red.integrate(sys, mo, [&](Index, double, const Vector& d, const Vector&) { last = d[0]; });
+    red.integrate(sys, g, mo, [&](Index, double, const Vector& d, const Vector&) { last = d[0]; });
     return last;
   };
   REQUIRE(std::abs(final_disp(false) - u_static) > 0.3 * u_static);
@@ -167,9 +163,8 @@ TEST_CASE("non-proportional damping is measured, invalid bases and options are r
   REQUIRE_THROWS_WITH(ModalReduction(sys.M_, sys.C_, sys.K_, shape.topRows(3), omega, {at(0)}, false),
                       Catch::Contains("wrong number of rows"));
   REQUIRE_THROWS_WITH(ModalReduction(sys.M_, sys.C_, sys.K_, shape, omega, {at(9)}, false), Catch::Contains("out of range"));
-  ModalOptions bad;
-  bad.dt = 0.0;
-  REQUIRE_THROWS_WITH(red.integrate(sys, bad, nullptr), Catch::Contains("dt must be > 0"));
+  REQUIRE_THROWS_WITH(red.integrate(sys, TimeGrid{0.0, 1.0}, ModalOptions{}, nullptr),
+                      Catch::Contains("TimeGrid::dt = 0: violated constraint dt > 0"));
 }
 
 TEST_CASE("coupled (non-proportional) damping: complex modes with every mode match converged Newmark") {

@@ -57,14 +57,13 @@ class Oscillator : public SecondOrderSystem {
 TEST_CASE("Newmark average acceleration: undamped free vibration keeps its energy") {
   const double w = 2 * M_PI * 3.0;
   Oscillator osc(2.0, 0.0, 2.0 * w * w);
-  NewmarkOptions o;
-  o.dt = 0.01;
-  o.t_end = 20.0;
+  const NewmarkOptions o;
+  const TimeGrid g{0.01, 20.0};
   Vector u0(1), v0(1);
   u0 << 0.01;
   v0 << 0.0;
   double e_min = 1e300, e_max = 0;
-  newmark(osc, o, [&](Index, double, const Vector& u, const Vector& v, const Vector&) {
+  newmark(osc, g, o, [&](Index, double, const Vector& u, const Vector& v, const Vector&) {
     const double e = 0.5 * 2.0 * v[0] * v[0] + 0.5 * 2.0 * w * w * u[0] * u[0];
     e_min = std::min(e_min, e);
     e_max = std::max(e_max, e);
@@ -87,11 +86,10 @@ TEST_CASE("Newmark tracks the exact forced damped response of one DOF") {
     return A * std::sin(Om * t) + B * std::cos(Om * t) +
            std::exp(-zeta * wn * t) * (c1 * std::cos(wd * t) + c2 * std::sin(wd * t));
   };
-  NewmarkOptions o;
-  o.dt = 1e-3;
-  o.t_end = 3.0;
+  const NewmarkOptions o;
+  const TimeGrid g{1e-3, 3.0};
   double err = 0, peak = 0;
-  newmark(osc, o, [&](Index, double t, const Vector& u, const Vector&, const Vector&) {
+  newmark(osc, g, o, [&](Index, double t, const Vector& u, const Vector&, const Vector&) {
     err = std::max(err, std::abs(u[0] - exact(t)));
     peak = std::max(peak, std::abs(exact(t)));
   });
@@ -106,11 +104,10 @@ TEST_CASE("Newmark's step loop allocates nothing") {
     return;
   }
   Oscillator osc(1.0, 0.1, 100.0, 1.0, 3.0);
-  NewmarkOptions o;
-  o.dt = 1e-3;
-  o.t_end = 0.5;
+  const NewmarkOptions o;
+  const TimeGrid g{1e-3, 0.5};
   long at_step1 = -1, later = -1;
-  newmark(osc, o, [&](Index k, double, const Vector&, const Vector&, const Vector&) {
+  newmark(osc, g, o, [&](Index k, double, const Vector&, const Vector&, const Vector&) {
     if (k == 1) at_step1 = g_allocations.load();
     if (k == 500) later = g_allocations.load();
   });
@@ -150,9 +147,9 @@ TEST_CASE("Newmark's step loop allocates nothing on a permuted sparse system") {
     const SparseMatrix &m_, &c_, &k_;
   } sys(M, C, K);
   for (double alpha : {0.0, -0.1}) {
-    NewmarkOptions o = NewmarkOptions::hht(alpha, 1e-3, 0.2);
+    const NewmarkOptions o = NewmarkOptions::hht(alpha);
     long at_step1 = -1, later = -1;
-    newmark(sys, o, [&](Index k, double, const Vector&, const Vector&, const Vector&) {
+    newmark(sys, TimeGrid{1e-3, 0.2}, o, [&](Index k, double, const Vector&, const Vector&, const Vector&) {
       if (k == 1) at_step1 = g_allocations.load();
       if (k == 200) later = g_allocations.load();
     });
@@ -160,26 +157,27 @@ TEST_CASE("Newmark's step loop allocates nothing on a permuted sparse system") {
   }
 }
 
-TEST_CASE("Newmark options are validated with the constraint named") {
+TEST_CASE("Newmark options are validated with the struct, field and constraint named") {
   Oscillator osc(1.0, 0.0, 1.0);
-  auto run = [&](NewmarkOptions o) { newmark(osc, o, {}); };
+  auto run = [&](NewmarkOptions o, TimeGrid g = {}) { newmark(osc, g, o, {}); };
+  const NewmarkOptions ok;
+  REQUIRE_THROWS_WITH(run(ok, {0.0, 1.0}), Catch::Contains("TimeGrid::dt = 0: violated constraint dt > 0"));
+  REQUIRE_THROWS_AS(run(ok, {-1e-3, 1.0}), InputError);
+  REQUIRE_THROWS_AS(run(ok, {std::nan(""), 1.0}), InputError);
+  REQUIRE_THROWS_WITH(run(ok, {1e-3, -1.0}), Catch::Contains("TimeGrid::t_end = -1"));
+  REQUIRE_THROWS_WITH(run(ok, {1e-16, 1e6}), Catch::Contains("t_end/dt <= 2e9"));
   NewmarkOptions o;
-  o.dt = 0.0;
-  REQUIRE_THROWS_WITH(run(o), Catch::Contains("dt must be > 0"));
-  o.dt = -1e-3;
-  REQUIRE_THROWS_AS(run(o), InputError);
-  o = NewmarkOptions{};
-  o.dt = std::nan("");
-  REQUIRE_THROWS_AS(run(o), InputError);
-  o = NewmarkOptions{};
   o.gamma = 0.4;
-  REQUIRE_THROWS_WITH(run(o), Catch::Contains("gamma must be >= 0.5"));
+  REQUIRE_THROWS_WITH(run(o), Catch::Contains("NewmarkOptions::gamma = 0.4: violated constraint gamma >= 0.5"));
   o = NewmarkOptions{};
   o.alpha = -0.5;
-  REQUIRE_THROWS_WITH(run(o), Catch::Contains("[-1/3, 0]"));
+  REQUIRE_THROWS_WITH(run(o), Catch::Contains("NewmarkOptions::alpha = -0.5") && Catch::Contains("[-1/3, 0]"));
   o = NewmarkOptions{};
   o.beta = 0.0;
-  REQUIRE_THROWS_WITH(run(o), Catch::Contains("beta must be > 0"));
+  REQUIRE_THROWS_WITH(run(o), Catch::Contains("NewmarkOptions::beta = 0: violated constraint beta > 0"));
+  o = NewmarkOptions{};
+  o.beta = std::nan("");
+  REQUIRE_THROWS_WITH(run(o), Catch::Contains("NewmarkOptions::beta = nan"));
 }
 
 TEST_CASE("conditionally stable Newmark is refused beyond its step limit, run within it") {
@@ -188,27 +186,27 @@ TEST_CASE("conditionally stable Newmark is refused beyond its step limit, run wi
   NewmarkOptions o;  // linear acceleration: limit ω dt <= sqrt(12) = 3.46
   o.beta = 1.0 / 6.0;
   o.gamma = 0.5;
-  o.t_end = 1.0;
-  o.dt = 0.05;  // ω dt = 5
-  REQUIRE_THROWS_WITH(newmark(osc, o, {}), Catch::Contains("conditionally stable"));
-  o.dt = 0.01;  // ω dt = 1
+  TimeGrid g{0.05, 1.0};  // ω dt = 5
+  REQUIRE_THROWS_WITH(newmark(osc, g, o, {}), Catch::Contains("conditionally stable"));
+  g.dt = 0.01;  // ω dt = 1
   Vector u0(1), v0(1);
   u0 << 1.0;
   v0 << 0.0;
   double umax = 0;
-  newmark(osc, o, [&](Index, double, const Vector& u, const Vector&, const Vector&) { umax = std::max(umax, std::abs(u[0])); }, &u0, &v0);
+  newmark(osc, g, o, [&](Index, double, const Vector& u, const Vector&, const Vector&) { umax = std::max(umax, std::abs(u[0])); }, &u0, &v0);
   REQUIRE(umax < 1.01);  // bounded free vibration (amplitude 1)
 }
 
 TEST_CASE("HHT-alpha damps high frequencies and leaves low ones") {
   auto decay = [](double w, double alpha) {
     Oscillator osc(1.0, 0.0, w * w);
-    NewmarkOptions o = NewmarkOptions::hht(alpha, 1e-3, 0.5);
+    const NewmarkOptions o = NewmarkOptions::hht(alpha);
+    const TimeGrid g{1e-3, 0.5};
     Vector u0(1), v0(1);
     u0 << 1.0;
     v0 << 0.0;
     double last = 0;
-    newmark(osc, o, [&](Index, double, const Vector& u, const Vector& v, const Vector&) {
+    newmark(osc, g, o, [&](Index, double, const Vector& u, const Vector& v, const Vector&) {
       last = std::sqrt(u[0] * u[0] + v[0] * v[0] / (w * w));
     }, &u0, &v0);
     return last;

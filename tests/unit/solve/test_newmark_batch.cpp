@@ -73,18 +73,17 @@ std::vector<Functional> outputs() {
   return {{{0}, {1.0}}, {{4, 5}, {0.5, 0.5}}, {{9}, {-2.0}}};
 }
 
-void require_same(const std::vector<BatchCase>& cases, const NewmarkOptions& opt) {
+void require_same(const std::vector<BatchCase>& cases, double dt, const NewmarkOptions& opt) {
   const std::vector<Functional> out = outputs();
-  const std::vector<BatchHistories> b = newmark_batch(cases, opt, out);
+  const std::vector<BatchHistories> b = newmark_batch(cases, dt, opt, out);
   REQUIRE(b.size() == cases.size());
   for (std::size_t l = 0; l < cases.size(); ++l) {
-    NewmarkOptions o = opt;
-    o.t_end = cases[l].t_end;
+    const TimeGrid g{dt, cases[l].t_end};
     Matrix d_ref, a_ref;
-    const NewmarkSummary s = newmark(*cases[l].system, o, [&](Index k, double, const Vector& u, const Vector&,
-                                                               const Vector& a) {
+    const Summary s = newmark(*cases[l].system, g, opt, [&](Index k, double, const Vector& u, const Vector&,
+                                                            const Vector& a) {
       if (k == 0) {
-        const Index rows = static_cast<Index>(std::ceil(o.t_end / o.dt - 1e-9)) + 1;
+        const Index rows = g.n_steps() + 1;
         d_ref.setZero(rows, static_cast<Index>(out.size()));
         a_ref.setZero(rows, static_cast<Index>(out.size()));
       }
@@ -107,30 +106,28 @@ void require_same(const std::vector<BatchCase>& cases, const NewmarkOptions& opt
 TEST_CASE("Newmark batch: each case as newmark() gives it, sparse and dense loads, unequal durations") {
   const Chain chain(12);
   const Case a(chain, 100.0, 7.0, 0.013, false), b(chain, -50.0, 31.0, 0.007, false), c(chain, 80.0, 3.0, 0.021, true);
-  NewmarkOptions opt;
-  opt.dt = 1e-3;
+  const NewmarkOptions opt;
   SECTION("three cases of different lengths (one lane spare)") {
-    require_same({{&a, 0.5}, {&b, 0.31}, {&c, 0.4}}, opt);
+    require_same({{&a, 0.5}, {&b, 0.31}, {&c, 0.4}}, 1e-3, opt);
   }
-  SECTION("one case") { require_same({{&b, 0.2}}, opt); }
-  SECTION("HHT-alpha") { require_same({{&a, 0.3}, {&b, 0.3}, {&c, 0.3}, {&a, 0.1}}, NewmarkOptions::hht(-0.1, 2e-3, 1.0)); }
+  SECTION("one case") { require_same({{&b, 0.2}}, 1e-3, opt); }
+  SECTION("HHT-alpha") { require_same({{&a, 0.3}, {&b, 0.3}, {&c, 0.3}, {&a, 0.1}}, 2e-3, NewmarkOptions::hht(-0.1)); }
 }
 
 TEST_CASE("Newmark batch: refused inputs") {
   const Chain chain(12), other(12);
   const Case a(chain, 100.0, 7.0, 0.013, false), b(other, 100.0, 7.0, 0.013, false);
-  NewmarkOptions opt;
-  REQUIRE_THROWS_AS(newmark_batch({}, opt, outputs()), InputError);
-  REQUIRE_THROWS_AS(newmark_batch({{&a, 1}, {&a, 1}, {&a, 1}, {&a, 1}, {&a, 1}}, opt, outputs()), InputError);
-  REQUIRE_THROWS_WITH(newmark_batch({{&a, 1}, {&b, 1}}, opt, outputs()), Catch::Contains("same M, C and K"));
-  REQUIRE_THROWS_WITH(newmark_batch({{&a, 1}}, opt, {{{12}, {1.0}}}), Catch::Contains("out of range"));
-  REQUIRE_THROWS_WITH(newmark_batch({{&a, -1.0}}, opt, outputs()), Catch::Contains("t_end must be > 0"));
-  NewmarkOptions bad = opt;
-  bad.dt = 0.0;
-  REQUIRE_THROWS_WITH(newmark_batch({{&a, 1}}, bad, outputs()), Catch::Contains("dt must be > 0"));
+  const NewmarkOptions opt;
+  const double dt = 1e-3;
+  REQUIRE_THROWS_AS(newmark_batch({}, dt, opt, outputs()), InputError);
+  REQUIRE_THROWS_AS(newmark_batch({{&a, 1}, {&a, 1}, {&a, 1}, {&a, 1}, {&a, 1}}, dt, opt, outputs()), InputError);
+  REQUIRE_THROWS_WITH(newmark_batch({{&a, 1}, {&b, 1}}, dt, opt, outputs()), Catch::Contains("same M, C and K"));
+  REQUIRE_THROWS_WITH(newmark_batch({{&a, 1}}, dt, opt, {{{12}, {1.0}}}), Catch::Contains("out of range"));
+  REQUIRE_THROWS_WITH(newmark_batch({{&a, -1.0}}, dt, opt, outputs()), Catch::Contains("TimeGrid::t_end = -1"));
+  REQUIRE_THROWS_WITH(newmark_batch({{&a, 1}}, 0.0, opt, outputs()), Catch::Contains("TimeGrid::dt = 0"));
+  REQUIRE_THROWS_WITH(newmark_batch({{nullptr, 1}}, dt, opt, outputs()), Catch::Contains("without a system"));
   // Linear acceleration (γ = 1/2, β = 1/6) beyond its stability limit.
   NewmarkOptions lin = opt;
   lin.beta = 1.0 / 6.0;
-  lin.dt = 0.1;
-  REQUIRE_THROWS_WITH(newmark_batch({{&a, 1}}, lin, outputs()), Catch::Contains("conditionally stable"));
+  REQUIRE_THROWS_WITH(newmark_batch({{&a, 1}}, 0.1, lin, outputs()), Catch::Contains("conditionally stable"));
 }

@@ -28,7 +28,7 @@ inline Scenario small_scenario(const std::vector<double>& v) {
   if (v.size() > 3) sc.bridge.bearings.c = v[3];
   sc.trains = {load::regular_train("t", 3, 8.0, 100e3)};
   sc.stations = {{"mid", true, 0, 6.0, 0.0}, {"quarter", true, 0, 3.0, 0.0}};
-  sc.settings.newmark.dt = 2e-3;
+  sc.settings.dt = 2e-3;
   sc.settings.free_vibration_s = 1.5;
   sc.settings.filter.cheby.low_hz = 1.0;
   sc.settings.filter.cheby.high_hz = 30.0;

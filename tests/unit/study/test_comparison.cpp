@@ -18,7 +18,7 @@ TEST_CASE("comparison recovers a known time shift and gain on a simulated record
   const model::Structure s = model::build_structure(b, std::nullopt);
   const auto st = resolve_stations(s, {{"mid", true, 0, 6.0, 0.0}});
   RunSettings rs;
-  rs.newmark.dt = 2e-3;
+  rs.dt = 2e-3;
   rs.filter.enabled = false;
   rs.free_vibration_s = 1.5;
   const RunResult r = simulate(s, st, load::regular_train("t", 3, 8.0, 100e3), 30.0, rs);

@@ -66,7 +66,7 @@ TEST_CASE("fit recovers stiffness and damping from a noisy synthetic record") {
   REQUIRE(r.correlation(0, 0) == Approx(1.0));
 }
 
-TEST_CASE("each record objective alone recovers the stiffness from a clean record") {
+TEST_CASE("each record objective alone recovers the stiffness from a clean record", "[long]") {
   // From 18 % below the truth (frequencies 9 % low) for the phase-aware objectives; peak and
   // envelope only see amplitudes, which rise and fall with resonance as EI changes: from 4.5e9
   // they stop at a local minimum near 3.86e9 (measured), so they start from 5 % below.
@@ -194,7 +194,7 @@ TEST_CASE("bounds hold: a value beyond them stops on the bound and is flagged") 
   REQUIRE(named);
 }
 
-TEST_CASE("a fit that cannot finish says why instead of hanging") {
+TEST_CASE("a fit that cannot finish says why instead of hanging", "[long]") {
   FitProblem p;
   p.params = {param("bridge.EI", 3e9, 8e9, 3.5e9), param("bridge.damping.ratio", 0.005, 0.08, 0.06)};
   p.records = {synthetic_record({5.5e9, 0.02}, 0.01)};
@@ -219,7 +219,7 @@ TEST_CASE("a fit that cannot finish says why instead of hanging") {
   REQUIRE_THROWS_WITH(fit(p, o), Catch::Contains("broken model"));
 }
 
-TEST_CASE("several starts: every start reported, the best kept") {
+TEST_CASE("several starts: every start reported, the best kept", "[long]") {
   FitProblem p;
   p.params = {param("bridge.EI", 3e9, 8e9, 3.2e9), param("bridge.damping.ratio", 0.005, 0.08, 0.07)};
   p.records = {synthetic_record({5.5e9, 0.02}, 0.01)};
@@ -334,7 +334,7 @@ TEST_CASE("the damping objective recovers a damping ratio from identified modal 
   REQUIRE_THROWS_WITH(fit(p, o), Catch::Contains("needs identified damping ratios"));
 }
 
-TEST_CASE("several passages are fitted jointly") {
+TEST_CASE("several passages are fitted jointly", "[long]") {
   // Two passages at 30 and 24 m/s, both channels each: four time-history blocks in one fit.
   const std::vector<double> truth = {5.5e9, 0.025};
   FitProblem p;

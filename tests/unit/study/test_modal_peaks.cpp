@@ -3,7 +3,7 @@
 
 #include "../../verification/helpers.hpp"
 #include "viaduct/core/error.hpp"
-#include "viaduct/study/modal_peaks.hpp"
+#include "viaduct/study/simulation.hpp"
 #include "viaduct/study/sweep.hpp"
 
 using namespace viaduct;
@@ -28,10 +28,10 @@ Scenario hslm_span(int n_modes, bool static_correction) {
 
 void require_same_as_simulate(const Scenario& sc, const std::vector<double>& speeds) {
   const PreparedModel pm = prepare_model(sc, /*rail_outputs=*/false);
-  REQUIRE(modal_peaks_apply(pm, sc.settings));
+  REQUIRE(folds_trains(pm, sc.settings));
   for (const auto& train : sc.trains) {
     const auto folded = fold_train(pm, train, sc.settings.load_factor);
-    const std::vector<PeaksRun> fast = modal_peaks(pm, *folded, speeds, sc.settings);
+    const std::vector<CasePeaks> fast = simulate_peaks(pm, train, speeds, sc.settings, folded.get());
     REQUIRE(fast.size() == speeds.size());
     for (std::size_t s = 0; s < speeds.size(); ++s) {
       const RunResult full = simulate(pm, train, speeds[s], sc.settings);
@@ -94,7 +94,7 @@ TEST_CASE("modal peaks kernel: a filter, taken on the recorded accelerations") {
   require_same_as_simulate(sc, {150 / 3.6, 300 / 3.6, 410 / 3.6});
 }
 
-TEST_CASE("modal peaks kernel: complex modes of a damped track model, with the filter") {
+TEST_CASE("modal peaks kernel: complex modes of a damped track model, with the filter", "[long]") {
   // The track's dashpots couple the modes: complex coordinates, damping vectors, static
   // correction, the band-pass filter; 5 speeds (a full lane group and a partial one).
   Scenario sc = vt::shipped("old-guadiana-sensitivity",
@@ -117,21 +117,25 @@ TEST_CASE("modal peaks kernel: complex modes of a damped track model, with the f
 TEST_CASE("modal peaks kernel: refused inputs") {
   Scenario sc = hslm_span(3, true);
   PreparedModel pm = prepare_model(sc, false);
-  REQUIRE(modal_peaks_apply(pm, sc.settings));
+  REQUIRE(folds_trains(pm, sc.settings));
   RunSettings unit = sc.settings;
   unit.superposition = Superposition::unit_response;
-  REQUIRE_FALSE(modal_peaks_apply(pm, unit));
+  REQUIRE_FALSE(folds_trains(pm, unit));
   RunSettings newmark = sc.settings;
   newmark.method = Method::newmark;
-  REQUIRE_FALSE(modal_peaks_apply(pm, newmark));
-  const auto folded = fold_train(pm, sc.trains[0], 1.0);
-  REQUIRE_THROWS_AS(modal_peaks(pm, *folded, 0.0, sc.settings), InputError);
-  REQUIRE_THROWS_AS(modal_peaks(pm, *folded, 50.0, unit), InputError);
-  REQUIRE_THROWS_AS(fold_train(pm, sc.trains[0], -1.0), InputError);
+  REQUIRE_FALSE(folds_trains(pm, newmark));
+  const load::Train& tr = sc.trains[0];
+  const auto folded = fold_train(pm, tr, 1.0);
+  REQUIRE_THROWS_AS(simulate_peaks(pm, tr, {0.0}, sc.settings, folded.get()), InputError);
+  REQUIRE_THROWS_AS(simulate_peaks(pm, tr, {50.0}, unit, folded.get()), InputError);
+  REQUIRE_THROWS_AS(fold_train(pm, tr, -1.0), InputError);
   // A train folded over another model is refused.
   Scenario other = hslm_span(4, true);
   const PreparedModel pm4 = prepare_model(other, false);
-  REQUIRE_THROWS_AS(modal_peaks(pm4, *folded, 50.0, other.settings), InputError);
+  REQUIRE_THROWS_AS(simulate_peaks(pm4, tr, {50.0}, other.settings, folded.get()), InputError);
+  // A speed so low that the case would take more than 2e9 steps is refused before any work
+  // (fuzzing found it converted to an integer first: issue #18).
+  REQUIRE_THROWS_WITH(simulate_peaks(pm, tr, {1e-16}, sc.settings, folded.get()), Catch::Contains("2e9 steps"));
 }
 
 TEST_CASE("a sweep on the peaks kernel gives the rows of the general path") {

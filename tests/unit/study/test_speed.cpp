@@ -18,7 +18,7 @@ TEST_CASE("a simulated train's speed is recovered within 0.5 % (spectral lines a
   const model::Structure s = model::build_structure(b, std::nullopt);
   const auto st = resolve_stations(s, {{"mid", true, 0, 10.0, 0.0}});
   RunSettings rs;
-  rs.newmark.dt = 2e-3;
+  rs.dt = 2e-3;
   rs.filter.enabled = false;
   rs.free_vibration_s = 1.0;
   const double v = 43.0, d = 13.14;

@@ -15,7 +15,7 @@ Scenario small_scenario() {
   sc.bridge.damping.ratio = 0.02;
   sc.trains = {load::regular_train("t3", 3, 10.0, 100e3), load::regular_train("t1", 1, 0.0, 200e3)};
   sc.stations = {{"mid", true, 0, 6.0, 0.0}, {"q", true, 0, 3.0, 0.0}};
-  sc.settings.newmark.dt = 2e-3;
+  sc.settings.dt = 2e-3;
   sc.settings.free_vibration_s = 0.2;
   sc.settings.filter.cheby.high_hz = 30.0;
   sc.sweep_speeds = {20.0, 30.0, 40.0, 50.0};

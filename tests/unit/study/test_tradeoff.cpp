@@ -12,13 +12,13 @@ TEST_CASE("tradeoff: a rung equal to the reference has zero error, a coarser one
   sc.bridge.damping.ratio = 0.02;
   sc.trains = {load::regular_train("t3", 3, 10.0, 100e3)};
   sc.stations = {{"mid", true, 0, 6.0, 0.0}, {"q", true, 0, 3.0, 0.0}};
-  sc.settings.newmark.dt = 1e-3;
+  sc.settings.dt = 1e-3;
   sc.settings.free_vibration_s = 0.2;
   sc.sweep_speeds = {20.0, 35.0, 50.0};
   const RunSettings ref = reference_settings(sc);
-  REQUIRE(ref.newmark.dt == Approx(2.5e-4));
+  REQUIRE(ref.dt == Approx(2.5e-4));
   RunSettings coarse = ref;
-  coarse.newmark.dt = 2e-3;
+  coarse.dt = 2e-3;
   RunSettings modal = ref;
   modal.method = Method::modal;
   modal.modal.n_modes = 2;

@@ -1,0 +1,105 @@
+#pragma once
+/// \file The one face of every time-stepping kernel (docs/architecture.md).
+///
+/// An Integrator advances load cases on one structure (M, C, K) from rest and records a fixed set
+/// of outputs (Functionals, e.g. the deflection of a deck point) on the grid t_k = k·dt,
+/// k = 0 … ceil(t_end/dt). make_integrator() is the one place where a method is chosen from the
+/// settings; the caller never names a kernel. Behind it:
+///
+/// | method  | run() (one case)                         | run_batch() (cases of one structure)          |
+/// |---------|------------------------------------------|-----------------------------------------------|
+/// | newmark | newmark(): Newmark/HHT on every DOF      | newmark_batch(): four cases per factorisation |
+/// | modal   | ModalReduction::integrate (classical or  | with peaks-only recording and moving loads:   |
+/// |         | complex modes), or the peaks kernel when | modal_peaks(), four speeds in SIMD lanes;     |
+/// |         | only peaks are asked of a moving load    | else one run() per case                       |
+/// | ida     | ida(): adaptive BDF (SUNDIALS IDA)       | one run() per case                            |
+///
+/// A new kernel (e.g. vehicle–bridge interaction) implements Integrator and gets a Method value
+/// and a branch in make_integrator(); nothing above `solve` changes.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "viaduct/solve/ida.hpp"
+#include "viaduct/solve/modal.hpp"
+#include "viaduct/solve/newmark.hpp"
+#include "viaduct/solve/second_order_system.hpp"
+
+namespace viaduct::solve {
+
+
+
+/// Loads given as piecewise cubics of a coordinate X that moves at a constant speed,
+/// X = x_start + v·t (e.g. a train's modal loads as functions of its head position): one cubic per
+/// piece and channel. Speed-independent, so one table serves every speed (the peaks kernel).
+struct MovingChannels {
+  std::vector<double> breaks;  ///< [m] ascending; piece i is [breaks[i], breaks[i+1])
+  /// Per piece, 4 powers of s = X − breaks[i] (s⁰ … s³), each with n_channels values; one more
+  /// block of zeros follows for X beyond the last break.
+  std::vector<double> coef;
+  std::size_t n_modes = 0;    ///< load channels (ModalReduction::n_channels())
+  std::size_t n_outputs = 0;  ///< static-correction residual channels (0 without the correction)
+  std::size_t n_channels = 0; ///< n_modes + n_outputs
+  double length = 0.0;        ///< [m] extent of the load itself (a train's first to last axle)
+  double x_start = 0.0, x_end = 0.0;  ///< [m] the path: loads enter at x_start, leave past x_end
+  /// [s] time from entry until the load has left the path at speed v [m/s].
+  double t_exit(double v) const { return (x_end - x_start + length) / v; }
+};
+
+/// One load case. `system` gives the matrices and the nodal loads f(t) (required: every kernel can
+/// use it). Modal kernels take the same loads projected when given: `modal_force` (history
+/// recording) or `moving` at `speed` (peaks-only recording; four cases per SIMD pass).
+struct LoadCase {
+  const SecondOrderSystem* system = nullptr;
+  ModalForce* modal_force = nullptr;        ///< optional; stateful, one per case
+  const MovingChannels* moving = nullptr;   ///< optional, with speed
+  double speed = 0.0;                       ///< [m/s] > 0 with `moving`
+  double t_end = 1.0;                       ///< [s] > 0: samples k·dt up to ceil(t_end/dt)
+};
+
+/// What to keep of each case.
+struct Recording {
+  bool disp_history = true;  ///< every output's deflection at every sample
+  bool acc_history = true;   ///< every output's acceleration at every sample
+  /// Largest histories one case may hold [bytes]; InputError beyond.
+  double max_history_bytes = 2.0 * (1 << 30);
+};
+
+/// The result of one case.
+struct CaseResult {
+  Matrix disp;  ///< n_samples × n_outputs when recorded (Recording::disp_history), else empty
+  Matrix acc;   ///< n_samples × n_outputs when recorded, else empty
+  Vector max_abs_disp;  ///< running maximum of |deflection| per output (always)
+  Vector max_abs_acc;   ///< running maximum of |acceleration| per output, unfiltered (always)
+  Summary summary;
+};
+
+/// The integration interface (DESIGN.md §5: MFEM's one solver face, with batches inside it).
+class Integrator {
+ public:
+  virtual ~Integrator() = default;
+  virtual Method method() const = 0;
+  /// Cases run_batch() advances together (callers give it blocks of this size or less).
+  virtual std::size_t batch_width() const { return 1; }
+  /// One case from rest. InputError for an invalid case or oversized histories, SolverError when
+  /// the kernel fails (non-finite state, a matrix that cannot be factored, IDA's failures).
+  virtual CaseResult run(const LoadCase& c, const Recording& rec) const = 0;
+  /// Several cases on this structure, one result each in order: the same answers as run() up to
+  /// rounding (summation order), in a fraction of the time where the kernel batches.
+  virtual std::vector<CaseResult> run_batch(const std::vector<LoadCase>& cases, const Recording& rec) const;
+  const std::vector<Functional>& outputs() const { return outputs_; }
+
+ protected:
+  explicit Integrator(std::vector<Functional> outputs) : outputs_(std::move(outputs)) {}
+  std::vector<Functional> outputs_;
+};
+
+/// The one place a method is chosen. `outputs` are the recorded functionals; `modal` is the
+/// reduction of the structure (required for Method::modal, whose outputs it already holds: then
+/// `outputs` must be empty or its first outputs). InputError for invalid settings (the struct and
+/// field named) or a missing reduction.
+std::unique_ptr<Integrator> make_integrator(const IntegrationSettings& s, std::vector<Functional> outputs,
+                                            std::shared_ptr<const ModalReduction> modal = nullptr);
+
+}  // namespace viaduct::solve

@@ -1,0 +1,262 @@
+// The integration interface: the time grid, the summary, and the three integrators behind
+// make_integrator() (docs/architecture.md).
+#include "viaduct/solve/integrator.hpp"
+
+#include <cmath>
+
+#include "modal_peaks.hpp"
+#include "viaduct/core/error.hpp"
+#include "viaduct/core/options.hpp"
+
+namespace viaduct::solve {
+
+Index TimeGrid::n_steps() const { return static_cast<Index>(std::ceil(t_end / dt - 1e-9)); }
+
+bool TimeGrid::is_valid(std::string* why) const {
+  OptionsCheck c("TimeGrid", why);
+  return c.require(dt > 0.0, "dt", dt, "dt > 0 [s]") && c.require(t_end > 0.0, "t_end", t_end, "t_end > 0 [s]") &&
+         c.require(t_end / dt <= 2e9, "t_end", t_end,
+                   "t_end/dt <= 2e9 steps (dt = " + format_number(dt, 6) + " s)");
+}
+
+std::string Summary::describe() const {
+  if (kernel != "ida") return stop_reason;
+  return stop_reason + " (" + std::to_string(n_steps) + " internal steps, " + std::to_string(n_residuals) +
+         " residuals, " + std::to_string(n_factorisations) + " factorisations, " + std::to_string(n_rejected_steps) +
+         " error-test and " + std::to_string(n_nonlinear_failures) + " Newton failures, " +
+         std::to_string(n_restarts) + " restarts)";
+}
+
+const char* method_name(Method m) {
+  switch (m) {
+    case Method::newmark: return "newmark";
+    case Method::modal: return "modal";
+    case Method::ida: return "ida";
+  }
+  throw std::logic_error("method_name: unknown method");
+}
+
+bool IntegrationSettings::is_valid(std::string* why) const {
+  OptionsCheck c("IntegrationSettings", why);
+  if (!c.require(dt > 0.0, "dt", dt, "dt > 0 [s]")) return false;
+  switch (method) {
+    case Method::newmark: return newmark.is_valid(why);
+    case Method::modal: return modal.is_valid(why);
+    case Method::ida: return ida.is_valid(why);
+  }
+  return c.fail("method", std::to_string(static_cast<int>(method)), "one of newmark, modal, ida");
+}
+
+std::vector<CaseResult> Integrator::run_batch(const std::vector<LoadCase>& cases, const Recording& rec) const {
+  std::vector<CaseResult> out;
+  out.reserve(cases.size());
+  for (const LoadCase& c : cases) out.push_back(run(c, rec));
+  return out;
+}
+
+namespace {
+
+// Refuses histories of n_series series beyond the recording's limit.
+void check_history_size(const TimeGrid& g, std::size_t n_series, const Recording& rec) {
+  const double n_samples = static_cast<double>(g.n_steps()) + 1.0;
+  if (n_samples * static_cast<double>(n_series) * sizeof(double) > rec.max_history_bytes)
+    throw InputError("a run of " + format_number(g.t_end, 6) + " s at dt = " + format_number(g.dt, 6) +
+                     " s would record " + format_number(n_samples, 6) + " samples of " + std::to_string(n_series) +
+                     " series: more than " + format_number(rec.max_history_bytes / (1 << 30), 3) +
+                     " GiB; raise the speed or analysis.dt");
+}
+
+// Histories sized for a case, refused beyond the recording's limit.
+void allocate(CaseResult& r, const TimeGrid& g, std::size_t n_outputs, const Recording& rec) {
+  check_history_size(g, n_outputs * ((rec.disp_history ? 1 : 0) + (rec.acc_history ? 1 : 0)), rec);
+  const auto rows = g.n_steps() + 1, cols = static_cast<Index>(n_outputs);
+  if (rec.disp_history) r.disp.resize(rows, cols);
+  if (rec.acc_history) r.acc.resize(rows, cols);
+  r.max_abs_disp = Vector::Zero(cols);
+  r.max_abs_acc = Vector::Zero(cols);
+}
+
+// Records sample k of the outputs (values d, a per output).
+struct Sampler {
+  CaseResult* r;
+  void operator()(Index k, Index j, double d, double a) const {
+    if (r->disp.size()) r->disp(k, j) = d;
+    if (r->acc.size()) r->acc(k, j) = a;
+    r->max_abs_disp[j] = std::max(r->max_abs_disp[j], std::abs(d));
+    r->max_abs_acc[j] = std::max(r->max_abs_acc[j], std::abs(a));
+  }
+};
+
+double eval(const Functional& f, const Vector& u) {
+  double w = 0.0;
+  for (std::size_t i = 0; i < f.dof.size(); ++i) w += f.weight[i] * u[f.dof[i]];
+  return w;
+}
+
+void check_outputs(const std::vector<Functional>& outputs, Index n, const char* who) {
+  for (const Functional& f : outputs) {
+    if (f.dof.size() != f.weight.size()) throw InputError(std::string(who) + ": output with mismatched dofs and weights");
+    for (Index d : f.dof)
+      if (d < 0 || d >= n) throw InputError(std::string(who) + ": output DOF out of range");
+  }
+}
+
+const SecondOrderSystem& system_of(const LoadCase& c, const char* who) {
+  if (!c.system) throw InputError(std::string(who) + ": a load case without a system");
+  return *c.system;
+}
+
+class NewmarkIntegrator : public Integrator {
+ public:
+  NewmarkIntegrator(const IntegrationSettings& s, std::vector<Functional> outputs)
+      : Integrator(std::move(outputs)), dt_(s.dt), opt_(s.newmark) {}
+  Method method() const override { return Method::newmark; }
+  std::size_t batch_width() const override { return kNewmarkBatch; }
+
+  CaseResult run(const LoadCase& c, const Recording& rec) const override {
+    const SecondOrderSystem& sys = system_of(c, "Newmark");
+    const TimeGrid g{dt_, c.t_end};
+    require_valid(g, "Newmark");
+    check_outputs(outputs_, sys.n_dofs(), "Newmark");
+    CaseResult r;
+    allocate(r, g, outputs_.size(), rec);
+    const Sampler put{&r};
+    r.summary = newmark(sys, g, opt_, [&](Index k, double, const Vector& u, const Vector&, const Vector& a) {
+      for (std::size_t j = 0; j < outputs_.size(); ++j)
+        put(k, static_cast<Index>(j), eval(outputs_[j], u), eval(outputs_[j], a));
+    });
+    return r;
+  }
+
+  // Blocks of kNewmarkBatch cases through newmark_batch (one factorisation and every product on
+  // four cases at once).
+  std::vector<CaseResult> run_batch(const std::vector<LoadCase>& cases, const Recording& rec) const override {
+    std::vector<CaseResult> out;
+    for (std::size_t first = 0; first < cases.size(); first += kNewmarkBatch) {
+      const std::size_t n = std::min(kNewmarkBatch, cases.size() - first);
+      std::vector<BatchCase> bc;
+      for (std::size_t l = 0; l < n; ++l) {
+        const LoadCase& c = cases[first + l];
+        bc.push_back({&system_of(c, "Newmark batch"), c.t_end});
+        const TimeGrid g{dt_, c.t_end};
+        require_valid(g, "Newmark");
+        check_history_size(g, 2 * outputs_.size(), rec);  // the kernel keeps both histories
+      }
+      std::vector<BatchHistories> h = newmark_batch(bc, dt_, opt_, outputs_);
+      for (std::size_t l = 0; l < n; ++l) {
+        CaseResult r;
+        r.max_abs_disp = h[l].disp.cwiseAbs().colwise().maxCoeff().transpose();
+        r.max_abs_acc = h[l].acc.cwiseAbs().colwise().maxCoeff().transpose();
+        if (rec.disp_history) r.disp = std::move(h[l].disp);
+        if (rec.acc_history) r.acc = std::move(h[l].acc);
+        r.summary = h[l].summary;
+        out.push_back(std::move(r));
+      }
+    }
+    return out;
+  }
+
+ private:
+  double dt_;
+  NewmarkOptions opt_;
+};
+
+class IdaIntegrator : public Integrator {
+ public:
+  IdaIntegrator(const IntegrationSettings& s, std::vector<Functional> outputs)
+      : Integrator(std::move(outputs)), dt_(s.dt), opt_(s.ida) {}
+  Method method() const override { return Method::ida; }
+
+  CaseResult run(const LoadCase& c, const Recording& rec) const override {
+    const SecondOrderSystem& sys = system_of(c, "IDA");
+    const TimeGrid g{dt_, c.t_end};
+    require_valid(g, "IDA");
+    check_outputs(outputs_, sys.n_dofs(), "IDA");
+    CaseResult r;
+    allocate(r, g, outputs_.size(), rec);
+    const Sampler put{&r};
+    r.summary = ida(sys, g, opt_, [&](Index k, double, const Vector& u, const Vector&, const Vector& a) {
+      for (std::size_t j = 0; j < outputs_.size(); ++j)
+        put(k, static_cast<Index>(j), eval(outputs_[j], u), eval(outputs_[j], a));
+    });
+    return r;
+  }
+
+ private:
+  double dt_;
+  IdaOptions opt_;
+};
+
+class ModalIntegrator : public Integrator {
+ public:
+  ModalIntegrator(const IntegrationSettings& s, std::size_t n_outputs, std::shared_ptr<const ModalReduction> red)
+      : Integrator({}), dt_(s.dt), opt_(s.modal), n_out_(n_outputs), red_(std::move(red)) {}
+  Method method() const override { return Method::modal; }
+  std::size_t batch_width() const override { return 4; }
+
+  CaseResult run(const LoadCase& c, const Recording& rec) const override {
+    if (peaks_only(c, rec)) return run_batch({c}, rec).front();
+    const TimeGrid g{dt_, c.t_end};
+    require_valid(g, "modal superposition");
+    CaseResult r;
+    allocate(r, g, n_out_, rec);
+    const Sampler put{&r};
+    auto observe = [&](Index k, double, const Vector& disp, const Vector& acc) {
+      for (std::size_t j = 0; j < n_out_; ++j) {
+        const auto jj = static_cast<Index>(j);
+        put(k, jj, disp[jj], acc[jj]);
+      }
+    };
+    if (c.modal_force) r.summary = red_->integrate(*c.modal_force, g, opt_, observe);
+    else r.summary = red_->integrate(system_of(c, "modal superposition"), g, opt_, observe);
+    return r;
+  }
+
+  // Moving loads with peaks-only recording run the fused kernel, four speeds per SIMD pass; other
+  // cases one run() each.
+  std::vector<CaseResult> run_batch(const std::vector<LoadCase>& cases, const Recording& rec) const override {
+    bool fused = !cases.empty();
+    for (const LoadCase& c : cases) fused = fused && peaks_only(c, rec) && c.moving == cases.front().moving;
+    if (!fused) return Integrator::run_batch(cases, rec);
+    std::vector<detail::PeaksCase> pc;
+    for (const LoadCase& c : cases) pc.push_back({c.speed, c.t_end});
+    std::vector<detail::PeaksCaseResult> pr =
+        detail::modal_peaks(*red_, *cases.front().moving, pc, dt_, n_out_, rec.acc_history, rec.max_history_bytes);
+    std::vector<CaseResult> out(pr.size());
+    for (std::size_t i = 0; i < pr.size(); ++i) {
+      out[i].max_abs_disp = std::move(pr[i].max_abs_disp);
+      out[i].max_abs_acc = std::move(pr[i].max_abs_acc);
+      out[i].acc = std::move(pr[i].acc);
+      out[i].summary = std::move(pr[i].summary);
+    }
+    return out;
+  }
+
+ private:
+  static bool peaks_only(const LoadCase& c, const Recording& rec) { return c.moving && !rec.disp_history; }
+  double dt_;
+  ModalOptions opt_;
+  std::size_t n_out_;
+  std::shared_ptr<const ModalReduction> red_;
+};
+
+}  // namespace
+
+std::unique_ptr<Integrator> make_integrator(const IntegrationSettings& s, std::vector<Functional> outputs,
+                                            std::shared_ptr<const ModalReduction> modal) {
+  require_valid(s, "analysis");
+  switch (s.method) {
+    case Method::newmark: return std::make_unique<NewmarkIntegrator>(s, std::move(outputs));
+    case Method::ida: return std::make_unique<IdaIntegrator>(s, std::move(outputs));
+    case Method::modal: {
+      if (!modal) throw InputError("modal method without a modal model (prepare the model with method = modal)");
+      const std::size_t n = outputs.empty() ? static_cast<std::size_t>(modal->n_outputs()) : outputs.size();
+      if (n > static_cast<std::size_t>(modal->n_outputs()))
+        throw InputError("modal superposition: more outputs asked for than the modal model has");
+      return std::make_unique<ModalIntegrator>(s, n, std::move(modal));
+    }
+  }
+  throw std::logic_error("make_integrator: unknown method");
+}
+
+}  // namespace viaduct::solve

@@ -1,0 +1,511 @@
+// The fused modal kernel of envelope sweeps (private to src/solve; reached through
+// Integrator::run_batch with peaks-only recording, integrator.cpp).
+//
+// A sweep only keeps each output's maximum |acceleration| and |deflection|. With the modal
+// method each case reduces to one tight loop: the modal loads read from a table folded once per
+// train (MovingChannels), the exact step of every modal equation (classical modes) or complex
+// coordinate (damping that couples the modes, in split real arithmetic), the outputs and their
+// running maxima, four speeds in SIMD lanes. With acceleration histories asked for (a filter is
+// applied to them afterwards) they are recorded too, nothing else. Same model, same step, same
+// values as ModalReduction::integrate up to rounding (tests/unit/study/test_modal_peaks.cpp).
+#include "modal_peaks.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <utility>
+
+#include "lanes.hpp"
+#include "viaduct/core/error.hpp"
+
+namespace viaduct::solve::detail {
+
+namespace {
+
+
+constexpr std::size_t W = kLanes;  // cases (speeds of one train) advanced together, one per SIMD lane
+
+struct KernelInput {
+  const double *c8, *two_zw, *w2;  // per mode: exact step coefficients, 2ζω, ω²
+  const double* S;                 // row-major no × nm: station outputs of the modes
+  const double *breaks, *coef;     // the folded train (coef: n_pieces + 1 blocks, the last zero)
+  std::size_t n_pieces;
+  double x_start, dt;
+  double v[W];        // [m/s] per lane
+  Index n_steps[W];   // per lane
+  Index n_max;        // largest of n_steps
+  std::size_t nm, nc, no;  // modes, channels (modes, then residuals), stations
+  bool flex;               // residual channels present (static correction)
+  double* hist = nullptr;  // when set: acceleration of lane l, station j, step k at (l·no + j)·stride + k
+  std::size_t stride = 0;
+};
+
+// Raw station accelerations of step k into the history of each lane still running.
+inline void store_history(double* hist, std::size_t stride, std::size_t no, std::size_t j, const Index* n_steps,
+                          Index k, const lanes& av) {
+  for (std::size_t l = 0; l < kLanes; ++l)
+    if (k <= n_steps[l]) hist[(l * no + j) * stride + static_cast<std::size_t>(k)] = av[l];
+}
+
+// The folded train's load channels of W lanes along the head position: per lane the piece it is
+// on and, for every channel, the value and forward differences f, d1, d2, d3 of the cubic at the
+// lane's step (and, for the nr residual channels, the curvature term v²·g'' and its difference),
+// re-initialised from the piece's coefficients whenever the lane's head crosses a breakpoint.
+struct LoadCursor {
+  const double *breaks = nullptr, *coef = nullptr;
+  std::size_t n_pieces = 0, nc = 0, nload = 0, nr = 0;  // pieces, channels, load channels, residuals used
+  lanes *f = nullptr, *d1 = nullptr, *d2 = nullptr, *d3 = nullptr, *c = nullptr, *dc = nullptr;
+  std::size_t ip[W];
+  double next[W], h[W], v2[W];
+
+  // Lane l at head position x: find its piece, set the values and differences there.
+  VIADUCT_ALWAYS_INLINE void reinit(std::size_t l, double x) {
+    std::size_t i = ip[l];
+    while (i < n_pieces && x >= breaks[i + 1]) ++i;
+    ip[l] = i;
+    next[l] = i < n_pieces ? breaks[i + 1] : std::numeric_limits<double>::infinity();
+    const double s = i < n_pieces ? x - breaks[i] : 0.0, hh = h[l], h2 = hh * hh, h3 = h2 * hh;
+    const double* d = coef + i * 4 * nc;
+    for (std::size_t k = 0; k < nc; ++k) {
+      const double a0 = d[k], a1 = d[nc + k], a2 = d[2 * nc + k], a3 = d[3 * nc + k];
+      f[k][l] = a0 + s * (a1 + s * (a2 + s * a3));
+      d1[k][l] = a1 * hh + a2 * (2.0 * s * hh + h2) + a3 * (3.0 * s * s * hh + 3.0 * s * h2 + h3);
+      d2[k][l] = 2.0 * a2 * h2 + a3 * (6.0 * s * h2 + 6.0 * h3);
+      d3[k][l] = 6.0 * a3 * h3;
+    }
+    for (std::size_t j = 0; j < nr; ++j) {
+      const double a2 = d[2 * nc + nload + j], a3 = d[3 * nc + nload + j];
+      c[j][l] = v2[l] * (2.0 * a2 + 6.0 * a3 * s);
+      dc[j][l] = v2[l] * 6.0 * a3 * hh;
+    }
+  }
+  // Every lane at the path's start, speeds v [m/s], step dt.
+  VIADUCT_ALWAYS_INLINE void start(const double* v, double dt, double x_start) {
+    for (std::size_t l = 0; l < W; ++l) {
+      ip[l] = 0;
+      h[l] = v[l] * dt;
+      v2[l] = v[l] * v[l];
+      reinit(l, x_start);
+    }
+  }
+  // One step: three additions per channel (n_ch, n_res: the caller's sizes, constants in the
+  // unrolled kernels), then the lanes whose head X crossed a breakpoint start their new piece.
+  VIADUCT_ALWAYS_INLINE void advance(std::size_t n_ch, std::size_t n_res, const lanes& X) {
+    for (std::size_t k = 0; k < n_ch; ++k) {
+      f[k] += d1[k];
+      d1[k] += d2[k];
+      d2[k] += d3[k];
+    }
+    for (std::size_t j = 0; j < n_res; ++j) c[j] += dc[j];
+    for (std::size_t l = 0; l < W; ++l)
+      if (X[l] >= next[l]) reinit(l, X[l]);
+  }
+};
+
+// Station outputs of step k: the coordinates' share dj, aj plus the static correction's
+// residuals (deflection f_res, acceleration c) when flex; recorded when hist is set; running
+// maxima in md, ma (a lane past its own last step, live = 0, keeps its maxima).
+VIADUCT_ALWAYS_INLINE void emit_stations(std::size_t no, bool flex, const lanes* dj, const lanes* aj,
+                                         const lanes* f_res, const lanes* c, lanes* md, lanes* ma, double* hist,
+                                         std::size_t stride, const Index* n_steps, Index k, const lanes& live) {
+  const lanes zero = {0.0, 0.0, 0.0, 0.0};
+  for (std::size_t j = 0; j < no; ++j) {
+    lanes dv = dj[j], av = aj[j];
+    if (flex) dv += f_res[j], av += c[j];
+    if (hist) store_history(hist, stride, no, j, n_steps, k, av);
+    dv = live * (dv < zero ? -dv : dv);
+    av = live * (av < zero ? -av : av);
+    md[j] = dv > md[j] ? dv : md[j];
+    ma[j] = av > ma[j] ? av : ma[j];
+  }
+}
+
+// W cases in lock-step. Per lane, the channel values along the current piece are advanced by
+// forward differences (the load is a cubic in X and X advances by v·dt per step: three additions
+// per channel and step, exact up to rounding), re-initialised from the piece's coefficients
+// whenever the lane's head crosses a breakpoint. Every quantity is a `lanes` value, so the
+// arithmetic runs on all four cases at once. NM, NC, NO > 0 fix the sizes at compile time (the
+// common small bases); 0 reads them from `in`. Only the residual channels' curvature is needed
+// (the modes' accelerations come from their equations), so only those carry it.
+template <std::size_t NM, std::size_t NC, std::size_t NO>
+VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, double* qd_out, double* ma_out, double* md_out) {
+  constexpr bool fixed = NM && NC && NO;
+  const std::size_t nm = NM ? NM : in.nm, nc = NC ? NC : in.nc, no = NO ? NO : in.no;
+  const bool flex = NC ? (NC > NM) : in.flex;
+  const std::size_t nr = flex ? no : 0;  // residual channels used (the stations')
+  constexpr std::size_t cm = NM ? NM : 1, cc = NC ? NC : 1, co = NO ? NO : 1;
+  const lanes zero = {0.0, 0.0, 0.0, 0.0}, one = zero + 1.0;
+  lanes q_f[cm], qd_f[cm], pp_f[cm], f_f[cc], d1_f[cc], d2_f[cc], d3_f[cc], c_f[co], dc_f[co], ma_f[co], md_f[co],
+      dj_f[co], aj_f[co];
+  lanes *q = q_f, *qd = qd_f, *pp = pp_f, *f = f_f, *d1 = d1_f, *d2 = d2_f, *d3 = d3_f, *c = c_f, *dc = dc_f,
+        *ma = ma_f, *md = md_f, *dj = dj_f, *aj = aj_f;
+  std::vector<double> dyn;
+  if constexpr (!fixed) {
+    dyn.assign((3 * nm + 4 * nc + 6 * no + 1) * W, 0.0);
+    lanes* at = align_lanes(dyn.data());  // one spare group at the end
+    for (lanes** a : {&q, &qd, &pp}) *a = at, at += nm;
+    for (lanes** a : {&f, &d1, &d2, &d3}) *a = at, at += nc;
+    for (lanes** a : {&c, &dc, &ma, &md, &dj, &aj}) *a = at, at += no;
+  }
+  for (std::size_t i = 0; i < nm; ++i) q[i] = qd[i] = pp[i] = zero;
+  for (std::size_t ch = 0; ch < nc; ++ch) f[ch] = d1[ch] = d2[ch] = d3[ch] = zero;
+  for (std::size_t j = 0; j < no; ++j) c[j] = dc[j] = ma[j] = md[j] = zero;
+
+  lanes v = zero, n_steps = zero;
+  for (std::size_t l = 0; l < W; ++l) {
+    v[l] = in.v[l];
+    n_steps[l] = static_cast<double>(in.n_steps[l]);
+  }
+  LoadCursor cur;
+  cur.breaks = in.breaks;
+  cur.coef = in.coef;
+  cur.n_pieces = in.n_pieces;
+  cur.nc = nc;
+  cur.nload = nm;
+  cur.nr = nr;
+  cur.f = f, cur.d1 = d1, cur.d2 = d2, cur.d3 = d3, cur.c = c, cur.dc = dc;
+  auto emit = [&](Index k) {
+    emit_stations(no, flex, dj, aj, f + nm, c, md, ma, in.hist, in.stride, in.n_steps, k,
+                  static_cast<double>(k) <= n_steps ? one : zero);
+  };
+  cur.start(in.v, in.dt, in.x_start);
+  for (std::size_t j = 0; j < no; ++j) {  // from rest: q = 0, q̈ = p
+    dj[j] = aj[j] = zero;
+    for (std::size_t i = 0; i < nm; ++i) aj[j] += in.S[j * nm + i] * f[i];
+  }
+  emit(0);
+  const lanes x_start = zero + in.x_start;
+  for (Index k = 1; k <= in.n_max; ++k) {
+    for (std::size_t i = 0; i < nm; ++i) pp[i] = f[i];
+    cur.advance(nc, nr, x_start + v * (static_cast<double>(k) * in.dt));
+    for (std::size_t j = 0; j < no; ++j) dj[j] = aj[j] = zero;
+    for (std::size_t i = 0; i < nm; ++i) {
+      const double* cf = in.c8 + 8 * i;
+      const lanes q0 = q[i], v0 = qd[i], p0 = pp[i], p1 = f[i];
+      const lanes q1 = cf[0] * q0 + cf[1] * v0 + cf[2] * p0 + cf[3] * p1;
+      const lanes v1 = cf[4] * q0 + cf[5] * v0 + cf[6] * p0 + cf[7] * p1;
+      const lanes a1 = p1 - in.two_zw[i] * v1 - in.w2[i] * q1;
+      q[i] = q1;
+      qd[i] = v1;
+      for (std::size_t j = 0; j < no; ++j) {
+        const double sji = in.S[j * nm + i];
+        dj[j] += sji * q1;
+        aj[j] += sji * a1;
+      }
+    }
+    emit(k);
+  }
+  for (std::size_t l = 0; l < W; ++l) {
+    for (std::size_t i = 0; i < nm; ++i) q_out[i * W + l] = q[i][l], qd_out[i * W + l] = qd[i][l];
+    for (std::size_t j = 0; j < no; ++j) ma_out[j * W + l] = ma[j][l], md_out[j * W + l] = md[j][l];
+  }
+}
+
+// The same loop built twice on x86-64: for the baseline ISA and for AVX2 (one instruction per
+// four-lane operation instead of two), chosen at run time by what the processor supports.
+#ifdef VIADUCT_HAVE_AVX2_VARIANT
+template <std::size_t NM, std::size_t NC, std::size_t NO>
+VIADUCT_TARGET_AVX2 void kernel_avx2(const KernelInput& in, double* q, double* qd, double* ma, double* md) {
+  kernel_body<NM, NC, NO>(in, q, qd, ma, md);
+}
+#endif
+
+template <std::size_t NM, std::size_t NC, std::size_t NO>
+void kernel(const KernelInput& in, double* q, double* qd, double* ma, double* md) {
+#ifdef VIADUCT_HAVE_AVX2_VARIANT
+  if (cpu_has_avx2()) return kernel_avx2<NM, NC, NO>(in, q, qd, ma, md);
+#endif
+  kernel_body<NM, NC, NO>(in, q, qd, ma, md);
+}
+
+template <std::size_t NM, std::size_t NO>
+bool dispatch_fixed(const KernelInput& in, double* q, double* qd, double* ma, double* md) {
+  if (in.nm != NM || in.no != NO) return false;
+  if (in.flex && in.nc == NM + NO) kernel<NM, NM + NO, NO>(in, q, qd, ma, md);
+  else if (!in.flex && in.nc == NM) kernel<NM, NM, NO>(in, q, qd, ma, md);
+  else return false;
+  return true;
+}
+
+template <std::size_t... I>
+bool dispatch_modes(std::index_sequence<I...>, const KernelInput& in, double* q, double* qd, double* ma, double* md) {
+  return ((dispatch_fixed<I + 1, 1>(in, q, qd, ma, md) || dispatch_fixed<I + 1, 2>(in, q, qd, ma, md)) || ...);
+}
+
+// Bases of up to 6 modes with 1–2 stations get the unrolled loops; others the general one.
+void dispatch(const KernelInput& in, double* q, double* qd, double* ma, double* md) {
+  if (!dispatch_modes(std::make_index_sequence<6>{}, in, q, qd, ma, md)) kernel<0, 0, 0>(in, q, qd, ma, md);
+}
+
+// Complex modes (damping that couples the modes): per coordinate k, y ← E y + α u₀ + β u₁ with
+// u = p[c] + i p[c+1] (p[c] alone for a real coordinate), in split real arithmetic; the same
+// folded loads, forward differences and lanes as kernel_body.
+struct ComplexInput {
+  std::size_t nk = 0, nch = 0, nc = 0, no = 0;  // coordinates, load channels, all channels, stations
+  bool flex = false;
+  const double* co = nullptr;    // per coordinate: Er, Ei, αr, αi, βr, βi
+  const std::size_t* ch = nullptr;
+  const unsigned char* pair = nullptr;
+  const double* rows = nullptr;  // per station and coordinate: Dr, Di, Lr, Li (= Re, Im of acc·λ), Ar, Ai
+  const double *breaks = nullptr, *coef = nullptr;
+  std::size_t n_pieces = 0;
+  double x_start = 0.0, dt = 0.0;
+  double v[W];
+  Index n_steps[W];
+  Index n_max = 0;
+  double* hist = nullptr;
+  std::size_t stride = 0;
+};
+
+VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_out, double* ma_out, double* md_out) {
+  const std::size_t nk = in.nk, nch = in.nch, nc = in.nc, no = in.no, nr = in.flex ? no : 0;
+  const lanes zero = {0.0, 0.0, 0.0, 0.0}, one = zero + 1.0;
+  std::vector<double> buf((2 * nk + nch + 4 * nc + 6 * no + 1) * W, 0.0);
+  lanes* at = align_lanes(buf.data());
+  lanes *yr = at, *yi = yr + nk, *pp = yi + nk, *f = pp + nch, *d1 = f + nc, *d2 = d1 + nc, *d3 = d2 + nc,
+        *c = d3 + nc, *dc = c + no, *ma = dc + no, *md = ma + no, *dj = md + no, *aj = dj + no;
+  lanes v = zero, n_steps = zero;
+  for (std::size_t l = 0; l < W; ++l) {
+    v[l] = in.v[l];
+    n_steps[l] = static_cast<double>(in.n_steps[l]);
+  }
+  LoadCursor cur;
+  cur.breaks = in.breaks;
+  cur.coef = in.coef;
+  cur.n_pieces = in.n_pieces;
+  cur.nc = nc;
+  cur.nload = nch;
+  cur.nr = nr;
+  cur.f = f, cur.d1 = d1, cur.d2 = d2, cur.d3 = d3, cur.c = c, cur.dc = dc;
+  auto emit = [&](Index k) {
+    emit_stations(no, in.flex, dj, aj, f + nch, c, md, ma, in.hist, in.stride, in.n_steps, k,
+                  static_cast<double>(k) <= n_steps ? one : zero);
+  };
+  // The coordinates' outputs for the current y and the load channels u = f.
+  auto outputs = [&]() {
+    for (std::size_t j = 0; j < no; ++j) dj[j] = aj[j] = zero;
+    for (std::size_t k = 0; k < nk; ++k) {
+      const std::size_t cc = in.ch[k];
+      const lanes ur = f[cc], ui = in.pair[k] ? f[cc + 1] : zero, a = yr[k], b = yi[k];
+      for (std::size_t j = 0; j < no; ++j) {
+        const double* r = in.rows + 6 * (j * nk + k);
+        dj[j] += r[0] * a - r[1] * b;
+        aj[j] += r[2] * a - r[3] * b + r[4] * ur - r[5] * ui;
+      }
+    }
+  };
+  cur.start(in.v, in.dt, in.x_start);
+  outputs();
+  emit(0);
+  const lanes x_start = zero + in.x_start;
+  for (Index step = 1; step <= in.n_max; ++step) {
+    for (std::size_t k = 0; k < nch; ++k) pp[k] = f[k];
+    cur.advance(nc, nr, x_start + v * (static_cast<double>(step) * in.dt));
+    for (std::size_t j = 0; j < no; ++j) dj[j] = aj[j] = zero;
+    for (std::size_t k = 0; k < nk; ++k) {
+      const double* e = in.co + 6 * k;
+      const std::size_t cc = in.ch[k];
+      const bool pr_ = in.pair[k] != 0;
+      const lanes u0r = pp[cc], u0i = pr_ ? pp[cc + 1] : zero, u1r = f[cc], u1i = pr_ ? f[cc + 1] : zero;
+      const lanes a = yr[k], b = yi[k];
+      const lanes nr_ = e[0] * a - e[1] * b + e[2] * u0r - e[3] * u0i + e[4] * u1r - e[5] * u1i;
+      const lanes ni_ = e[0] * b + e[1] * a + e[2] * u0i + e[3] * u0r + e[4] * u1i + e[5] * u1r;
+      yr[k] = nr_;
+      yi[k] = ni_;
+      for (std::size_t j = 0; j < no; ++j) {
+        const double* r = in.rows + 6 * (j * nk + k);
+        dj[j] += r[0] * nr_ - r[1] * ni_;
+        aj[j] += r[2] * nr_ - r[3] * ni_ + r[4] * u1r - r[5] * u1i;
+      }
+    }
+    emit(step);
+  }
+  for (std::size_t l = 0; l < W; ++l) {
+    double st = 0.0;
+    for (std::size_t k = 0; k < nk; ++k) st += yr[k][l] + yi[k][l];
+    state_out[l] = st;
+    for (std::size_t j = 0; j < no; ++j) ma_out[j * W + l] = ma[j][l], md_out[j * W + l] = md[j][l];
+  }
+}
+
+#ifdef VIADUCT_HAVE_AVX2_VARIANT
+VIADUCT_TARGET_AVX2 void complex_avx2(const ComplexInput& in, double* st, double* ma, double* md) {
+  complex_body(in, st, ma, md);
+}
+#endif
+
+void complex_kernel(const ComplexInput& in, double* st, double* ma, double* md) {
+#ifdef VIADUCT_HAVE_AVX2_VARIANT
+  if (cpu_has_avx2()) return complex_avx2(in, st, ma, md);
+#endif
+  complex_body(in, st, ma, md);
+}
+
+}  // namespace
+
+std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingChannels& L,
+                                         const std::vector<PeaksCase>& cases, double dt, std::size_t n_outputs,
+                                         bool record_acc, double max_history_bytes) {
+  if (cases.empty()) return {};
+  for (const PeaksCase& c : cases) {
+    require_positive(c.speed, "speed [m/s]");
+    require_valid(TimeGrid{dt, c.t_end}, "modal superposition");
+  }
+  if (L.n_modes != static_cast<std::size_t>(r.n_channels()) ||
+      (L.n_outputs != 0 && L.n_outputs != static_cast<std::size_t>(r.n_outputs())) ||
+      L.n_channels != L.n_modes + L.n_outputs || L.breaks.size() < 2 ||
+      L.coef.size() != L.breaks.size() * 4 * L.n_channels)
+    throw InputError("the folded loads do not belong to this modal model");
+  if (n_outputs < 1 || n_outputs > static_cast<std::size_t>(r.n_outputs()))
+    throw InputError("the modal model lacks the outputs asked for");
+  // The recorded outputs are the reduction's first n_outputs (rails above deck stations may follow).
+  const std::size_t nm = L.n_modes, no = n_outputs, nc = L.n_channels;
+  const bool complex = r.complex_modes();
+  // Classical modes: the exact step of each damped oscillator.
+  std::vector<double> c8, two_zw, w2;
+  KernelInput in;
+  // Complex modes: the exact step of each coordinate and the split output rows.
+  std::vector<double> co, rows;
+  std::vector<std::size_t> chan;
+  std::vector<unsigned char> pair;
+  ComplexInput ci;
+  if (!complex) {
+    c8.resize(8 * nm), two_zw.resize(nm), w2.resize(nm);
+    for (std::size_t i = 0; i < nm; ++i) {
+      const double om = r.omega()[static_cast<Index>(i)], ze = r.zeta()[static_cast<Index>(i)];
+      const auto cf = exact_step_coefficients(om, ze, dt);
+      std::copy(cf.begin(), cf.end(), c8.begin() + static_cast<std::ptrdiff_t>(8 * i));
+      two_zw[i] = 2.0 * ze * om;
+      w2[i] = om * om;
+    }
+    in.c8 = c8.data();
+    in.two_zw = two_zw.data();
+    in.w2 = w2.data();
+    in.S = r.output_rows().data();
+    in.breaks = L.breaks.data();
+    in.coef = L.coef.data();
+    in.n_pieces = L.breaks.size() - 1;
+    in.x_start = L.x_start;
+    in.dt = dt;
+    in.nm = nm;
+    in.nc = nc;
+    in.no = no;
+    in.flex = L.n_outputs > 0;
+  } else {
+    using cd = std::complex<double>;
+    const ModalReduction::ComplexForm cf = r.complex_form();
+    const std::size_t nk = cf.lambda.size();
+    co.resize(6 * nk);
+    chan.resize(nk);
+    pair.resize(nk);
+    for (std::size_t k = 0; k < nk; ++k) {
+      const auto [e, al, be] = complex_step_coefficients(cf.lambda[k], dt);  // y₁ = E y₀ + α u₀ + β u₁
+      const double v6[6] = {e.real(), e.imag(), al.real(), al.imag(), be.real(), be.imag()};
+      std::copy(v6, v6 + 6, co.begin() + static_cast<std::ptrdiff_t>(6 * k));
+      chan[k] = static_cast<std::size_t>(cf.channel[k]);
+      pair[k] = cf.pair[k] ? 1 : 0;
+    }
+    rows.resize(6 * no * nk);
+    for (std::size_t j = 0; j < no; ++j)
+      for (std::size_t k = 0; k < nk; ++k) {
+        const auto jj = static_cast<Index>(j), kk = static_cast<Index>(k);
+        const cd d = cf.disp(jj, kk), a = cf.acc(jj, kk), al = a * cf.lambda[k];
+        const double v6[6] = {d.real(), d.imag(), al.real(), al.imag(), a.real(), a.imag()};
+        std::copy(v6, v6 + 6, rows.begin() + static_cast<std::ptrdiff_t>(6 * (j * nk + k)));
+      }
+    ci.nk = nk;
+    ci.nch = nm;
+    ci.nc = nc;
+    ci.no = no;
+    ci.flex = L.n_outputs > 0;
+    ci.co = co.data();
+    ci.ch = chan.data();
+    ci.pair = pair.data();
+    ci.rows = rows.data();
+    ci.breaks = L.breaks.data();
+    ci.coef = L.coef.data();
+    ci.n_pieces = L.breaks.size() - 1;
+    ci.x_start = L.x_start;
+    ci.dt = dt;
+  }
+  std::vector<double> hist;
+  std::vector<PeaksCaseResult> out;
+  std::vector<double> q(nm * W), qd(nm * W), ma(no * W), md(no * W), state(W);
+  for (std::size_t first = 0; first < cases.size(); first += W) {
+    const auto wall0 = std::chrono::steady_clock::now();
+    const std::size_t n_lanes = std::min(W, cases.size() - first);
+    double v[W];
+    Index n_steps[W], n_max = 0;
+    for (std::size_t l = 0; l < W; ++l) {
+      // Spare lanes repeat the last case; their results are dropped.
+      const PeaksCase& c = cases[first + std::min(l, n_lanes - 1)];
+      v[l] = c.speed;
+      n_steps[l] = TimeGrid{dt, c.t_end}.n_steps();
+      n_max = std::max(n_max, n_steps[l]);
+    }
+    const std::size_t stride = static_cast<std::size_t>(n_max) + 1;
+    if (record_acc) {
+      if (static_cast<double>(W * no * stride) * sizeof(double) > max_history_bytes)
+        throw InputError("the station histories of four speeds would not fit in memory: raise analysis.dt");
+      hist.assign(W * no * stride, 0.0);
+    }
+    if (!complex) {
+      std::copy(v, v + W, in.v);
+      std::copy(n_steps, n_steps + W, in.n_steps);
+      in.n_max = n_max;
+      in.hist = record_acc ? hist.data() : nullptr;
+      in.stride = stride;
+      dispatch(in, q.data(), qd.data(), ma.data(), md.data());
+      for (std::size_t l = 0; l < W; ++l) {
+        state[l] = 0.0;
+        for (std::size_t i = 0; i < nm; ++i) state[l] += q[i * W + l] + qd[i * W + l];
+      }
+    } else {
+      std::copy(v, v + W, ci.v);
+      std::copy(n_steps, n_steps + W, ci.n_steps);
+      ci.n_max = n_max;
+      ci.hist = record_acc ? hist.data() : nullptr;
+      ci.stride = stride;
+      complex_kernel(ci, state.data(), ma.data(), md.data());
+    }
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    for (std::size_t l = 0; l < n_lanes; ++l) {
+      // A non-finite state stays so (the recurrence is linear), and std::max would skip a NaN.
+      PeaksCaseResult res;
+      res.max_abs_disp.resize(static_cast<Index>(no));
+      res.max_abs_acc.resize(static_cast<Index>(no));
+      if (record_acc) res.acc.resize(n_steps[l] + 1, static_cast<Index>(no));
+      bool finite = std::isfinite(state[l]);
+      for (std::size_t j = 0; j < no; ++j) {
+        const auto jj = static_cast<Index>(j);
+        res.max_abs_disp[jj] = md[j * W + l];
+        res.max_abs_acc[jj] = ma[j * W + l];
+        finite = finite && std::isfinite(md[j * W + l]);
+        if (record_acc) {
+          res.acc.col(jj) = Eigen::Map<const Vector>(hist.data() + (l * no + j) * stride, n_steps[l] + 1);
+          finite = finite && res.acc.col(jj).allFinite();
+        } else {
+          finite = finite && std::isfinite(ma[j * W + l]);
+        }
+      }
+      if (!finite)
+        throw SolverError("modal superposition: the state became non-finite (speed " + format_number(v[l], 6) +
+                          " m/s)");
+      Summary& s = res.summary;
+      s.kernel = "modal-peaks";
+      s.n_steps = n_steps[l];
+      s.n_samples = n_steps[l] + 1;
+      s.n_modes = r.n_modes();
+      s.n_dofs = r.n_dofs();
+      s.t_reached = static_cast<double>(n_steps[l]) * dt;
+      s.stop_reason = "t_end reached";
+      s.wall_s = wall / static_cast<double>(n_lanes);
+      out.push_back(std::move(res));
+    }
+  }
+  return out;
+}
+
+}  // namespace viaduct::solve::detail

@@ -1,0 +1,30 @@
+#pragma once
+// The fused modal peaks kernel (private to src/solve; Integrator::run_batch reaches it).
+
+#include <vector>
+
+#include "viaduct/core/options.hpp"
+#include "viaduct/solve/integrator.hpp"
+
+namespace viaduct::solve::detail {
+
+struct PeaksCase {
+  double speed = 0.0;  ///< [m/s] > 0
+  double t_end = 0.0;  ///< [s] > 0
+};
+
+struct PeaksCaseResult {
+  Vector max_abs_disp, max_abs_acc;  ///< per recorded output
+  Matrix acc;                        ///< n_samples × n_outputs when record_acc
+  Summary summary;
+};
+
+/// Cases of the moving loads `L` at their speeds, four per SIMD pass, on the grid k·dt: running
+/// maxima of the reduction's first n_outputs outputs and, with record_acc, their accelerations.
+/// InputError for invalid cases, loads folded for another reduction or histories over
+/// max_history_bytes; SolverError when a state stops being finite.
+std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingChannels& L,
+                                         const std::vector<PeaksCase>& cases, double dt, std::size_t n_outputs,
+                                         bool record_acc, double max_history_bytes);
+
+}  // namespace viaduct::solve::detail
