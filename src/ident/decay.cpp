@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "viaduct/core/error.hpp"
+#include "viaduct/core/options.hpp"
 #include "viaduct/signal/iir.hpp"
 #include "viaduct/signal/peaks.hpp"
 #include "viaduct/signal/resample.hpp"
@@ -59,23 +60,20 @@ std::vector<TimedPeak> peaks_of(const Vector& y, double fs, double t0, double f_
 }  // namespace
 
 bool DecayOptions::is_valid(double fs_hz, std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
-  if (!(frequency_hz > 0.0) || !std::isfinite(frequency_hz)) return fail("frequency_hz (the mode to isolate) must be > 0");
-  if (!(band_ratio > 0.0 && band_ratio < 0.9)) return fail("band_ratio must be in (0, 0.9)");
-  if (filter_order < 0 || filter_order > 8) return fail("filter_order must be in 0..8");
-  if (!(ripple_db > 0.0)) return fail("ripple_db must be > 0");
-  if (filter_order > 0 && !(frequency_hz * (1.0 + band_ratio) < 0.5 * fs_hz))
-    return fail("the band-pass's upper edge " + std::to_string(frequency_hz * (1.0 + band_ratio)) +
-                " Hz must lie below the Nyquist frequency " + std::to_string(0.5 * fs_hz) + " Hz");
-  if (!(noise_factor >= 1.0)) return fail("noise_factor must be >= 1");
-  if (!(skip_cycles >= 0.0)) return fail("skip_cycles must be >= 0");
-  if (!(min_cycles >= 2.0)) return fail("min_cycles must be >= 2");
-  if (!(window_cycles >= 1.0)) return fail("window_cycles must be >= 1");
-  if (!(rise_tolerance > 0.0)) return fail("rise_tolerance must be > 0");
-  return true;
+  OptionsCheck c("DecayOptions", why);
+  return c.require(frequency_hz > 0.0, "frequency_hz", frequency_hz, "frequency_hz (the mode to isolate) > 0") &&
+         c.require(band_ratio > 0.0 && band_ratio < 0.9, "band_ratio", band_ratio, "band_ratio in (0, 0.9)") &&
+         c.require(filter_order >= 0 && filter_order <= 8, "filter_order", filter_order, "filter_order in 0..8") &&
+         c.require(ripple_db > 0.0, "ripple_db", ripple_db, "ripple_db > 0") &&
+         c.require(filter_order == 0 || frequency_hz * (1.0 + band_ratio) < 0.5 * fs_hz, "band_ratio", band_ratio,
+                   "the band-pass's upper edge frequency_hz (1 + band_ratio) = " +
+                       format_number(frequency_hz * (1.0 + band_ratio), 6) + " Hz below the Nyquist frequency " +
+                       format_number(0.5 * fs_hz, 6) + " Hz") &&
+         c.require(noise_factor >= 1.0, "noise_factor", noise_factor, "noise_factor >= 1") &&
+         c.require(skip_cycles >= 0.0, "skip_cycles", skip_cycles, "skip_cycles >= 0") &&
+         c.require(min_cycles >= 2.0, "min_cycles", min_cycles, "min_cycles >= 2") &&
+         c.require(window_cycles >= 1.0, "window_cycles", window_cycles, "window_cycles >= 1") &&
+         c.require(rise_tolerance > 0.0, "rise_tolerance", rise_tolerance, "rise_tolerance > 0");
 }
 
 double passage_end_time(double entry_s, double train_length_m, double bridge_length_m, double speed_mps) {

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "viaduct/core/error.hpp"
+#include "viaduct/core/options.hpp"
 
 namespace viaduct::ident {
 
@@ -129,15 +130,12 @@ std::vector<SineStep> regular_schedule(double f_start_hz, double f_end_hz, Index
 }
 
 bool StepDetectionOptions::is_valid(std::string* why) const {
-  auto fail = [&](const char* m) {
-    if (why) *why = m;
-    return false;
-  };
-  if (!(min_cycles >= 2.0)) return fail("min_cycles must be >= 2");
-  if (!(tolerance > 0.0)) return fail("tolerance must be > 0");
-  if (smooth_cycles < 1 || smooth_cycles % 2 == 0) return fail("smooth_cycles must be odd and >= 1");
-  if (!(hysteresis > 0.0 && hysteresis < 1.0)) return fail("hysteresis must be in (0, 1)");
-  return true;
+  OptionsCheck c("StepDetectionOptions", why);
+  return c.require(min_cycles >= 2.0, "min_cycles", min_cycles, "min_cycles >= 2") &&
+         c.require(tolerance > 0.0, "tolerance", tolerance, "tolerance > 0") &&
+         c.require(smooth_cycles >= 1 && smooth_cycles % 2 == 1, "smooth_cycles", smooth_cycles,
+                   "smooth_cycles odd and >= 1") &&
+         c.require(hysteresis > 0.0 && hysteresis < 1.0, "hysteresis", hysteresis, "hysteresis in (0, 1)");
 }
 
 std::vector<SineStep> detect_steps(const Vector& force, double fs_hz, double t0_s, const StepDetectionOptions& o) {
@@ -206,15 +204,11 @@ std::vector<SineStep> detect_steps(const Vector& force, double fs_hz, double t0_
 }
 
 bool SteppedSineOptions::is_valid(std::string* why) const {
-  auto fail = [&](const char* m) {
-    if (why) *why = m;
-    return false;
-  };
-  if (!(settle_cycles >= 0.0) || !std::isfinite(settle_cycles)) return fail("settle_cycles must be >= 0");
-  if (!(settle_s >= 0.0) || !std::isfinite(settle_s)) return fail("settle_s must be >= 0");
-  if (!(min_cycles >= 2.0) || !std::isfinite(min_cycles)) return fail("min_cycles must be >= 2");
-  if (n_harmonics < 1 || n_harmonics > 20) return fail("n_harmonics must be in 1..20");
-  return true;
+  OptionsCheck c("SteppedSineOptions", why);
+  return c.require(settle_cycles >= 0.0, "settle_cycles", settle_cycles, "settle_cycles >= 0") &&
+         c.require(settle_s >= 0.0, "settle_s", settle_s, "settle_s >= 0") &&
+         c.require(min_cycles >= 2.0, "min_cycles", min_cycles, "min_cycles >= 2") &&
+         c.require(n_harmonics >= 1 && n_harmonics <= 20, "n_harmonics", n_harmonics, "n_harmonics in 1..20");
 }
 
 Complex fit_sine(const Vector& t, const Vector& x, double frequency_hz, int n_harmonics, double* distortion) {
@@ -357,15 +351,13 @@ std::vector<SteppedSinePoint> stepped_sine(const Vector& force, const Matrix& re
 // ---------------------------------------------------------------------------------------------
 
 bool SweptSineOptions::is_valid(double fs_hz, std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
-  if (!(f_min_hz > 0.0)) return fail("f_min_hz must be > 0");
-  if (!(f_max_hz > f_min_hz)) return fail("f_max_hz must be > f_min_hz");
-  if (!(f_max_hz < 0.5 * fs_hz)) return fail("f_max_hz must be below the Nyquist frequency " + std::to_string(0.5 * fs_hz) + " Hz");
-  if (!(min_force_ratio >= 0.0 && min_force_ratio < 1.0)) return fail("min_force_ratio must be in [0, 1)");
-  return true;
+  OptionsCheck c("SweptSineOptions", why);
+  return c.require(f_min_hz > 0.0, "f_min_hz", f_min_hz, "f_min_hz > 0") &&
+         c.require(f_max_hz > f_min_hz, "f_max_hz", f_max_hz, "f_max_hz > f_min_hz") &&
+         c.require(f_max_hz < 0.5 * fs_hz, "f_max_hz", f_max_hz,
+                   "f_max_hz below the Nyquist frequency " + format_number(0.5 * fs_hz, 6) + " Hz") &&
+         c.require(min_force_ratio >= 0.0 && min_force_ratio < 1.0, "min_force_ratio", min_force_ratio,
+                   "min_force_ratio in [0, 1)");
 }
 
 Frf swept_sine(const Vector& force, const Matrix& responses, double fs_hz, const SweptSineOptions& o) {

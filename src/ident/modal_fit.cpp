@@ -8,6 +8,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "viaduct/core/error.hpp"
+#include "viaduct/core/options.hpp"
 #include "viaduct/signal/peaks.hpp"
 
 namespace viaduct::ident {
@@ -110,15 +111,11 @@ HalfPower half_power(const Vector& f, const Vector& y, Index near, Index channel
 }  // namespace
 
 bool PeakPickingOptions::is_valid(std::string* why) const {
-  auto fail = [&](const char* m) {
-    if (why) *why = m;
-    return false;
-  };
-  if (!(f_min_hz >= 0.0)) return fail("f_min_hz must be >= 0");
-  if (!(f_max_hz > f_min_hz)) return fail("f_max_hz must be > f_min_hz");
-  if (!(min_relative_prominence >= 0.0 && min_relative_prominence < 1.0))
-    return fail("min_relative_prominence must be in [0, 1)");
-  return true;
+  OptionsCheck c("PeakPickingOptions", why);
+  return c.require(f_min_hz >= 0.0, "f_min_hz", f_min_hz, "f_min_hz >= 0") &&
+         c.require_or_infinite(f_max_hz > f_min_hz, "f_max_hz", f_max_hz, "f_max_hz > f_min_hz (inf: no limit)") &&
+         c.require(min_relative_prominence >= 0.0 && min_relative_prominence < 1.0, "min_relative_prominence",
+                   min_relative_prominence, "min_relative_prominence in [0, 1)");
 }
 
 std::vector<IdentifiedMode> peak_picking(const Frf& frf, const PeakPickingOptions& o) {
@@ -311,21 +308,19 @@ IdentifiedMode circle_fit(const Frf& frf, Index response, double f_guess_hz, dou
 // ---------------------------------------------------------------------------------------------
 
 bool LscfOptions::is_valid(std::string* why) const {
-  auto fail = [&](const char* m) {
-    if (why) *why = m;
-    return false;
-  };
-  if (!(f_min_hz >= 0.0)) return fail("f_min_hz must be >= 0");
-  if (!(f_max_hz > f_min_hz)) return fail("f_max_hz must be > f_min_hz");
-  if (max_order < 4 || max_order > 200 || max_order % 2 != 0) return fail("max_order must be even, in 4..200");
-  if (!(tol_frequency > 0.0)) return fail("tol_frequency must be > 0");
-  if (!(tol_damping > 0.0)) return fail("tol_damping must be > 0");
-  if (!(max_damping > 0.0 && max_damping < 1.0)) return fail("max_damping must be in (0, 1)");
-  if (!(cluster_tol > 0.0)) return fail("cluster_tol must be > 0");
-  if (!(min_cluster_fraction > 0.0 && min_cluster_fraction <= 1.0)) return fail("min_cluster_fraction must be in (0, 1]");
-  if (!(split_gain >= 0.0 && split_gain < 1.0)) return fail("split_gain must be in [0, 1)");
-  if (!(split_min_share >= 0.0)) return fail("split_min_share must be >= 0");
-  return true;
+  OptionsCheck c("LscfOptions", why);
+  return c.require(f_min_hz >= 0.0, "f_min_hz", f_min_hz, "f_min_hz >= 0") &&
+         c.require_or_infinite(f_max_hz > f_min_hz, "f_max_hz", f_max_hz, "f_max_hz > f_min_hz (inf: no limit)") &&
+         c.require(max_order >= 4 && max_order <= 200 && max_order % 2 == 0, "max_order", max_order,
+                   "max_order even, in 4..200") &&
+         c.require(tol_frequency > 0.0, "tol_frequency", tol_frequency, "tol_frequency > 0") &&
+         c.require(tol_damping > 0.0, "tol_damping", tol_damping, "tol_damping > 0") &&
+         c.require(max_damping > 0.0 && max_damping < 1.0, "max_damping", max_damping, "max_damping in (0, 1)") &&
+         c.require(cluster_tol > 0.0, "cluster_tol", cluster_tol, "cluster_tol > 0") &&
+         c.require(min_cluster_fraction > 0.0 && min_cluster_fraction <= 1.0, "min_cluster_fraction",
+                   min_cluster_fraction, "min_cluster_fraction in (0, 1]") &&
+         c.require(split_gain >= 0.0 && split_gain < 1.0, "split_gain", split_gain, "split_gain in [0, 1)") &&
+         c.require(split_min_share >= 0.0, "split_min_share", split_min_share, "split_min_share >= 0");
 }
 
 namespace {

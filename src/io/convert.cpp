@@ -197,8 +197,14 @@ study::Scenario to_scenario(const FlatScenario& f) {
   }
   if (st.filter.enabled) {
     std::string why;
-    if (!st.filter.cheby.is_valid(1.0 / st.dt, &why))
-      throw InputError(f.at("filter.high_hz").where, why);
+    if (!st.filter.cheby.is_valid(1.0 / st.dt, &why)) {
+      // The key of the field the message names ("Cheby1Spec::order = 13: ..."); the band edges
+      // against fs name filter.high_hz, which analysis.dt limits too.
+      std::string key = "filter.high_hz";
+      for (const char* field : {"order", "ripple_db", "low_hz"})
+        if (why.rfind(std::string("Cheby1Spec::") + field + " ", 0) == 0) key = std::string("filter.") + field;
+      throw InputError(f.at(key).where, why);
+    }
   }
 
   // Stations.

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "viaduct/core/error.hpp"
+#include "viaduct/core/options.hpp"
 
 namespace viaduct::signal {
 
@@ -239,23 +240,17 @@ std::complex<double> Sos::response(double f_hz, double fs_hz) const {
 }
 
 bool Cheby1Spec::is_valid(double fs_hz, std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
+  OptionsCheck c("Cheby1Spec", why);
+  if (!c.require(fs_hz > 0.0, "fs_hz", fs_hz, "sampling rate > 0 Hz") ||
+      !c.require(order >= 1 && order <= 12, "order", order, "order in 1..12") ||
+      !c.require(ripple_db > 0.0, "ripple_db", ripple_db, "ripple_db > 0"))
     return false;
-  };
-  if (!(std::isfinite(fs_hz) && fs_hz > 0.0)) return fail("sampling rate must be > 0 Hz, got " + num(fs_hz));
-  if (order < 1 || order > 12) return fail("filter order must be in 1..12, got " + std::to_string(order));
-  if (!(std::isfinite(ripple_db) && ripple_db > 0.0)) return fail("ripple_db must be > 0, got " + num(ripple_db));
   const double nyq = fs_hz / 2.0;
   const bool use_low = band != BandType::lowpass, use_high = band != BandType::highpass;
-  if (use_low && !(std::isfinite(low_hz) && low_hz > 0.0 && low_hz < nyq))
-    return fail("low_hz must be in (0, fs/2 = " + num(nyq) + ") Hz, got " + num(low_hz));
-  if (use_high && !(std::isfinite(high_hz) && high_hz > 0.0 && high_hz < nyq))
-    return fail("high_hz must be in (0, fs/2 = " + num(nyq) + ") Hz, got " + num(high_hz) +
-                " (reduce the time step or the band edge)");
-  if (band == BandType::bandpass && !(low_hz < high_hz))
-    return fail("low_hz must be < high_hz, got " + num(low_hz) + " and " + num(high_hz));
-  return true;
+  return (!use_low || c.require(low_hz > 0.0 && low_hz < nyq, "low_hz", low_hz, "low_hz in (0, fs/2 = " + num(nyq) + ") Hz")) &&
+         (!use_high || c.require(high_hz > 0.0 && high_hz < nyq, "high_hz", high_hz,
+                                 "high_hz in (0, fs/2 = " + num(nyq) + ") Hz (reduce the time step or the band edge)")) &&
+         (band != BandType::bandpass || c.require(low_hz < high_hz, "low_hz", low_hz, "low_hz < high_hz = " + num(high_hz)));
 }
 
 Sos cheby1(const Cheby1Spec& spec, double fs_hz) {

@@ -5,18 +5,16 @@
 #include <numeric>
 
 #include "viaduct/core/error.hpp"
+#include "viaduct/core/options.hpp"
 
 namespace viaduct::signal {
 
 bool PeakOptions::is_valid(std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
-  if (std::isnan(min_height)) return fail("min_height must not be NaN");
-  if (!(std::isfinite(min_prominence) && min_prominence >= 0.0)) return fail("min_prominence must be >= 0");
-  if (min_distance < 1) return fail("min_distance must be >= 1 sample");
-  return true;
+  OptionsCheck c("PeakOptions", why);
+  // min_height may be -inf (no height limit), never NaN.
+  return (!std::isnan(min_height) || c.fail("min_height", "nan", "min_height not NaN")) &&
+         c.require(min_prominence >= 0.0, "min_prominence", min_prominence, "min_prominence >= 0") &&
+         c.require(min_distance >= 1, "min_distance", static_cast<double>(min_distance), "min_distance >= 1 sample");
 }
 
 namespace {

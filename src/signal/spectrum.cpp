@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "viaduct/core/error.hpp"
+#include "viaduct/core/options.hpp"
 
 namespace viaduct::signal {
 
@@ -88,16 +89,12 @@ Csd welch_cross(const Vector& x, const Vector& y, double fs_hz, const WelchOptio
 }  // namespace
 
 bool WelchOptions::is_valid(Index n_samples, std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
-  if (nperseg < 2) return fail("nperseg must be >= 2, got " + std::to_string(nperseg));
-  if (nperseg > n_samples)
-    return fail("nperseg (" + std::to_string(nperseg) + ") exceeds the record's " + std::to_string(n_samples) + " samples");
-  if (noverlap >= nperseg || noverlap < -1)
-    return fail("noverlap must be in [0, nperseg), got " + std::to_string(noverlap));
-  return true;
+  OptionsCheck c("WelchOptions", why);
+  return c.require(nperseg >= 2, "nperseg", static_cast<double>(nperseg), "nperseg >= 2") &&
+         c.require(nperseg <= n_samples, "nperseg", static_cast<double>(nperseg),
+                   "nperseg <= the record's " + std::to_string(n_samples) + " samples") &&
+         c.require(noverlap < nperseg && noverlap >= -1, "noverlap", static_cast<double>(noverlap),
+                   "noverlap in [0, nperseg) (-1: nperseg/2)");
 }
 
 AmplitudeSpectrum amplitude_spectrum(const Vector& x, double fs_hz, Window w) {

@@ -17,6 +17,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "viaduct/core/error.hpp"
+#include "viaduct/core/options.hpp"
 #include "viaduct/core/thread_pool.hpp"
 #include "viaduct/model/modes.hpp"
 #include "viaduct/signal/iir.hpp"
@@ -681,35 +682,30 @@ void jacobian_at(const Evaluator& ev, const FitOptions& o, const std::vector<dou
 }  // namespace
 
 bool FitWeights::is_valid(std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
+  OptionsCheck c("FitWeights", why);
   for (auto [name, w] : {std::pair<const char*, double>{"time", time}, {"peak", peak}, {"envelope", envelope},
                          {"spectrum", spectrum}, {"modal", modal}, {"damping", damping}})
-    if (bad_weight(w)) return fail(std::string("weight of ") + name + " must be >= 0 and finite");
-  if (time + peak + envelope + spectrum + modal + damping <= 0) return fail("at least one objective weight must be > 0");
-  return true;
+    if (!c.require(!bad_weight(w), name, w, std::string(name) + " >= 0 and finite")) return false;
+  return time + peak + envelope + spectrum + modal + damping > 0 ||
+         c.fail("time", format_number(time, 6), "at least one objective weight > 0");
 }
 
 bool FitOptions::is_valid(std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
-  if (!weights.is_valid(why)) return false;
-  if (!(envelope_window_s > 0) || !std::isfinite(envelope_window_s)) return fail("envelope_window_s must be > 0");
-  if (!(max_shift_s > 0) || !std::isfinite(max_shift_s)) return fail("max_shift_s must be > 0");
-  if (starts < 1) return fail("starts must be >= 1");
-  if (max_iterations < 1) return fail("max_iterations must be >= 1");
-  if (!(max_time_s > 0) || !std::isfinite(max_time_s)) return fail("max_time_s must be > 0");
-  if (!(function_tolerance > 0) || !(parameter_tolerance > 0) || !(gradient_tolerance > 0))
-    return fail("tolerances must be > 0");
-  if (!(fd_step > 0) || fd_step > 0.1) return fail("fd_step must be in (0, 0.1]");
-  if (threads < 1) return fail("threads must be >= 1");
-  if (!(max_relative_std > 0)) return fail("max_relative_std must be > 0");
-  if (!(max_correlation > 0) || !(max_correlation < 1)) return fail("max_correlation must be in (0, 1)");
-  return true;
+  OptionsCheck c("FitOptions", why);
+  return weights.is_valid(why) &&
+         c.require(envelope_window_s > 0, "envelope_window_s", envelope_window_s, "envelope_window_s > 0 [s]") &&
+         c.require(max_shift_s > 0, "max_shift_s", max_shift_s, "max_shift_s > 0 [s]") &&
+         c.require(starts >= 1, "starts", starts, "starts >= 1") &&
+         c.require(max_iterations >= 1, "max_iterations", max_iterations, "max_iterations >= 1") &&
+         c.require(max_time_s > 0, "max_time_s", max_time_s, "max_time_s > 0 [s]") &&
+         c.require(function_tolerance > 0, "function_tolerance", function_tolerance, "function_tolerance > 0") &&
+         c.require(parameter_tolerance > 0, "parameter_tolerance", parameter_tolerance, "parameter_tolerance > 0") &&
+         c.require(gradient_tolerance > 0, "gradient_tolerance", gradient_tolerance, "gradient_tolerance > 0") &&
+         c.require(fd_step > 0 && fd_step <= 0.1, "fd_step", fd_step, "fd_step in (0, 0.1]") &&
+         c.require(threads >= 1, "threads", threads, "threads >= 1") &&
+         c.require(max_relative_std > 0, "max_relative_std", max_relative_std, "max_relative_std > 0") &&
+         c.require(max_correlation > 0 && max_correlation < 1, "max_correlation", max_correlation,
+                   "max_correlation in (0, 1)");
 }
 
 const char* to_string(FitResult::Status s) {

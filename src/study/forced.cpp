@@ -10,6 +10,7 @@
 #include <random>
 
 #include "viaduct/core/error.hpp"
+#include "viaduct/core/options.hpp"
 #include "viaduct/core/thread_pool.hpp"
 #include "viaduct/solve/newmark.hpp"
 
@@ -128,34 +129,36 @@ ident::Frf model_frf(const model::Structure& s, const ForcedSetup& setup, const 
 // ---------------------------------------------------------------------------------------------
 
 bool ShakerTest::is_valid(std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
+  OptionsCheck c("ShakerTest", why);
+  if (!c.require(amplitude_N > 0.0, "amplitude_N", amplitude_N, "amplitude_N > 0 [N]") ||
+      !c.require(fs_hz > 0.0, "fs_hz", fs_hz, "fs_hz > 0 [Hz]") ||
+      !c.require(substeps >= 0, "substeps", substeps, "substeps >= 0") ||
+      !c.require(tail_s >= 0.0, "tail_s", tail_s, "tail_s >= 0 [s]"))
     return false;
-  };
-  if (!(amplitude_N > 0.0) || !std::isfinite(amplitude_N)) return fail("amplitude must be > 0");
-  if (!(fs_hz > 0.0)) return fail("sampling rate must be > 0");
-  if (substeps < 0) return fail("substeps must be >= 0");
-  if (!(tail_s >= 0.0)) return fail("tail must be >= 0 s");
   if (kind == Kind::stepped) {
-    if (steps.empty()) return fail("a stepped-sine test needs at least one step");
+    if (steps.empty()) return c.fail("steps", "[]", "a stepped-sine test needs at least one step");
     double t = 0.0;
     for (std::size_t k = 0; k < steps.size(); ++k) {
       const auto& st = steps[k];
-      if (!(st.frequency_hz > 0.0)) return fail("step " + std::to_string(k + 1) + ": frequency must be > 0");
-      if (std::abs(st.t_start_s - t) > 1e-9) return fail("steps must be contiguous from t = 0 (step " + std::to_string(k + 1) + ")");
-      if (!(st.t_end_s > st.t_start_s)) return fail("step " + std::to_string(k + 1) + ": dwell must be > 0");
+      const std::string at = "steps[" + std::to_string(k) + "]";
+      if (!c.require(st.frequency_hz > 0.0, (at + ".frequency_hz").c_str(), st.frequency_hz, "frequency_hz > 0") ||
+          !c.require(std::abs(st.t_start_s - t) <= 1e-9, (at + ".t_start_s").c_str(), st.t_start_s,
+                     "steps contiguous from t = 0 (this one starts where the previous ends, " + format_number(t, 9) +
+                         " s)") ||
+          !c.require(st.t_end_s > st.t_start_s, (at + ".t_end_s").c_str(), st.t_end_s, "dwell t_end_s - t_start_s > 0"))
+        return false;
       t = st.t_end_s;
     }
-  } else {
-    if (!(sweep_f_start_hz > 0.0)) return fail("sweep start frequency must be > 0");
-    if (!(sweep_f_end_hz > sweep_f_start_hz)) return fail("sweep end frequency must exceed the start");
-    if (!(sweep_s > 0.0)) return fail("sweep duration must be > 0");
+  } else if (!c.require(sweep_f_start_hz > 0.0, "sweep_f_start_hz", sweep_f_start_hz, "sweep_f_start_hz > 0") ||
+             !c.require(sweep_f_end_hz > sweep_f_start_hz, "sweep_f_end_hz", sweep_f_end_hz,
+                        "sweep_f_end_hz > sweep_f_start_hz") ||
+             !c.require(sweep_s > 0.0, "sweep_s", sweep_s, "sweep_s > 0 [s]")) {
+    return false;
   }
-  if (!(max_frequency_hz() < 0.5 * fs_hz))
-    return fail("highest drive frequency " + std::to_string(max_frequency_hz()) + " Hz must be below the Nyquist frequency " +
-                std::to_string(0.5 * fs_hz) + " Hz");
-  if (duration_s() * fs_hz > 5e7) return fail("the record would exceed 5e7 samples");
-  return true;
+  return c.require(max_frequency_hz() < 0.5 * fs_hz, "fs_hz", fs_hz,
+                   "the highest drive frequency " + format_number(max_frequency_hz(), 6) +
+                       " Hz below the Nyquist frequency fs_hz/2") &&
+         c.require(duration_s() * fs_hz <= 5e7, "fs_hz", fs_hz, "a record of at most 5e7 samples");
 }
 
 double ShakerTest::duration_s() const {

@@ -24,6 +24,8 @@ expect 2 "unknown.toml:10: key 'analysis.dtt': unknown key (did you mean 'analys
 expect 2 "wrongtype.toml:10: key 'analysis.dt': must be a number" -- "$VIADUCT" check "$(scen wrongtype '[analysis]\ndt = "small"\n')"
 expect 2 "key 'analysis.dt': must be > 0 [s], got 0" -- "$VIADUCT" run "$(scen dt0 '[analysis]\ndt = 0.0\n')" --speed-kmh 100 --out "$WORK/o"
 expect 2 "key 'analysis.dt': must be > 0 [s], got -0.001" -- "$VIADUCT" check "$(scen dtneg '[analysis]\ndt = -1e-3\n')"
+# A filter option that breaks its rule is reported against its own key (was filter.high_hz).
+expect 2 "order13.toml:10: key 'filter.order': Cheby1Spec::order = 13: violated constraint order in 1..12" -- "$VIADUCT" check "$(scen order13 '[filter]\norder = 13\n')"
 expect 2 "key 'track.pad.k': must be > 0 [N/m], got -100000000" -- "$VIADUCT" check "$OG" --set track.pad.k=-1e8
 expect 2 "--set: key 'bridge.bearings.k': must be >= 0 [N/m], got -5" -- "$VIADUCT" check "$OG" --set bridge.bearings.k=-5.0
 printf 'span_lengths = [10.0]\nEI = -2e9\nmass_per_m = 5000.0\n' > "$WORK/parts/negEI.toml"
@@ -63,8 +65,8 @@ printf 't_s,a_mps2\n0,1\n0.01,2\n0.02,3\n0.035,4\n0.045,5\n' > "$WORK/jitter.csv
 expect 2 "irregular sampling at sample 4" -- "$VIADUCT" spectrum "$WORK/jitter.csv"
 printf 't_s,a_furlongs\n0,1\n0.01,2\n' > "$WORK/unit.csv"
 expect 2 "has no known unit suffix" -- "$VIADUCT" spectrum "$WORK/unit.csv"
-expect 2 "high_hz must be in (0, fs/2 = 250) Hz" -- "$VIADUCT" filter "$SRC/data/records/synthetic-deck.csv" --high-hz 300
-expect 2 "nperseg (100000) exceeds the record's 3009 samples" -- "$VIADUCT" spectrum "$SRC/data/records/synthetic-deck.csv" --welch --nperseg 100000
+expect 2 "Cheby1Spec::high_hz = 300: violated constraint high_hz in (0, fs/2 = 250) Hz" -- "$VIADUCT" filter "$SRC/data/records/synthetic-deck.csv" --high-hz 300
+expect 2 "WelchOptions::nperseg = 100000: violated constraint nperseg <= the record's 3009 samples" -- "$VIADUCT" spectrum "$SRC/data/records/synthetic-deck.csv" --welch --nperseg 100000
 expect 2 "no channel 'rail'" -- "$VIADUCT" spectrum "$SRC/data/records/synthetic-deck.csv" --channel rail
 expect 2 "RECORD is required" -- "$VIADUCT" spectrum
 expect 2 "--set changes scenario keys; viaduct filter takes no scenario" -- "$VIADUCT" filter "$SRC/data/records/synthetic-deck.csv" --set filter.high_hz=20
@@ -137,7 +139,7 @@ expect 2 "--weight: unknown objective 'phase'" -- "$VIADUCT" fit "$FS" --record 
 expect 2 "one speed for all records or one per --record" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --speed-kmh 100 --speed-kmh 110 --out "$WORK/o"
 expect 2 "nothing to fit against" -- "$VIADUCT" fit "$FS" --param bridge.EI=1e9:4e9 --out "$WORK/o"
 expect 2 "the modal and damping objectives need --modes" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --weight modal=1 --out "$WORK/o"
-expect 2 "starts must be >= 1" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --starts 0 --out "$WORK/o"
+expect 2 "FitOptions::starts = 0: violated constraint starts >= 1" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --starts 0 --out "$WORK/o"
 expect 2 "given twice" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --param bridge.EI=1e9:5e9 --out "$WORK/o"
 mkdir -p "$WORK/md"
 printf 'method,mode,frequency_hz,damping_ratio,response,note\nlscf,1,4.0,0.02,all,\n' > "$WORK/md/modes.csv"

@@ -92,7 +92,7 @@ TEST_CASE("stability at the extremes: time steps x10 and /100 of the default", "
   sensible(run(sc, 50.0, 1e-5, 0.02), sc, "dt = 10 us");
   // dt = 10 ms cannot carry the 60 Hz filter of the scenario: a clear error, not a wrong answer.
   REQUIRE_THROWS_WITH(vt::shipped("old-guadiana-sensitivity", {"analysis.dt=0.01"}),
-                      Catch::Contains("high_hz must be in (0, fs/2 = 50) Hz"));
+                      Catch::Contains("high_hz in (0, fs/2 = 50) Hz"));
 }
 
 // The same extremes for modal superposition (issue #5): exact per-step modal equations, complex

@@ -8,7 +8,8 @@
 ///     return c.require(beta > 0.0, "beta", beta, "beta > 0") && …;
 ///   }
 ///
-/// A non-finite value always fails, whatever the condition says.
+/// A non-finite value fails require(), whatever the condition says; require_or_infinite() lets
+/// ±infinity through for fields where it means "no limit".
 
 #include <cmath>
 #include <string>
@@ -25,6 +26,11 @@ class OptionsCheck {
   /// True when `ok` holds and `value` is finite; otherwise writes the message and returns false.
   bool require(bool ok, const char* field, double value, const std::string& rule) {
     if (ok && std::isfinite(value)) return true;
+    return fail(field, format_number(value, 6), rule);
+  }
+  /// The same for a field where ±infinity means "no limit": only NaN fails besides `ok`.
+  bool require_or_infinite(bool ok, const char* field, double value, const std::string& rule) {
+    if (ok && !std::isnan(value)) return true;
     return fail(field, format_number(value, 6), rule);
   }
   /// For a non-numeric field (or one whose value is shown otherwise): writes the message, false.

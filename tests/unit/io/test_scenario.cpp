@@ -131,7 +131,7 @@ TEST_CASE("bad scenarios give file, line and key") {
   e = error_of("[[stations]]\nname = \"far\"\nspan = 3\nat = 0.2\n");
   REQUIRE(e.find("span 3 does not exist") != std::string::npos);
   e = error_of("[filter]\nhigh_hz = 900.0\n");
-  REQUIRE(e.find("high_hz must be in (0, fs/2 = 500) Hz") != std::string::npos);
+  REQUIRE(e.find("high_hz in (0, fs/2 = 500) Hz") != std::string::npos);
   e = error_of("[sweep]\nspeeds_kmh = [100]\nspeed_min_kmh = 50\n");
   REQUIRE(e.find("give speeds one way only") != std::string::npos);
   // Zero span length is caught in the component file with its line.

@@ -117,11 +117,11 @@ TEST_CASE("zero-phase filtering keeps a steady in-band sine in phase") {
 TEST_CASE("filter inputs are validated") {
   Cheby1Spec s;
   s.high_hz = 600.0;
-  REQUIRE_THROWS_WITH(cheby1(s, 1000.0), Catch::Contains("high_hz must be in (0, fs/2"));
+  REQUIRE_THROWS_WITH(cheby1(s, 1000.0), Catch::Contains("Cheby1Spec::high_hz = ") && Catch::Contains("high_hz in (0, fs/2"));
   s = Cheby1Spec{};
   s.low_hz = 40.0;
   s.high_hz = 30.0;
-  REQUIRE_THROWS_WITH(cheby1(s, 1000.0), Catch::Contains("low_hz must be < high_hz"));
+  REQUIRE_THROWS_WITH(cheby1(s, 1000.0), Catch::Contains("low_hz < high_hz"));
   s = Cheby1Spec{};
   s.order = 0;
   REQUIRE_THROWS_AS(cheby1(s, 1000.0), InputError);

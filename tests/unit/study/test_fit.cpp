@@ -280,7 +280,7 @@ TEST_CASE("inconsistent fit problems are refused with the reason") {
   expect(p, oo, "fd_step");
   oo = o;
   oo.starts = 0;
-  expect(p, oo, "starts must be >= 1");
+  expect(p, oo, "FitOptions::starts = 0: violated constraint starts >= 1");
 }
 
 TEST_CASE("a train speed 5 % off is recovered through the spectral pre-stage") {
