@@ -140,6 +140,50 @@ void error_handler(int code, const char* module, const char* function, char* msg
   if (code < 0) P->last_message = m;
   else if (P->log) P->log(LogLevel::warning, "SUNDIALS " + m);
 }
+// M, C and K refilled on the union of their patterns (P.Mu, P.Cu, P.Ku), so that the Jacobian
+// [c_j I, −I; K, c_j M + C] is filled entry by entry without searching.
+void on_union_pattern(const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K, Problem& P) {
+  SparseMatrix pattern = M.cwiseAbs() + C.cwiseAbs() + K.cwiseAbs();
+  pattern.makeCompressed();
+  for (Index k = 0; k < pattern.nonZeros(); ++k) pattern.valuePtr()[k] = 0.0;
+  P.Mu = pattern + M;
+  P.Cu = pattern + C;
+  P.Ku = pattern + K;
+  P.Mu.makeCompressed(), P.Cu.makeCompressed(), P.Ku.makeCompressed();
+  if (P.Mu.nonZeros() != pattern.nonZeros() || P.Cu.nonZeros() != pattern.nonZeros() ||
+      P.Ku.nonZeros() != pattern.nonZeros())
+    throw SolverError("IDA: internal error: matrices do not share the union pattern");
+}
+
+// The system's load discontinuities inside (eps_t, t_end), sorted, those closer than eps_t merged.
+std::vector<double> stop_times(const SecondOrderSystem& sys, double t_end, double eps_t) {
+  std::vector<double> events = sys.discontinuities(t_end);
+  std::sort(events.begin(), events.end());
+  events.erase(std::remove_if(events.begin(), events.end(), [&](double e) { return !(e > eps_t && e < t_end); }),
+               events.end());
+  events.erase(std::unique(events.begin(), events.end(), [&](double a, double b) { return b - a <= eps_t; }),
+               events.end());
+  return events;
+}
+
+// IDA's counters into the summary.
+void read_counters(void* ida_mem, Summary& s) {
+  long v = 0;
+  check(IDAGetNumSteps(ida_mem, &v), "IDAGetNumSteps");
+  s.n_steps = v;
+  check(IDAGetNumResEvals(ida_mem, &v), "IDAGetNumResEvals");
+  s.n_residuals = v;
+  check(IDAGetNumJacEvals(ida_mem, &v), "IDAGetNumJacEvals");
+  s.n_factorisations = v;
+  check(IDAGetNumErrTestFails(ida_mem, &v), "IDAGetNumErrTestFails");
+  s.n_rejected_steps = v;
+  check(IDAGetNumNonlinSolvConvFails(ida_mem, &v), "IDAGetNumNonlinSolvConvFails");
+  s.n_nonlinear_failures = v;
+  int order = 0;
+  check(IDAGetLastOrder(ida_mem, &order), "IDAGetLastOrder");
+  s.last_order = order;
+}
+
 }  // namespace
 
 bool IdaOptions::is_valid(std::string* why) const {
@@ -165,18 +209,7 @@ Summary ida(const SecondOrderSystem& sys, const TimeGrid& grid, const IdaOptions
   const Index n = P.n;
   const SparseMatrix &M = sys.mass(), &C = sys.damping(), &K = sys.stiffness();
   detail::require_square_system(M, C, K, "IDA");
-  {
-    SparseMatrix pattern = M.cwiseAbs() + C.cwiseAbs() + K.cwiseAbs();
-    pattern.makeCompressed();
-    for (Index k = 0; k < pattern.nonZeros(); ++k) pattern.valuePtr()[k] = 0.0;
-    P.Mu = pattern + M;
-    P.Cu = pattern + C;
-    P.Ku = pattern + K;
-    P.Mu.makeCompressed(), P.Cu.makeCompressed(), P.Ku.makeCompressed();
-    if (P.Mu.nonZeros() != pattern.nonZeros() || P.Cu.nonZeros() != pattern.nonZeros() ||
-        P.Ku.nonZeros() != pattern.nonZeros())
-      throw SolverError("IDA: internal error: matrices do not share the union pattern");
-  }
+  on_union_pattern(M, C, K, P);
   P.f = Vector::Zero(n);
   Eigen::SimplicialLDLT<SparseMatrix> lm(M);
   if (lm.info() != Eigen::Success) throw SolverError("IDA: mass matrix is not positive definite");
@@ -219,12 +252,7 @@ Summary ida(const SecondOrderSystem& sys, const TimeGrid& grid, const IdaOptions
   check(IDASetLinearSolver(ida_mem, LS.get(), J.get()), "IDASetLinearSolver");
   check(IDASetJacFn(ida_mem, jacobian), "IDASetJacFn");
 
-  std::vector<double> events = sys.discontinuities(t_end);
-  std::sort(events.begin(), events.end());
-  events.erase(std::remove_if(events.begin(), events.end(), [&](double e) { return !(e > eps_t && e < t_end); }),
-               events.end());
-  events.erase(std::unique(events.begin(), events.end(), [&](double a, double b) { return b - a <= eps_t; }),
-               events.end());
+  const std::vector<double> events = stop_times(sys, t_end, eps_t);
   std::size_t next_event = 0;
 
   Summary s;
@@ -263,20 +291,7 @@ Summary ida(const SecondOrderSystem& sys, const TimeGrid& grid, const IdaOptions
     t_now = solve_to(tout, tstop);
     emit(k, k * dt_out);
   }
-  long v_long = 0;
-  check(IDAGetNumSteps(ida_mem, &v_long), "IDAGetNumSteps");
-  s.n_steps = v_long;
-  check(IDAGetNumResEvals(ida_mem, &v_long), "IDAGetNumResEvals");
-  s.n_residuals = v_long;
-  check(IDAGetNumJacEvals(ida_mem, &v_long), "IDAGetNumJacEvals");
-  s.n_factorisations = v_long;
-  check(IDAGetNumErrTestFails(ida_mem, &v_long), "IDAGetNumErrTestFails");
-  s.n_rejected_steps = v_long;
-  check(IDAGetNumNonlinSolvConvFails(ida_mem, &v_long), "IDAGetNumNonlinSolvConvFails");
-  s.n_nonlinear_failures = v_long;
-  int order = 0;
-  check(IDAGetLastOrder(ida_mem, &order), "IDAGetLastOrder");
-  s.last_order = order;
+  read_counters(ida_mem, s);
   s.n_samples = n_out + 1;
   s.n_dofs = n;
   s.t_reached = n_out * dt_out;

@@ -106,6 +106,25 @@ const SecondOrderSystem& system_of(const LoadCase& c, const char* who) {
   return *c.system;
 }
 
+// One case of a kernel that delivers the full state (u, v, a) at every sample: the outputs
+// evaluated and recorded. kernel(sys, grid, observer) runs it and returns its Summary.
+template <class Kernel>
+CaseResult run_full_state(const LoadCase& c, double dt, const std::vector<Functional>& outputs, const Recording& rec,
+                          const char* who, Kernel&& kernel) {
+  const SecondOrderSystem& sys = system_of(c, who);
+  const TimeGrid g{dt, c.t_end};
+  require_valid(g, who);
+  check_outputs(outputs, sys.n_dofs(), who);
+  CaseResult r;
+  allocate(r, g, outputs.size(), rec);
+  const Sampler put{&r};
+  r.summary = kernel(sys, g, [&](Index k, double, const Vector& u, const Vector&, const Vector& a) {
+    for (std::size_t j = 0; j < outputs.size(); ++j)
+      put(k, static_cast<Index>(j), eval(outputs[j], u), eval(outputs[j], a));
+  });
+  return r;
+}
+
 class NewmarkIntegrator : public Integrator {
  public:
   NewmarkIntegrator(const IntegrationSettings& s, std::vector<Functional> outputs)
@@ -114,18 +133,10 @@ class NewmarkIntegrator : public Integrator {
   std::size_t batch_width() const override { return kNewmarkBatch; }
 
   CaseResult run(const LoadCase& c, const Recording& rec) const override {
-    const SecondOrderSystem& sys = system_of(c, "Newmark");
-    const TimeGrid g{dt_, c.t_end};
-    require_valid(g, "Newmark");
-    check_outputs(outputs_, sys.n_dofs(), "Newmark");
-    CaseResult r;
-    allocate(r, g, outputs_.size(), rec);
-    const Sampler put{&r};
-    r.summary = newmark(sys, g, opt_, [&](Index k, double, const Vector& u, const Vector&, const Vector& a) {
-      for (std::size_t j = 0; j < outputs_.size(); ++j)
-        put(k, static_cast<Index>(j), eval(outputs_[j], u), eval(outputs_[j], a));
-    });
-    return r;
+    return run_full_state(c, dt_, outputs_, rec, "Newmark",
+                          [&](const SecondOrderSystem& sys, const TimeGrid& g, const StepObserver& observe) {
+                            return newmark(sys, g, opt_, observe);
+                          });
   }
 
   // Blocks of kNewmarkBatch cases through newmark_batch (one factorisation and every product on
@@ -168,18 +179,10 @@ class IdaIntegrator : public Integrator {
   Method method() const override { return Method::ida; }
 
   CaseResult run(const LoadCase& c, const Recording& rec) const override {
-    const SecondOrderSystem& sys = system_of(c, "IDA");
-    const TimeGrid g{dt_, c.t_end};
-    require_valid(g, "IDA");
-    check_outputs(outputs_, sys.n_dofs(), "IDA");
-    CaseResult r;
-    allocate(r, g, outputs_.size(), rec);
-    const Sampler put{&r};
-    r.summary = ida(sys, g, opt_, [&](Index k, double, const Vector& u, const Vector&, const Vector& a) {
-      for (std::size_t j = 0; j < outputs_.size(); ++j)
-        put(k, static_cast<Index>(j), eval(outputs_[j], u), eval(outputs_[j], a));
-    });
-    return r;
+    return run_full_state(c, dt_, outputs_, rec, "IDA",
+                          [&](const SecondOrderSystem& sys, const TimeGrid& g, const StepObserver& observe) {
+                            return ida(sys, g, opt_, observe);
+                          });
   }
 
  private:
