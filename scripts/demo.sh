@@ -9,6 +9,12 @@ cd "$(dirname "$0")/.."
 scripts/setup.sh
 cmake --preset release -G Ninja >/dev/null
 cmake --build --preset release -j "$(nproc 2>/dev/null || echo 2)"
+# `viaduct` on the PATH for the README's walk-throughs (as root: /usr/local/bin/viaduct).
+if [ -w "$(cmake -L -N build/release 2>/dev/null | sed -n 's/^CMAKE_INSTALL_PREFIX:PATH=//p')/bin" ]; then
+  cmake --install build/release >/dev/null
+else
+  echo "demo: not installing viaduct (no write access to the install prefix): use build/release/viaduct" >&2
+fi
 out=out/old-guadiana-sensitivity
 build/release/viaduct modes scenarios/old-guadiana-sensitivity.toml --n-modes 10 --out "$out"
 build/release/viaduct sweep scenarios/old-guadiana-sensitivity.toml --threads 0 --out "$out" "$@"

@@ -3,8 +3,11 @@
 #include <chrono>
 #include <cstdio>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <memory>
+#include <sstream>
+#include <algorithm>
 
 #include <Eigen/Core>
 
@@ -14,6 +17,7 @@
 #ifndef VIADUCT_VERSION
 #define VIADUCT_VERSION "0.0.0"
 #endif
+#include "git_commit.hpp"  // VIADUCT_GIT_COMMIT, written at build time (cmake/git_commit.cmake)
 
 namespace viaduct::io {
 
@@ -142,7 +146,76 @@ void write_table_csv(const std::string& path, const std::vector<std::string>& he
   finish(f, path);
 }
 
+std::string git_commit() { return VIADUCT_GIT_COMMIT; }
+
+std::vector<std::pair<std::string, std::string>> settings_as_run(const study::RunSettings& s) {
+  auto num = [](double v) {
+    std::ostringstream os;
+    os.precision(17);
+    os << v;
+    std::string t = os.str();
+    if (t.find_first_of(".eEn") == std::string::npos) t += ".0";
+    return t;
+  };
+  auto str = [](const std::string& v) { return "\"" + v + "\""; };
+  auto yes = [](bool b) { return std::string(b ? "true" : "false"); };
+  std::vector<std::pair<std::string, std::string>> out = {
+      {"method", str(solve::method_name(s.method))},
+      {"dt", num(s.dt)},
+      {"superposition", str(s.superposition == study::Superposition::unit_response ? "unit-response" : "direct")}};
+  switch (s.method) {
+    case study::Method::newmark:
+      out.insert(out.end(), {{"newmark.beta", num(s.newmark.beta)},
+                             {"newmark.gamma", num(s.newmark.gamma)},
+                             {"newmark.alpha", num(s.newmark.alpha)}});
+      break;
+    case study::Method::modal:
+      out.insert(out.end(), {{"modal.n_modes", std::to_string(s.modal.n_modes)},
+                             {"modal.max_frequency_hz", num(s.modal.max_frequency_hz)},
+                             {"modal.static_correction", yes(s.modal.static_correction)},
+                             {"modal.damping_vectors", std::to_string(s.modal.damping_vectors)}});
+      break;
+    case study::Method::ida:
+      out.insert(out.end(), {{"ida.rtol", num(s.ida.rtol)},
+                             {"ida.atol_disp_m", num(s.ida.atol_disp)},
+                             {"ida.atol_vel_mps", num(s.ida.atol_vel)},
+                             {"ida.max_order", std::to_string(s.ida.max_order)}});
+      break;
+  }
+  const auto& c = s.filter.cheby;
+  out.insert(out.end(),
+             {{"free_vibration_s", num(s.free_vibration_s)},
+              {"load_factor", num(s.load_factor)},
+              {"filter.enabled", yes(s.filter.enabled)},
+              {"filter.band", str(c.band == signal::BandType::lowpass    ? "lowpass"
+                                  : c.band == signal::BandType::highpass ? "highpass"
+                                                                         : "bandpass")},
+              {"filter.order", std::to_string(c.order)},
+              {"filter.ripple_db", num(c.ripple_db)},
+              {"filter.low_hz", num(c.low_hz)},
+              {"filter.high_hz", num(c.high_hz)}});
+  return out;
+}
+
 void write_manifest(const std::string& path, const Manifest& m, const FlatScenario& flat) {
+  write_manifest(path, m, &flat);
+}
+
+void write_manifest(const std::string& path, const Manifest& m, const FlatScenario* flat) {
+  // Every file read: the scenario, the files its values came from (components), its trains, and
+  // the command's own inputs; each once, in the order met.
+  std::vector<std::string> files;
+  auto add = [&](const std::string& f) {
+    if (!f.empty() && f != "--set" && f != "default" && std::find(files.begin(), files.end(), f) == files.end())
+      files.push_back(f);
+  };
+  if (flat) {
+    add(flat->path);
+    for (const auto& kv : flat->values) add(kv.second.where.file);
+    if (flat->has("train.files"))
+      for (const auto& t : flat->at("train.files").ss) add(t);
+  }
+  for (const auto& f : m.inputs) add(f);
   std::ofstream out(path);
   if (!out) throw SolverError("cannot write " + path);
   const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
@@ -157,12 +230,14 @@ void write_manifest(const std::string& path, const Manifest& m, const FlatScenar
   out << "# Written by viaduct; the [scenario] table holds every resolved key.\n";
   out << "[run]\n";
   out << "command = " << q(m.command) << "\n";
-  out << "scenario_file = " << q(flat.path) << "\n";
+  if (!m.command_line.empty()) out << "command_line = " << q(m.command_line) << "\n";
+  if (flat) out << "scenario_file = " << q(flat->path) << "\n";
   out << "finished_utc = " << q(stamp) << "\n";
   out << "wall_s = " << m.wall_s << "\n";
   for (const auto& [k, v] : m.extra) out << k << " = " << v << "\n";
   out << "\n[versions]\n";
   out << "viaduct = " << q(version()) << "\n";
+  out << "git_commit = " << q(git_commit()) << "\n";
   out << "eigen = " << q(std::to_string(EIGEN_WORLD_VERSION) + "." + std::to_string(EIGEN_MAJOR_VERSION) + "." +
                          std::to_string(EIGEN_MINOR_VERSION))
       << "\n";
@@ -171,7 +246,25 @@ void write_manifest(const std::string& path, const Manifest& m, const FlatScenar
   out << "compiler = " << q(__VERSION__) << "\n";
 #endif
   for (const auto& [k, v] : m.versions) out << k << " = " << q(v) << "\n";
-  out << "\n[scenario]\n" << resolved_toml(flat);
+  if (!m.as_run.empty()) {
+    out << "\n[analysis_as_run]\n";
+    for (const auto& [k, v] : m.as_run) out << q(k) << " = " << v << "\n";
+  }
+  for (const auto& f : files) {
+    std::string sum;
+    std::error_code ec;
+    if (std::filesystem::is_directory(f, ec)) {
+      sum = "directory";
+    } else {
+      try {
+        sum = sha256_file(f);
+      } catch (const InputError&) {
+        sum = "unreadable";
+      }
+    }
+    out << "\n[[inputs]]\nfile = " << q(f) << "\nsha256 = " << q(sum) << "\n";
+  }
+  if (flat) out << "\n[scenario]\n" << resolved_toml(*flat);
   if (!out) throw SolverError("error writing " + path);
 }
 

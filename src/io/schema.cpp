@@ -53,7 +53,7 @@ const std::vector<KeySpec>& scenario_schema() {
       {"train.files", T::string_list, "", "", "", "Train files (.toml: hslm, regular or axles; .csv: position_m,load_kN), relative to the referencing file (required)."},
       {"train.load_factor", T::number, "1.0", "-", "> 0", "Multiplies every axle load (0.5: one rail of a half-deck model carries half of each axle)."},
       // analysis
-      {"analysis.dt", T::number, "0.001", "s", "> 0", "Newmark time step (also the recording interval)."},
+      {"analysis.dt", T::number, "0.001", "s", "> 0", "Analysis step of every method: the Newmark step, the load-sampling interval of modal superposition and the recording interval (IDA chooses its own steps and is sampled at it)."},
       {"analysis.beta", T::number, "0.25", "-", "> 0", "Newmark β (0.25: constant average acceleration)."},
       {"analysis.gamma", T::number, "0.5", "-", ">= 0.5", "Newmark γ."},
       {"analysis.alpha", T::number, "0.0", "-", "[-1/3, 0]", "HHT-α (0: plain Newmark); with alpha use beta = (1-alpha)²/4, gamma = (1-2 alpha)/2."},

@@ -59,6 +59,14 @@ int dispatch(const Command& cmd, int argc, char** argv) {
   c.out = vm["out"].as<std::string>();
   c.threads = vm["threads"].as<int>();
   c.quiet = vm["quiet"].as<bool>();
+  c.command_line = "viaduct " + cmd.name;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const bool plain = !a.empty() && a.find_first_of(" \t\n'\"\\$`*?[]{}();&|<>!#~") == std::string::npos;
+    std::string quoted = "'";
+    for (char ch : a) quoted += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+    c.command_line += " " + (plain ? a : quoted + "'");
+  }
   if (!c.set.empty() && cmd.positional.find("SCENARIO") == std::string::npos) {
     std::cerr << prefix << "error: --set changes scenario keys; viaduct " << cmd.name << " takes no scenario\n";
     return usage_error;
@@ -123,6 +131,15 @@ std::vector<std::pair<std::string, std::string>> tool_versions() {
   for (char& c : boost)
     if (c == '_') c = '.';
   return {{"boost_program_options", boost}};
+}
+
+io::Manifest start_manifest(const Common& o, const std::string& command, std::vector<std::string> inputs) {
+  io::Manifest m;
+  m.command = command;
+  m.inputs = std::move(inputs);
+  m.command_line = o.command_line;
+  m.versions = tool_versions();
+  return m;
 }
 
 LogSink log_printer(bool quiet) {

@@ -8,6 +8,7 @@
 #include <boost/program_options.hpp>
 
 #include "viaduct/core/log.hpp"
+#include "viaduct/io/results.hpp"
 
 namespace viaduct::cli {
 
@@ -23,6 +24,7 @@ struct Common {
   std::string out = "out";
   int threads = 1;
   bool quiet = false;
+  std::string command_line;  ///< the invocation, for manifests ("viaduct sweep ... --threads 2")
 };
 
 /// A subcommand: name, one-line summary, help text with sample runs, and its body.
@@ -57,6 +59,10 @@ ProgressSink progress_printer(const std::string& what, bool quiet, const std::st
 
 /// Versions of the libraries only the tool links (for manifests).
 std::vector<std::pair<std::string, std::string>> tool_versions();
+
+/// The manifest every command writes into --out (io::write_manifest): the command, its command
+/// line and the tool's versions filled in.
+io::Manifest start_manifest(const Common& o, const std::string& command, std::vector<std::string> inputs = {});
 
 /// Message printer for the library's log sink (stderr, "viaduct: warning: ...").
 LogSink log_printer(bool quiet);

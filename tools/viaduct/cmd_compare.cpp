@@ -151,14 +151,14 @@ Command compare_command() {
     io::write_columns_csv(o.out + "/compare_time.csv", tnames, tcols);
     io::write_columns_csv(o.out + "/compare_spectrum.csv", fnames, fcols);
     io::write_table_csv(o.out + "/compare_metrics.csv", mnames, metrics);
-    io::Manifest m;
-    m.command = "compare";
+    io::Manifest m = start_manifest(o, "compare");
+    m.inputs = {vm["record"].as<std::string>()};
+    m.as_run = io::settings_as_run(sc.settings);
     m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     m.extra = {{"record", "\"" + vm["record"].as<std::string>() + "\""},
                {"train", "\"" + train->name + "\""},
                {"speed_kmh", format_number(speed * 3.6, 10)},
                {"speed_source", "\"" + speed_source + "\""}};
-    m.versions = tool_versions();
     io::write_manifest(o.out + "/manifest.toml", m, flat);
     if (!o.quiet) std::printf("wrote %s/compare_{time,spectrum,metrics}.csv\n", o.out.c_str());
     return ok;

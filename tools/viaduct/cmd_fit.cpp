@@ -313,11 +313,11 @@ Command fit_command() {
     io::write_scenario_toml(o.out + "/fitted.toml", fitted,
                             "Written by viaduct fit from " + o.scenario + " (" + study::to_string(r.status) +
                                 "): the fitted keys hold their estimates; see fit.csv for standard errors.");
-    io::Manifest m;
-    m.command = "fit";
+    io::Manifest m = start_manifest(o, "fit");
+    if (vm.count("record")) m.inputs = vm["record"].as<std::vector<std::string>>();
+    if (vm.count("modes")) m.inputs.push_back(vm["modes"].as<std::string>());
     m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     m.extra = {{"status", "\"" + std::string(study::to_string(r.status)) + "\""}, {"fit_wall_s", fmt(r.wall_s)}};
-    m.versions = tool_versions();
     io::write_manifest(o.out + "/manifest.toml", m, flat);
     if (!o.quiet) {
       std::printf("\n%s after %d iterations, %d simulations, %.1f s: %s\ncost %.6e -> %.6e\n\n", study::to_string(r.status),

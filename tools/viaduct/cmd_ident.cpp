@@ -112,10 +112,8 @@ int frf_from_scenario(const Common& o, const po::variables_map& vm) {
   const ident::Frf frf = study::model_frf(s, setup, f, o.threads, progress_printer("frf", o.quiet, "frequencies"));
   make_out_dir(o.out);
   io::write_frf_csv(o.out + "/frf.csv", frf);
-  io::Manifest man;
-  man.command = "frf";
+  io::Manifest man = start_manifest(o, "frf");
   man.extra = {{"force_at_m", fmt(setup.force_x_m)}, {"n_dofs", std::to_string(s.n_dofs)}};
-  man.versions = tool_versions();
   io::write_manifest(o.out + "/manifest.toml", man, flat);
   if (!o.quiet)
     std::printf("model FRF: %ld DOFs, %ld frequencies %.4g-%.4g Hz, %zu responses; wrote %s/frf.csv\n",
@@ -237,6 +235,7 @@ int frf_from_record(const Common& o, const po::variables_map& vm) {
   }
   label(frf, rec, chans, funit);
   io::write_frf_csv(o.out + "/frf.csv", frf);
+  io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "frf", {o.scenario}), nullptr);
   if (!o.quiet)
     std::printf("%s FRF: %ld frequencies, %zu responses to %s; wrote %s/frf.csv\n", method.c_str(),
                 static_cast<long>(frf.frequency_hz.size()), chans.size(), frec.channels[fc].c_str(), o.out.c_str());
@@ -370,14 +369,12 @@ Command shaker_command() {
     make_out_dir(o.out);
     io::write_record_csv(o.out + "/record.csv", rec);
     if (t.kind == study::ShakerTest::Kind::stepped) io::write_steps_csv(o.out + "/steps.csv", t.steps);
-    io::Manifest man;
-    man.command = "shaker";
+    io::Manifest man = start_manifest(o, "shaker");
     man.wall_s = r.wall_s;
     man.extra = {{"force_at_m", fmt(setup.force_x_m)},
                  {"newmark_steps", std::to_string(r.n_steps)},
                  {"fs_hz", fmt(r.fs_hz)},
                  {"snr_db", fmt(t.noise_snr_db)}};
-    man.versions = tool_versions();
     io::write_manifest(o.out + "/manifest.toml", man, flat);
     if (!o.quiet)
       std::printf("shaker: %.1f s of record at %.6g Hz (%ld Newmark steps, %.1f s); wrote %s/record.csv%s\n",
@@ -511,6 +508,9 @@ Command modal_fit_command() {
         }
       }
     }
+    std::vector<std::string> inputs = {o.scenario};
+    if (vm.count("model")) inputs.push_back(vm["model"].as<std::string>());
+    io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "modal-fit", inputs), nullptr);
     if (!o.quiet) std::printf("wrote %s/modes.csv, shapes.csv, stabilization.csv%s\n", o.out.c_str(), vm.count("model") ? ", mac.csv" : "");
     return ok;
   };
@@ -606,6 +606,9 @@ Command decay_command() {
       summary.push_back({name, fmt(s.mean), fmt(s.std), std::to_string(s.n)});
     }
     io::write_table_csv(o.out + "/decay_summary.csv", {"estimate", "mean", "std", "n"}, summary);
+    std::vector<std::string> inputs = {o.scenario};
+    inputs.insert(inputs.end(), o.more.begin(), o.more.end());
+    io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "decay", inputs), nullptr);
     if (!failures.empty()) {
       for (const auto& e : failures) std::fprintf(stderr, "viaduct decay: error: %s\n", e.c_str());
       return usage_error;

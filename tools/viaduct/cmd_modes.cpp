@@ -31,6 +31,7 @@ Command modes_command() {
     const model::Modes m = model::compute_modes(s, n);
     make_out_dir(o.out);
     io::write_modes_csv(o.out + "/modes.csv", m, stations);
+    io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "modes"), flat);
     if (!o.quiet) {
       std::printf("%ld DOFs; first frequencies [Hz]:", static_cast<long>(s.n_dofs));
       for (Index j = 0; j < std::min<Index>(m.frequency_hz.size(), 6); ++j) std::printf(" %.4f", m.frequency_hz[j]);

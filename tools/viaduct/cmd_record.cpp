@@ -99,6 +99,7 @@ Command filter_command() {
     const io::Record out = transform_channels(in, chans, in.fs_hz, [&](const Vector& x) { return signal::sosfiltfilt(sos, x); });
     make_out_dir(o.out);
     io::write_record_csv(o.out + "/filtered.csv", out);
+    io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "filter", {o.scenario}), nullptr);
     if (!o.quiet)
       std::printf("%zu channels, %ld samples at %.6g Hz; wrote %s/filtered.csv\n", chans.size(),
                   static_cast<long>(in.n_samples()), in.fs_hz, o.out.c_str());
@@ -165,6 +166,7 @@ Command spectrum_command() {
     names.insert(names.begin(), "frequency_hz");
     cols.insert(cols.begin(), f);
     io::write_columns_csv(path, names, cols);
+    io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "spectrum", {o.scenario}), nullptr);
     if (!o.quiet)
       std::printf("%zu channels, %ld frequencies up to %.6g Hz; wrote %s\n", chans.size(), static_cast<long>(f.size()),
                   f[f.size() - 1], path.c_str());
@@ -232,6 +234,7 @@ Command peaks_command() {
     make_out_dir(o.out);
     const std::string path = o.out + "/peaks.csv";
     io::write_table_csv(path, {"channel", "unit", time ? "t_s" : "frequency_hz", "value", "prominence"}, rows);
+    io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "peaks", {o.scenario}), nullptr);
     if (!o.quiet) {
       for (std::size_t i = 0; i < pos.size() && i < 12; ++i)
         std::printf("  %-20s %s = %-12.6g value %.6g %s\n", chan[i].c_str(), time ? "t" : "f", pos[i], val[i], unit[i].c_str());
@@ -285,6 +288,7 @@ Command speed_command() {
     }
     make_out_dir(o.out);
     io::write_table_csv(o.out + "/speed.csv", {"channel", "method", "speed_kmh", "uncertainty_kmh", "frequency_hz", "n_used"}, rows);
+    io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "speed", {o.scenario}), nullptr);
     if (!o.quiet) std::printf("wrote %s/speed.csv\n", o.out.c_str());
     return ok;
   };
@@ -319,6 +323,7 @@ Command resample_command() {
     });
     make_out_dir(o.out);
     io::write_record_csv(o.out + "/resampled.csv", out);
+    io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "resample", {o.scenario}), nullptr);
     if (!o.quiet)
       std::printf("%zu channels: %ld samples at %.6g Hz -> %ld at %.6g Hz; wrote %s/resampled.csv\n", chans.size(),
                   static_cast<long>(in.n_samples()), in.fs_hz, static_cast<long>(out.n_samples()), out.fs_hz, o.out.c_str());
@@ -357,6 +362,7 @@ Command envelope_command() {
     });
     make_out_dir(o.out);
     io::write_record_csv(o.out + "/envelope.csv", out);
+    io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "envelope", {o.scenario}), nullptr);
     if (!o.quiet) std::printf("%s envelope of %zu channels; wrote %s/envelope.csv\n", kind.c_str(), chans.size(), o.out.c_str());
     return ok;
   };

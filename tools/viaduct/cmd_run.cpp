@@ -50,8 +50,8 @@ Command run_command() {
     const study::RunResult r = study::simulate(pm, *train, speed, sc.settings);
     make_out_dir(o.out);
     io::write_history_csv(o.out + "/history.csv", r);
-    io::Manifest m;
-    m.command = "run";
+    io::Manifest m = start_manifest(o, "run");
+    m.as_run = io::settings_as_run(sc.settings);
     m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     m.extra = {{"train", "\"" + train->name + "\""},
                {"speed_kmh", std::to_string(speed * 3.6)},
@@ -61,7 +61,6 @@ Command run_command() {
                {"stop_reason", "\"" + r.summary.describe() + "\""},
                {"n_modes", std::to_string(r.n_modes)},
                {"solver_wall_s", std::to_string(r.summary.wall_s)}};
-    m.versions = tool_versions();
     io::write_manifest(o.out + "/manifest.toml", m, flat);
     if (!o.quiet) {
       std::printf("%s at %.1f km/h: %ld DOFs, %ld steps, %.2f s\n", train->name.c_str(), speed * 3.6,

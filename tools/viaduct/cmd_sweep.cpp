@@ -34,8 +34,8 @@ Command sweep_command() {
     const study::SweepResult r = study::run_sweep(variants, so);
     io::write_envelope_csv(o.out + "/envelope.csv", r.rows);
     io::write_failures_csv(o.out + "/failures.csv", r.failures);
-    io::Manifest m;
-    m.command = "sweep";
+    io::Manifest m = start_manifest(o, "sweep");
+    m.as_run = io::settings_as_run(variants.front().scenario.settings);
     m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     m.extra = {{"threads", std::to_string(o.threads)},
                {"n_variants", std::to_string(variants.size())},
@@ -44,7 +44,6 @@ Command sweep_command() {
                {"n_steps_total", std::to_string(r.summary.n_steps_total)},
                {"n_dofs_reference", std::to_string(r.summary.n_dofs.front())},
                {"sweep_wall_s", std::to_string(r.summary.wall_s)}};
-    m.versions = tool_versions();
     io::write_manifest(o.out + "/manifest.toml", m, flat);
     if (!o.quiet)
       std::printf("%zu cases (%zu variants), %zu failed, %.1f s; wrote %s/envelope.csv\n", r.summary.n_cases,

@@ -82,14 +82,13 @@ Command tradeoff_command() {
       for (std::size_t s = 0; s < r.stations.size(); ++s)
         srows.push_back({row.label, r.stations[s], num(row.station_acc_error[s]), num(row.station_disp_error[s])});
     io::write_table_csv(o.out + "/tradeoff_stations.csv", {"rung", "station", "max_acc_error", "max_disp_error"}, srows);
-    io::Manifest m;
-    m.command = "tradeoff";
+    io::Manifest m = start_manifest(o, "tradeoff");
+    m.as_run = io::settings_as_run(ref);
     m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     m.extra = {{"threads", std::to_string(o.threads)},
                {"n_speeds", std::to_string(sc.sweep_speeds.size())},
                {"n_trains", std::to_string(sc.trains.size())},
                {"reference_dt_s", num(ref.dt)}};
-    m.versions = tool_versions();
     io::write_manifest(o.out + "/manifest.toml", m, flat);
     if (!o.quiet) {
       std::printf("%-44s %9s %12s %12s\n", "rung", "wall [s]", "acc error", "disp error");

@@ -36,14 +36,37 @@ void write_columns_csv(const std::string& path, const std::vector<std::string>& 
 void write_table_csv(const std::string& path, const std::vector<std::string>& header,
                      const std::vector<std::vector<std::string>>& rows);
 
-/// manifest.toml: command, version, dependency versions, wall time, counts, resolved scenario.
+/// manifest.toml, what a result needs to be reproduced: [run] the command, the command line and
+/// counts; [versions] viaduct, the git commit it was built from (when built from a checkout) and
+/// the dependencies; [analysis_as_run] the settings that ran (after analysis.preset; a preset run's
+/// [scenario] table still reads the keys' defaults); [[inputs]] every file read with its SHA-256;
+/// [scenario] every resolved key.
 struct Manifest {
   std::string command;                                      ///< e.g. "sweep"
+  std::string command_line;                                 ///< the invocation as given (arguments quoted where needed)
   double wall_s = 0.0;                                      ///< [s]
   std::vector<std::pair<std::string, std::string>> extra;   ///< more [run] entries (already TOML values)
   std::vector<std::pair<std::string, std::string>> versions;///< more dependency versions (name, version)
+  std::vector<std::pair<std::string, std::string>> as_run;  ///< [analysis_as_run] entries (TOML values)
+  std::vector<std::string> inputs;  ///< files read besides the scenario's own (records, mode files)
 };
+/// Writes the manifest; the scenario's files (the scenario, its components and train files) are
+/// checksummed with `inputs`. `flat` may be null for commands without a scenario. SolverError on
+/// I/O failure.
+void write_manifest(const std::string& path, const Manifest& m, const FlatScenario* flat);
 void write_manifest(const std::string& path, const Manifest& m, const FlatScenario& flat);
+/// The [analysis_as_run] entries of `s`: method, dt, the method's options, the modal basis,
+/// superposition, free vibration, load factor, filter.
+std::vector<std::pair<std::string, std::string>> settings_as_run(const study::RunSettings& s);
+
+/// SHA-256 of a file's bytes, 64 hex digits; InputError when it cannot be read.
+std::string sha256_file(const std::string& path);
+/// SHA-256 of bytes in memory.
+std::string sha256_hex(const std::string& bytes);
+
+/// The git commit viaduct was built from ("unknown" outside a checkout; "-dirty" appended when
+/// tracked files had uncommitted changes at build time).
+std::string git_commit();
 
 /// "viaduct x.y.z" version string.
 std::string version();

@@ -1,0 +1,56 @@
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "viaduct/io/results.hpp"
+#include "viaduct/io/scenario.hpp"
+
+using namespace viaduct;
+
+TEST_CASE("SHA-256 of the FIPS 180-4 test vectors, in memory and from a file") {
+  // Empty input, one block, a message whose padding needs a second block, and a million bytes.
+  REQUIRE(io::sha256_hex("") == "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  REQUIRE(io::sha256_hex("abc") == "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  REQUIRE(io::sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq") ==
+          "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+  const std::string million(1000000, 'a');
+  REQUIRE(io::sha256_hex(million) == "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+  const auto path = std::filesystem::temp_directory_path() / "viaduct_sha_test.bin";
+  std::ofstream(path, std::ios::binary) << million;
+  REQUIRE(io::sha256_file(path.string()) == io::sha256_hex(million));
+  std::filesystem::remove(path);
+  REQUIRE_THROWS_AS(io::sha256_file("/nonexistent/file"), InputError);
+}
+
+TEST_CASE("a manifest records the command line, the settings that ran and every input file's checksum") {
+  const std::string src = VIADUCT_SOURCE_DIR;
+  const std::string scen = src + "/scenarios/old-guadiana-sensitivity.toml";
+  const io::FlatScenario flat = io::load_flat(scen, {"analysis.preset=\"default\""});
+  const study::Scenario sc = io::to_scenario(flat);
+  io::Manifest m;
+  m.command = "sweep";
+  m.command_line = "viaduct sweep x.toml --set 'analysis.preset=\"default\"'";
+  m.as_run = io::settings_as_run(sc.settings);
+  m.inputs = {src + "/data/records/synthetic-deck.csv"};
+  const auto out = std::filesystem::temp_directory_path() / "viaduct_manifest_test.toml";
+  io::write_manifest(out.string(), m, flat);
+  std::ifstream in(out);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string t = ss.str();
+  std::filesystem::remove(out);
+  REQUIRE(t.find("command_line = ") != std::string::npos);
+  REQUIRE(t.find("git_commit = ") != std::string::npos);
+  // The preset ran the modal method, though the [scenario] table keeps analysis.method's default.
+  REQUIRE(t.find("[analysis_as_run]\n\"method\" = \"modal\"") != std::string::npos);
+  REQUIRE(t.find("\"analysis.method\" = \"newmark\"") != std::string::npos);
+  // The scenario, its component files, its train and the extra input, each with its checksum.
+  for (const std::string& f : {scen, m.inputs.front()}) {
+    INFO(f);
+    REQUIRE(t.find("file = \"" + f + "\"\nsha256 = \"" + io::sha256_file(f) + "\"") != std::string::npos);
+  }
+  std::size_t n_inputs = 0;
+  for (std::size_t at = t.find("[[inputs]]"); at != std::string::npos; at = t.find("[[inputs]]", at + 1)) ++n_inputs;
+  REQUIRE(n_inputs >= 4);  // scenario, bridge and track components, train, record
+}
