@@ -22,8 +22,6 @@ std::string num(double v) { return format_number(v, 12); }
 [[noreturn]] void bad(const Value& v, const std::string& msg) { throw InputError(v.where, msg); }
 
 double get_number(const FlatScenario& f, const std::string& key) { return f.at(key).x; }
-bool get_bool(const FlatScenario& f, const std::string& key) { return f.at(key).b; }
-const std::string& get_string(const FlatScenario& f, const std::string& key) { return f.at(key).s; }
 
 // A number-or-list key expanded to n values.
 std::vector<double> per_span(const FlatScenario& f, const std::string& key, std::size_t n) {
@@ -44,61 +42,48 @@ std::vector<std::size_t> item_indices(const FlatScenario& f, const std::string& 
   return {idx.begin(), idx.end()};
 }
 
-model::BridgeParams bridge_of(const FlatScenario& f) {
-  model::BridgeParams b;
+// Where an error of a section's is_valid() belongs: the key of the section whose last component
+// starts the message ("pad.k must be > 0 ..." -> track.pad.k), else the section's first key with a
+// line.
+const SourceLocation& where_of(const FlatScenario& f, const std::string& section, const std::string& why) {
+  const Value* fallback = nullptr;
+  const std::string pre = section + ".";
+  for (const auto& [key, v] : f.values) {
+    if (key.compare(0, pre.size(), pre) != 0) continue;
+    const std::string field = key.substr(pre.size());
+    if (why.compare(0, field.size() + 1, field + " ") == 0) return v.where;
+    if (!fallback || (fallback->where.line == 0 && v.where.line > 0)) fallback = &v;
+  }
+  if (fallback) return fallback->where;
+  static const SourceLocation none;
+  return none;
+}
+
+// The spans (per-span lists) and the checks that involve several keys; the scalar keys were set
+// by their schema setters.
+void finish_bridge(const FlatScenario& f, model::BridgeParams& b) {
   const Value& lens = f.at("bridge.span_lengths");
   if (lens.xs.empty()) bad(lens, "needs at least one span");
   const auto EI = per_span(f, "bridge.EI", lens.xs.size());
   const auto m = per_span(f, "bridge.mass_per_m", lens.xs.size());
   for (std::size_t i = 0; i < lens.xs.size(); ++i) b.spans.push_back({lens.xs[i], EI[i], m[i]});
-  b.element_size = get_number(f, "bridge.element_size");
-  b.added_mass_per_m = get_number(f, "bridge.added_mass_per_m");
-  b.mass_includes_track = get_bool(f, "bridge.mass_includes_track");
-  b.bearings.rigid = get_bool(f, "bridge.bearings.rigid");
-  b.bearings.k = get_number(f, "bridge.bearings.k");
-  b.bearings.c = get_number(f, "bridge.bearings.c");
   if (!b.bearings.rigid && !(b.bearings.k > 0.0))
     bad(f.at("bridge.bearings.k"), "must be > 0 [N/m] when bridge.bearings.rigid = false, got " + num(b.bearings.k));
-  const std::string& kind = get_string(f, "bridge.damping.kind");
-  b.damping.kind = kind == "none" ? model::DampingKind::none
-                   : kind == "rayleigh" ? model::DampingKind::rayleigh
-                                        : model::DampingKind::modal;
-  b.damping.ratio = get_number(f, "bridge.damping.ratio");
-  b.damping.f1_hz = get_number(f, "bridge.damping.f1_hz");
-  b.damping.ratio1 = get_number(f, "bridge.damping.ratio1");
-  b.damping.f2_hz = get_number(f, "bridge.damping.f2_hz");
-  b.damping.ratio2 = get_number(f, "bridge.damping.ratio2");
   if (b.damping.kind == model::DampingKind::rayleigh) {
     if (!(b.damping.f1_hz > 0.0)) bad(f.at("bridge.damping.f1_hz"), "must be > 0 Hz for Rayleigh damping");
     if (!(b.damping.f2_hz > b.damping.f1_hz))
       bad(f.at("bridge.damping.f2_hz"), "must be > bridge.damping.f1_hz for Rayleigh damping");
   }
   std::string why;
-  if (!b.is_valid(&why)) throw InputError(SourceLocation{f.path, 0, "bridge"}, why);
-  return b;
+  if (!b.is_valid(&why)) throw InputError(where_of(f, "bridge", why), why);
 }
 
-model::TrackParams track_of(const FlatScenario& f) {
-  model::TrackParams t;
+// The rail's E·I and ρ·A, then the track's checks.
+void finish_track(const FlatScenario& f, model::TrackParams& t) {
   t.rail_EI = get_number(f, "track.rail.E") * get_number(f, "track.rail.I");
   t.rail_mass_per_m = get_number(f, "track.rail.density") * get_number(f, "track.rail.A");
-  t.sleeper_spacing = get_number(f, "track.sleeper_spacing");
-  t.sleeper_mass = get_number(f, "track.sleeper_mass");
-  t.ballast_mass = get_number(f, "track.ballast_mass");
-  auto sd = [&](const std::string& k) {
-    return model::SpringDashpot{get_number(f, "track." + k + ".k"), get_number(f, "track." + k + ".c")};
-  };
-  t.pad = sd("pad");
-  t.ballast = sd("ballast");
-  t.shear = sd("shear");
-  t.subgrade = sd("subgrade");
-  t.subgrade_on_bridge = sd("subgrade_on_bridge");
-  t.approach_length = get_number(f, "track.approach_length");
-  t.exit_length = get_number(f, "track.exit_length");
-  t.rail_elements_per_bay = static_cast<int>(get_number(f, "track.rail_elements_per_bay"));
   std::string why;
-  if (!t.is_valid(&why)) throw InputError(SourceLocation{f.path, 0, "track"}, why);
-  return t;
+  if (!t.is_valid(&why)) throw InputError(where_of(f, "track", why), why);
 }
 
 std::vector<double> speeds_of(const FlatScenario& f) {
@@ -106,7 +91,7 @@ std::vector<double> speeds_of(const FlatScenario& f) {
   const bool kmh = f.has("sweep.speed_min_kmh") || f.has("sweep.speed_max_kmh") || f.has("sweep.speed_step_kmh");
   const bool mps = f.has("sweep.speed_min_mps") || f.has("sweep.speed_max_mps") || f.has("sweep.n_speeds");
   if (int(list) + int(kmh) + int(mps) > 1)
-    throw InputError(SourceLocation{f.path, 0, "sweep"},
+    throw InputError(where_of(f, "sweep", ""),
                      "give speeds one way only: speeds_kmh, or speed_min/max/step_kmh, or speed_min/max_mps with n_speeds");
   std::vector<double> v;
   if (list) {
@@ -131,12 +116,24 @@ std::vector<double> speeds_of(const FlatScenario& f) {
 
 study::Scenario to_scenario(const FlatScenario& f) {
   study::Scenario sc;
-  sc.title = get_string(f, "title");
-  sc.bridge = bridge_of(f);
   bool has_track = false;
   for (const auto& kv : f.values)
     if (kv.first.compare(0, 6, "track.") == 0) has_track = true;
-  if (has_track) sc.track = track_of(f);
+  if (has_track) sc.track.emplace();
+  // A missing required key of the model's sections is reported first, the first in schema order.
+  for (const KeySpec& spec : scenario_schema()) {
+    const bool model_key = spec.key.compare(0, 7, "bridge.") == 0 || spec.key.compare(0, 6, "train.") == 0 ||
+                           (has_track && spec.key.compare(0, 6, "track.") == 0);
+    if (model_key && spec.required() && !f.has(spec.key)) (void)f.at(spec.key);  // throws: required key is missing
+  }
+  // Every key that sets one field, through its schema setter; a required key that is missing is
+  // an error, an optional one without default keeps the field's value.
+  for (const KeySpec& spec : scenario_schema()) {
+    if (!spec.set || (!has_track && spec.key.compare(0, 6, "track.") == 0)) continue;
+    if (f.has(spec.key) || spec.required()) spec.set(sc, f.at(spec.key));
+  }
+  finish_bridge(f, sc.bridge);
+  if (has_track) finish_track(f, *sc.track);
 
   // Trains.
   const Value& files = f.at("train.files");
@@ -149,35 +146,8 @@ study::Scenario to_scenario(const FlatScenario& f) {
     }
   }
 
-  // Settings.
+  // Settings: the preset first, explicit keys on top of it.
   auto& st = sc.settings;
-  st.dt = get_number(f, "analysis.dt");
-  st.newmark.beta = get_number(f, "analysis.beta");
-  st.newmark.gamma = get_number(f, "analysis.gamma");
-  st.newmark.alpha = get_number(f, "analysis.alpha");
-  st.free_vibration_s = get_number(f, "analysis.free_vibration_s");
-  const std::string& method = get_string(f, "analysis.method");
-  st.method = method == "modal" ? study::Method::modal : method == "ida" ? study::Method::ida : study::Method::newmark;
-  st.ida.rtol = get_number(f, "ida.rtol");
-  st.ida.atol_disp = get_number(f, "ida.atol_disp_m");
-  st.ida.atol_vel = get_number(f, "ida.atol_vel_mps");
-  st.ida.max_order = static_cast<int>(get_number(f, "ida.max_order"));
-  st.superposition = get_string(f, "analysis.superposition") == "unit-response" ? study::Superposition::unit_response
-                                                                                 : study::Superposition::direct;
-  st.modal.n_modes = static_cast<Index>(get_number(f, "modal.n_modes"));
-  st.modal.max_frequency_hz = get_number(f, "modal.max_frequency_hz");
-  st.modal.static_correction = get_bool(f, "modal.static_correction");
-  st.modal.damping_vectors = static_cast<int>(get_number(f, "modal.damping_vectors"));
-  st.load_factor = get_number(f, "train.load_factor");
-  st.filter.enabled = get_bool(f, "filter.enabled");
-  const std::string& band = get_string(f, "filter.band");
-  st.filter.cheby.band = band == "lowpass" ? signal::BandType::lowpass
-                         : band == "highpass" ? signal::BandType::highpass
-                                              : signal::BandType::bandpass;
-  st.filter.cheby.order = static_cast<int>(get_number(f, "filter.order"));
-  st.filter.cheby.ripple_db = get_number(f, "filter.ripple_db");
-  st.filter.cheby.low_hz = get_number(f, "filter.low_hz");
-  st.filter.cheby.high_hz = get_number(f, "filter.high_hz");
   const Value& preset = f.at("analysis.preset");
   if (!preset.s.empty()) {
     // The preset first, explicit keys on top of it.
@@ -243,7 +213,6 @@ study::Scenario to_scenario(const FlatScenario& f) {
   }
   if (sc.stations.empty()) throw InputError(SourceLocation{f.path, 0, "stations"}, "at least one [[stations]] entry is required");
 
-  if (f.has("run.speed_kmh")) sc.run_speed = get_number(f, "run.speed_kmh") / 3.6;
   sc.sweep_speeds = speeds_of(f);
   return sc;
 }

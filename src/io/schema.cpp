@@ -1,12 +1,49 @@
-// The scenario schema: every key with type, default, unit, constraint and doc (DESIGN.md §3.9).
+// The scenario schema: every key with type, default, unit, constraint, doc and, for the keys that
+// set one field of study::Scenario, that field (DESIGN.md §3.9 and §5: deal.II's add_parameter).
+// to_scenario (convert.cpp) applies the setters; it reads by hand only what combines several keys
+// (per-span lists, the rail's E·I and ρ·A, trains, stations, speeds, the preset, fit sections).
+#include <stdexcept>
+
 #include "viaduct/io/scenario.hpp"
 
 namespace viaduct::io {
 
+namespace {
+// Enumerations: the schema's constraint has already refused any other string, so a value not
+// listed here is a logic error (a new enum value added to the schema but not mapped), never a
+// silent default.
+model::DampingKind damping_kind(const std::string& s) {
+  if (s == "none") return model::DampingKind::none;
+  if (s == "modal") return model::DampingKind::modal;
+  if (s == "rayleigh") return model::DampingKind::rayleigh;
+  throw std::logic_error("bridge.damping.kind: unmapped value '" + s + "'");
+}
+study::Method method_of(const std::string& s) {
+  if (s == "newmark") return study::Method::newmark;
+  if (s == "modal") return study::Method::modal;
+  if (s == "ida") return study::Method::ida;
+  throw std::logic_error("analysis.method: unmapped value '" + s + "'");
+}
+study::Superposition superposition_of(const std::string& s) {
+  if (s == "direct") return study::Superposition::direct;
+  if (s == "unit-response") return study::Superposition::unit_response;
+  throw std::logic_error("analysis.superposition: unmapped value '" + s + "'");
+}
+signal::BandType band_of(const std::string& s) {
+  if (s == "lowpass") return signal::BandType::lowpass;
+  if (s == "highpass") return signal::BandType::highpass;
+  if (s == "bandpass") return signal::BandType::bandpass;
+  throw std::logic_error("filter.band: unmapped value '" + s + "'");
+}
+}  // namespace
+
 const std::vector<KeySpec>& scenario_schema() {
   using T = ValueType;
+  using S = study::Scenario;
+  using V = Value;
   static const std::vector<KeySpec> schema = {
-      {"title", T::string, "\"\"", "", "", "Free text shown in outputs."},
+      {"title", T::string, "\"\"", "", "", "Free text shown in outputs.",
+       [](S& sc, const V& v) { sc.title = v.s; }},
       {"description", T::string, "\"\"", "", "", "Free text: what the scenario studies and where its numbers come from."},
       // bridge
       {"bridge.file", T::string, "", "", "", "Bridge component file; its keys are read under bridge. (path relative to the referencing file)."},
@@ -14,68 +51,118 @@ const std::vector<KeySpec>& scenario_schema() {
       {"bridge.span_lengths", T::number_list, "", "m", "> 0", "Length of each simply supported span, in order along the line (required)."},
       {"bridge.EI", T::number_or_list, "", "N·m²", "> 0", "Bending stiffness: one value for all spans or one per span (required)."},
       {"bridge.mass_per_m", T::number_or_list, "", "kg/m", "> 0", "Mass per metre: one value or one per span (required)."},
-      {"bridge.mass_includes_track", T::boolean, "false", "", "", "true: mass_per_m includes the track on the deck; a modelled track's mass per metre is then taken off the deck."},
-      {"bridge.added_mass_per_m", T::number, "0.0", "kg/m", ">= 0", "Non-structural mass added to every span."},
-      {"bridge.element_size", T::number, "0.5", "m", "> 0", "Target deck element length (each span gets a whole number of equal elements)."},
-      {"bridge.bearings.rigid", T::boolean, "true", "", "", "true: span ends fixed vertically; false: springs k and dashpots c."},
-      {"bridge.bearings.k", T::number, "0.0", "N/m", ">= 0", "Vertical stiffness of each bearing (span end) when not rigid; must then be > 0."},
-      {"bridge.bearings.c", T::number, "0.0", "N·s/m", ">= 0", "Vertical damping of each bearing when not rigid."},
-      {"bridge.damping.kind", T::string, "\"modal\"", "", "none|modal|rayleigh", "Structural damping of the bridge: one ratio for every span mode, or Rayleigh through two (frequency, ratio) pairs."},
-      {"bridge.damping.ratio", T::number, "0.0", "-", "[0, 1)", "modal: ratio of critical damping for every span mode (0.01565 = 1.565 %)."},
-      {"bridge.damping.f1_hz", T::number, "0.0", "Hz", ">= 0", "rayleigh: first frequency."},
-      {"bridge.damping.ratio1", T::number, "0.0", "-", "[0, 1)", "rayleigh: damping ratio at f1_hz."},
-      {"bridge.damping.f2_hz", T::number, "0.0", "Hz", ">= 0", "rayleigh: second frequency (> f1_hz)."},
-      {"bridge.damping.ratio2", T::number, "0.0", "-", "[0, 1)", "rayleigh: damping ratio at f2_hz."},
+      {"bridge.mass_includes_track", T::boolean, "false", "", "", "true: mass_per_m includes the track on the deck; a modelled track's mass per metre is then taken off the deck.",
+       [](S& sc, const V& v) { sc.bridge.mass_includes_track = v.b; }},
+      {"bridge.added_mass_per_m", T::number, "0.0", "kg/m", ">= 0", "Non-structural mass added to every span.",
+       [](S& sc, const V& v) { sc.bridge.added_mass_per_m = v.x; }},
+      {"bridge.element_size", T::number, "0.5", "m", "> 0", "Target deck element length (each span gets a whole number of equal elements).",
+       [](S& sc, const V& v) { sc.bridge.element_size = v.x; }},
+      {"bridge.bearings.rigid", T::boolean, "true", "", "", "true: span ends fixed vertically; false: springs k and dashpots c.",
+       [](S& sc, const V& v) { sc.bridge.bearings.rigid = v.b; }},
+      {"bridge.bearings.k", T::number, "0.0", "N/m", ">= 0", "Vertical stiffness of each bearing (span end) when not rigid; must then be > 0.",
+       [](S& sc, const V& v) { sc.bridge.bearings.k = v.x; }},
+      {"bridge.bearings.c", T::number, "0.0", "N·s/m", ">= 0", "Vertical damping of each bearing when not rigid.",
+       [](S& sc, const V& v) { sc.bridge.bearings.c = v.x; }},
+      {"bridge.damping.kind", T::string, "\"modal\"", "", "none|modal|rayleigh", "Structural damping of the bridge: one ratio for every span mode, or Rayleigh through two (frequency, ratio) pairs.",
+       [](S& sc, const V& v) { sc.bridge.damping.kind = damping_kind(v.s); }},
+      {"bridge.damping.ratio", T::number, "0.0", "-", "[0, 1)", "modal: ratio of critical damping for every span mode (0.01565 = 1.565 %).",
+       [](S& sc, const V& v) { sc.bridge.damping.ratio = v.x; }},
+      {"bridge.damping.f1_hz", T::number, "0.0", "Hz", ">= 0", "rayleigh: first frequency.",
+       [](S& sc, const V& v) { sc.bridge.damping.f1_hz = v.x; }},
+      {"bridge.damping.ratio1", T::number, "0.0", "-", "[0, 1)", "rayleigh: damping ratio at f1_hz.",
+       [](S& sc, const V& v) { sc.bridge.damping.ratio1 = v.x; }},
+      {"bridge.damping.f2_hz", T::number, "0.0", "Hz", ">= 0", "rayleigh: second frequency (> f1_hz).",
+       [](S& sc, const V& v) { sc.bridge.damping.f2_hz = v.x; }},
+      {"bridge.damping.ratio2", T::number, "0.0", "-", "[0, 1)", "rayleigh: damping ratio at f2_hz.",
+       [](S& sc, const V& v) { sc.bridge.damping.ratio2 = v.x; }},
       // track
       {"track.file", T::string, "", "", "", "Track component file; its keys are read under track. Without any track key the model has no track."},
       {"track.notes", T::string, "\"\"", "", "", "Free text: sources and readings of the parameters."},
-      {"track.approach_length", T::number, "20.0", "m", ">= 0", "Track before the bridge (axles enter at its start); rounded down to whole sleeper bays with exit_length."},
-      {"track.exit_length", T::number, "20.0", "m", ">= 0", "Track after the bridge."},
-      {"track.sleeper_spacing", T::number, "0.6", "m", "> 0", "Distance between sleepers (rail seats)."},
-      {"track.rail_elements_per_bay", T::integer, "1", "-", ">= 1", "Rail beam elements between two sleepers."},
+      {"track.approach_length", T::number, "20.0", "m", ">= 0", "Track before the bridge (axles enter at its start); rounded down to whole sleeper bays with exit_length.",
+       [](S& sc, const V& v) { sc.track->approach_length = v.x; }},
+      {"track.exit_length", T::number, "20.0", "m", ">= 0", "Track after the bridge.",
+       [](S& sc, const V& v) { sc.track->exit_length = v.x; }},
+      {"track.sleeper_spacing", T::number, "0.6", "m", "> 0", "Distance between sleepers (rail seats).",
+       [](S& sc, const V& v) { sc.track->sleeper_spacing = v.x; }},
+      {"track.rail_elements_per_bay", T::integer, "1", "-", ">= 1", "Rail beam elements between two sleepers.",
+       [](S& sc, const V& v) { sc.track->rail_elements_per_bay = static_cast<int>(v.x); }},
       {"track.rail.E", T::number, "", "Pa", "> 0", "Rail Young's modulus (required)."},
       {"track.rail.I", T::number, "", "m⁴", "> 0", "Rail second moment of area (required)."},
       {"track.rail.A", T::number, "", "m²", "> 0", "Rail cross-section area (required)."},
       {"track.rail.density", T::number, "7850.0", "kg/m³", "> 0", "Rail density."},
-      {"track.sleeper_mass", T::number, "", "kg", "> 0", "Sleeper mass per rail seat (required)."},
-      {"track.ballast_mass", T::number, "", "kg", "> 0", "Vibrating ballast mass per rail seat (required)."},
-      {"track.pad.k", T::number, "", "N/m", "> 0", "Rail pad stiffness per rail seat (required)."},
-      {"track.pad.c", T::number, "0.0", "N·s/m", ">= 0", "Rail pad damping per rail seat."},
-      {"track.ballast.k", T::number, "", "N/m", "> 0", "Ballast stiffness per rail seat, sleeper to ballast mass (required)."},
-      {"track.ballast.c", T::number, "0.0", "N·s/m", ">= 0", "Ballast damping per rail seat."},
-      {"track.shear.k", T::number, "0.0", "N/m", ">= 0", "Ballast shear stiffness between neighbouring ballast masses."},
-      {"track.shear.c", T::number, "0.0", "N·s/m", ">= 0", "Ballast shear damping between neighbouring ballast masses."},
-      {"track.subgrade.k", T::number, "", "N/m", "> 0", "Subgrade stiffness per rail seat off the bridge, ballast mass to ground (required)."},
-      {"track.subgrade.c", T::number, "0.0", "N·s/m", ">= 0", "Subgrade damping per rail seat off the bridge."},
-      {"track.subgrade_on_bridge.k", T::number, "", "N/m", "> 0", "Ballast mass to deck stiffness per rail seat on the bridge (required)."},
-      {"track.subgrade_on_bridge.c", T::number, "0.0", "N·s/m", ">= 0", "Ballast mass to deck damping per rail seat on the bridge."},
+      {"track.sleeper_mass", T::number, "", "kg", "> 0", "Sleeper mass per rail seat (required).",
+       [](S& sc, const V& v) { sc.track->sleeper_mass = v.x; }},
+      {"track.ballast_mass", T::number, "", "kg", "> 0", "Vibrating ballast mass per rail seat (required).",
+       [](S& sc, const V& v) { sc.track->ballast_mass = v.x; }},
+      {"track.pad.k", T::number, "", "N/m", "> 0", "Rail pad stiffness per rail seat (required).",
+       [](S& sc, const V& v) { sc.track->pad.k = v.x; }},
+      {"track.pad.c", T::number, "0.0", "N·s/m", ">= 0", "Rail pad damping per rail seat.",
+       [](S& sc, const V& v) { sc.track->pad.c = v.x; }},
+      {"track.ballast.k", T::number, "", "N/m", "> 0", "Ballast stiffness per rail seat, sleeper to ballast mass (required).",
+       [](S& sc, const V& v) { sc.track->ballast.k = v.x; }},
+      {"track.ballast.c", T::number, "0.0", "N·s/m", ">= 0", "Ballast damping per rail seat.",
+       [](S& sc, const V& v) { sc.track->ballast.c = v.x; }},
+      {"track.shear.k", T::number, "0.0", "N/m", ">= 0", "Ballast shear stiffness between neighbouring ballast masses.",
+       [](S& sc, const V& v) { sc.track->shear.k = v.x; }},
+      {"track.shear.c", T::number, "0.0", "N·s/m", ">= 0", "Ballast shear damping between neighbouring ballast masses.",
+       [](S& sc, const V& v) { sc.track->shear.c = v.x; }},
+      {"track.subgrade.k", T::number, "", "N/m", "> 0", "Subgrade stiffness per rail seat off the bridge, ballast mass to ground (required).",
+       [](S& sc, const V& v) { sc.track->subgrade.k = v.x; }},
+      {"track.subgrade.c", T::number, "0.0", "N·s/m", ">= 0", "Subgrade damping per rail seat off the bridge.",
+       [](S& sc, const V& v) { sc.track->subgrade.c = v.x; }},
+      {"track.subgrade_on_bridge.k", T::number, "", "N/m", "> 0", "Ballast mass to deck stiffness per rail seat on the bridge (required).",
+       [](S& sc, const V& v) { sc.track->subgrade_on_bridge.k = v.x; }},
+      {"track.subgrade_on_bridge.c", T::number, "0.0", "N·s/m", ">= 0", "Ballast mass to deck damping per rail seat on the bridge.",
+       [](S& sc, const V& v) { sc.track->subgrade_on_bridge.c = v.x; }},
       // trains
       {"train.files", T::string_list, "", "", "", "Train files (.toml: hslm, regular or axles; .csv: position_m,load_kN), relative to the referencing file (required)."},
-      {"train.load_factor", T::number, "1.0", "-", "> 0", "Multiplies every axle load (0.5: one rail of a half-deck model carries half of each axle)."},
+      {"train.load_factor", T::number, "1.0", "-", "> 0", "Multiplies every axle load (0.5: one rail of a half-deck model carries half of each axle).",
+       [](S& sc, const V& v) { sc.settings.load_factor = v.x; }},
       // analysis
-      {"analysis.dt", T::number, "0.001", "s", "> 0", "Analysis step of every method: the Newmark step, the load-sampling interval of modal superposition and the recording interval (IDA chooses its own steps and is sampled at it)."},
-      {"analysis.beta", T::number, "0.25", "-", "> 0", "Newmark β (0.25: constant average acceleration)."},
-      {"analysis.gamma", T::number, "0.5", "-", ">= 0.5", "Newmark γ."},
-      {"analysis.alpha", T::number, "0.0", "-", "[-1/3, 0]", "HHT-α (0: plain Newmark); with alpha use beta = (1-alpha)²/4, gamma = (1-2 alpha)/2."},
+      {"analysis.dt", T::number, "0.001", "s", "> 0", "Analysis step of every method: the Newmark step, the load-sampling interval of modal superposition and the recording interval (IDA chooses its own steps and is sampled at it).",
+       [](S& sc, const V& v) { sc.settings.dt = v.x; }},
+      {"analysis.beta", T::number, "0.25", "-", "> 0", "Newmark β (0.25: constant average acceleration).",
+       [](S& sc, const V& v) { sc.settings.newmark.beta = v.x; }},
+      {"analysis.gamma", T::number, "0.5", "-", ">= 0.5", "Newmark γ.",
+       [](S& sc, const V& v) { sc.settings.newmark.gamma = v.x; }},
+      {"analysis.alpha", T::number, "0.0", "-", "[-1/3, 0]", "HHT-α (0: plain Newmark); with alpha use beta = (1-alpha)²/4, gamma = (1-2 alpha)/2.",
+       [](S& sc, const V& v) { sc.settings.newmark.alpha = v.x; }},
       {"analysis.preset", T::string, "\"\"", "", "|fast|default|reference", "Named speed/accuracy setting (docs/accuracy.md): sets analysis.method, analysis.dt and modal.* from the band edge f_c (filter.high_hz, or 30 Hz); keys given explicitly override it."},
-      {"analysis.method", T::string, "\"newmark\"", "", "newmark|modal|ida", "newmark: fixed-step integration of the whole model; modal: superposition of its modes up to modal.max_frequency_hz / modal.n_modes, solved exactly per step; ida: adaptive BDF of the whole model (SUNDIALS IDA, ida.* tolerances), sampled every analysis.dt (docs/accuracy.md)."},
-      {"ida.rtol", T::number, "1e-6", "-", "[1e-12, 0.1]", "ida: relative tolerance."},
-      {"ida.atol_disp_m", T::number, "1e-10", "m", "> 0", "ida: absolute tolerance of displacements."},
-      {"ida.atol_vel_mps", T::number, "1e-8", "m/s", "> 0", "ida: absolute tolerance of velocities."},
-      {"ida.max_order", T::integer, "5", "-", "[1, 5]", "ida: highest BDF order."},
-      {"analysis.superposition", T::string, "\"direct\"", "", "direct|unit-response", "direct: one run per train and speed; unit-response: one run of a unit axle per speed, superposed over every train's axles (linear models only; same answer, much less work with several trains)."},
-      {"modal.n_modes", T::integer, "0", "-", ">= 0", "modal: keep at most this many of the lowest modes (0: no count limit)."},
-      {"modal.max_frequency_hz", T::number, "0.0", "Hz", ">= 0", "modal: keep the modes up to this frequency (0: no frequency limit)."},
-      {"modal.static_correction", T::boolean, "true", "", "", "modal: add the quasi-static response of the dropped modes to displacements (mode-acceleration method)."},
-      {"modal.damping_vectors", T::integer, "1", "-", "[0, 3]", "modal: blocks of damping-correction vectors (K⁻¹ − ΦΩ⁻²Φᵀ)Cφ appended to the modes when discrete dashpots couple them (the part of the low complex modes that the undamped modes miss; 0: the modes alone; docs/accuracy.md)."},
-      {"analysis.free_vibration_s", T::number, "1.0", "s", ">= 0", "Time simulated after the last axle has left the model."},
+      {"analysis.method", T::string, "\"newmark\"", "", "newmark|modal|ida", "newmark: fixed-step integration of the whole model; modal: superposition of its modes up to modal.max_frequency_hz / modal.n_modes, solved exactly per step; ida: adaptive BDF of the whole model (SUNDIALS IDA, ida.* tolerances), sampled every analysis.dt (docs/accuracy.md).",
+       [](S& sc, const V& v) { sc.settings.method = method_of(v.s); }},
+      {"ida.rtol", T::number, "1e-6", "-", "[1e-12, 0.1]", "ida: relative tolerance.",
+       [](S& sc, const V& v) { sc.settings.ida.rtol = v.x; }},
+      {"ida.atol_disp_m", T::number, "1e-10", "m", "> 0", "ida: absolute tolerance of displacements.",
+       [](S& sc, const V& v) { sc.settings.ida.atol_disp = v.x; }},
+      {"ida.atol_vel_mps", T::number, "1e-8", "m/s", "> 0", "ida: absolute tolerance of velocities.",
+       [](S& sc, const V& v) { sc.settings.ida.atol_vel = v.x; }},
+      {"ida.max_order", T::integer, "5", "-", "[1, 5]", "ida: highest BDF order.",
+       [](S& sc, const V& v) { sc.settings.ida.max_order = static_cast<int>(v.x); }},
+      {"analysis.superposition", T::string, "\"direct\"", "", "direct|unit-response", "direct: one run per train and speed; unit-response: one run of a unit axle per speed, superposed over every train's axles (linear models only; same answer, much less work with several trains).",
+       [](S& sc, const V& v) { sc.settings.superposition = superposition_of(v.s); }},
+      {"modal.n_modes", T::integer, "0", "-", ">= 0", "modal: keep at most this many of the lowest modes (0: no count limit).",
+       [](S& sc, const V& v) { sc.settings.modal.n_modes = static_cast<Index>(v.x); }},
+      {"modal.max_frequency_hz", T::number, "0.0", "Hz", ">= 0", "modal: keep the modes up to this frequency (0: no frequency limit).",
+       [](S& sc, const V& v) { sc.settings.modal.max_frequency_hz = v.x; }},
+      {"modal.static_correction", T::boolean, "true", "", "", "modal: add the quasi-static response of the dropped modes to displacements (mode-acceleration method).",
+       [](S& sc, const V& v) { sc.settings.modal.static_correction = v.b; }},
+      {"modal.damping_vectors", T::integer, "1", "-", "[0, 3]", "modal: blocks of damping-correction vectors (K⁻¹ − ΦΩ⁻²Φᵀ)Cφ appended to the modes when discrete dashpots couple them (the part of the low complex modes that the undamped modes miss; 0: the modes alone; docs/accuracy.md).",
+       [](S& sc, const V& v) { sc.settings.modal.damping_vectors = static_cast<int>(v.x); }},
+      {"analysis.free_vibration_s", T::number, "1.0", "s", ">= 0", "Time simulated after the last axle has left the model.",
+       [](S& sc, const V& v) { sc.settings.free_vibration_s = v.x; }},
       // filter
-      {"filter.enabled", T::boolean, "true", "", "", "Filter accelerations before taking maxima."},
-      {"filter.band", T::string, "\"bandpass\"", "", "lowpass|highpass|bandpass", "Filter band."},
-      {"filter.order", T::integer, "3", "-", ">= 1", "Chebyshev I order N (band-pass: 2N poles), SciPy's convention."},
-      {"filter.ripple_db", T::number, "0.5", "dB", "> 0", "Passband ripple; edges are where one pass drops below -ripple_db (zero-phase: -2·ripple_db)."},
-      {"filter.low_hz", T::number, "1.0", "Hz", "> 0", "Lower band edge (highpass, bandpass)."},
-      {"filter.high_hz", T::number, "30.0", "Hz", "> 0", "Upper band edge (lowpass, bandpass); must be below 1/(2·dt)."},
+      {"filter.enabled", T::boolean, "true", "", "", "Filter accelerations before taking maxima.",
+       [](S& sc, const V& v) { sc.settings.filter.enabled = v.b; }},
+      {"filter.band", T::string, "\"bandpass\"", "", "lowpass|highpass|bandpass", "Filter band.",
+       [](S& sc, const V& v) { sc.settings.filter.cheby.band = band_of(v.s); }},
+      {"filter.order", T::integer, "3", "-", ">= 1", "Chebyshev I order N (band-pass: 2N poles), SciPy's convention.",
+       [](S& sc, const V& v) { sc.settings.filter.cheby.order = static_cast<int>(v.x); }},
+      {"filter.ripple_db", T::number, "0.5", "dB", "> 0", "Passband ripple; edges are where one pass drops below -ripple_db (zero-phase: -2·ripple_db).",
+       [](S& sc, const V& v) { sc.settings.filter.cheby.ripple_db = v.x; }},
+      {"filter.low_hz", T::number, "1.0", "Hz", "> 0", "Lower band edge (highpass, bandpass).",
+       [](S& sc, const V& v) { sc.settings.filter.cheby.low_hz = v.x; }},
+      {"filter.high_hz", T::number, "30.0", "Hz", "> 0", "Upper band edge (lowpass, bandpass); must be below 1/(2·dt).",
+       [](S& sc, const V& v) { sc.settings.filter.cheby.high_hz = v.x; }},
       // stations
       {"stations[].name", T::string, "", "", "", "Station name, unique; used in column names (required)."},
       {"stations[].span", T::integer, "", "-", ">= 1", "Span number (1-based) of a deck station; give at or x with it."},
@@ -83,7 +170,8 @@ const std::vector<KeySpec>& scenario_schema() {
       {"stations[].x", T::number, "", "m", ">= 0", "Deck station position from the span's left end (instead of at)."},
       {"stations[].track_x", T::number, "", "m", "", "Rail station at this global x (x = 0 at the bridge start), instead of span."},
       // run
-      {"run.speed_kmh", T::number, "", "km/h", "> 0", "Default speed of `viaduct run` (--speed-kmh overrides)."},
+      {"run.speed_kmh", T::number, "", "km/h", "> 0", "Default speed of `viaduct run` (--speed-kmh overrides).",
+       [](S& sc, const V& v) { sc.run_speed = v.x / 3.6; }},
       // sweep
       {"sweep.speeds_kmh", T::number_list, "", "km/h", "> 0", "Explicit list of speeds."},
       {"sweep.speed_min_kmh", T::number, "", "km/h", "> 0", "Range of speeds with speed_max_kmh and speed_step_kmh."},

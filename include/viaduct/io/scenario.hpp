@@ -32,6 +32,10 @@ struct Value {
   std::string to_toml() const;         ///< TOML literal
 };
 
+/// Sets the field of a scenario that a key declares (values already checked against the key's
+/// type and constraint).
+using KeySetter = void (*)(study::Scenario&, const Value&);
+
 /// Declaration of one key. "[]" in a key stands for an array index ("stations[].name").
 struct KeySpec {
   std::string key;
@@ -39,7 +43,11 @@ struct KeySpec {
   std::string default_toml;  ///< TOML literal; empty: no default
   std::string unit;          ///< SI unit, "-" for dimensionless, "" for text
   std::string constraint;    ///< "> 0", ">= 0", "[0, 1)", "[0, 1]", ">= 1", "a|b|c", or ""
-  std::string doc;
+  std::string doc;           ///< one line; "(required)" marks a key without default that must be given
+  /// The study::Scenario field the key sets; null for keys read by hand (several keys to one
+  /// field, arrays, files) or not read into the scenario (notes, fit sections).
+  KeySetter set = nullptr;
+  bool required() const { return doc.find("(required)") != std::string::npos; }
 };
 const std::vector<KeySpec>& scenario_schema();
 

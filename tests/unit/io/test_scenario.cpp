@@ -258,3 +258,76 @@ TEST_CASE("every numeric constraint of the schema is enforced, none is silently 
   REQUIRE_THROWS_WITH(load_flat(path, {"modal.damping_vectors=4"}), Catch::Contains("must be [0, 3]"));
   REQUIRE_THROWS_WITH(load_flat(path, {"ida.max_order=0"}), Catch::Contains("must be [1, 5]"));
 }
+
+TEST_CASE("each scenario key is declared once: its schema entry sets its field, or it is one of the keys read by hand") {
+  // The keys without a setter are those that combine several keys into one field (per-span
+  // lists, the rail's E·I and ρ·A), arrays and files (trains, stations), speeds, the preset, the
+  // fit section (read by io/fit.cpp), and free text. Any other key must name its field.
+  const std::vector<std::string> by_hand = {"description", "bridge.file", "bridge.notes", "bridge.span_lengths",
+                                            "bridge.EI", "bridge.mass_per_m", "track.file", "track.notes",
+                                            "track.rail.", "train.files", "analysis.preset", "stations[].",
+                                            "sweep.", "fit."};
+  int with_setter = 0;
+  for (const KeySpec& k : scenario_schema()) {
+    INFO(k.key);
+    bool hand = false;
+    for (const auto& h : by_hand) hand = hand || k.key == h || (h.back() == '.' && k.key.compare(0, h.size(), h) == 0);
+    REQUIRE((k.set != nullptr) != hand);
+    with_setter += k.set != nullptr;
+  }
+  REQUIRE(with_setter > 45);
+
+  // Each numeric setter moves the field it names: the scenario with the key set to another valid
+  // value differs from the reference one (the values are compared through what viaduct check
+  // shows of them: the resolved scenario after to_scenario).
+  Scratch s;
+  const std::string path = s.scenario("[track]\nfile = \"parts/track.toml\"\n");
+  s.write("parts/track.toml",
+          "rail.E = 2.1e11\nrail.I = 3e-5\nrail.A = 7.7e-3\nsleeper_mass = 300\nballast_mass = 318\npad.k = 1e8\n"
+          "ballast.k = 1.9e8\nsubgrade.k = 7.4e7\nsubgrade_on_bridge.k = 7.4e9\n");
+  const study::Scenario ref = to_scenario(load_flat(path));
+  auto differs = [&](const study::Scenario& a) {
+    const auto& x = a.settings;
+    const auto& y = ref.settings;
+    const auto& t = *a.track;
+    const auto& u = *ref.track;
+    return x.dt != y.dt || x.newmark.beta != y.newmark.beta || x.newmark.gamma != y.newmark.gamma ||
+           x.newmark.alpha != y.newmark.alpha || x.ida.rtol != y.ida.rtol || x.ida.atol_disp != y.ida.atol_disp ||
+           x.ida.atol_vel != y.ida.atol_vel || x.ida.max_order != y.ida.max_order ||
+           x.modal.n_modes != y.modal.n_modes || x.modal.max_frequency_hz != y.modal.max_frequency_hz ||
+           x.modal.damping_vectors != y.modal.damping_vectors || x.free_vibration_s != y.free_vibration_s ||
+           x.load_factor != y.load_factor || x.filter.cheby.order != y.filter.cheby.order ||
+           x.filter.cheby.ripple_db != y.filter.cheby.ripple_db || x.filter.cheby.low_hz != y.filter.cheby.low_hz ||
+           x.filter.cheby.high_hz != y.filter.cheby.high_hz || a.bridge.element_size != ref.bridge.element_size ||
+           a.bridge.added_mass_per_m != ref.bridge.added_mass_per_m || a.bridge.bearings.k != ref.bridge.bearings.k ||
+           a.bridge.bearings.c != ref.bridge.bearings.c || a.bridge.damping.ratio != ref.bridge.damping.ratio ||
+           a.bridge.damping.f1_hz != ref.bridge.damping.f1_hz || a.bridge.damping.ratio1 != ref.bridge.damping.ratio1 ||
+           a.bridge.damping.f2_hz != ref.bridge.damping.f2_hz || a.bridge.damping.ratio2 != ref.bridge.damping.ratio2 ||
+           t.approach_length != u.approach_length || t.exit_length != u.exit_length ||
+           t.sleeper_spacing != u.sleeper_spacing || t.rail_elements_per_bay != u.rail_elements_per_bay ||
+           t.sleeper_mass != u.sleeper_mass || t.ballast_mass != u.ballast_mass || t.pad.k != u.pad.k ||
+           t.pad.c != u.pad.c || t.ballast.k != u.ballast.k || t.ballast.c != u.ballast.c || t.shear.k != u.shear.k ||
+           t.shear.c != u.shear.c || t.subgrade.k != u.subgrade.k || t.subgrade.c != u.subgrade.c ||
+           t.subgrade_on_bridge.k != u.subgrade_on_bridge.k || t.subgrade_on_bridge.c != u.subgrade_on_bridge.c ||
+           a.run_speed != ref.run_speed;
+  };
+  int moved = 0;
+  for (const KeySpec& k : scenario_schema()) {
+    if (!k.set || (k.type != ValueType::number && k.type != ValueType::integer)) continue;
+    INFO(k.key);
+    const FlatScenario base = load_flat(path);
+    // A value 1.5 times the current one (or 2 for an integer, 0.5 for ratios and alpha), within
+    // every constraint of these keys.
+    const double cur = base.has(k.key) ? base.at(k.key).x : 100.0;
+    std::string value;
+    if (k.type == ValueType::integer) value = std::to_string(static_cast<long>(cur) == 1 ? 2 : 1);
+    else if (k.key == "analysis.alpha") value = "-0.1";
+    else if (k.key == "filter.low_hz") value = "2.0";
+    else if (k.key == "analysis.gamma") value = "0.6";
+    else value = format_number(cur == 0.0 ? 0.01 : cur * (cur < 1.0 ? 0.5 : 1.5), 12);
+    const study::Scenario changed = to_scenario(load_flat(path, {k.key + "=" + value}));
+    REQUIRE(differs(changed));
+    ++moved;
+  }
+  REQUIRE(moved > 40);
+}
