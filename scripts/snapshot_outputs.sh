@@ -66,7 +66,7 @@ done
 for kind in modal rayleigh; do
   run "bench-damp-hslm-$kind" sweep $HS --threads 1 --set bridge.damping.kind=$kind --set bridge.damping.f1_hz=5 \
     --set bridge.damping.ratio1=0.0135 --set bridge.damping.f2_hz=45 --set bridge.damping.ratio2=0.0135 \
-    --set 'train.files=["data/trains/hslm/A1.toml"]' --set sweep.n_speeds=40
+    --set 'train.files=["data/trains/hslm/A1.toml"]' --set sweep.speed_step_kmh=7
 done
 run bench-og-m180 sweep $OG --threads 2 --set 'analysis.preset="fast"' --set modal.max_frequency_hz=180 \
   --set modal.damping_vectors=1 --set sweep.n_speeds=6
@@ -84,5 +84,5 @@ for cfg in "newmark direct" "newmark unit-response" "modal unit-response" "modal
     --set modal.max_frequency_hz=180 --threads 2
 done
 run bench-ida-sweep sweep $HS --set 'analysis.method="ida"' --set 'train.files=["data/trains/hslm/A1.toml"]' \
-  --set sweep.n_speeds=4 --threads 2
+  --set sweep.speed_step_kmh=70 --threads 2
 echo "snapshot written to $D" >&2
