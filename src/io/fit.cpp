@@ -2,6 +2,8 @@
 #include "viaduct/io/fit.hpp"
 
 #include <algorithm>
+#include <cstdio>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -12,6 +14,8 @@
 
 #include "viaduct/core/error.hpp"
 #include "csv_cells.hpp"
+#include "viaduct/io/record.hpp"
+#include "viaduct/io/results.hpp"
 
 namespace viaduct::io {
 
@@ -299,6 +303,267 @@ void write_scenario_toml(const std::string& path, const FlatScenario& flat, cons
       leaves(ls);
     }
   if (!out) throw SolverError("cannot write " + path);
+}
+
+namespace {
+std::string fmt(double v) { return format_number(v, 10); }
+
+std::pair<std::string, std::string> split_pair(const std::string& s, const std::string& option) {
+  const auto eq = s.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == s.size())
+    throw InputError(option + " needs NAME=VALUE, got '" + s + "'");
+  return {s.substr(0, eq), s.substr(eq + 1)};
+}
+
+// A record's mapped channels as the fit sees them.
+study::FitRecord load_fit_record(const std::string& file, const std::vector<std::string>& maps, double speed_kmh,
+                                 const std::string& train, const std::string& where) {
+  if (maps.empty()) throw InputError(where + ": record " + file + " maps no channel (--map CHANNEL=STATION)");
+  const Record rec = read_record(file);
+  study::FitRecord fr;
+  fr.name = file;
+  fr.fs_hz = rec.fs_hz;
+  fr.t0_s = rec.t0_s;
+  fr.train = train;
+  fr.speed = speed_kmh / 3.6;
+  for (const auto& m : maps) {
+    const auto [channel, station] = split_pair(m, where + " map");
+    study::FitChannel ch;
+    const std::size_t c = rec.channel(channel);
+    ch.name = rec.channels[c];
+    ch.station = station;
+    const ChannelQuantity q = channel_quantity(rec.units[c], ch.name, where);
+    ch.acceleration = q.acceleration;
+    ch.scale = q.scale;
+    ch.samples = rec.data.col(static_cast<Index>(c));
+    fr.channels.push_back(std::move(ch));
+  }
+  return fr;
+}
+
+}  // namespace
+
+std::pair<study::FitProblem, study::FitOptions> fit_setup(const FlatScenario& flat, const FitRequest& request) {
+  FitDeclaration decl = fit_declaration(flat);
+  study::FitProblem problem;
+  // Parameters.
+  if (!request.params.empty()) {
+    for (const auto& p : request.params) problem.params.push_back(parse_fit_parameter(flat, p));
+  } else {
+    problem.params = decl.params;
+  }
+  if (problem.params.empty()) throw InputError("no parameter to fit: give --param KEY=LO:HI or [[fit.params]] in the scenario");
+  for (std::size_t i = 0; i < problem.params.size(); ++i)
+    for (std::size_t j = i + 1; j < problem.params.size(); ++j)
+      if (problem.params[i].key == problem.params[j].key) throw InputError("--param: " + problem.params[i].key + " is given twice");
+  // Records.
+  const std::vector<std::string>& maps = request.maps;
+  const std::vector<double>& speeds = request.speeds_kmh;
+  for (double v : speeds)
+    if (!(v > 0) || !std::isfinite(v)) throw InputError("--speed-kmh must be > 0, got " + fmt(v));
+  const std::string& train = request.train;
+  if (!request.records.empty()) {
+    const auto& files = request.records;
+    if (speeds.size() > 1 && speeds.size() != files.size())
+      throw InputError("--speed-kmh: give one speed for all records or one per --record (" + std::to_string(files.size()) + ")");
+    for (std::size_t i = 0; i < files.size(); ++i)
+      problem.records.push_back(load_fit_record(files[i], maps, speeds.empty() ? 0.0 : speeds[speeds.size() > 1 ? i : 0], train,
+                                                "--record " + files[i]));
+  } else {
+    if (!speeds.empty()) throw InputError("--speed-kmh needs --record (declared records carry their own speed_kmh)");
+    for (const auto& r : decl.records)
+      problem.records.push_back(load_fit_record(r.file, r.map, r.speed_kmh, r.train,
+                                                r.where.file + ":" + std::to_string(r.where.line)));
+  }
+  // Identified modes.
+  const std::string modes = request.modes ? *request.modes : decl.modes;
+  const std::string method = request.modes_method ? *request.modes_method : decl.modes_method;
+  if (!modes.empty()) {
+    study::ModalTarget t = read_identified_modes(modes, method);
+    std::map<std::string, std::string> to_station;
+    for (const auto& m : maps) to_station.insert(split_pair(m, "--map"));
+    const study::Scenario sc = to_scenario(flat);
+    auto is_station = [&](const std::string& n) {
+      for (const auto& s : sc.stations)
+        if (s.name == n) return true;
+      return false;
+    };
+    for (auto& s : t.sensors) {
+      if (to_station.count(s)) s = to_station[s];
+      else if (!is_station(s)) {
+        std::string base = s;
+        for (const std::string suffix : {"_acc", "_disp", "_vel"})
+          if (base.size() > suffix.size() && base.compare(base.size() - suffix.size(), suffix.size(), suffix) == 0)
+            base = base.substr(0, base.size() - suffix.size());
+        if (!is_station(base))
+          throw InputError("--modes: response '" + s + "' is not a station of the scenario: add --map " + s + "=STATION");
+        s = base;
+      }
+    }
+    problem.modal = t;
+  }
+  // Weights and options.
+  study::FitOptions opt = decl.options;
+  if (!request.weights.empty()) {
+    opt.weights = study::FitWeights{0, 0, 0, 0, 0};
+    for (const auto& w : request.weights) {
+      const auto [name, value] = split_pair(w, "--weight");
+      char* end = nullptr;
+      const double x = std::strtod(value.c_str(), &end);
+      if (*end != '\0' || !(x >= 0) || !std::isfinite(x)) throw InputError("--weight " + name + ": must be a number >= 0, got '" + value + "'");
+      if (name == "time") opt.weights.time = x;
+      else if (name == "peak") opt.weights.peak = x;
+      else if (name == "envelope") opt.weights.envelope = x;
+      else if (name == "spectrum") opt.weights.spectrum = x;
+      else if (name == "modal") opt.weights.modal = x;
+      else if (name == "damping") opt.weights.damping = x;
+      else throw InputError("--weight: unknown objective '" + name + "' (time, peak, envelope, spectrum, modal, damping)");
+    }
+  } else {
+    if (opt.weights.time < 0) opt.weights.time = problem.records.empty() ? 0.0 : 1.0;
+    if (opt.weights.modal < 0) opt.weights.modal = problem.modal ? 1.0 : 0.0;
+  }
+  if (opt.weights.any_record_term() && problem.records.empty())
+    throw InputError("the record objectives need a record: give --record FILE --map CHANNEL=STATION (or [[fit.records]])");
+  if ((opt.weights.modal > 0 || opt.weights.damping > 0) && !problem.modal)
+    throw InputError("the modal and damping objectives need --modes (or fit.modes)");
+  if (opt.weights.time + opt.weights.peak + opt.weights.envelope + opt.weights.spectrum + opt.weights.modal +
+          opt.weights.damping <= 0)
+    throw InputError("nothing to fit against: give --record FILE --map CHANNEL=STATION and/or --modes DIR");
+  if (request.starts) opt.starts = *request.starts;
+  if (request.no_spectral_start) opt.spectral_start = false;
+  if (request.max_iterations) opt.max_iterations = *request.max_iterations;
+  if (request.max_time_s) opt.max_time_s = *request.max_time_s;
+  opt.threads = request.threads;
+  std::string why;
+  if (!opt.is_valid(&why)) throw InputError(why);
+  problem.scenario_at = scenario_builder(flat, problem.params);
+  return {std::move(problem), std::move(opt)};
+}
+
+namespace {
+// fit.csv, fit_correlation.csv, fit_trace.csv, fit_residuals.csv, fit_time.csv, fit_modes.csv.
+void write_fit_tables(const std::string& dir, const study::FitProblem& problem, const study::FitResult& r) {
+  const std::size_t np = problem.params.size();
+  std::vector<std::vector<std::string>> rows;
+  for (std::size_t i = 0; i < np; ++i) {
+    const auto& p = problem.params[i];
+    const double ref = std::abs(r.estimate[i]) > 0 ? std::abs(r.estimate[i]) : p.upper - p.lower;
+    rows.push_back({p.key, p.unit, p.scale == study::ParameterScale::log ? "log" : "linear", fmt(p.lower), fmt(p.upper),
+                    fmt(p.initial), fmt(r.estimate.empty() ? p.initial : r.estimate[i]),
+                    r.std_error.empty() ? "nan" : fmt(r.std_error[i]), r.std_error.empty() ? "nan" : fmt(r.std_error[i] / ref),
+                    r.sensitivity.empty() ? "nan" : fmt(r.sensitivity[i]), r.at_bound.empty() ? "" : (r.at_bound[i] ? "true" : "false"),
+                    r.determined.empty() ? "" : (r.determined[i] ? "true" : "false")});
+  }
+  write_table_csv(dir + "/fit.csv",
+                      {"key", "unit", "scale", "lower", "upper", "initial", "estimate", "std_error", "relative_std_error",
+                       "sensitivity", "at_bound", "determined"},
+                      rows);
+  {
+    std::vector<std::string> head = {"key"};
+    for (const auto& p : problem.params) head.push_back(p.key);
+    std::vector<std::vector<std::string>> cr;
+    for (std::size_t i = 0; i < np; ++i) {
+      std::vector<std::string> row = {problem.params[i].key};
+      for (std::size_t j = 0; j < np; ++j)
+        row.push_back(r.correlation.size() ? fmt(r.correlation(static_cast<Index>(i), static_cast<Index>(j))) : "nan");
+      cr.push_back(row);
+    }
+    write_table_csv(dir + "/fit_correlation.csv", head, cr);
+  }
+  {
+    std::vector<std::string> head = {"start", "stage", "iteration", "cost"};
+    for (const auto& p : problem.params) head.push_back(p.key);
+    std::vector<std::vector<std::string>> tr;
+    for (const auto& tp : r.trace) {
+      std::vector<std::string> row = {std::to_string(tp.start + 1), tp.stage == 1 ? "spectral" : "fit", std::to_string(tp.iteration), fmt(tp.cost)};
+      for (double v : tp.values) row.push_back(fmt(v));
+      tr.push_back(row);
+    }
+    write_table_csv(dir + "/fit_trace.csv", head, tr);
+  }
+  {
+    std::vector<std::vector<std::string>> tr;
+    for (const auto& t : r.terms) tr.push_back({t.objective, t.record, t.channel, fmt(t.before), fmt(t.after)});
+    write_table_csv(dir + "/fit_residuals.csv", {"objective", "record", "channel", "before", "after"}, tr);
+  }
+  {
+    std::vector<std::vector<std::string>> tr;
+    for (const auto& ov : r.overlays)
+      for (Index i = 0; i < ov.t.size(); ++i)
+        tr.push_back({ov.record, ov.channel, fmt(ov.t[i]), fmt(ov.measured[i]), fmt(ov.initial[i]), fmt(ov.fitted[i])});
+    write_table_csv(dir + "/fit_time.csv", {"record", "channel", "t_s", "measured", "initial", "fitted"}, tr);
+  }
+  {
+    std::vector<std::vector<std::string>> tr;
+    for (std::size_t k = 0; k < r.modal_pairs.size(); ++k) {
+      const auto& mp = r.modal_pairs[k];
+      tr.push_back({std::to_string(k + 1), fmt(mp.frequency_hz), fmt(mp.model_before_hz), fmt(mp.model_after_hz),
+                    fmt(mp.mac_before), fmt(mp.mac_after), fmt(mp.damping_ratio), fmt(mp.model_damping_before),
+                    fmt(mp.model_damping_after)});
+    }
+    write_table_csv(dir + "/fit_modes.csv",
+                        {"mode", "identified_hz", "model_before_hz", "model_after_hz", "mac_before", "mac_after",
+                         "identified_damping_ratio", "model_damping_before", "model_damping_after"},
+                        tr);
+  }
+}
+
+// fit.toml (the summary) and fitted.toml (the scenario with the estimates).
+void write_fit_summary(const std::string& dir, const std::string& scenario_path, const FlatScenario& flat,
+                       const study::FitProblem& problem, const study::FitOptions& options, const study::FitResult& r) {
+  const std::size_t np = problem.params.size();
+  // fit.toml: the summary.
+  {
+    auto q = [](const std::string& s) {
+      Value v;
+      v.type = ValueType::string;
+      v.s = s;
+      return v.to_toml();
+    };
+    std::ostringstream t;
+    t << "# viaduct fit: " << scenario_path << "\n[fit]\n";
+    t << "status = " << q(study::to_string(r.status)) << "\nmessage = " << q(r.message) << "\n";
+    t << "cost_initial = " << fmt(r.cost_initial) << "\ncost_final = " << fmt(r.cost_final) << "\n";
+    t << "n_residuals = " << r.n_residuals << "\niterations = " << r.iterations << "\nevaluations = " << r.evaluations
+      << "\nsimulations = " << r.simulations << "\nstarts = " << options.starts << "\nbest_start = " << r.best_start + 1 << "\n";
+    t << "wall_s = " << fmt(r.wall_s) << "\nthreads = " << options.threads << "\n";
+    t << "weights = { time = " << fmt(options.weights.time) << ", peak = " << fmt(options.weights.peak) << ", envelope = "
+      << fmt(options.weights.envelope) << ", spectrum = " << fmt(options.weights.spectrum) << ", modal = " << fmt(options.weights.modal)
+      << ", damping = " << fmt(options.weights.damping) << " }\n";
+    t << "warnings = [";
+    for (std::size_t i = 0; i < r.warnings.size(); ++i) t << (i ? ", " : "") << q(r.warnings[i]);
+    t << "]\n";
+    t << "start_costs = [";
+    for (std::size_t i = 0; i < r.start_costs.size(); ++i) t << (i ? ", " : "") << (std::isfinite(r.start_costs[i]) ? fmt(r.start_costs[i]) : "inf");
+    t << "]\n";
+    t << "record_shifts_s = [";
+    for (std::size_t i = 0; i < r.shift_s.size(); ++i) t << (i ? ", " : "") << (std::isfinite(r.shift_s[i]) ? fmt(r.shift_s[i]) : "nan");
+    t << "]\n";
+    for (std::size_t i = 0; i < np && !r.std_error.empty(); ++i) {
+      t << "\n[[fit.params]]\nkey = " << q(problem.params[i].key) << "\nunit = " << q(problem.params[i].unit)
+        << "\ninitial = " << fmt(problem.params[i].initial) << "\nestimate = " << fmt(r.estimate[i])
+        << "\nstd_error = " << (std::isfinite(r.std_error[i]) ? fmt(r.std_error[i]) : "inf")
+        << "\ndetermined = " << (r.determined[i] ? "true" : "false") << "\n";
+    }
+    std::FILE* f = std::fopen((dir + "/fit.toml").c_str(), "w");
+    if (!f) throw SolverError("cannot write " + dir + "/fit.toml");
+    std::fputs(t.str().c_str(), f);
+    std::fclose(f);
+  }
+  // The scenario with the fitted values.
+  FlatScenario fitted = flat;
+  for (std::size_t i = 0; i < np && !r.estimate.empty(); ++i) set_number(fitted, problem.params[i].key, r.estimate[i]);
+  write_scenario_toml(dir + "/fitted.toml", fitted,
+                          "Written by viaduct fit from " + scenario_path + " (" + study::to_string(r.status) +
+                              "): the fitted keys hold their estimates; see fit.csv for standard errors.");
+}
+}  // namespace
+
+void write_fit_outputs(const std::string& dir, const std::string& scenario_path, const FlatScenario& flat,
+                       const study::FitProblem& problem, const study::FitOptions& options, const study::FitResult& r) {
+  write_fit_tables(dir, problem, r);
+  write_fit_summary(dir, scenario_path, flat, problem, options, r);
 }
 
 }  // namespace viaduct::io

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <random>
@@ -12,6 +13,7 @@
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/options.hpp"
 #include "viaduct/core/thread_pool.hpp"
+#include "viaduct/model/modes.hpp"
 #include "viaduct/solve/newmark.hpp"
 
 namespace viaduct::study {
@@ -244,6 +246,30 @@ ShakerRecord simulate_shaker_test(const model::Structure& s, const ForcedSetup& 
   }
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
+}
+
+ModelModesAtResponses model_modes_at(const Scenario& sc, const std::vector<std::string>& responses,
+                                     const std::vector<std::pair<std::string, double>>& sensors_x, double f_max_hz) {
+  const model::Structure s = model::build_structure(sc.bridge, sc.track);
+  std::map<std::string, StationSpec> by_name;
+  for (const auto& st : sc.stations) by_name[st.name] = st;
+  for (const auto& [name, x] : sensors_x) by_name[name] = deck_station_at(s, name, x);
+  std::vector<StationSpec> specs;
+  for (const auto& n : responses) {
+    if (!by_name.count(n)) throw InputError("response '" + n + "' is neither a station of the model nor given by --sensor " + n + "=X");
+    specs.push_back(by_name[n]);
+  }
+  const auto stations = resolve_stations(s, specs);
+  const model::Modes md = model::compute_modes_up_to(s, 0, f_max_hz);
+  ModelModesAtResponses out;
+  out.frequency_hz = md.frequency_hz;
+  out.shape.resize(static_cast<Index>(stations.size()), md.frequency_hz.size());
+  for (Index j = 0; j < md.frequency_hz.size(); ++j)
+    for (std::size_t r = 0; r < stations.size(); ++r) {
+      const auto& cp = stations[r].has_deck ? stations[r].deck : stations[r].rail;
+      out.shape(static_cast<Index>(r), j) = cp.value(md.shape.col(j));
+    }
+  return out;
 }
 
 }  // namespace viaduct::study

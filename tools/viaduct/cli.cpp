@@ -90,13 +90,6 @@ int dispatch(const Command& cmd, int argc, char** argv) {
   }
 }
 
-ChannelQuantity channel_quantity(const std::string& unit, const std::string& channel, const std::string& who) {
-  if (unit == "mps2") return {true, 1.0};
-  if (unit == "g") return {true, 1.0 / 9.80665};
-  if (unit == "m") return {false, 1.0};
-  if (unit == "mm") return {false, 1e3};
-  throw InputError(who + ": channel '" + channel + "' is in " + unit + "; only _mps2, _g, _m or _mm compare with the model");
-}
 
 void make_out_dir(const std::string& dir) {
   std::error_code ec;

@@ -43,14 +43,6 @@ struct Command {
 /// 1 runtime). Prints errors on stderr as "viaduct <cmd>: error: ...".
 int dispatch(const Command& cmd, int argc, char** argv);
 
-/// What a record channel's unit says it holds, for comparing with the model: deck acceleration
-/// (_mps2, _g) or deflection (_m, _mm), and the factor from the model's SI value to the unit.
-/// InputError naming `who` for other units.
-struct ChannelQuantity {
-  bool acceleration = true;
-  double scale = 1.0;
-};
-ChannelQuantity channel_quantity(const std::string& unit, const std::string& channel, const std::string& who);
 /// Creates the output directory (throws SolverError when it cannot).
 void make_out_dir(const std::string& dir);
 

@@ -21,6 +21,40 @@ struct Mapping {
 };
 }  // namespace
 
+namespace {
+// --map CHANNEL=STATION pairs: the record channel, the station, and the model quantity its unit asks for.
+std::vector<Mapping> mappings_of(const std::vector<std::string>& pairs, const io::Record& rec, const study::Scenario& sc) {
+  std::vector<Mapping> maps;
+  for (const auto& m : pairs) {
+    const auto eq = m.find('=');
+    if (eq == std::string::npos) throw InputError("--map needs CHANNEL=STATION, got '" + m + "'");
+    Mapping mp;
+    mp.channel = rec.channel(m.substr(0, eq));
+    const std::string st = m.substr(eq + 1);
+    bool found = false;
+    for (std::size_t i = 0; i < sc.stations.size(); ++i)
+      if (sc.stations[i].name == st) {
+        mp.station = i;
+        found = true;
+      }
+    if (!found) throw InputError("--map: no station '" + st + "' in the scenario");
+    const io::ChannelQuantity q = io::channel_quantity(rec.units[mp.channel], rec.channels[mp.channel], "--map");
+    mp.quantity = q.acceleration ? "acc" : "disp";
+    mp.scale = q.scale;
+    maps.push_back(mp);
+  }
+  return maps;
+}
+
+// --train, or the first of the scenario's trains.
+const load::Train* train_of(const study::Scenario& sc, const po::variables_map& vm) {
+  if (!vm.count("train")) return &sc.trains.front();
+  for (const auto& t : sc.trains)
+    if (t.name == vm["train"].as<std::string>()) return &t;
+  throw InputError("no train named '" + vm["train"].as<std::string>() + "' in the scenario");
+}
+}  // namespace
+
 Command compare_command() {
   Command c;
   c.name = "compare";
@@ -65,32 +99,8 @@ Command compare_command() {
     } else if (sc.run_speed && !vm.count("identify-speed-m")) {
       speed = *sc.run_speed;
     }
-    const load::Train* train = &sc.trains.front();
-    if (vm.count("train")) {
-      train = nullptr;
-      for (const auto& t : sc.trains)
-        if (t.name == vm["train"].as<std::string>()) train = &t;
-      if (!train) throw InputError("no train named '" + vm["train"].as<std::string>() + "' in the scenario");
-    }
-    std::vector<Mapping> maps;
-    for (const auto& m : vm["map"].as<std::vector<std::string>>()) {
-      const auto eq = m.find('=');
-      if (eq == std::string::npos) throw InputError("--map needs CHANNEL=STATION, got '" + m + "'");
-      Mapping mp;
-      mp.channel = rec.channel(m.substr(0, eq));
-      const std::string st = m.substr(eq + 1);
-      bool found = false;
-      for (std::size_t i = 0; i < sc.stations.size(); ++i)
-        if (sc.stations[i].name == st) {
-          mp.station = i;
-          found = true;
-        }
-      if (!found) throw InputError("--map: no station '" + st + "' in the scenario");
-      const ChannelQuantity q = channel_quantity(rec.units[mp.channel], rec.channels[mp.channel], "--map");
-      mp.quantity = q.acceleration ? "acc" : "disp";
-      mp.scale = q.scale;
-      maps.push_back(mp);
-    }
+    const load::Train* train = train_of(sc, vm);
+    const std::vector<Mapping> maps = mappings_of(vm["map"].as<std::vector<std::string>>(), rec, sc);
     if (vm.count("identify-speed-m")) {
       const study::SpeedEstimate e = study::speed_from_spectrum(
           rec.data.col(static_cast<Index>(maps.front().channel)), rec.fs_hz, vm["identify-speed-m"].as<double>(),

@@ -464,33 +464,20 @@ Command modal_fit_command() {
         std::printf("%-13s %4s %12.5f %10.3f  %s\n", r[0].c_str(), r[1].c_str(), std::stod(r[2]), 100 * std::stod(r[3]), r[5].c_str());
     }
     if (vm.count("model")) {
-      const io::FlatScenario flat = io::load_flat(vm["model"].as<std::string>(), {});
-      const study::Scenario sc = io::to_scenario(flat);
-      const model::Structure s = model::build_structure(sc.bridge, sc.track);
-      std::map<std::string, study::StationSpec> by_name;
-      for (const auto& st : sc.stations) by_name[st.name] = st;
+      const std::string model_file = vm["model"].as<std::string>();
+      std::vector<std::pair<std::string, double>> sensors;
       if (vm.count("sensor"))
-        for (const auto& sx : vm["sensor"].as<std::vector<std::string>>()) {
-          const auto [name, x] = named_position(sx, "--sensor");
-          by_name[name] = study::deck_station_at(s, name, x);
-        }
-      std::vector<study::StationSpec> specs;
-      for (const auto& n : frf.responses) {
-        if (!by_name.count(n))
-          throw InputError("response '" + n + "' is neither a station of " + vm["model"].as<std::string>() + " nor given by --sensor " + n + "=X");
-        specs.push_back(by_name[n]);
+        for (const auto& sx : vm["sensor"].as<std::vector<std::string>>()) sensors.push_back(named_position(sx, "--sensor"));
+      study::ModelModesAtResponses md;
+      try {
+        md = study::model_modes_at(io::to_scenario(io::load_flat(model_file, {})), frf.responses, sensors,
+                                   1.5 * ls.f_max_hz);
+      } catch (const InputError& e) {
+        throw InputError("--model " + model_file + ": " + e.what());
       }
-      const auto stations = study::resolve_stations(s, specs);
-      const model::Modes md = model::compute_modes_up_to(s, 0, 1.5 * ls.f_max_hz);
-      ident::ComplexMatrix model_shapes(static_cast<Index>(stations.size()), md.frequency_hz.size());
-      for (Index j = 0; j < md.frequency_hz.size(); ++j)
-        for (std::size_t r = 0; r < stations.size(); ++r) {
-          const auto& cp = stations[r].has_deck ? stations[r].deck : stations[r].rail;
-          model_shapes(static_cast<Index>(r), j) = cp.value(md.shape.col(j));
-        }
-      ident::ComplexMatrix id_shapes(static_cast<Index>(stations.size()), static_cast<Index>(ls.modes.size()));
+      ident::ComplexMatrix id_shapes(static_cast<Index>(frf.responses.size()), static_cast<Index>(ls.modes.size()));
       for (std::size_t k = 0; k < ls.modes.size(); ++k) id_shapes.col(static_cast<Index>(k)) = ls.modes[k].shape;
-      const Matrix m = ident::mac(id_shapes, model_shapes);
+      const Matrix m = ident::mac(id_shapes, md.shape);
       std::vector<std::vector<std::string>> rows;
       for (Index i = 0; i < m.rows(); ++i)
         for (Index j = 0; j < m.cols(); ++j)

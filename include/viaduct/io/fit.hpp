@@ -1,7 +1,9 @@
 #pragma once
 /// \file Model updating from files: fitted scenario keys, the scenario's [fit] section,
 /// identified modes (modal-fit's modes.csv / shapes.csv) and the fitted scenario written back.
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 #include "viaduct/io/scenario.hpp"
 #include "viaduct/study/fit.hpp"
@@ -47,5 +49,35 @@ study::ModalTarget read_identified_modes(const std::string& path, const std::str
 /// Writes `flat` as a scenario file loadable on its own (component files merged, paths absolute,
 /// defaults left out), with `comment` lines at the top. SolverError on I/O failure.
 void write_scenario_toml(const std::string& path, const FlatScenario& flat, const std::string& comment);
+
+/// What `viaduct fit` is given beside the scenario: each present item replaces the [fit]
+/// section's (DESIGN.md §3.10: the CLI only fills this).
+struct FitRequest {
+  std::vector<std::string> params;      ///< "KEY=LO:HI[:log|linear]"; empty: [[fit.params]]
+  std::vector<std::string> records;     ///< record files; empty: [[fit.records]]
+  std::vector<std::string> maps;        ///< CHANNEL=STATION for every record, RESPONSE=STATION for modes
+  std::vector<double> speeds_kmh;       ///< [km/h] one for all records or one per record
+  std::string train;                    ///< "": the first of train.files
+  std::optional<std::string> modes;     ///< identified modes (read_identified_modes)
+  std::optional<std::string> modes_method;
+  std::vector<std::string> weights;     ///< OBJECTIVE=W; empty: declared, else time = 1 with records, modal = 1 with modes
+  std::optional<int> starts, max_iterations;
+  std::optional<double> max_time_s;     ///< [s]
+  bool no_spectral_start = false;
+  int threads = 1;
+};
+
+/// The problem and options of a fit: the request merged with the scenario's [fit] section, the
+/// records read (channel units checked), the identified modes' responses mapped onto stations,
+/// default weights, every rule checked (FitOptions::is_valid included). problem.scenario_at is
+/// set. InputError naming the option or key.
+std::pair<study::FitProblem, study::FitOptions> fit_setup(const FlatScenario& flat, const FitRequest& request);
+
+/// The outputs of a fit into `dir`: fit.csv (estimates, standard errors, flags),
+/// fit_correlation.csv, fit_trace.csv, fit_residuals.csv, fit_time.csv, fit_modes.csv, fit.toml
+/// (the summary) and fitted.toml (the scenario `flat` from `scenario_path` with the estimates).
+/// SolverError on I/O failure.
+void write_fit_outputs(const std::string& dir, const std::string& scenario_path, const FlatScenario& flat,
+                       const study::FitProblem& problem, const study::FitOptions& options, const study::FitResult& r);
 
 }  // namespace viaduct::io

@@ -40,6 +40,15 @@ Record read_record_csv(const std::string& path);
 /// read_record().
 Record read_uff58(const std::string& path);
 
+/// What a record channel's unit says it holds, for comparing with the model: deck acceleration
+/// (mps2, g) or deflection (m, mm), and the factor from the model's SI value to the unit.
+struct ChannelQuantity {
+  bool acceleration = true;
+  double scale = 1.0;
+};
+/// InputError naming `who` and the channel for other units.
+ChannelQuantity channel_quantity(const std::string& unit, const std::string& channel, const std::string& who);
+
 /// read_uff58 for .uff/.unv files, read_record_csv otherwise.
 Record read_record(const std::string& path);
 

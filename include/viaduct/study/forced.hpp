@@ -68,4 +68,15 @@ struct ShakerRecord {
 ShakerRecord simulate_shaker_test(const model::Structure& s, const ForcedSetup& setup, const ShakerTest& test,
                                   const ProgressSink& progress = {});
 
+/// The undamped modes of a model seen at measured responses (the last step of the
+/// identification workflow: modes from FRFs against the model, by MAC). Each response is a
+/// station of `sc` or a deck position given in `sensors_x` [m, global]; modes up to f_max_hz.
+struct ModelModesAtResponses {
+  Vector frequency_hz;        ///< [Hz] per mode
+  ident::ComplexMatrix shape; ///< n_responses × n_modes (real shapes stored as complex, for ident::mac)
+};
+/// InputError naming a response that is neither a station nor a sensor.
+ModelModesAtResponses model_modes_at(const Scenario& sc, const std::vector<std::string>& responses,
+                                     const std::vector<std::pair<std::string, double>>& sensors_x, double f_max_hz);
+
 }  // namespace viaduct::study
