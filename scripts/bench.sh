@@ -269,7 +269,7 @@ the curve's peak (\`docs/accuracy.md\` has the whole ladder).
 $hm_steps samples in all; **$(fmt2 "$hm1") s on 1 thread, $(fmt2 "$hm2") s on 2 threads** (target 0.3 s;
 $(awk -v w="$hm2" -v s="$hm_steps" 'BEGIN{printf "%.1f", 1e9*w*2/s}') ns per sample and thread, the whole sweep included). No history
 is needed for an envelope without a filter, so the sweep runs the peaks kernel
-(\`study/modal_peaks\`): each train folded once into one piecewise cubic of the head position
+(\`src/solve/modal_peaks.cpp\`, behind \`solve::Integrator::run_batch\`): each train folded once into one piecewise cubic of the head position
 (the per-element influence cubics re-expanded on all axles' merged breakpoints: exact,
 speed-independent), four speeds advanced in SIMD lanes, the loads along each piece by forward
 differences, the three modal equations exactly, only the running maxima kept; the same

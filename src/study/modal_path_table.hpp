@@ -1,6 +1,6 @@
 #pragma once
 // Private to src/study: the tabulated modal loads of a unit axle along the load path
-// (simulation.cpp builds it, modal_peaks.cpp folds it over a train).
+// (simulation.cpp builds it and folds it over a train for the peaks kernel: fold_train).
 
 #include <cstddef>
 #include <vector>
