@@ -35,17 +35,22 @@ signal::BandType band_of(const std::string& s) {
   if (s == "bandpass") return signal::BandType::bandpass;
   throw std::logic_error("filter.band: unmapped value '" + s + "'");
 }
-}  // namespace
 
-const std::vector<KeySpec>& scenario_schema() {
-  using T = ValueType;
-  using S = study::Scenario;
-  using V = Value;
-  static const std::vector<KeySpec> schema = {
+using T = ValueType;
+using S = study::Scenario;
+using V = Value;
+
+// The keys by section, in the order docs/scenarios.md lists them.
+std::vector<KeySpec> general_keys() {  // general
+  return {
       {"title", T::string, "\"\"", "", "", "Free text shown in outputs.",
        [](S& sc, const V& v) { sc.title = v.s; }},
       {"description", T::string, "\"\"", "", "", "Free text: what the scenario studies and where its numbers come from."},
-      // bridge
+  };
+}
+
+std::vector<KeySpec> bridge_keys() {  // bridge
+  return {
       {"bridge.file", T::string, "", "", "", "Bridge component file; its keys are read under bridge. (path relative to the referencing file)."},
       {"bridge.notes", T::string, "\"\"", "", "", "Free text: sources and readings of the parameters."},
       {"bridge.span_lengths", T::number_list, "", "m", "> 0", "Length of each simply supported span, in order along the line (required)."},
@@ -75,7 +80,11 @@ const std::vector<KeySpec>& scenario_schema() {
        [](S& sc, const V& v) { sc.bridge.damping.f2_hz = v.x; }},
       {"bridge.damping.ratio2", T::number, "0.0", "-", "[0, 1)", "rayleigh: damping ratio at f2_hz.",
        [](S& sc, const V& v) { sc.bridge.damping.ratio2 = v.x; }},
-      // track
+  };
+}
+
+std::vector<KeySpec> track_keys() {  // track
+  return {
       {"track.file", T::string, "", "", "", "Track component file; its keys are read under track. Without any track key the model has no track."},
       {"track.notes", T::string, "\"\"", "", "", "Free text: sources and readings of the parameters."},
       {"track.approach_length", T::number, "20.0", "m", ">= 0", "Track before the bridge (axles enter at its start); rounded down to whole sleeper bays with exit_length.",
@@ -114,11 +123,19 @@ const std::vector<KeySpec>& scenario_schema() {
        [](S& sc, const V& v) { sc.track->subgrade_on_bridge.k = v.x; }},
       {"track.subgrade_on_bridge.c", T::number, "0.0", "N·s/m", ">= 0", "Ballast mass to deck damping per rail seat on the bridge.",
        [](S& sc, const V& v) { sc.track->subgrade_on_bridge.c = v.x; }},
-      // trains
+  };
+}
+
+std::vector<KeySpec> train_keys() {  // trains
+  return {
       {"train.files", T::string_list, "", "", "", "Train files (.toml: hslm, regular or axles; .csv: position_m,load_kN), relative to the referencing file (required)."},
       {"train.load_factor", T::number, "1.0", "-", "> 0", "Multiplies every axle load (0.5: one rail of a half-deck model carries half of each axle).",
        [](S& sc, const V& v) { sc.settings.load_factor = v.x; }},
-      // analysis
+  };
+}
+
+std::vector<KeySpec> analysis_keys() {  // analysis
+  return {
       {"analysis.dt", T::number, "0.001", "s", "> 0", "Analysis step of every method: the Newmark step, the load-sampling interval of modal superposition and the recording interval (IDA chooses its own steps and is sampled at it).",
        [](S& sc, const V& v) { sc.settings.dt = v.x; }},
       {"analysis.beta", T::number, "0.25", "-", "> 0", "Newmark β (0.25: constant average acceleration).",
@@ -150,7 +167,11 @@ const std::vector<KeySpec>& scenario_schema() {
        [](S& sc, const V& v) { sc.settings.modal.damping_vectors = static_cast<int>(v.x); }},
       {"analysis.free_vibration_s", T::number, "1.0", "s", ">= 0", "Time simulated after the last axle has left the model.",
        [](S& sc, const V& v) { sc.settings.free_vibration_s = v.x; }},
-      // filter
+  };
+}
+
+std::vector<KeySpec> filter_keys() {  // filter
+  return {
       {"filter.enabled", T::boolean, "true", "", "", "Filter accelerations before taking maxima.",
        [](S& sc, const V& v) { sc.settings.filter.enabled = v.b; }},
       {"filter.band", T::string, "\"bandpass\"", "", "lowpass|highpass|bandpass", "Filter band.",
@@ -163,16 +184,28 @@ const std::vector<KeySpec>& scenario_schema() {
        [](S& sc, const V& v) { sc.settings.filter.cheby.low_hz = v.x; }},
       {"filter.high_hz", T::number, "30.0", "Hz", "> 0", "Upper band edge (lowpass, bandpass); must be below 1/(2·dt).",
        [](S& sc, const V& v) { sc.settings.filter.cheby.high_hz = v.x; }},
-      // stations
+  };
+}
+
+std::vector<KeySpec> station_keys() {  // stations
+  return {
       {"stations[].name", T::string, "", "", "", "Station name, unique; used in column names (required)."},
       {"stations[].span", T::integer, "", "-", ">= 1", "Span number (1-based) of a deck station; give at or x with it."},
       {"stations[].at", T::number, "", "-", "[0, 1]", "Deck station position as a fraction of the span length."},
       {"stations[].x", T::number, "", "m", ">= 0", "Deck station position from the span's left end (instead of at)."},
       {"stations[].track_x", T::number, "", "m", "", "Rail station at this global x (x = 0 at the bridge start), instead of span."},
-      // run
+  };
+}
+
+std::vector<KeySpec> run_keys() {  // run
+  return {
       {"run.speed_kmh", T::number, "", "km/h", "> 0", "Default speed of `viaduct run` (--speed-kmh overrides).",
        [](S& sc, const V& v) { sc.run_speed = v.x / 3.6; }},
-      // sweep
+  };
+}
+
+std::vector<KeySpec> sweep_keys() {  // sweep
+  return {
       {"sweep.speeds_kmh", T::number_list, "", "km/h", "> 0", "Explicit list of speeds."},
       {"sweep.speed_min_kmh", T::number, "", "km/h", "> 0", "Range of speeds with speed_max_kmh and speed_step_kmh."},
       {"sweep.speed_max_kmh", T::number, "", "km/h", "> 0", "Last speed of the range (included when on the step grid)."},
@@ -184,7 +217,11 @@ const std::vector<KeySpec>& scenario_schema() {
       {"sweep.variants[].key", T::string, "", "", "", "Numeric scenario key to vary, e.g. track.pad.k (required)."},
       {"sweep.variants[].label", T::string, "\"\"", "", "", "Short name in outputs, e.g. Kp (default: the key)."},
       {"sweep.variants[].factors", T::number_list, "", "-", ">= 0", "Multipliers of the reference value (required)."},
-      // fit (viaduct fit; docs/fitting.md)
+  };
+}
+
+std::vector<KeySpec> fit_keys() {  // fit (viaduct fit; docs/fitting.md)
+  return {
       {"fit.params[].key", T::string, "", "", "", "Numeric scenario key to fit, e.g. track.pad.k; its value in this scenario is the start (required)."},
       {"fit.params[].lower", T::number, "", "", "", "Lower bound, in the key's unit (required)."},
       {"fit.params[].upper", T::number, "", "", "", "Upper bound, > lower (required)."},
@@ -209,6 +246,17 @@ const std::vector<KeySpec>& scenario_schema() {
       {"fit.max_time_s", T::number, "600.0", "s", "> 0", "Wall time per start; the solver stops with a reason."},
       {"fit.fd_step", T::number, "1e-4", "-", "> 0", "Forward-difference step in the normalised coordinates (at most 0.1)."},
   };
+}
+
+}  // namespace
+
+const std::vector<KeySpec>& scenario_schema() {
+  static const std::vector<KeySpec> schema = [] {
+    std::vector<KeySpec> all;
+    for (auto part : {general_keys(), bridge_keys(), track_keys(), train_keys(), analysis_keys(), filter_keys(), station_keys(), run_keys(), sweep_keys(), fit_keys()})
+      all.insert(all.end(), part.begin(), part.end());
+    return all;
+  }();
   return schema;
 }
 
