@@ -195,6 +195,171 @@ PointCoupling Structure::rail_point(double x) const {
   return point_on(rail_elements, x, "rail");
 }
 
+namespace {
+// The triplets of M, K and C and the next free DOF while a structure is assembled.
+struct Assembly {
+  Structure& s;
+  std::vector<Triplet> tm, tk, tc;
+  Index next = 0;
+};
+
+// Span `si` starting at x [m]: its nodes (bearing DOFs fixed when rigid), beam elements, bearing
+// springs and dashpots, and its structural damping from its own M and K.
+void add_span(Assembly& as, const BridgeParams& bridge, std::size_t si, double x, double deck_mass_reduction) {
+  Structure& s = as.s;
+  std::vector<Triplet>& tm = as.tm;
+  std::vector<Triplet>& tk = as.tk;
+  std::vector<Triplet>& tc = as.tc;
+  Index& next = as.next;
+  const SpanParams& sp = bridge.spans[si];
+  const double m = sp.mass_per_m + bridge.added_mass_per_m - deck_mass_reduction;
+  if (!(m > 0.0))
+    throw InputError("span " + std::to_string(si + 1) + ": deck mass per metre after removing the " +
+                     "modelled track mass (" + str(deck_mass_reduction) + " kg/m) must be > 0, got " +
+                     str(m) + " kg/m");
+  if (si == 0) s.deck_mass_per_m_used = m;
+  const double n_el_real = std::ceil(sp.length / bridge.element_size - 1e-9);
+  if (n_el_real > kMaxSpanElements)
+    throw InputError("span " + std::to_string(si + 1) + ": element_size " + str(bridge.element_size) + " m gives " +
+                     str(n_el_real) + " elements; at most " + std::to_string(kMaxSpanElements) +
+                     " per span (raise bridge.element_size)");
+  const int n_el = std::max(1, static_cast<int>(n_el_real));
+  const double h = sp.length / n_el;
+  s.span_start.push_back(x);
+  s.span_length.push_back(sp.length);
+  s.span_first_element.push_back(s.deck_elements.size());
+
+  const Index first_dof = next;
+  std::vector<std::array<Index, 2>> node(static_cast<std::size_t>(n_el + 1));
+  for (int j = 0; j <= n_el; ++j) {
+    const bool end = (j == 0 || j == n_el);
+    node[static_cast<std::size_t>(j)][0] = (end && bridge.bearings.rigid) ? -1 : next++;
+    node[static_cast<std::size_t>(j)][1] = next++;
+  }
+  const Index n_span = next - first_dof;
+  // Span-local matrices (for damping) and global triplets.
+  std::vector<Triplet> lm, lk;
+  const Matrix4 ke = beam_stiffness(sp.EI, h), me = beam_mass(m, h);
+  for (int j = 0; j < n_el; ++j) {
+    PathElement e;
+    e.x0 = x + j * h;
+    e.h = h;
+    e.dofs = {node[static_cast<std::size_t>(j)][0], node[static_cast<std::size_t>(j)][1],
+              node[static_cast<std::size_t>(j + 1)][0], node[static_cast<std::size_t>(j + 1)][1]};
+    s.deck_elements.push_back(e);
+    add_element(lk, e, ke);
+    add_element(lm, e, me);
+  }
+  if (!bridge.bearings.rigid) {
+    for (int j : {0, n_el}) {
+      const Index d = node[static_cast<std::size_t>(j)][0];
+      lk.emplace_back(d, d, bridge.bearings.k);
+      tc.emplace_back(d, d, bridge.bearings.c);
+    }
+  }
+  // Structural damping from the span's own M and K (bearing springs included).
+  SparseMatrix Ms(n_span, n_span), Ks(n_span, n_span);
+  auto shift = [&](const std::vector<Triplet>& in) {
+    std::vector<Triplet> out;
+    out.reserve(in.size());
+    for (const auto& t : in) out.emplace_back(t.row() - first_dof, t.col() - first_dof, t.value());
+    return out;
+  };
+  const auto lms = shift(lm), lks = shift(lk);
+  Ms.setFromTriplets(lms.begin(), lms.end());
+  Ks.setFromTriplets(lks.begin(), lks.end());
+  const Matrix Cs = structural_damping(Ms, Ks, bridge.damping);
+  for (Index i = 0; i < n_span; ++i)
+    for (Index j = 0; j < n_span; ++j)
+      if (Cs(i, j) != 0.0) tc.emplace_back(first_dof + i, first_dof + j, Cs(i, j));
+  tm.insert(tm.end(), lm.begin(), lm.end());
+  tk.insert(tk.end(), lk.begin(), lk.end());
+}
+
+// The track over [−approach, L_bridge + exit]: rail elements, and per sleeper the sleeper and
+// ballast masses, pad, ballast, shear and subgrade links (to the deck where it lies on a span).
+void add_track(Assembly& as, const TrackParams& tp, double L_bridge) {
+  Structure& s = as.s;
+  std::vector<Triplet>& tm = as.tm;
+  std::vector<Triplet>& tk = as.tk;
+  std::vector<Triplet>& tc = as.tc;
+  Index& next = as.next;
+  const double d = tp.sleeper_spacing;
+  const double x_start = -tp.approach_length;
+  const double L_track = tp.approach_length + L_bridge + tp.exit_length;
+  const double n_bays_real = std::floor(L_track / d + 1e-9);
+  if (n_bays_real < 1) throw InputError("track shorter than one sleeper spacing");
+  if (n_bays_real * tp.rail_elements_per_bay > kMaxRailElements)
+    throw InputError("track of " + str(L_track) + " m with sleepers every " + str(d) + " m and " +
+                     std::to_string(tp.rail_elements_per_bay) + " rail elements per bay gives " +
+                     str(n_bays_real * tp.rail_elements_per_bay) + " rail elements; at most " +
+                     std::to_string(kMaxRailElements) + " (shorten the approach/exit track or coarsen it)");
+  const int n_bays = static_cast<int>(n_bays_real);
+  const int n_sub = tp.rail_elements_per_bay;
+  const int n_nodes = n_bays * n_sub + 1;
+  const double h = d / n_sub;
+  std::vector<std::array<Index, 2>> rn(static_cast<std::size_t>(n_nodes));
+  for (auto& r : rn) {
+    r[0] = next++;
+    r[1] = next++;
+  }
+  const Matrix4 ke = beam_stiffness(tp.rail_EI, h), me = beam_mass(tp.rail_mass_per_m, h);
+  for (int j = 0; j + 1 < n_nodes; ++j) {
+    PathElement e;
+    e.x0 = x_start + j * h;
+    e.h = h;
+    e.dofs = {rn[static_cast<std::size_t>(j)][0], rn[static_cast<std::size_t>(j)][1],
+              rn[static_cast<std::size_t>(j + 1)][0], rn[static_cast<std::size_t>(j + 1)][1]};
+    s.rail_elements.push_back(e);
+    add_element(tk, e, ke);
+    add_element(tm, e, me);
+  }
+  const double tol = 1e-9;
+  for (int i = 0; i <= n_bays; ++i) {
+    const double xs = x_start + i * d;
+    const Index rail_w = rn[static_cast<std::size_t>(i * n_sub)][0];
+    const Index sl = next++, bl = next++;
+    s.sleeper_x.push_back(xs);
+    s.sleeper_dof.push_back(sl);
+    s.ballast_dof.push_back(bl);
+    tm.emplace_back(sl, sl, tp.sleeper_mass);
+    tm.emplace_back(bl, bl, tp.ballast_mass);
+    Link pad;
+    pad.add(rail_w, 1.0);
+    pad.add(sl, -1.0);
+    add_link(tk, pad, tp.pad.k);
+    add_link(tc, pad, tp.pad.c);
+    Link bal;
+    bal.add(sl, 1.0);
+    bal.add(bl, -1.0);
+    add_link(tk, bal, tp.ballast.k);
+    add_link(tc, bal, tp.ballast.c);
+    if (i > 0) {
+      Link sh;
+      sh.add(s.ballast_dof[static_cast<std::size_t>(i - 1)], 1.0);
+      sh.add(bl, -1.0);
+      add_link(tk, sh, tp.shear.k);
+      add_link(tc, sh, tp.shear.c);
+    }
+    // Subgrade: to the deck where the sleeper lies on a span, to ground elsewhere.
+    Link sub;
+    sub.add(bl, 1.0);
+    const SpringDashpot* sd = &tp.subgrade;
+    for (std::size_t si = 0; si < s.span_start.size(); ++si) {
+      const double a = s.span_start[si], b = a + s.span_length[si];
+      if (xs >= a - tol && xs <= b + tol) {
+        const PointCoupling pc = s.deck_point(si, std::clamp(xs - a, 0.0, s.span_length[si]));
+        for (std::size_t q = 0; q < 4; ++q) sub.add(pc.dofs[q], -pc.N[q]);
+        sd = &tp.subgrade_on_bridge;
+        break;
+      }
+    }
+    add_link(tk, sub, sd->k);
+    add_link(tc, sub, sd->c);
+  }
+}
+}  // namespace
+
 Structure build_structure(const BridgeParams& bridge, const std::optional<TrackParams>& track) {
   std::string why;
   if (!bridge.is_valid(&why)) throw InputError("bridge: " + why);
@@ -205,165 +370,25 @@ Structure build_structure(const BridgeParams& bridge, const std::optional<TrackP
   double deck_mass_reduction = 0.0;
   if (track && bridge.mass_includes_track) deck_mass_reduction = track->mass_per_m();
 
-  std::vector<Triplet> tm, tk, tc;
-  Index next = 0;
-
+  Assembly a{s, {}, {}, {}, 0};
   // --- bridge: spans with their own nodes; spans are independent (simply supported) ---
   double x = 0.0;
   for (std::size_t si = 0; si < bridge.spans.size(); ++si) {
-    const SpanParams& sp = bridge.spans[si];
-    const double m = sp.mass_per_m + bridge.added_mass_per_m - deck_mass_reduction;
-    if (!(m > 0.0))
-      throw InputError("span " + std::to_string(si + 1) + ": deck mass per metre after removing the " +
-                       "modelled track mass (" + str(deck_mass_reduction) + " kg/m) must be > 0, got " +
-                       str(m) + " kg/m");
-    if (si == 0) s.deck_mass_per_m_used = m;
-    const double n_el_real = std::ceil(sp.length / bridge.element_size - 1e-9);
-    if (n_el_real > kMaxSpanElements)
-      throw InputError("span " + std::to_string(si + 1) + ": element_size " + str(bridge.element_size) + " m gives " +
-                       str(n_el_real) + " elements; at most " + std::to_string(kMaxSpanElements) +
-                       " per span (raise bridge.element_size)");
-    const int n_el = std::max(1, static_cast<int>(n_el_real));
-    const double h = sp.length / n_el;
-    s.span_start.push_back(x);
-    s.span_length.push_back(sp.length);
-    s.span_first_element.push_back(s.deck_elements.size());
-
-    const Index first_dof = next;
-    std::vector<std::array<Index, 2>> node(static_cast<std::size_t>(n_el + 1));
-    for (int j = 0; j <= n_el; ++j) {
-      const bool end = (j == 0 || j == n_el);
-      node[static_cast<std::size_t>(j)][0] = (end && bridge.bearings.rigid) ? -1 : next++;
-      node[static_cast<std::size_t>(j)][1] = next++;
-    }
-    const Index n_span = next - first_dof;
-    // Span-local matrices (for damping) and global triplets.
-    std::vector<Triplet> lm, lk;
-    const Matrix4 ke = beam_stiffness(sp.EI, h), me = beam_mass(m, h);
-    for (int j = 0; j < n_el; ++j) {
-      PathElement e;
-      e.x0 = x + j * h;
-      e.h = h;
-      e.dofs = {node[static_cast<std::size_t>(j)][0], node[static_cast<std::size_t>(j)][1],
-                node[static_cast<std::size_t>(j + 1)][0], node[static_cast<std::size_t>(j + 1)][1]};
-      s.deck_elements.push_back(e);
-      add_element(lk, e, ke);
-      add_element(lm, e, me);
-    }
-    if (!bridge.bearings.rigid) {
-      for (int j : {0, n_el}) {
-        const Index d = node[static_cast<std::size_t>(j)][0];
-        lk.emplace_back(d, d, bridge.bearings.k);
-        tc.emplace_back(d, d, bridge.bearings.c);
-      }
-    }
-    // Structural damping from the span's own M and K (bearing springs included).
-    SparseMatrix Ms(n_span, n_span), Ks(n_span, n_span);
-    auto shift = [&](const std::vector<Triplet>& in) {
-      std::vector<Triplet> out;
-      out.reserve(in.size());
-      for (const auto& t : in) out.emplace_back(t.row() - first_dof, t.col() - first_dof, t.value());
-      return out;
-    };
-    const auto lms = shift(lm), lks = shift(lk);
-    Ms.setFromTriplets(lms.begin(), lms.end());
-    Ks.setFromTriplets(lks.begin(), lks.end());
-    const Matrix Cs = structural_damping(Ms, Ks, bridge.damping);
-    for (Index i = 0; i < n_span; ++i)
-      for (Index j = 0; j < n_span; ++j)
-        if (Cs(i, j) != 0.0) tc.emplace_back(first_dof + i, first_dof + j, Cs(i, j));
-    tm.insert(tm.end(), lm.begin(), lm.end());
-    tk.insert(tk.end(), lk.begin(), lk.end());
-    x += sp.length;
+    add_span(a, bridge, si, x, deck_mass_reduction);
+    x += bridge.spans[si].length;
   }
-  s.n_bridge_dofs = next;
-  const double L_bridge = x;
-
+  s.n_bridge_dofs = a.next;
   // --- track ---
-  if (track) {
-    const TrackParams& tp = *track;
-    const double d = tp.sleeper_spacing;
-    const double x_start = -tp.approach_length;
-    const double L_track = tp.approach_length + L_bridge + tp.exit_length;
-    const double n_bays_real = std::floor(L_track / d + 1e-9);
-    if (n_bays_real < 1) throw InputError("track shorter than one sleeper spacing");
-    if (n_bays_real * tp.rail_elements_per_bay > kMaxRailElements)
-      throw InputError("track of " + str(L_track) + " m with sleepers every " + str(d) + " m and " +
-                       std::to_string(tp.rail_elements_per_bay) + " rail elements per bay gives " +
-                       str(n_bays_real * tp.rail_elements_per_bay) + " rail elements; at most " +
-                       std::to_string(kMaxRailElements) + " (shorten the approach/exit track or coarsen it)");
-    const int n_bays = static_cast<int>(n_bays_real);
-    const int n_sub = tp.rail_elements_per_bay;
-    const int n_nodes = n_bays * n_sub + 1;
-    const double h = d / n_sub;
-    std::vector<std::array<Index, 2>> rn(static_cast<std::size_t>(n_nodes));
-    for (auto& r : rn) {
-      r[0] = next++;
-      r[1] = next++;
-    }
-    const Matrix4 ke = beam_stiffness(tp.rail_EI, h), me = beam_mass(tp.rail_mass_per_m, h);
-    for (int j = 0; j + 1 < n_nodes; ++j) {
-      PathElement e;
-      e.x0 = x_start + j * h;
-      e.h = h;
-      e.dofs = {rn[static_cast<std::size_t>(j)][0], rn[static_cast<std::size_t>(j)][1],
-                rn[static_cast<std::size_t>(j + 1)][0], rn[static_cast<std::size_t>(j + 1)][1]};
-      s.rail_elements.push_back(e);
-      add_element(tk, e, ke);
-      add_element(tm, e, me);
-    }
-    const double tol = 1e-9;
-    for (int i = 0; i <= n_bays; ++i) {
-      const double xs = x_start + i * d;
-      const Index rail_w = rn[static_cast<std::size_t>(i * n_sub)][0];
-      const Index sl = next++, bl = next++;
-      s.sleeper_x.push_back(xs);
-      s.sleeper_dof.push_back(sl);
-      s.ballast_dof.push_back(bl);
-      tm.emplace_back(sl, sl, tp.sleeper_mass);
-      tm.emplace_back(bl, bl, tp.ballast_mass);
-      Link pad;
-      pad.add(rail_w, 1.0);
-      pad.add(sl, -1.0);
-      add_link(tk, pad, tp.pad.k);
-      add_link(tc, pad, tp.pad.c);
-      Link bal;
-      bal.add(sl, 1.0);
-      bal.add(bl, -1.0);
-      add_link(tk, bal, tp.ballast.k);
-      add_link(tc, bal, tp.ballast.c);
-      if (i > 0) {
-        Link sh;
-        sh.add(s.ballast_dof[static_cast<std::size_t>(i - 1)], 1.0);
-        sh.add(bl, -1.0);
-        add_link(tk, sh, tp.shear.k);
-        add_link(tc, sh, tp.shear.c);
-      }
-      // Subgrade: to the deck where the sleeper lies on a span, to ground elsewhere.
-      Link sub;
-      sub.add(bl, 1.0);
-      const SpringDashpot* sd = &tp.subgrade;
-      for (std::size_t si = 0; si < s.span_start.size(); ++si) {
-        const double a = s.span_start[si], b = a + s.span_length[si];
-        if (xs >= a - tol && xs <= b + tol) {
-          const PointCoupling pc = s.deck_point(si, std::clamp(xs - a, 0.0, s.span_length[si]));
-          for (std::size_t q = 0; q < 4; ++q) sub.add(pc.dofs[q], -pc.N[q]);
-          sd = &tp.subgrade_on_bridge;
-          break;
-        }
-      }
-      add_link(tk, sub, sd->k);
-      add_link(tc, sub, sd->c);
-    }
-  }
+  if (track) add_track(a, *track, x);
+  const Index next = a.next;
   s.n_dofs = next;
   s.n_track_dofs = next - s.n_bridge_dofs;
   s.M.resize(next, next);
   s.K.resize(next, next);
   s.C.resize(next, next);
-  s.M.setFromTriplets(tm.begin(), tm.end());
-  s.K.setFromTriplets(tk.begin(), tk.end());
-  s.C.setFromTriplets(tc.begin(), tc.end());
+  s.M.setFromTriplets(a.tm.begin(), a.tm.end());
+  s.K.setFromTriplets(a.tk.begin(), a.tk.end());
+  s.C.setFromTriplets(a.tc.begin(), a.tc.end());
   s.M.prune(0.0);
   s.K.prune(0.0);
   s.C.prune(0.0);
