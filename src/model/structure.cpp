@@ -206,11 +206,7 @@ struct Assembly {
 // Span `si` starting at x [m]: its nodes (bearing DOFs fixed when rigid), beam elements, bearing
 // springs and dashpots, and its structural damping from its own M and K.
 void add_span(Assembly& as, const BridgeParams& bridge, std::size_t si, double x, double deck_mass_reduction) {
-  Structure& s = as.s;
-  std::vector<Triplet>& tm = as.tm;
-  std::vector<Triplet>& tk = as.tk;
-  std::vector<Triplet>& tc = as.tc;
-  Index& next = as.next;
+  auto& [s, tm, tk, tc, next] = as;
   const SpanParams& sp = bridge.spans[si];
   const double m = sp.mass_per_m + bridge.added_mass_per_m - deck_mass_reduction;
   if (!(m > 0.0))
@@ -279,11 +275,7 @@ void add_span(Assembly& as, const BridgeParams& bridge, std::size_t si, double x
 // The track over [−approach, L_bridge + exit]: rail elements, and per sleeper the sleeper and
 // ballast masses, pad, ballast, shear and subgrade links (to the deck where it lies on a span).
 void add_track(Assembly& as, const TrackParams& tp, double L_bridge) {
-  Structure& s = as.s;
-  std::vector<Triplet>& tm = as.tm;
-  std::vector<Triplet>& tk = as.tk;
-  std::vector<Triplet>& tc = as.tc;
-  Index& next = as.next;
+  auto& [s, tm, tk, tc, next] = as;
   const double d = tp.sleeper_spacing;
   const double x_start = -tp.approach_length;
   const double L_track = tp.approach_length + L_bridge + tp.exit_length;
