@@ -149,15 +149,19 @@ void write_table_csv(const std::string& path, const std::vector<std::string>& he
 std::string git_commit() { return VIADUCT_GIT_COMMIT; }
 
 std::vector<std::pair<std::string, std::string>> settings_as_run(const study::RunSettings& s) {
+  // TOML literals as the scenario writes them (Value::to_toml: numbers round-trip, strings escaped).
   auto num = [](double v) {
-    std::ostringstream os;
-    os.precision(17);
-    os << v;
-    std::string t = os.str();
-    if (t.find_first_of(".eEn") == std::string::npos) t += ".0";
-    return t;
+    Value x;
+    x.type = ValueType::number;
+    x.x = v;
+    return x.to_toml();
   };
-  auto str = [](const std::string& v) { return "\"" + v + "\""; };
+  auto str = [](const std::string& v) {
+    Value x;
+    x.type = ValueType::string;
+    x.s = v;
+    return x.to_toml();
+  };
   auto yes = [](bool b) { return std::string(b ? "true" : "false"); };
   std::vector<std::pair<std::string, std::string>> out = {
       {"method", str(solve::method_name(s.method))},
