@@ -44,16 +44,31 @@ run filter filter $REC --low-hz 1 --high-hz 30
 run spectrum spectrum $REC
 run psd spectrum "$D/talgo/history.csv" --welch --nperseg 2048
 run peaks peaks $REC --channel deck_acc --max-peaks 3
+run peaks-time peaks $REC --channel deck_disp --time --min-distance 0.2 --max-peaks 0
+run lowpass filter $REC --band lowpass --high-hz 15 --channel deck_acc
+run psd-rec spectrum $REC --welch --nperseg 1024 --detrend linear
+run decimate resample $REC --decimate 5
+run upsample resample $REC --fs-hz 4096 --channel deck_acc
+run rms envelope $REC --kind rms --window-s 0.5
+run hilbert envelope $REC --kind hilbert --channel deck_acc
+run speed-peaks speed $REC --channel deck_disp --distance-m 13.14 --peaks --min-interval-s 0.2
 run speed speed $REC --channel deck_acc --distance-m 13.14 --v-min-kmh 100 --v-max-kmh 250
 run compare compare $TA --record $REC --map deck_acc=S1_mid --map deck_disp_m=S1_mid
 run compare-v compare $TA --record $REC --map deck_acc=S1_mid --map deck_disp_m=S1_mid --speed-kmh 155.2
 # forced vibration walk-through (shorter schedule)
 run shaker shaker $TA --force-at 6 --stepped 9.5:10.5:0.1 --dwell-s 4 --fs-hz 100 --snr-db 40
-run frf frf "$D/shaker/record.csv" --force force_N --method stepped --steps "$D/shaker/steps.csv"
+run frf frf "$D/shaker/record.csv" --force force_N --method stepped --steps "$D/shaker/steps.csv" --settle-cycles 20
+run frf-detected frf "$D/shaker/record.csv" --force force_N --method stepped --settle-cycles 15
+run frf-welch frf "$D/shaker/record.csv" --force force_N --method welch --nperseg 256 --f-min 5 --f-max 15
+run modal-fit-test modal-fit "$D/frf/frf.csv" --max-order 8 --model $TA
+run shaker-swept shaker $HS --force-at 7 --swept 2:30 --sweep-s 20 --snr-db 40 --fs-hz 100
+run frf-swept frf "$D/shaker-swept/record.csv" --force force_N --method swept --f-min 3 --f-max 28
+run modal-fit-swept modal-fit "$D/frf-swept/frf.csv" --f-min 3 --f-max 28 --max-order 16 --no-refine
 run frf-model frf $TA --force-at 6 --f-min 8 --f-max 12 --n-freq 401
 run modal-fit modal-fit "$D/frf-model/frf.csv" --max-order 12 --model $TA
 run passage run $TA --set analysis.free_vibration_s=5
 run decay decay "$D/passage/history.csv" --channel S1_mid_acc --frequency-hz 10
+run decay-start decay "$D/passage/history.csv" --channel S1_mid_acc --frequency-hz 10 --start-s 1.5 --window-cycles 3
 run decay-train decay "$D/passage/history.csv" --channel S1_mid_acc --frequency-hz 10 --entry-s 0.465 \
   --speed-kmh 154.8 --train-length-m 109.02 --bridge-length-m 23.86
 # model updating (one parameter pair, a few iterations)
