@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <set>
 
@@ -385,18 +386,44 @@ std::size_t split_hidden_modes(const Frf& frf, double f_min_hz, double f_max_hz,
   return n_split;
 }
 
-LscfResult lscf(const Frf& frf, const LscfOptions& o) {
-  std::string why;
-  if (!o.is_valid(&why)) throw InputError("LSCF: " + why);
-  frf.check("LSCF");
-  const std::vector<Index> band = band_indices(frf.frequency_hz, o.f_min_hz, o.f_max_hz);
+namespace {
+
+// The physical poles (0 < ζ <= max_damping, inside the band) of the companion matrix C of one
+// denominator order n, each marked stable against the nearest pole of the previous order.
+std::vector<StabilizationPole> poles_of_order(const Matrix& C, int n, double Ts, const LscfOptions& o, const LscfResult& res,
+                                              const std::vector<StabilizationPole>* previous) {
+  const Eigen::EigenSolver<Matrix> es(C, false);
+  std::vector<StabilizationPole> poles;
+  for (Index i = 0; i < n; ++i) {
+    const Complex z = es.eigenvalues()[i];
+    if (!(std::abs(z) > 0.0)) continue;
+    const Complex lambda = std::log(z) / Ts;
+    if (!(lambda.imag() > 0.0)) continue;
+    const double wn = std::abs(lambda);
+    StabilizationPole p;
+    p.order = n;
+    p.frequency_hz = wn / (2.0 * M_PI);
+    p.damping_ratio = -lambda.real() / wn;
+    if (!(p.damping_ratio > 0.0 && p.damping_ratio <= o.max_damping)) continue;
+    if (p.frequency_hz < res.f_min_hz || p.frequency_hz > res.f_max_hz) continue;
+    if (previous) {
+      const StabilizationPole* best = nullptr;
+      for (const auto& q : *previous)
+        if (!best || std::abs(q.frequency_hz - p.frequency_hz) < std::abs(best->frequency_hz - p.frequency_hz)) best = &q;
+      if (best && std::abs(best->frequency_hz - p.frequency_hz) <= o.tol_frequency * p.frequency_hz) {
+        p.status = std::abs(best->damping_ratio - p.damping_ratio) <= o.tol_damping * p.damping_ratio
+                       ? PoleStatus::stable
+                       : PoleStatus::stable_frequency;
+      }
+    }
+    poles.push_back(p);
+  }
+  return poles;
+}
+
+// The stabilization diagram: LSCF denominators of orders 2, 4, … max_order on the band's lines.
+void stabilization_diagram(const Frf& frf, const std::vector<Index>& band, const LscfOptions& o, LscfResult& res) {
   const Index nf = static_cast<Index>(band.size());
-  if (nf < o.max_order + 2)
-    throw InputError("LSCF: " + std::to_string(nf) + " frequencies in the band, at least max_order + 2 = " +
-                     std::to_string(o.max_order + 2) + " needed");
-  LscfResult res;
-  res.f_min_hz = frf.frequency_hz[band.front()];
-  res.f_max_hz = frf.frequency_hz[band.back()];
   const double Ts = 1.0 / (2.0 * res.f_max_hz * 1.000001);
   const int nmax = o.max_order;
   const Index np = nmax + 1;
@@ -433,37 +460,16 @@ LscfResult lscf(const Frf& frf, const LscfOptions& o) {
     Matrix C = Matrix::Zero(n, n);
     for (Index i = 1; i < n; ++i) C(i, i - 1) = 1.0;
     for (Index i = 0; i < n; ++i) C(i, n - 1) = -alpha[i];
-    const Eigen::EigenSolver<Matrix> es(C, false);
-    std::vector<StabilizationPole> poles;
-    for (Index i = 0; i < n; ++i) {
-      const Complex z = es.eigenvalues()[i];
-      if (!(std::abs(z) > 0.0)) continue;
-      const Complex lambda = std::log(z) / Ts;
-      if (!(lambda.imag() > 0.0)) continue;
-      const double wn = std::abs(lambda);
-      StabilizationPole p;
-      p.order = n;
-      p.frequency_hz = wn / (2.0 * M_PI);
-      p.damping_ratio = -lambda.real() / wn;
-      if (!(p.damping_ratio > 0.0 && p.damping_ratio <= o.max_damping)) continue;
-      if (p.frequency_hz < res.f_min_hz || p.frequency_hz > res.f_max_hz) continue;
-      if (!by_order.empty()) {
-        const StabilizationPole* best = nullptr;
-        for (const auto& q : by_order.back())
-          if (!best || std::abs(q.frequency_hz - p.frequency_hz) < std::abs(best->frequency_hz - p.frequency_hz)) best = &q;
-        if (best && std::abs(best->frequency_hz - p.frequency_hz) <= o.tol_frequency * p.frequency_hz) {
-          p.status = std::abs(best->damping_ratio - p.damping_ratio) <= o.tol_damping * p.damping_ratio
-                         ? PoleStatus::stable
-                         : PoleStatus::stable_frequency;
-        }
-      }
-      poles.push_back(p);
-    }
+    std::vector<StabilizationPole> poles = poles_of_order(C, n, Ts, o, res, by_order.empty() ? nullptr : &by_order.back());
     std::sort(poles.begin(), poles.end(), [](const auto& a, const auto& b) { return a.frequency_hz < b.frequency_hz; });
     res.orders.push_back(n);
     res.poles.insert(res.poles.end(), poles.begin(), poles.end());
     by_order.push_back(std::move(poles));
   }
+}
+
+// Modes from clusters of stable poles (median f and ζ of each cluster seen in enough orders).
+void cluster_modes(const LscfOptions& o, LscfResult& res) {
   // Clusters of stable poles.
   std::vector<StabilizationPole> stable;
   for (const auto& p : res.poles)
@@ -520,27 +526,50 @@ LscfResult lscf(const Frf& frf, const LscfOptions& o) {
     for (const auto& members : sub) add_mode(members);
     i = j;
   }
-  if (!res.modes.empty()) {
-    fit_shapes(frf, res.f_min_hz, res.f_max_hz, res.modes);
-    res.diagram_modes = res.modes;
-    if (o.refine) {
-      std::vector<IdentifiedMode> refined = res.modes;
-      refine_poles(frf, res.f_min_hz, res.f_max_hz, refined);
-      // Kept only when every mode stays physical, in the band and near its cluster: else the
-      // diagram's values stand, with a note.
-      bool ok = true;
-      for (std::size_t q = 0; q < refined.size(); ++q) {
-        const auto& a = refined[q];
-        const auto& b = res.modes[q];
-        ok = ok && a.damping_ratio > 0.0 && a.damping_ratio <= o.max_damping && a.frequency_hz >= res.f_min_hz &&
-             a.frequency_hz <= res.f_max_hz && std::abs(a.frequency_hz / b.frequency_hz - 1.0) < 0.5 * b.damping_ratio + 0.01;
-      }
-      if (ok) res.modes = refined;
-      else
-        for (auto& m : res.modes) m.note = "nonlinear refinement left the cluster: values from the stabilization diagram";
-      if (ok && o.split_gain > 0.0) split_hidden_modes(frf, res.f_min_hz, res.f_max_hz, res.modes, o);
+}
+
+// Nonlinear refinement of the diagram's modes, kept only when every mode stays physical, in the
+// band and near its cluster; then the split test for hidden modes.
+void refine_modes(const Frf& frf, const LscfOptions& o, LscfResult& res) {
+  if (res.modes.empty()) return;
+  fit_shapes(frf, res.f_min_hz, res.f_max_hz, res.modes);
+  res.diagram_modes = res.modes;
+  if (o.refine) {
+    std::vector<IdentifiedMode> refined = res.modes;
+    refine_poles(frf, res.f_min_hz, res.f_max_hz, refined);
+    // Kept only when every mode stays physical, in the band and near its cluster: else the
+    // diagram's values stand, with a note.
+    bool ok = true;
+    for (std::size_t q = 0; q < refined.size(); ++q) {
+      const auto& a = refined[q];
+      const auto& b = res.modes[q];
+      ok = ok && a.damping_ratio > 0.0 && a.damping_ratio <= o.max_damping && a.frequency_hz >= res.f_min_hz &&
+           a.frequency_hz <= res.f_max_hz && std::abs(a.frequency_hz / b.frequency_hz - 1.0) < 0.5 * b.damping_ratio + 0.01;
     }
+    if (ok) res.modes = refined;
+    else
+      for (auto& m : res.modes) m.note = "nonlinear refinement left the cluster: values from the stabilization diagram";
+    if (ok && o.split_gain > 0.0) split_hidden_modes(frf, res.f_min_hz, res.f_max_hz, res.modes, o);
   }
+}
+
+}  // namespace
+
+LscfResult lscf(const Frf& frf, const LscfOptions& o) {
+  std::string why;
+  if (!o.is_valid(&why)) throw InputError("LSCF: " + why);
+  frf.check("LSCF");
+  const std::vector<Index> band = band_indices(frf.frequency_hz, o.f_min_hz, o.f_max_hz);
+  const Index nf = static_cast<Index>(band.size());
+  if (nf < o.max_order + 2)
+    throw InputError("LSCF: " + std::to_string(nf) + " frequencies in the band, at least max_order + 2 = " +
+                     std::to_string(o.max_order + 2) + " needed");
+  LscfResult res;
+  res.f_min_hz = frf.frequency_hz[band.front()];
+  res.f_max_hz = frf.frequency_hz[band.back()];
+  stabilization_diagram(frf, band, o, res);
+  cluster_modes(o, res);
+  refine_modes(frf, o, res);
   return res;
 }
 
@@ -719,6 +748,33 @@ Matrix mac(const ComplexMatrix& a, const ComplexMatrix& b) {
       m(i, j) = den > 0.0 ? std::norm(a.col(i).dot(b.col(j))) / den : 0.0;
     }
   return m;
+}
+
+ModalFitResult modal_fit(const Frf& frf, const ModalFitOptions& o) {
+  ModalFitResult r;
+  PeakPickingOptions po;
+  po.f_min_hz = o.f_min_hz;
+  po.f_max_hz = o.f_max_hz;
+  po.min_relative_prominence = o.min_relative_prominence;
+  r.peak_picking = peak_picking(frf, po);
+  for (const auto& p : r.peak_picking) {
+    if (!std::isfinite(p.damping_ratio)) continue;
+    try {
+      r.circle_fit.push_back(circle_fit(frf, p.response, p.frequency_hz, p.damping_ratio));
+    } catch (const InputError& e) {
+      char f[32];
+      std::snprintf(f, sizeof f, "%.4g", p.frequency_hz);
+      r.warnings.push_back(std::string("circle fit at ") + f + " Hz: " + e.what());
+    }
+  }
+  LscfOptions lo;
+  lo.f_min_hz = o.f_min_hz;
+  lo.f_max_hz = o.f_max_hz;
+  lo.max_order = o.max_order;
+  lo.cluster_tol = o.cluster_tol;
+  lo.refine = o.refine;
+  r.lscf = lscf(frf, lo);
+  return r;
 }
 
 }  // namespace viaduct::ident

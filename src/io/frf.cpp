@@ -173,4 +173,67 @@ std::vector<ident::SineStep> read_steps_csv(const std::string& path) {
   return s;
 }
 
+namespace {
+std::string fmt_rate(double v) {
+  char b[48];
+  std::snprintf(b, sizeof b, "%.8g", v);
+  return b;
+}
+}  // namespace
+
+FrfInputs frf_inputs(const Record& rec, const std::string& record_path, const Record* force_record,
+                     const std::string& force, const std::vector<std::string>& responses) {
+  const Record& frec = force_record ? *force_record : rec;
+  if (force_record) {
+    if (std::abs(frec.fs_hz - rec.fs_hz) > 1e-9 * rec.fs_hz)
+      throw InputError("mismatched sampling rates: force record at " + fmt_rate(frec.fs_hz) + " Hz, responses at " +
+                       fmt_rate(rec.fs_hz) + " Hz (resample one with viaduct resample)");
+    if (std::abs(frec.t0_s - rec.t0_s) > 0.5 / rec.fs_hz || frec.n_samples() != rec.n_samples())
+      throw InputError("the force record and the response record do not cover the same samples (start or length differ)");
+  }
+  FrfInputs in;
+  const std::size_t fc = frec.channel(force);
+  in.force_channel = frec.channels[fc];
+  in.force_unit = frec.units[fc];
+  if (in.force_unit != "N" && in.force_unit != "kN") throw InputError("force channel '" + in.force_channel + "' must be in N or kN");
+  std::vector<std::size_t> chans;
+  if (!responses.empty()) {
+    for (const auto& c : responses) chans.push_back(rec.channel(c));
+  } else {
+    for (std::size_t c = 0; c < rec.channels.size(); ++c)
+      if (rec.units[c] == "m" || rec.units[c] == "mps" || rec.units[c] == "mps2") chans.push_back(c);
+  }
+  if (chans.empty()) throw InputError("no response channel (m, mps or mps2) in " + record_path);
+  in.force = frec.data.col(static_cast<Index>(fc));
+  in.responses.resize(rec.n_samples(), static_cast<Index>(chans.size()));
+  for (std::size_t j = 0; j < chans.size(); ++j) {
+    in.responses.col(static_cast<Index>(j)) = rec.data.col(static_cast<Index>(chans[j]));
+    in.response_channels.push_back(rec.channels[chans[j]]);
+    in.response_units.push_back(rec.units[chans[j]]);
+  }
+  in.fs_hz = rec.fs_hz;
+  in.t0_s = rec.t0_s;
+  return in;
+}
+
+void label_frf(ident::Frf& frf, const FrfInputs& in) {
+  frf.force_unit = in.force_unit;
+  frf.responses.clear();
+  frf.quantity.clear();
+  for (std::size_t c = 0; c < in.response_channels.size(); ++c) {
+    const std::string& channel = in.response_channels[c];
+    const std::string& unit = in.response_units[c];
+    std::string name = channel.substr(0, channel.size() - unit.size() - 1);
+    for (const char* tag : {"_acc", "_vel", "_disp"}) {
+      const std::string t = tag;
+      if (name.size() > t.size() && name.compare(name.size() - t.size(), t.size(), t) == 0) {
+        name.resize(name.size() - t.size());
+        break;
+      }
+    }
+    frf.responses.push_back(name);
+    frf.quantity.push_back(ident::quantity_of_unit(unit));
+  }
+}
+
 }  // namespace viaduct::io

@@ -77,7 +77,7 @@ int dispatch(const Command& cmd, int argc, char** argv) {
   }
   if (c.threads == 0) c.threads = hardware_threads();
   try {
-    return cmd.run(c, vm);
+    return cmd.run(c);
   } catch (const InputError& e) {
     std::cerr << prefix << "error: " << e.what() << "\n";
     return usage_error;

@@ -2,6 +2,8 @@
 // Shared command-line plumbing of the viaduct tool: common options, exit codes, progress.
 
 #include <functional>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,11 +35,38 @@ struct Command {
   std::string summary;
   std::string usage_and_samples;  ///< printed after the options; lines "  viaduct ..." are tested
   std::function<void(po::options_description&)> add_options;
-  std::function<int(const Common&, const po::variables_map&)> run;
+  std::function<int(const Common&)> run;
   bool needs_scenario = true;
   std::string positional = "SCENARIO";  ///< what the positional argument is (Common::scenario holds it)
   bool many_positionals = false;        ///< accept more positionals (Common::more)
 };
+
+/// Binds a command's options to a struct of its own: `declare` adds each option writing into a
+/// field of `Options` (value(), optional_value(), po::bool_switch(&field)), `body` runs with the
+/// filled struct. After parsing, no option is looked up by name.
+template <class Options, class Result>
+void bind(Command& c, void (*declare)(po::options_description&, Options&), Result (*body)(const Common&, const Options&)) {
+  auto opts = std::make_shared<Options>();
+  c.add_options = [opts, declare](po::options_description& d) { declare(d, *opts); };
+  c.run = [opts, body](const Common& o) { return body(o, *opts); };
+}
+
+/// An option writing into `field`, whose initial value is the default shown by --help.
+template <class T>
+po::typed_value<T>* value(T& field) {
+  return po::value<T>(&field)->default_value(field);
+}
+
+/// An option without a default: `field` holds a value only when the option was given.
+template <class T>
+po::typed_value<T>* optional_value(std::optional<T>& field) {
+  return po::value<T>()->notifier([&field](const T& v) { field = v; });
+}
+
+/// A repeatable option collecting its values into `field`.
+inline po::typed_value<std::vector<std::string>>* list_value(std::vector<std::string>& field) {
+  return po::value<std::vector<std::string>>(&field)->composing();
+}
 
 /// Parses argv for `cmd`, handles --help, and maps exceptions to exit codes (2 input/usage,
 /// 1 runtime). Prints errors on stderr as "viaduct <cmd>: error: ...".

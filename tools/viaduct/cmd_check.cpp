@@ -17,7 +17,7 @@ Command check_command() {
       "Sample runs:\n"
       "  viaduct check scenarios/old-guadiana-sensitivity.toml\n"
       "  viaduct check scenarios/hslm-simply-supported.toml --set bridge.damping.ratio=0.02\n";
-  c.run = [](const Common& o, const po::variables_map&) {
+  c.run = [](const Common& o) {
     const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
     const study::Scenario sc = io::to_scenario(flat);
     const auto variants = io::sweep_variants(flat);
@@ -45,7 +45,7 @@ Command schema_command() {
   c.summary = "print every scenario key (type, default, unit, constraint, meaning) as Markdown";
   c.needs_scenario = false;
   c.usage_and_samples = "docs/scenarios.md embeds this table.\n\nSample runs:\n  viaduct schema\n";
-  c.run = [](const Common&, const po::variables_map&) {
+  c.run = [](const Common&) {
     std::cout << io::schema_markdown();
     return ok;
   };

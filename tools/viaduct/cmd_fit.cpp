@@ -16,52 +16,30 @@ namespace {
 
 std::string fmt(double v) { return format_number(v, 10); }
 
-// The command line as a fit request (io::fit_setup merges it with the scenario's [fit]).
-io::FitRequest request_of(const Common& o, const po::variables_map& vm) {
-  io::FitRequest q;
-  auto strings = [&](const char* name) {
-    return vm.count(name) ? vm[name].as<std::vector<std::string>>() : std::vector<std::string>{};
-  };
-  q.params = strings("param");
-  q.records = strings("record");
-  q.maps = strings("map");
-  q.weights = strings("weight");
-  if (vm.count("speed-kmh")) q.speeds_kmh = vm["speed-kmh"].as<std::vector<double>>();
-  if (vm.count("train")) q.train = vm["train"].as<std::string>();
-  if (vm.count("modes")) q.modes = vm["modes"].as<std::string>();
-  if (vm.count("modes-method")) q.modes_method = vm["modes-method"].as<std::string>();
-  if (vm.count("starts")) q.starts = vm["starts"].as<int>();
-  if (vm.count("max-iterations")) q.max_iterations = vm["max-iterations"].as<int>();
-  if (vm.count("max-time-s")) q.max_time_s = vm["max-time-s"].as<double>();
-  q.no_spectral_start = vm["no-spectral-start"].as<bool>();
-  q.threads = o.threads;
-  return q;
-}
-
 }  // namespace
 
 Command fit_command() {
   Command c;
   c.name = "fit";
   c.summary = "model updating: fit scenario parameters to measured records and identified modes";
-  c.add_options = [](po::options_description& d) {
-    d.add_options()("param", po::value<std::vector<std::string>>()->composing(),
+  const auto declare = [](po::options_description& d, io::FitRequest& q) {
+    d.add_options()("param", list_value(q.params),
                     "KEY=LO:HI[:log|linear]: a numeric scenario key to fit within bounds, starting from its scenario value (repeatable; replaces [[fit.params]])")(
-        "record", po::value<std::vector<std::string>>()->composing(),
+        "record", list_value(q.records),
         "record CSV or UFF to fit (repeatable; replaces [[fit.records]]); every --map applies to every --record")(
-        "map", po::value<std::vector<std::string>>()->composing(),
+        "map", list_value(q.maps),
         "CHANNEL=STATION: record channel fitted by a scenario station; also RESPONSE=STATION for identified shapes (repeatable)")(
-        "speed-kmh", po::value<std::vector<double>>()->composing(),
+        "speed-kmh", po::value<std::vector<double>>(&q.speeds_kmh)->composing(),
         "speed of the passages [km/h]: one for all records or one per --record (default: run.speed_kmh)")(
-        "train", po::value<std::string>(), "train of the passages (default: the first of train.files)")(
-        "modes", po::value<std::string>(), "identified modes for the modal and damping objectives: modal-fit output (directory or modes.csv, shapes.csv beside it) or decay output (directory or decay_summary.csv)")(
-        "modes-method", po::value<std::string>(), "rows of modes.csv to fit: lscf (default), circle-fit or peak-picking")(
-        "weight", po::value<std::vector<std::string>>()->composing(),
+        "train", po::value<std::string>(&q.train), "train of the passages (default: the first of train.files)")(
+        "modes", optional_value(q.modes), "identified modes for the modal and damping objectives: modal-fit output (directory or modes.csv, shapes.csv beside it) or decay output (directory or decay_summary.csv)")(
+        "modes-method", optional_value(q.modes_method), "rows of modes.csv to fit: lscf (default), circle-fit or peak-picking")(
+        "weight", list_value(q.weights),
         "OBJECTIVE=W with OBJECTIVE time, peak, envelope, spectrum, modal or damping (repeatable; default time=1 with records, modal=1 with --modes)")(
-        "starts", po::value<int>(), "solver starts: the scenario's values, then quasi-random points in the bounds (default 1)")(
-        "no-spectral-start", po::bool_switch(), "skip the spectral pre-stage of each start (fit.spectral_start = false)")(
-        "max-iterations", po::value<int>(), "iterations per start (default 50)")(
-        "max-time-s", po::value<double>(), "wall time per start [s] (default 600)");
+        "starts", optional_value(q.starts), "solver starts: the scenario's values, then quasi-random points in the bounds (default 1)")(
+        "no-spectral-start", po::bool_switch(&q.no_spectral_start), "skip the spectral pre-stage of each start (fit.spectral_start = false)")(
+        "max-iterations", optional_value(q.max_iterations), "iterations per start (default 50)")(
+        "max-time-s", optional_value(q.max_time_s), "wall time per start [s] (default 600)");
   };
   c.usage_and_samples =
       "Fits numeric scenario keys so that the model reproduces measured accelerations (or\n"
@@ -80,10 +58,12 @@ Command fit_command() {
       "  viaduct fit scenarios/hslm-simply-supported.toml --record out/a4/history.csv --map mid_acc_mps2=mid --train HSLM-A4 --speed-kmh 300 --param bridge.EI=5e9:1e10 --param bridge.damping.ratio=0.005:0.05 --set bridge.EI=7e9 --set bridge.damping.ratio=0.02 --out out/fit-hslm\n"
       "  viaduct fit scenarios/hslm-simply-supported.toml --modes out/fit-sweep --param bridge.EI=5e9:1e10 --set bridge.EI=7e9 --out out/fit-modes\n"
       "  viaduct fit scenarios/old-guadiana-talgo.toml --record data/records/og-calibration.csv --map S1_mid_acc=S1_mid --map S2_mid_acc=S2_mid --param bridge.EI=5e9:1e10 --param track.pad.k=2e7:1e9 --param bridge.damping.ratio1=0.01:0.06 --threads 2 --out out/fit-og\n";
-  c.run = [](const Common& o, const po::variables_map& vm) {
+  const auto body = [](const Common& o, const io::FitRequest& request) {
     const auto t0 = std::chrono::steady_clock::now();
     const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
-    auto [problem, opt] = io::fit_setup(flat, request_of(o, vm));
+    io::FitRequest q = request;
+    q.threads = o.threads;
+    auto [problem, opt] = io::fit_setup(flat, q);
     if (!o.quiet)
       opt.progress = [&problem = problem](const study::FitTracePoint& tp) {
         std::fprintf(stderr, "  start %d %s iteration %2d: cost %.6e ", tp.start + 1, tp.stage == 1 ? "spectral" : "fit     ",
@@ -100,8 +80,8 @@ Command fit_command() {
     make_out_dir(o.out);
     io::write_fit_outputs(o.out, o.scenario, flat, problem, opt, r);
     io::Manifest m = start_manifest(o, "fit");
-    if (vm.count("record")) m.inputs = vm["record"].as<std::vector<std::string>>();
-    if (vm.count("modes")) m.inputs.push_back(vm["modes"].as<std::string>());
+    m.inputs = q.records;
+    if (q.modes) m.inputs.push_back(*q.modes);
     m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     m.extra = {{"status", "\"" + std::string(study::to_string(r.status)) + "\""}, {"fit_wall_s", fmt(r.wall_s)}};
     io::write_manifest(o.out + "/manifest.toml", m, flat);
@@ -125,6 +105,7 @@ Command fit_command() {
     }
     return r.status == study::FitResult::Status::converged ? ok : runtime_failure;
   };
+  bind(c, +declare, +body);
   return c;
 }
 

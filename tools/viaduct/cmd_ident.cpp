@@ -9,6 +9,7 @@
 #include "cli.hpp"
 #include "viaduct/ident/decay.hpp"
 #include "viaduct/ident/frf.hpp"
+#include "viaduct/ident/frf_estimate.hpp"
 #include "viaduct/ident/modal_fit.hpp"
 #include "viaduct/io/frf.hpp"
 #include "viaduct/io/record.hpp"
@@ -54,14 +55,21 @@ ident::FrfQuantity quantity_option(const std::string& q) {
   throw InputError("--quantity must be acc, vel or disp, got '" + q + "'");
 }
 
+// The exciter and responses of a simulated forced test (frf SCENARIO, shaker).
+struct ForcedOptions {
+  std::optional<double> force_at;
+  std::vector<std::string> response_at;
+  std::string quantity = "acc";
+};
+
 // Exciter and responses from --force-at / --response-at, or the scenario's stations.
-study::ForcedSetup forced_setup(const model::Structure& s, const study::Scenario& sc, const po::variables_map& vm) {
+study::ForcedSetup forced_setup(const model::Structure& s, const study::Scenario& sc, const ForcedOptions& f) {
   study::ForcedSetup setup;
-  if (!vm.count("force-at")) throw InputError("--force-at X (the exciter's position on the deck [m]) is required");
-  setup.force_x_m = vm["force-at"].as<double>();
-  setup.quantity = quantity_option(vm["quantity"].as<std::string>());
-  if (vm.count("response-at")) {
-    for (const auto& r : vm["response-at"].as<std::vector<std::string>>()) {
+  if (!f.force_at) throw InputError("--force-at X (the exciter's position on the deck [m]) is required");
+  setup.force_x_m = *f.force_at;
+  setup.quantity = quantity_option(f.quantity);
+  if (!f.response_at.empty()) {
+    for (const auto& r : f.response_at) {
       const auto [name, x] = named_position(r, "--response-at");
       setup.responses.push_back(study::deck_station_at(s, name, x));
     }
@@ -71,41 +79,33 @@ study::ForcedSetup forced_setup(const model::Structure& s, const study::Scenario
   return setup;
 }
 
-void add_forced_options(po::options_description& d) {
-  d.add_options()("force-at", po::value<double>(), "exciter position: global x on the deck [m] (required)")(
-      "response-at", po::value<std::vector<std::string>>()->composing(),
+void add_forced_options(po::options_description& d, ForcedOptions& f) {
+  d.add_options()("force-at", optional_value(f.force_at), "exciter position: global x on the deck [m] (required)")(
+      "response-at", list_value(f.response_at),
       "response point NAME=X or X on the deck [m] (repeatable; default: the scenario's stations)")(
-      "quantity", po::value<std::string>()->default_value("acc"), "responses as acc, vel or disp");
+      "quantity", value(f.quantity), "responses as acc, vel or disp");
 }
 
-io::Record load_record(const std::string& path) { return io::read_record(path); }
+struct FrfOptions {
+  ForcedOptions forced;
+  std::optional<double> f_min, f_max;
+  long n_freq = 1161;
+  std::optional<std::string> force, force_record, steps;
+  std::vector<std::string> responses;
+  std::string method = "welch", estimator = "h1";
+  long nperseg = 4096;
+  std::string window = "hann";
+  double settle_cycles = 30.0, settle_s = 0.0;
+};
 
-// FRF names and quantities from record channels: "S1_mid_acc_mps2" gives the sensor "S1_mid"
-// (the quantity tag _acc, _vel or _disp goes, as the unit says it), matching station names.
-void label(ident::Frf& frf, const io::Record& r, const std::vector<std::size_t>& chans, const std::string& force_unit) {
-  frf.force_unit = force_unit;
-  for (std::size_t c : chans) {
-    std::string name = r.channels[c].substr(0, r.channels[c].size() - r.units[c].size() - 1);
-    for (const char* tag : {"_acc", "_vel", "_disp"}) {
-      const std::string t = tag;
-      if (name.size() > t.size() && name.compare(name.size() - t.size(), t.size(), t) == 0) {
-        name.resize(name.size() - t.size());
-        break;
-      }
-    }
-    frf.responses.push_back(name);
-    frf.quantity.push_back(ident::quantity_of_unit(r.units[c]));
-  }
-}
-
-int frf_from_scenario(const Common& o, const po::variables_map& vm) {
+int frf_from_scenario(const Common& o, const FrfOptions& fo) {
   const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
   const study::Scenario sc = io::to_scenario(flat);
   const model::Structure s = model::build_structure(sc.bridge, sc.track);
-  const study::ForcedSetup setup = forced_setup(s, sc, vm);
-  const double f0 = vm.count("f-min") ? vm["f-min"].as<double>() : 1.0;
-  const double f1 = vm.count("f-max") ? vm["f-max"].as<double>() : 30.0;
-  const long n = vm["n-freq"].as<long>();
+  const study::ForcedSetup setup = forced_setup(s, sc, fo.forced);
+  const double f0 = fo.f_min.value_or(1.0);
+  const double f1 = fo.f_max.value_or(30.0);
+  const long n = fo.n_freq;
   if (!(f0 > 0.0) || !(f1 > f0)) throw InputError("--f-min must be > 0 and --f-max > --f-min");
   if (n < 2 || n > 1000000) throw InputError("--n-freq must be in 2..1000000");
   const Vector f = Vector::LinSpaced(n, f0, f1);
@@ -121,125 +121,156 @@ int frf_from_scenario(const Common& o, const po::variables_map& vm) {
   return ok;
 }
 
-int frf_from_record(const Common& o, const po::variables_map& vm) {
+// The stepped-sine table of an estimate: one row per step and response, in the FRF's order.
+void write_stepped_table(const std::string& path, const ident::FrfEstimate& e, const io::FrfInputs& in) {
+  std::vector<std::vector<std::string>> rows;
+  for (std::size_t j = 0; j < e.order.size(); ++j) {
+    const auto& p = e.points[e.order[j]];
+    for (Index c = 0; c < in.responses.cols(); ++c)
+      rows.push_back({std::to_string(e.order[j] + 1), fmt(p.frequency_hz), fmt(p.t_from_s), fmt(p.t_to_s), fmt(p.n_cycles, "%.1f"),
+                      in.response_channels[static_cast<std::size_t>(c)], fmt(std::abs(p.force)), fmt(p.force_distortion, "%.3e"),
+                      fmt(p.response_distortion[c], "%.3e"), fmt(p.settle_change[c], "%.3e")});
+  }
+  io::write_table_csv(path,
+                      {"step", "frequency_hz", "t_from_s", "t_to_s", "n_cycles", "channel", "force_amplitude", "force_distortion",
+                       "response_distortion", "settle_change"},
+                      rows);
+}
+
+ident::FrfEstimateOptions estimate_options(const FrfOptions& fo) {
+  ident::FrfEstimateOptions eo;
+  eo.method = ident::frf_method(fo.method, "--method");
+  if (eo.method == ident::FrfMethod::welch) {
+    if (fo.estimator != "h1" && fo.estimator != "h2") throw InputError("--estimator must be h1 or h2, got '" + fo.estimator + "'");
+    eo.h2 = fo.estimator == "h2";
+    eo.welch.nperseg = fo.nperseg;
+    if (fo.window == "rectangular") eo.welch.window = signal::Window::rectangular;
+    else if (fo.window != "hann") throw InputError("--window must be hann or rectangular, got '" + fo.window + "'");
+  }
+  eo.f_min_hz = fo.f_min;
+  eo.f_max_hz = fo.f_max;
+  if (eo.method == ident::FrfMethod::stepped && fo.steps) eo.steps = io::read_steps_csv(*fo.steps);
+  eo.stepped.settle_cycles = fo.settle_cycles;
+  eo.stepped.settle_s = fo.settle_s;
+  return eo;
+}
+
+int frf_from_record(const Common& o, const FrfOptions& fo) {
   if (!o.set.empty()) throw InputError("--set applies to scenarios; " + o.scenario + " is a record");
-  const io::Record rec = load_record(o.scenario);
-  if (!vm.count("force")) throw InputError("missing force channel: name it with --force <channel> (e.g. force_N)");
-  io::Record frec = rec;
-  if (vm.count("force-record")) {
-    frec = load_record(vm["force-record"].as<std::string>());
-    if (std::abs(frec.fs_hz - rec.fs_hz) > 1e-9 * rec.fs_hz)
-      throw InputError("mismatched sampling rates: force record at " + fmt(frec.fs_hz) + " Hz, responses at " + fmt(rec.fs_hz) +
-                       " Hz (resample one with viaduct resample)");
-    if (std::abs(frec.t0_s - rec.t0_s) > 0.5 / rec.fs_hz || frec.n_samples() != rec.n_samples())
-      throw InputError("the force record and the response record do not cover the same samples (start or length differ)");
-  }
-  const std::size_t fc = frec.channel(vm["force"].as<std::string>());
-  const std::string funit = frec.units[fc];
-  if (funit != "N" && funit != "kN") throw InputError("force channel '" + frec.channels[fc] + "' must be in N or kN");
-  std::vector<std::size_t> chans;
-  if (vm.count("response")) {
-    for (const auto& c : vm["response"].as<std::vector<std::string>>()) chans.push_back(rec.channel(c));
-  } else {
-    for (std::size_t c = 0; c < rec.channels.size(); ++c)
-      if (rec.units[c] == "m" || rec.units[c] == "mps" || rec.units[c] == "mps2") chans.push_back(c);
-  }
-  if (chans.empty()) throw InputError("no response channel (m, mps or mps2) in " + o.scenario);
-  const Vector force = frec.data.col(static_cast<Index>(fc));
-  Matrix resp(rec.n_samples(), static_cast<Index>(chans.size()));
-  for (std::size_t j = 0; j < chans.size(); ++j) resp.col(static_cast<Index>(j)) = rec.data.col(static_cast<Index>(chans[j]));
-  const std::string method = vm["method"].as<std::string>();
-  ident::Frf frf;
+  const io::Record rec = io::read_record(o.scenario);
+  if (!fo.force) throw InputError("missing force channel: name it with --force <channel> (e.g. force_N)");
+  std::optional<io::Record> frec;
+  if (fo.force_record) frec = io::read_record(*fo.force_record);
+  const io::FrfInputs in = io::frf_inputs(rec, o.scenario, frec ? &*frec : nullptr, *fo.force, fo.responses);
   make_out_dir(o.out);
-  if (method == "welch") {
-    const std::string estimator = vm["estimator"].as<std::string>();
-    if (estimator != "h1" && estimator != "h2") throw InputError("--estimator must be h1 or h2, got '" + estimator + "'");
-    signal::WelchOptions wo;
-    wo.nperseg = vm["nperseg"].as<long>();
-    const std::string win = vm["window"].as<std::string>();
-    if (win == "rectangular") wo.window = signal::Window::rectangular;
-    else if (win != "hann") throw InputError("--window must be hann or rectangular, got '" + win + "'");
-    const ident::WelchFrf w = ident::welch_frf(force, resp, rec.fs_hz, wo);
-    const double fmin = vm.count("f-min") ? vm["f-min"].as<double>() : 0.0;
-    const double fmax = vm.count("f-max") ? vm["f-max"].as<double>() : 0.5 * rec.fs_hz;
-    std::vector<Index> keep;
-    for (Index k = 0; k < w.frequency_hz.size(); ++k)
-      if (w.frequency_hz[k] > 0.0 && w.frequency_hz[k] >= fmin && w.frequency_hz[k] <= fmax) keep.push_back(k);
-    if (keep.size() < 2) throw InputError("fewer than 2 Welch lines in [--f-min, --f-max]");
-    frf.frequency_hz.resize(static_cast<Index>(keep.size()));
-    frf.h.resize(static_cast<Index>(keep.size()), resp.cols());
-    frf.coherence.resize(static_cast<Index>(keep.size()), resp.cols());
-    for (std::size_t j = 0; j < keep.size(); ++j) {
-      frf.frequency_hz[static_cast<Index>(j)] = w.frequency_hz[keep[j]];
-      frf.h.row(static_cast<Index>(j)) = (estimator == "h2" ? w.h2 : w.h1).row(keep[j]);
-      frf.coherence.row(static_cast<Index>(j)) = w.coherence.row(keep[j]);
-    }
-    if (!o.quiet) std::printf("Welch: %ld segments of %ld samples\n", static_cast<long>(w.n_segments), wo.nperseg);
-  } else if (method == "stepped") {
-    std::vector<ident::SineStep> steps;
-    if (vm.count("steps")) {
-      steps = io::read_steps_csv(vm["steps"].as<std::string>());
-    } else {
-      steps = ident::detect_steps(force, rec.fs_hz, rec.t0_s);
-      io::write_steps_csv(o.out + "/steps-detected.csv", steps);
-      if (!o.quiet)
-        std::printf("no --steps: detected %zu steps from the force (%.4g to %.4g Hz); wrote %s/steps-detected.csv\n", steps.size(),
-                    steps.front().frequency_hz, steps.back().frequency_hz, o.out.c_str());
-    }
-    ident::SteppedSineOptions so;
-    so.settle_cycles = vm["settle-cycles"].as<double>();
-    so.settle_s = vm["settle-s"].as<double>();
-    const auto pts = ident::stepped_sine(force, resp, rec.fs_hz, rec.t0_s, steps, so);
-    const Index n = static_cast<Index>(pts.size());
-    // One FRF point per step, sorted by frequency (schedules may go down or repeat).
-    std::vector<std::size_t> order(pts.size());
-    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
-    std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return pts[a].frequency_hz < pts[b].frequency_hz; });
-    frf.frequency_hz.resize(n);
-    frf.h.resize(n, resp.cols());
-    std::vector<std::vector<std::string>> rows;
-    for (Index j = 0; j < n; ++j) {
-      const auto& p = pts[order[static_cast<std::size_t>(j)]];
-      frf.frequency_hz[j] = p.frequency_hz;
-      frf.h.row(j) = p.h.transpose();
-      for (Index c = 0; c < resp.cols(); ++c)
-        rows.push_back({std::to_string(order[static_cast<std::size_t>(j)] + 1), fmt(p.frequency_hz), fmt(p.t_from_s), fmt(p.t_to_s),
-                        fmt(p.n_cycles, "%.1f"), rec.channels[chans[static_cast<std::size_t>(c)]], fmt(std::abs(p.force)),
-                        fmt(p.force_distortion, "%.3e"), fmt(p.response_distortion[c], "%.3e"), fmt(p.settle_change[c], "%.3e")});
-    }
-    io::write_table_csv(o.out + "/stepped.csv",
-                        {"step", "frequency_hz", "t_from_s", "t_to_s", "n_cycles", "channel", "force_amplitude",
-                         "force_distortion", "response_distortion", "settle_change"},
-                        rows);
-    double worst_settle = 0.0, worst_dist = 0.0;
-    for (const auto& p : pts) {
-      worst_settle = std::max(worst_settle, p.settle_change.maxCoeff());
-      worst_dist = std::max({worst_dist, p.force_distortion, p.response_distortion.maxCoeff()});
-    }
+  ident::FrfEstimateOptions eo = estimate_options(fo);
+  if (eo.method == ident::FrfMethod::stepped && eo.steps.empty()) {
+    // Detected here rather than inside estimate_frf: the schedule is written before the dwells
+    // are fitted, so that it is there to look at when a dwell is refused.
+    eo.steps = ident::detect_steps(in.force, in.fs_hz, in.t0_s);
+    io::write_steps_csv(o.out + "/steps-detected.csv", eo.steps);
+    if (!o.quiet)
+      std::printf("no --steps: detected %zu steps from the force (%.4g to %.4g Hz); wrote %s/steps-detected.csv\n", eo.steps.size(),
+                  eo.steps.front().frequency_hz, eo.steps.back().frequency_hz, o.out.c_str());
+  }
+  const ident::FrfEstimate e = ident::estimate_frf(in.force, in.responses, in.fs_hz, in.t0_s, eo);
+  ident::Frf frf = e.frf;
+  if (!o.quiet && e.n_segments > 0) std::printf("Welch: %ld segments of %ld samples\n", static_cast<long>(e.n_segments), fo.nperseg);
+  if (!e.points.empty()) {
+    write_stepped_table(o.out + "/stepped.csv", e, in);
     if (!o.quiet) {
       std::printf("stepped sine: %ld steps; worst settle change %.2e, worst distortion (THD+N) %.2e; wrote %s/stepped.csv\n",
-                  static_cast<long>(n), worst_settle, worst_dist, o.out.c_str());
-      if (worst_settle > 0.05)
+                  static_cast<long>(e.points.size()), e.worst_settle_change, e.worst_distortion, o.out.c_str());
+      if (e.worst_settle_change > 0.05)
         std::fprintf(stderr, "viaduct frf: warning: a step's FRF changed by %.0f %% between the halves of its dwell (transient left, "
                      "or noise on a small response): see settle_change in stepped.csv; raise --settle-cycles if it is the transient\n",
-                     100 * worst_settle);
+                     100 * e.worst_settle_change);
     }
-  } else if (method == "swept") {
-    ident::SweptSineOptions so;
-    if (!vm.count("f-min") || !vm.count("f-max")) throw InputError("--method swept needs --f-min and --f-max (the swept band)");
-    so.f_min_hz = vm["f-min"].as<double>();
-    so.f_max_hz = vm["f-max"].as<double>();
-    frf = ident::swept_sine(force, resp, rec.fs_hz, so);
-  } else {
-    throw InputError("--method must be welch, stepped or swept, got '" + method + "'");
   }
-  label(frf, rec, chans, funit);
+  io::label_frf(frf, in);
   io::write_frf_csv(o.out + "/frf.csv", frf);
-  io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "frf", {o.scenario}), nullptr);
+  std::vector<std::string> inputs = {o.scenario};
+  if (fo.force_record) inputs.push_back(*fo.force_record);
+  if (fo.steps && eo.method == ident::FrfMethod::stepped) inputs.push_back(*fo.steps);
+  io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "frf", inputs), nullptr);
   if (!o.quiet)
-    std::printf("%s FRF: %ld frequencies, %zu responses to %s; wrote %s/frf.csv\n", method.c_str(),
-                static_cast<long>(frf.frequency_hz.size()), chans.size(), frec.channels[fc].c_str(), o.out.c_str());
+    std::printf("%s FRF: %ld frequencies, %zu responses to %s; wrote %s/frf.csv\n", fo.method.c_str(),
+                static_cast<long>(frf.frequency_hz.size()), in.response_channels.size(), in.force_channel.c_str(), o.out.c_str());
   return ok;
+}
+
+struct ShakerOptions {
+  ForcedOptions forced;
+  std::optional<std::string> stepped, steps, swept;
+  double dwell_s = 10.0, sweep_s = 120.0;
+  std::optional<double> tail_s;
+  double amplitude_kN = 10.0, fs_hz = 200.0;
+  int substeps = 0;
+  double snr_db = -1.0;
+  unsigned seed = 1;
+};
+
+struct ModalFitCliOptions {
+  ident::ModalFitOptions fit;
+  bool no_refine = false;
+  std::optional<std::string> model;
+  std::vector<std::string> sensors;
+};
+
+struct DecayCliOptions {
+  std::optional<std::string> channel;
+  std::optional<double> frequency_hz, start_s, entry_s, speed_kmh, train_length_m, bridge_length_m;
+  ident::DecayOptions decay;
+};
+
+// modes.csv, shapes.csv and stabilization.csv of a modal fit; returns the rows of modes.csv.
+std::vector<std::vector<std::string>> write_modal_fit(const std::string& out, const ident::Frf& frf, const ident::ModalFitResult& fit) {
+  std::vector<std::vector<std::string>> mode_rows, shape_rows;
+  auto add = [&](const std::string& method, const std::vector<ident::IdentifiedMode>& modes) {
+    for (std::size_t k = 0; k < modes.size(); ++k) {
+      const ident::IdentifiedMode& m = modes[k];
+      mode_rows.push_back({method, std::to_string(k + 1), fmt(m.frequency_hz), fmt(m.damping_ratio),
+                           m.response >= 0 ? frf.responses[static_cast<std::size_t>(m.response)] : "all", m.note});
+      for (Index r = 0; r < m.shape.size(); ++r)
+        shape_rows.push_back({method, std::to_string(k + 1), frf.responses[static_cast<std::size_t>(r)], fmt(m.shape[r].real()),
+                              fmt(m.shape[r].imag())});
+    }
+  };
+  add("peak-picking", fit.peak_picking);
+  add("circle-fit", fit.circle_fit);
+  add("lscf-diagram", fit.lscf.diagram_modes);
+  add("lscf", fit.lscf.modes);
+  make_out_dir(out);
+  io::write_table_csv(out + "/modes.csv", {"method", "mode", "frequency_hz", "damping_ratio", "response", "note"}, mode_rows);
+  io::write_table_csv(out + "/shapes.csv", {"method", "mode", "response", "re", "im"}, shape_rows);
+  std::vector<std::vector<std::string>> stab;
+  for (const auto& p : fit.lscf.poles)
+    stab.push_back({std::to_string(p.order), fmt(p.frequency_hz), fmt(p.damping_ratio),
+                    p.status == ident::PoleStatus::stable ? "stable" : p.status == ident::PoleStatus::stable_frequency ? "frequency" : "new"});
+  io::write_table_csv(out + "/stabilization.csv", {"order", "frequency_hz", "damping_ratio", "status"}, stab);
+  return mode_rows;
+}
+
+// mac.csv: the LSCF modes against the model's, and the best match of each on stdout.
+void write_mac(const std::string& out, const ident::LscfResult& ls, const study::ModelModesAtResponses& md, bool quiet) {
+  ident::ComplexMatrix id_shapes(md.shape.rows(), static_cast<Index>(ls.modes.size()));
+  for (std::size_t k = 0; k < ls.modes.size(); ++k) id_shapes.col(static_cast<Index>(k)) = ls.modes[k].shape;
+  const Matrix m = ident::mac(id_shapes, md.shape);
+  std::vector<std::vector<std::string>> rows;
+  for (Index i = 0; i < m.rows(); ++i)
+    for (Index j = 0; j < m.cols(); ++j)
+      rows.push_back({std::to_string(i + 1), fmt(ls.modes[static_cast<std::size_t>(i)].frequency_hz), std::to_string(j + 1),
+                      fmt(md.frequency_hz[j]), fmt(m(i, j), "%.4f")});
+  io::write_table_csv(out + "/mac.csv", {"mode", "frequency_hz", "model_mode", "model_frequency_hz", "mac"}, rows);
+  if (quiet || m.cols() == 0) return;
+  std::printf("\nLSCF modes against the model (best MAC):\n");
+  for (Index i = 0; i < m.rows(); ++i) {
+    Index j = 0;
+    m.row(i).maxCoeff(&j);
+    const double f = ls.modes[static_cast<std::size_t>(i)].frequency_hz;
+    std::printf("  mode %ld %.4f Hz ~ model mode %ld %.4f Hz (%+.2f %%), MAC %.3f\n", static_cast<long>(i + 1), f,
+                static_cast<long>(j + 1), md.frequency_hz[j], 100 * (f / md.frequency_hz[j] - 1), m(i, j));
+  }
 }
 
 }  // namespace
@@ -249,22 +280,21 @@ Command frf_command() {
   c.name = "frf";
   c.positional = "SCENARIO|RECORD";
   c.summary = "FRFs: the model's by a direct frequency solve, or estimated from force and response records (frf.csv)";
-  c.add_options = [](po::options_description& d) {
-    add_forced_options(d);
-    d.add_options()("f-min", po::value<double>(), "[Hz] lowest frequency (scenario: default 1; swept: band)")(
-        "f-max", po::value<double>(), "[Hz] highest frequency (scenario: default 30; swept: band)")(
-        "n-freq", po::value<long>()->default_value(1161), "scenario: frequencies, evenly spaced")(
-        "force", po::value<std::string>(), "record: the force channel (N or kN)")(
-        "force-record", po::value<std::string>(), "record: the force in another record (same rate and samples)")(
-        "response", po::value<std::vector<std::string>>()->composing(),
-        "record: response channel (repeatable; default: every m, mps, mps2 channel)")(
-        "method", po::value<std::string>()->default_value("welch"), "record: welch, stepped or swept")(
-        "estimator", po::value<std::string>()->default_value("h1"), "welch: h1 or h2")(
-        "nperseg", po::value<long>()->default_value(4096), "welch: samples per segment")(
-        "window", po::value<std::string>()->default_value("hann"), "welch: hann or rectangular (half-overlapping segments)")(
-        "steps", po::value<std::string>(), "stepped: the schedule CSV (t_start_s,t_end_s,frequency_hz); default: detected from the force")(
-        "settle-cycles", po::value<double>()->default_value(30.0), "stepped: drive cycles discarded per step")(
-        "settle-s", po::value<double>()->default_value(0.0), "stepped: at least this long discarded [s]");
+  const auto declare = [](po::options_description& d, FrfOptions& f) {
+    add_forced_options(d, f.forced);
+    d.add_options()("f-min", optional_value(f.f_min), "[Hz] lowest frequency (scenario: default 1; swept: band)")(
+        "f-max", optional_value(f.f_max), "[Hz] highest frequency (scenario: default 30; swept: band)")(
+        "n-freq", value(f.n_freq), "scenario: frequencies, evenly spaced")(
+        "force", optional_value(f.force), "record: the force channel (N or kN)")(
+        "force-record", optional_value(f.force_record), "record: the force in another record (same rate and samples)")(
+        "response", list_value(f.responses), "record: response channel (repeatable; default: every m, mps, mps2 channel)")(
+        "method", value(f.method), "record: welch, stepped or swept")(
+        "estimator", value(f.estimator), "welch: h1 or h2")(
+        "nperseg", value(f.nperseg), "welch: samples per segment")(
+        "window", value(f.window), "welch: hann or rectangular (half-overlapping segments)")(
+        "steps", optional_value(f.steps), "stepped: the schedule CSV (t_start_s,t_end_s,frequency_hz); default: detected from the force")(
+        "settle-cycles", value(f.settle_cycles), "stepped: drive cycles discarded per step")(
+        "settle-s", value(f.settle_s), "stepped: at least this long discarded [s]");
   };
   c.usage_and_samples =
       "With a SCENARIO (.toml): solves (K - w^2 M + i w C) x = F on the assembled structure (track\n"
@@ -280,9 +310,10 @@ Command frf_command() {
       "  viaduct frf out/shaker/record.csv --force force_N --method stepped --steps out/shaker/steps.csv --out out/frf-test\n"
       "  viaduct frf out/shaker/record.csv --force force_N --method stepped --out out/frf-detected\n"
       "  viaduct frf out/shaker/record.csv --force force_N --method welch --nperseg 1024 --f-min 2 --f-max 40 --out out/frf-welch\n";
-  c.run = [](const Common& o, const po::variables_map& vm) {
-    return is_scenario_path(o.scenario) ? frf_from_scenario(o, vm) : frf_from_record(o, vm);
+  const auto body = [](const Common& o, const FrfOptions& f) {
+    return is_scenario_path(o.scenario) ? frf_from_scenario(o, f) : frf_from_record(o, f);
   };
+  bind(c, +declare, +body);
   return c;
 }
 
@@ -290,19 +321,19 @@ Command shaker_command() {
   Command c;
   c.name = "shaker";
   c.summary = "simulated forced-vibration test (stepped or swept sine, Newmark): a synthetic record";
-  c.add_options = [](po::options_description& d) {
-    add_forced_options(d);
-    d.add_options()("stepped", po::value<std::string>(), "stepped sine F0:F1:DF [Hz] (first, last, step)")(
-        "steps", po::value<std::string>(), "stepped sine from a schedule CSV instead (contiguous from t = 0)")(
-        "dwell-s", po::value<double>()->default_value(10.0), "stepped: dwell per frequency [s]")(
-        "swept", po::value<std::string>(), "linear sweep F0:F1 [Hz]")(
-        "sweep-s", po::value<double>()->default_value(120.0), "swept: sweep duration [s]")(
-        "tail-s", po::value<double>()->default_value(0.0), "recording after the force stops [s] (swept: default 20)")(
-        "amplitude-kN", po::value<double>()->default_value(10.0), "force amplitude [kN]")(
-        "fs-hz", po::value<double>()->default_value(200.0), "sampling rate of the record [Hz]")(
-        "substeps", po::value<int>()->default_value(0), "Newmark steps per sample (0: period error below 1e-4)")(
-        "snr-db", po::value<double>()->default_value(-1.0), "add Gaussian noise at this SNR to every channel (< 0: none)")(
-        "seed", po::value<unsigned>()->default_value(1), "noise seed");
+  const auto declare = [](po::options_description& d, ShakerOptions& sh) {
+    add_forced_options(d, sh.forced);
+    d.add_options()("stepped", optional_value(sh.stepped), "stepped sine F0:F1:DF [Hz] (first, last, step)")(
+        "steps", optional_value(sh.steps), "stepped sine from a schedule CSV instead (contiguous from t = 0)")(
+        "dwell-s", value(sh.dwell_s), "stepped: dwell per frequency [s]")(
+        "swept", optional_value(sh.swept), "linear sweep F0:F1 [Hz]")(
+        "sweep-s", value(sh.sweep_s), "swept: sweep duration [s]")(
+        "tail-s", optional_value(sh.tail_s), "recording after the force stops [s] (default: 0; swept: 20)")(
+        "amplitude-kN", value(sh.amplitude_kN), "force amplitude [kN]")(
+        "fs-hz", value(sh.fs_hz), "sampling rate of the record [Hz]")(
+        "substeps", value(sh.substeps), "Newmark steps per sample (0: period error below 1e-4)")(
+        "snr-db", value(sh.snr_db), "add Gaussian noise at this SNR to every channel (< 0: none)")(
+        "seed", value(sh.seed), "noise seed");
   };
   c.usage_and_samples =
       "Integrates the structure from rest under a sine force at --force-at (Newmark, fine enough\n"
@@ -311,19 +342,19 @@ Command shaker_command() {
       "Sample runs:\n"
       "  viaduct shaker scenarios/old-guadiana-talgo.toml --force-at 6 --stepped 9:11:0.5 --dwell-s 6 --out out/shaker\n"
       "  viaduct shaker scenarios/hslm-simply-supported.toml --force-at 5 --swept 2:30 --sweep-s 60 --snr-db 40 --out out/sweep\n";
-  c.run = [](const Common& o, const po::variables_map& vm) {
+  const auto body = [](const Common& o, const ShakerOptions& sh) {
     const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
     const study::Scenario sc = io::to_scenario(flat);
     const model::Structure s = model::build_structure(sc.bridge, sc.track);
-    const study::ForcedSetup setup = forced_setup(s, sc, vm);
+    const study::ForcedSetup setup = forced_setup(s, sc, sh.forced);
     study::ShakerTest t;
-    t.amplitude_N = vm["amplitude-kN"].as<double>() * 1e3;
-    t.fs_hz = vm["fs-hz"].as<double>();
-    t.substeps = vm["substeps"].as<int>();
-    t.noise_snr_db = vm["snr-db"].as<double>();
-    t.seed = vm["seed"].as<unsigned>();
-    t.tail_s = vm["tail-s"].as<double>();
-    const int n_kinds = static_cast<int>(vm.count("stepped") + vm.count("steps") + vm.count("swept"));
+    t.amplitude_N = sh.amplitude_kN * 1e3;
+    t.fs_hz = sh.fs_hz;
+    t.substeps = sh.substeps;
+    t.noise_snr_db = sh.snr_db;
+    t.seed = sh.seed;
+    t.tail_s = sh.tail_s.value_or(sh.swept ? 20.0 : 0.0);
+    const int n_kinds = int{sh.stepped.has_value()} + int{sh.steps.has_value()} + int{sh.swept.has_value()};
     if (n_kinds != 1) throw InputError("give exactly one of --stepped F0:F1:DF, --steps FILE or --swept F0:F1");
     auto split = [](const std::string& text) {
       std::vector<std::string> p;
@@ -332,23 +363,22 @@ Command shaker_command() {
       while (std::getline(ss, x, ':')) p.push_back(x);
       return p;
     };
-    if (vm.count("stepped")) {
-      const auto p = split(vm["stepped"].as<std::string>());
-      if (p.size() != 3) throw InputError("--stepped takes F0:F1:DF, got '" + vm["stepped"].as<std::string>() + "'");
+    if (sh.stepped) {
+      const auto p = split(*sh.stepped);
+      if (p.size() != 3) throw InputError("--stepped takes F0:F1:DF, got '" + *sh.stepped + "'");
       const double f0 = to_number(p[0], "--stepped"), f1 = to_number(p[1], "--stepped"), df = to_number(p[2], "--stepped");
       if (!(df > 0.0) || !(f1 >= f0)) throw InputError("--stepped needs F1 >= F0 and DF > 0");
       const Index n = static_cast<Index>(std::floor((f1 - f0) / df + 1e-9)) + 1;
-      t.steps = ident::regular_schedule(f0, f0 + df * static_cast<double>(n - 1), n, vm["dwell-s"].as<double>());
-    } else if (vm.count("steps")) {
-      t.steps = io::read_steps_csv(vm["steps"].as<std::string>());
+      t.steps = ident::regular_schedule(f0, f0 + df * static_cast<double>(n - 1), n, sh.dwell_s);
+    } else if (sh.steps) {
+      t.steps = io::read_steps_csv(*sh.steps);
     } else {
       t.kind = study::ShakerTest::Kind::swept;
-      const auto p = split(vm["swept"].as<std::string>());
-      if (p.size() != 2) throw InputError("--swept takes F0:F1, got '" + vm["swept"].as<std::string>() + "'");
+      const auto p = split(*sh.swept);
+      if (p.size() != 2) throw InputError("--swept takes F0:F1, got '" + *sh.swept + "'");
       t.sweep_f_start_hz = to_number(p[0], "--swept");
       t.sweep_f_end_hz = to_number(p[1], "--swept");
-      t.sweep_s = vm["sweep-s"].as<double>();
-      if (vm["tail-s"].defaulted()) t.tail_s = 20.0;
+      t.sweep_s = sh.sweep_s;
     }
     const study::ShakerRecord r = study::simulate_shaker_test(s, setup, t, progress_printer("shaker", o.quiet, "steps"));
     io::Record rec;
@@ -370,6 +400,7 @@ Command shaker_command() {
     io::write_record_csv(o.out + "/record.csv", rec);
     if (t.kind == study::ShakerTest::Kind::stepped) io::write_steps_csv(o.out + "/steps.csv", t.steps);
     io::Manifest man = start_manifest(o, "shaker");
+    if (sh.steps) man.inputs.push_back(*sh.steps);
     man.wall_s = r.wall_s;
     man.extra = {{"force_at_m", fmt(setup.force_x_m)},
                  {"newmark_steps", std::to_string(r.n_steps)},
@@ -382,6 +413,7 @@ Command shaker_command() {
                   t.kind == study::ShakerTest::Kind::stepped ? " and steps.csv" : "");
     return ok;
   };
+  bind(c, +declare, +body);
   return c;
 }
 
@@ -390,16 +422,15 @@ Command modal_fit_command() {
   c.name = "modal-fit";
   c.positional = "FRF";
   c.summary = "modal parameters from an FRF file: peak picking, circle fit, LSCF + stabilization, MAC";
-  c.add_options = [](po::options_description& d) {
-    d.add_options()("no-refine", po::bool_switch(), "LSCF: keep the stabilization diagram's values (no refinement, no split test)")(
-        "f-min", po::value<double>()->default_value(0.0), "[Hz] band fitted")(
-        "f-max", po::value<double>()->default_value(1e9), "[Hz] band fitted")(
-        "max-order", po::value<int>()->default_value(40), "LSCF: largest model order (even)")(
-        "cluster-tol", po::value<double>()->default_value(0.005), "LSCF: relative frequency spread of one mode's stable poles")(
-        "min-prominence", po::value<double>()->default_value(0.05), "peak picking: peaks below this share of the largest are ignored")(
-        "model", po::value<std::string>(), "scenario whose modes are compared (MAC) with the identified ones")(
-        "sensor", po::value<std::vector<std::string>>()->composing(),
-        "with --model: response NAME=X on the deck [m] (default: the scenario's station of that name)");
+  const auto declare = [](po::options_description& d, ModalFitCliOptions& m) {
+    d.add_options()("no-refine", po::bool_switch(&m.no_refine), "LSCF: keep the stabilization diagram's values (no refinement, no split test)")(
+        "f-min", value(m.fit.f_min_hz), "[Hz] band fitted")(
+        "f-max", value(m.fit.f_max_hz), "[Hz] band fitted")(
+        "max-order", value(m.fit.max_order), "LSCF: largest model order (even)")(
+        "cluster-tol", value(m.fit.cluster_tol), "LSCF: relative frequency spread of one mode's stable poles")(
+        "min-prominence", value(m.fit.min_relative_prominence), "peak picking: peaks below this share of the largest are ignored")(
+        "model", optional_value(m.model), "scenario whose modes are compared (MAC) with the identified ones")(
+        "sensor", list_value(m.sensors), "with --model: response NAME=X on the deck [m] (default: the scenario's station of that name)");
   };
   c.usage_and_samples =
       "FRF is a frf.csv written by viaduct frf (measured or model). Writes OUT/modes.csv\n"
@@ -415,92 +446,38 @@ Command modal_fit_command() {
       "  viaduct shaker scenarios/hslm-simply-supported.toml --force-at 7 --swept 2:30 --sweep-s 60 --snr-db 40 --out out/sweep\n"
       "  viaduct frf out/sweep/record.csv --force force_N --method swept --f-min 3 --f-max 28 --out out/frf-sweep\n"
       "  viaduct modal-fit out/frf-sweep/frf.csv --f-min 3 --f-max 28 --max-order 30 --out out/fit-sweep\n";
-  c.run = [](const Common& o, const po::variables_map& vm) {
+  const auto body = [](const Common& o, const ModalFitCliOptions& m) {
     const ident::Frf frf = io::read_frf_csv(o.scenario);
-    const double f0 = vm["f-min"].as<double>(), f1 = vm["f-max"].as<double>();
-    std::vector<std::vector<std::string>> mode_rows, shape_rows;
-    auto add_mode = [&](const std::string& method, std::size_t k, const ident::IdentifiedMode& m) {
-      mode_rows.push_back({method, std::to_string(k + 1), fmt(m.frequency_hz), fmt(m.damping_ratio),
-                           m.response >= 0 ? frf.responses[static_cast<std::size_t>(m.response)] : "all", m.note});
-      for (Index r = 0; r < m.shape.size(); ++r)
-        shape_rows.push_back({method, std::to_string(k + 1), frf.responses[static_cast<std::size_t>(r)], fmt(m.shape[r].real()),
-                              fmt(m.shape[r].imag())});
-    };
-    ident::PeakPickingOptions po;
-    po.f_min_hz = f0;
-    po.f_max_hz = f1;
-    po.min_relative_prominence = vm["min-prominence"].as<double>();
-    const auto pp = ident::peak_picking(frf, po);
-    for (std::size_t k = 0; k < pp.size(); ++k) add_mode("peak-picking", k, pp[k]);
-    std::size_t k_cf = 0;
-    for (const auto& p : pp) {
-      if (!std::isfinite(p.damping_ratio)) continue;
-      try {
-        add_mode("circle-fit", k_cf++, ident::circle_fit(frf, p.response, p.frequency_hz, p.damping_ratio));
-      } catch (const InputError& e) {
-        if (!o.quiet) std::fprintf(stderr, "viaduct modal-fit: warning: circle fit at %.4g Hz: %s\n", p.frequency_hz, e.what());
-      }
-    }
-    ident::LscfOptions lo;
-    lo.f_min_hz = f0;
-    lo.f_max_hz = f1;
-    lo.max_order = vm["max-order"].as<int>();
-    lo.cluster_tol = vm["cluster-tol"].as<double>();
-    lo.refine = !vm["no-refine"].as<bool>();
-    const ident::LscfResult ls = ident::lscf(frf, lo);
-    for (std::size_t k = 0; k < ls.diagram_modes.size(); ++k) add_mode("lscf-diagram", k, ls.diagram_modes[k]);
-    for (std::size_t k = 0; k < ls.modes.size(); ++k) add_mode("lscf", k, ls.modes[k]);
-    make_out_dir(o.out);
-    io::write_table_csv(o.out + "/modes.csv", {"method", "mode", "frequency_hz", "damping_ratio", "response", "note"}, mode_rows);
-    io::write_table_csv(o.out + "/shapes.csv", {"method", "mode", "response", "re", "im"}, shape_rows);
-    std::vector<std::vector<std::string>> stab;
-    for (const auto& p : ls.poles)
-      stab.push_back({std::to_string(p.order), fmt(p.frequency_hz), fmt(p.damping_ratio),
-                      p.status == ident::PoleStatus::stable ? "stable" : p.status == ident::PoleStatus::stable_frequency ? "frequency" : "new"});
-    io::write_table_csv(o.out + "/stabilization.csv", {"order", "frequency_hz", "damping_ratio", "status"}, stab);
+    ident::ModalFitOptions fo = m.fit;
+    fo.refine = !m.no_refine;
+    const ident::ModalFitResult fit = ident::modal_fit(frf, fo);
+    if (!o.quiet)
+      for (const auto& w : fit.warnings) std::fprintf(stderr, "viaduct modal-fit: warning: %s\n", w.c_str());
+    const ident::LscfResult& ls = fit.lscf;
+    const std::vector<std::vector<std::string>> mode_rows = write_modal_fit(o.out, frf, fit);
     if (!o.quiet) {
       std::printf("%-13s %4s %12s %10s  %s\n", "method", "mode", "f [Hz]", "zeta [%]", "note");
       for (const auto& r : mode_rows)
         std::printf("%-13s %4s %12.5f %10.3f  %s\n", r[0].c_str(), r[1].c_str(), std::stod(r[2]), 100 * std::stod(r[3]), r[5].c_str());
     }
-    if (vm.count("model")) {
-      const std::string model_file = vm["model"].as<std::string>();
+    std::vector<std::string> inputs = {o.scenario};
+    if (m.model) {
+      inputs.push_back(*m.model);
       std::vector<std::pair<std::string, double>> sensors;
-      if (vm.count("sensor"))
-        for (const auto& sx : vm["sensor"].as<std::vector<std::string>>()) sensors.push_back(named_position(sx, "--sensor"));
+      for (const auto& sx : m.sensors) sensors.push_back(named_position(sx, "--sensor"));
       study::ModelModesAtResponses md;
       try {
-        md = study::model_modes_at(io::to_scenario(io::load_flat(model_file, {})), frf.responses, sensors,
-                                   1.5 * ls.f_max_hz);
+        md = study::model_modes_at(io::to_scenario(io::load_flat(*m.model, {})), frf.responses, sensors, 1.5 * ls.f_max_hz);
       } catch (const InputError& e) {
-        throw InputError("--model " + model_file + ": " + e.what());
+        throw InputError("--model " + *m.model + ": " + e.what());
       }
-      ident::ComplexMatrix id_shapes(static_cast<Index>(frf.responses.size()), static_cast<Index>(ls.modes.size()));
-      for (std::size_t k = 0; k < ls.modes.size(); ++k) id_shapes.col(static_cast<Index>(k)) = ls.modes[k].shape;
-      const Matrix m = ident::mac(id_shapes, md.shape);
-      std::vector<std::vector<std::string>> rows;
-      for (Index i = 0; i < m.rows(); ++i)
-        for (Index j = 0; j < m.cols(); ++j)
-          rows.push_back({std::to_string(i + 1), fmt(ls.modes[static_cast<std::size_t>(i)].frequency_hz), std::to_string(j + 1),
-                          fmt(md.frequency_hz[j]), fmt(m(i, j), "%.4f")});
-      io::write_table_csv(o.out + "/mac.csv", {"mode", "frequency_hz", "model_mode", "model_frequency_hz", "mac"}, rows);
-      if (!o.quiet && m.cols() > 0) {
-        std::printf("\nLSCF modes against the model (best MAC):\n");
-        for (Index i = 0; i < m.rows(); ++i) {
-          Index j = 0;
-          m.row(i).maxCoeff(&j);
-          std::printf("  mode %ld %.4f Hz ~ model mode %ld %.4f Hz (%+.2f %%), MAC %.3f\n", static_cast<long>(i + 1),
-                      ls.modes[static_cast<std::size_t>(i)].frequency_hz, static_cast<long>(j + 1), md.frequency_hz[j],
-                      100 * (ls.modes[static_cast<std::size_t>(i)].frequency_hz / md.frequency_hz[j] - 1), m(i, j));
-        }
-      }
+      write_mac(o.out, ls, md, o.quiet);
     }
-    std::vector<std::string> inputs = {o.scenario};
-    if (vm.count("model")) inputs.push_back(vm["model"].as<std::string>());
     io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "modal-fit", inputs), nullptr);
-    if (!o.quiet) std::printf("wrote %s/modes.csv, shapes.csv, stabilization.csv%s\n", o.out.c_str(), vm.count("model") ? ", mac.csv" : "");
+    if (!o.quiet) std::printf("wrote %s/modes.csv, shapes.csv, stabilization.csv%s\n", o.out.c_str(), m.model ? ", mac.csv" : "");
     return ok;
   };
+  bind(c, +declare, +body);
   return c;
 }
 
@@ -510,18 +487,18 @@ Command decay_command() {
   c.positional = "RECORD...";
   c.many_positionals = true;
   c.summary = "frequency and damping from free decays after train passages, against amplitude";
-  c.add_options = [](po::options_description& d) {
-    d.add_options()("channel", po::value<std::string>(), "the response channel (required)")(
-        "frequency-hz", po::value<double>(), "the mode to isolate [Hz] (required)")(
-        "band-ratio", po::value<double>()->default_value(0.15), "band-pass f(1 -/+ r)")(
-        "order", po::value<int>()->default_value(2), "band-pass Chebyshev I order (0: no filter)")(
-        "start-s", po::value<double>(), "start of the free decay [s] (default: detected)")(
-        "entry-s", po::value<double>(), "or: time the first axle enters the bridge [s] ...")(
-        "speed-kmh", po::value<double>(), "... the train speed [km/h] ...")(
-        "train-length-m", po::value<double>(), "... its length [m] ...")(
-        "bridge-length-m", po::value<double>(), "... and the bridge length [m]: start when the last axle leaves")(
-        "window-cycles", po::value<double>()->default_value(4.0), "cycles per amplitude window")(
-        "min-cycles", po::value<double>()->default_value(5.0), "shortest decay accepted [cycles]");
+  const auto declare = [](po::options_description& d, DecayCliOptions& k) {
+    d.add_options()("channel", optional_value(k.channel), "the response channel (required)")(
+        "frequency-hz", optional_value(k.frequency_hz), "the mode to isolate [Hz] (required)")(
+        "band-ratio", value(k.decay.band_ratio), "band-pass f(1 -/+ r)")(
+        "order", value(k.decay.filter_order), "band-pass Chebyshev I order (0: no filter)")(
+        "start-s", optional_value(k.start_s), "start of the free decay [s] (default: detected)")(
+        "entry-s", optional_value(k.entry_s), "or: time the first axle enters the bridge [s] ...")(
+        "speed-kmh", optional_value(k.speed_kmh), "... the train speed [km/h] ...")(
+        "train-length-m", optional_value(k.train_length_m), "... its length [m] ...")(
+        "bridge-length-m", optional_value(k.bridge_length_m), "... and the bridge length [m]: start when the last axle leaves")(
+        "window-cycles", value(k.decay.window_cycles), "cycles per amplitude window")(
+        "min-cycles", value(k.decay.min_cycles), "shortest decay accepted [cycles]");
   };
   c.usage_and_samples =
       "One or more records of passages. For each: band-pass around --frequency-hz, find the start of\n"
@@ -534,22 +511,17 @@ Command decay_command() {
       "Sample runs:\n"
       "  viaduct run scenarios/old-guadiana-talgo.toml --set analysis.free_vibration_s=5 --out out/passage\n"
       "  viaduct decay out/passage/history.csv --channel S1_mid_acc --frequency-hz 10 --out out/decay\n";
-  c.run = [](const Common& o, const po::variables_map& vm) {
-    if (!vm.count("channel")) throw InputError("--channel is required");
-    if (!vm.count("frequency-hz")) throw InputError("--frequency-hz (the mode to isolate) is required");
-    ident::DecayOptions d;
-    d.frequency_hz = vm["frequency-hz"].as<double>();
-    d.band_ratio = vm["band-ratio"].as<double>();
-    d.filter_order = vm["order"].as<int>();
-    d.window_cycles = vm["window-cycles"].as<double>();
-    d.min_cycles = vm["min-cycles"].as<double>();
-    const int n_train = static_cast<int>(vm.count("entry-s") + vm.count("speed-kmh") + vm.count("train-length-m") + vm.count("bridge-length-m"));
+  const auto body = [](const Common& o, const DecayCliOptions& k) {
+    if (!k.channel) throw InputError("--channel is required");
+    if (!k.frequency_hz) throw InputError("--frequency-hz (the mode to isolate) is required");
+    ident::DecayOptions d = k.decay;
+    d.frequency_hz = *k.frequency_hz;
+    const int n_train = int{k.entry_s.has_value()} + int{k.speed_kmh.has_value()} + int{k.train_length_m.has_value()} +
+                        int{k.bridge_length_m.has_value()};
     if (n_train != 0 && n_train != 4) throw InputError("--entry-s, --speed-kmh, --train-length-m and --bridge-length-m go together");
-    if (n_train == 4 && vm.count("start-s")) throw InputError("give --start-s or the train's passage, not both");
-    if (vm.count("start-s")) d.start_s = vm["start-s"].as<double>();
-    if (n_train == 4)
-      d.start_s = ident::passage_end_time(vm["entry-s"].as<double>(), vm["train-length-m"].as<double>(),
-                                          vm["bridge-length-m"].as<double>(), vm["speed-kmh"].as<double>() / 3.6);
+    if (n_train == 4 && k.start_s) throw InputError("give --start-s or the train's passage, not both");
+    if (k.start_s) d.start_s = *k.start_s;
+    if (n_train == 4) d.start_s = ident::passage_end_time(*k.entry_s, *k.train_length_m, *k.bridge_length_m, *k.speed_kmh / 3.6);
     std::vector<std::string> files{o.scenario};
     files.insert(files.end(), o.more.begin(), o.more.end());
     std::vector<std::vector<std::string>> rows, amp_rows;
@@ -558,7 +530,7 @@ Command decay_command() {
     for (const auto& path : files) {
       try {
         const io::Record rec = io::read_record(path);
-        const std::size_t ch = rec.channel(vm["channel"].as<std::string>());
+        const std::size_t ch = rec.channel(*k.channel);
         const ident::DecayResult r = ident::analyse_decay(rec.data.col(static_cast<Index>(ch)), rec.fs_hz, rec.t0_s, d);
         rows.push_back({path, rec.channels[ch], fmt(r.start_s), r.start_detected ? "detected" : "given", fmt(r.end_s),
                         fmt(r.n_cycles, "%.1f"), fmt(r.frequency_hz), fmt(r.zeta_log_decrement), fmt(r.zeta_envelope_fit),
@@ -603,6 +575,7 @@ Command decay_command() {
     if (!o.quiet) std::printf("wrote %s/decay.csv, decay_amplitude.csv, decay_summary.csv\n", o.out.c_str());
     return ok;
   };
+  bind(c, +declare, +body);
   return c;
 }
 

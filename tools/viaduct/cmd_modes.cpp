@@ -12,8 +12,11 @@ Command modes_command() {
   Command c;
   c.name = "modes";
   c.summary = "natural frequencies and mode shapes of the assembled structure (modes.csv)";
-  c.add_options = [](po::options_description& d) {
-    d.add_options()("n-modes", po::value<int>()->default_value(20), "number of modes to write (0: all)");
+  struct ModesOptions {
+    int n_modes = 20;
+  };
+  const auto declare = [](po::options_description& d, ModesOptions& m) {
+    d.add_options()("n-modes", value(m.n_modes), "number of modes to write (0: all)");
   };
   c.usage_and_samples =
       "Writes OUT/modes.csv: mode,frequency_hz and the mass-normalised shape at every station\n"
@@ -21,8 +24,8 @@ Command modes_command() {
       "Sample runs:\n"
       "  viaduct modes scenarios/old-guadiana-sensitivity.toml --out out/modes\n"
       "  viaduct modes scenarios/hslm-simply-supported.toml --n-modes 5 --out out/modes-hslm\n";
-  c.run = [](const Common& o, const po::variables_map& vm) {
-    const int n = vm["n-modes"].as<int>();
+  const auto body = [](const Common& o, const ModesOptions& opts) {
+    const int n = opts.n_modes;
     if (n < 0) throw InputError("--n-modes must be >= 0");
     const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
     const study::Scenario sc = io::to_scenario(flat);
@@ -39,6 +42,7 @@ Command modes_command() {
     }
     return ok;
   };
+  bind(c, +declare, +body);
   return c;
 }
 

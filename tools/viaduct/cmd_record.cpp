@@ -17,10 +17,10 @@ namespace viaduct::cli {
 namespace {
 
 // Channels named by --channel (all when none).
-std::vector<std::size_t> selected(const io::Record& r, const po::variables_map& vm) {
+std::vector<std::size_t> selected(const io::Record& r, const std::vector<std::string>& channels) {
   std::vector<std::size_t> out;
-  if (vm.count("channel"))
-    for (const auto& c : vm["channel"].as<std::vector<std::string>>()) out.push_back(r.channel(c));
+  if (!channels.empty())
+    for (const auto& c : channels) out.push_back(r.channel(c));
   else
     for (std::size_t i = 0; i < r.channels.size(); ++i) out.push_back(i);
   return out;
@@ -30,8 +30,7 @@ std::string base_name(const io::Record& r, std::size_t c) {
   return r.channels[c].substr(0, r.channels[c].size() - r.units[c].size() - 1);
 }
 
-signal::Window window_option(const po::variables_map& vm) {
-  const std::string w = vm["window"].as<std::string>();
+signal::Window window_option(const std::string& w) {
   if (w == "hann") return signal::Window::hann;
   if (w == "rectangular") return signal::Window::rectangular;
   throw InputError("--window must be hann or rectangular, got '" + w + "'");
@@ -55,10 +54,54 @@ io::Record transform_channels(const io::Record& in, const std::vector<std::size_
   return out;
 }
 
-void add_channel_option(po::options_description& d) {
-  d.add_options()("channel", po::value<std::vector<std::string>>()->composing(),
-                  "channel to process (repeatable; default: all), full name or without its unit");
+void add_channel_option(po::options_description& d, std::vector<std::string>& channels) {
+  d.add_options()("channel", list_value(channels), "channel to process (repeatable; default: all), full name or without its unit");
 }
+
+struct FilterOptions {
+  std::vector<std::string> channels;
+  std::string band = "bandpass";
+  double low_hz = 1.0, high_hz = 30.0;
+  int order = 3;
+  double ripple_db = 0.5;
+};
+
+struct SpectrumOptions {
+  std::vector<std::string> channels;
+  bool welch = false;
+  long nperseg = 4096, noverlap = -1;
+  std::string window = "hann", detrend = "constant";
+};
+
+struct PeaksOptions {
+  std::vector<std::string> channels;
+  bool time = false;
+  std::string window = "hann";
+  std::optional<double> min_height;
+  double min_prominence = 0.0, min_distance = 0.0;
+  int max_peaks = 10;
+};
+
+struct SpeedOptions {
+  std::vector<std::string> channels;
+  std::optional<double> distance_m;
+  double v_min_kmh = 40.0, v_max_kmh = 400.0;
+  int harmonics = 4;
+  bool peaks = false;
+  double min_interval_s = 0.1;
+};
+
+struct ResampleOptions {
+  std::vector<std::string> channels;
+  std::optional<double> fs_hz;
+  std::optional<int> decimate;
+};
+
+struct EnvelopeOptions {
+  std::vector<std::string> channels;
+  std::string kind = "rms";
+  double window_s = 1.0;
+};
 
 }  // namespace
 
@@ -67,13 +110,13 @@ Command filter_command() {
   c.name = "filter";
   c.positional = "RECORD";
   c.summary = "zero-phase Chebyshev I filtering of a record's channels (filtered.csv)";
-  c.add_options = [](po::options_description& d) {
-    add_channel_option(d);
-    d.add_options()("band", po::value<std::string>()->default_value("bandpass"), "lowpass, highpass or bandpass")(
-        "low-hz", po::value<double>()->default_value(1.0), "lower band edge [Hz] (highpass, bandpass)")(
-        "high-hz", po::value<double>()->default_value(30.0), "upper band edge [Hz] (lowpass, bandpass)")(
-        "order", po::value<int>()->default_value(3), "Chebyshev I order (band-pass: 2 x order poles)")(
-        "ripple-db", po::value<double>()->default_value(0.5), "passband ripple [dB]; one pass is -ripple at the edges");
+  const auto declare = [](po::options_description& d, FilterOptions& f) {
+    add_channel_option(d, f.channels);
+    d.add_options()("band", value(f.band), "lowpass, highpass or bandpass")(
+        "low-hz", value(f.low_hz), "lower band edge [Hz] (highpass, bandpass)")(
+        "high-hz", value(f.high_hz), "upper band edge [Hz] (lowpass, bandpass)")(
+        "order", value(f.order), "Chebyshev I order (band-pass: 2 x order poles)")(
+        "ripple-db", value(f.ripple_db), "passband ripple [dB]; one pass is -ripple at the edges");
   };
   c.usage_and_samples =
       "RECORD is a CSV record (docs/records.md), e.g. a history.csv written by viaduct run.\n"
@@ -82,20 +125,20 @@ Command filter_command() {
       "Sample runs:\n"
       "  viaduct filter data/records/synthetic-deck.csv --low-hz 1 --high-hz 30 --out out/filtered\n"
       "  viaduct filter data/records/synthetic-deck.csv --band lowpass --high-hz 15 --channel deck_acc --out out/lp\n";
-  c.run = [](const Common& o, const po::variables_map& vm) {
+  const auto body = [](const Common& o, const FilterOptions& f) {
     const io::Record in = io::read_record(o.scenario);
     signal::Cheby1Spec spec;
-    const std::string band = vm["band"].as<std::string>();
+    const std::string& band = f.band;
     if (band == "bandpass") spec.band = signal::BandType::bandpass;
     else if (band == "lowpass") spec.band = signal::BandType::lowpass;
     else if (band == "highpass") spec.band = signal::BandType::highpass;
     else throw InputError("--band must be lowpass, highpass or bandpass, got '" + band + "'");
-    spec.low_hz = vm["low-hz"].as<double>();
-    spec.high_hz = vm["high-hz"].as<double>();
-    spec.order = vm["order"].as<int>();
-    spec.ripple_db = vm["ripple-db"].as<double>();
+    spec.low_hz = f.low_hz;
+    spec.high_hz = f.high_hz;
+    spec.order = f.order;
+    spec.ripple_db = f.ripple_db;
     const signal::Sos sos = signal::cheby1(spec, in.fs_hz);
-    const auto chans = selected(in, vm);
+    const auto chans = selected(in, f.channels);
     const io::Record out = transform_channels(in, chans, in.fs_hz, [&](const Vector& x) { return signal::sosfiltfilt(sos, x); });
     make_out_dir(o.out);
     io::write_record_csv(o.out + "/filtered.csv", out);
@@ -105,6 +148,7 @@ Command filter_command() {
                   static_cast<long>(in.n_samples()), in.fs_hz, o.out.c_str());
     return ok;
   };
+  bind(c, +declare, +body);
   return c;
 }
 
@@ -113,13 +157,13 @@ Command spectrum_command() {
   c.name = "spectrum";
   c.positional = "RECORD";
   c.summary = "amplitude spectrum or Welch PSD of a record's channels (spectrum.csv)";
-  c.add_options = [](po::options_description& d) {
-    add_channel_option(d);
-    d.add_options()("welch", po::bool_switch(), "Welch power spectral density instead of the amplitude spectrum")(
-        "nperseg", po::value<long>()->default_value(4096), "Welch: samples per segment")(
-        "noverlap", po::value<long>()->default_value(-1), "Welch: overlap in samples (-1: half a segment)")(
-        "window", po::value<std::string>()->default_value("hann"), "hann or rectangular")(
-        "detrend", po::value<std::string>()->default_value("constant"), "Welch: constant, linear or none");
+  const auto declare = [](po::options_description& d, SpectrumOptions& s) {
+    add_channel_option(d, s.channels);
+    d.add_options()("welch", po::bool_switch(&s.welch), "Welch power spectral density instead of the amplitude spectrum")(
+        "nperseg", value(s.nperseg), "Welch: samples per segment")(
+        "noverlap", value(s.noverlap), "Welch: overlap in samples (-1: half a segment)")(
+        "window", value(s.window), "hann or rectangular")(
+        "detrend", value(s.detrend), "Welch: constant, linear or none");
   };
   c.usage_and_samples =
       "Amplitude spectrum: one-sided 2|X|/sum(w) of the whole record (a sine of amplitude a on a\n"
@@ -129,20 +173,20 @@ Command spectrum_command() {
       "Sample runs:\n"
       "  viaduct spectrum data/records/synthetic-deck.csv --out out/spectrum\n"
       "  viaduct spectrum data/records/synthetic-deck.csv --welch --nperseg 1024 --out out/psd\n";
-  c.run = [](const Common& o, const po::variables_map& vm) {
+  const auto body = [](const Common& o, const SpectrumOptions& s) {
     const io::Record in = io::read_record(o.scenario);
-    const auto chans = selected(in, vm);
-    const signal::Window w = window_option(vm);
-    const bool welch = vm["welch"].as<bool>();
+    const auto chans = selected(in, s.channels);
+    const signal::Window w = window_option(s.window);
+    const bool welch = s.welch;
     std::vector<Vector> cols;
     Vector f;
     std::vector<std::string> names;
     if (welch) {
       signal::WelchOptions wo;
-      wo.nperseg = vm["nperseg"].as<long>();
-      wo.noverlap = vm["noverlap"].as<long>();
+      wo.nperseg = s.nperseg;
+      wo.noverlap = s.noverlap;
       wo.window = w;
-      const std::string d = vm["detrend"].as<std::string>();
+      const std::string& d = s.detrend;
       if (d == "constant") wo.detrend = signal::Detrend::constant;
       else if (d == "linear") wo.detrend = signal::Detrend::linear;
       else if (d == "none") wo.detrend = signal::Detrend::none;
@@ -172,6 +216,7 @@ Command spectrum_command() {
                   f[f.size() - 1], path.c_str());
     return ok;
   };
+  bind(c, +declare, +body);
   return c;
 }
 
@@ -180,14 +225,14 @@ Command peaks_command() {
   c.name = "peaks";
   c.positional = "RECORD";
   c.summary = "peaks of a record's spectrum or time history, with interpolated positions (peaks.csv)";
-  c.add_options = [](po::options_description& d) {
-    add_channel_option(d);
-    d.add_options()("time", po::bool_switch(), "pick peaks of the time history (default: of the amplitude spectrum)")(
-        "window", po::value<std::string>()->default_value("hann"), "spectrum window: hann or rectangular")(
-        "min-height", po::value<double>(), "keep peaks at least this high (channel unit)")(
-        "min-prominence", po::value<double>()->default_value(0.0), "keep peaks at least this prominent (SciPy's definition)")(
-        "min-distance", po::value<double>()->default_value(0.0), "between kept peaks: Hz (spectrum) or s (time)")(
-        "max-peaks", po::value<int>()->default_value(10), "keep the highest N (0: all)");
+  const auto declare = [](po::options_description& d, PeaksOptions& p) {
+    add_channel_option(d, p.channels);
+    d.add_options()("time", po::bool_switch(&p.time), "pick peaks of the time history (default: of the amplitude spectrum)")(
+        "window", value(p.window), "spectrum window: hann or rectangular")(
+        "min-height", optional_value(p.min_height), "keep peaks at least this high (channel unit)")(
+        "min-prominence", value(p.min_prominence), "keep peaks at least this prominent (SciPy's definition)")(
+        "min-distance", value(p.min_distance), "between kept peaks: Hz (spectrum) or s (time)")(
+        "max-peaks", value(p.max_peaks), "keep the highest N (0: all)");
   };
   c.usage_and_samples =
       "Writes OUT/peaks.csv: channel,unit,frequency_hz (or t_s),value,prominence, positions\n"
@@ -196,21 +241,21 @@ Command peaks_command() {
       "Sample runs:\n"
       "  viaduct peaks data/records/synthetic-deck.csv --channel deck_acc --max-peaks 3 --out out/peaks\n"
       "  viaduct peaks data/records/synthetic-deck.csv --channel deck_disp --time --min-distance 0.2 --max-peaks 0 --out out/axles\n";
-  c.run = [](const Common& o, const po::variables_map& vm) {
+  const auto body = [](const Common& o, const PeaksOptions& p) {
     const io::Record in = io::read_record(o.scenario);
-    const bool time = vm["time"].as<bool>();
-    const signal::Window window = window_option(vm);
+    const bool time = p.time;
+    const signal::Window window = window_option(p.window);
     signal::PeakOptions po_;
-    if (vm.count("min-height")) po_.min_height = vm["min-height"].as<double>();
-    po_.min_prominence = vm["min-prominence"].as<double>();
-    const int max_peaks = vm["max-peaks"].as<int>();
+    if (p.min_height) po_.min_height = *p.min_height;
+    po_.min_prominence = p.min_prominence;
+    const int max_peaks = p.max_peaks;
     if (max_peaks < 0) throw InputError("--max-peaks must be >= 0");
     po_.max_peaks = static_cast<std::size_t>(max_peaks);
-    const double dist = vm["min-distance"].as<double>();
+    const double dist = p.min_distance;
     if (!(dist >= 0.0) || !std::isfinite(dist)) throw InputError("--min-distance must be >= 0");
     std::vector<std::string> chan, unit;
     std::vector<double> pos, val, prom;
-    for (std::size_t ch : selected(in, vm)) {
+    for (std::size_t ch : selected(in, p.channels)) {
       Vector y = in.data.col(static_cast<Index>(ch));
       double step = 1.0 / in.fs_hz, origin = in.t0_s;
       if (!time) {
@@ -220,12 +265,12 @@ Command peaks_command() {
         origin = 0.0;
       }
       po_.min_distance = std::max<Index>(1, static_cast<Index>(std::ceil(dist / step)));
-      for (const auto& p : signal::find_peaks(y, po_)) {
+      for (const auto& pk : signal::find_peaks(y, po_)) {
         chan.push_back(in.channels[ch]);
         unit.push_back(in.units[ch]);
-        pos.push_back(origin + p.position * step);
-        val.push_back(p.value);
-        prom.push_back(p.prominence);
+        pos.push_back(origin + pk.position * step);
+        val.push_back(pk.value);
+        prom.push_back(pk.prominence);
       }
     }
     std::vector<std::vector<std::string>> rows;
@@ -242,6 +287,7 @@ Command peaks_command() {
     }
     return ok;
   };
+  bind(c, +declare, +body);
   return c;
 }
 
@@ -250,14 +296,14 @@ Command speed_command() {
   c.name = "speed";
   c.positional = "RECORD";
   c.summary = "train speed from a record: spectral lines of a characteristic distance, or axle peaks (speed.csv)";
-  c.add_options = [](po::options_description& d) {
-    add_channel_option(d);
-    d.add_options()("distance-m", po::value<double>(), "the train's characteristic distance d [m] (e.g. 13.14 for a Talgo rake, D for HSLM)")(
-        "v-min-kmh", po::value<double>()->default_value(40.0), "lowest speed searched [km/h]")(
-        "v-max-kmh", po::value<double>()->default_value(400.0), "highest speed searched [km/h]")(
-        "harmonics", po::value<int>()->default_value(4), "harmonics of v/d in the spectral comb")(
-        "peaks", po::bool_switch(), "use axle-passage peaks (a channel that sees each axle) instead of spectral lines")(
-        "min-interval-s", po::value<double>()->default_value(0.1), "peaks: least time between two axle peaks [s]");
+  const auto declare = [](po::options_description& d, SpeedOptions& s) {
+    add_channel_option(d, s.channels);
+    d.add_options()("distance-m", optional_value(s.distance_m), "the train's characteristic distance d [m] (e.g. 13.14 for a Talgo rake, D for HSLM)")(
+        "v-min-kmh", value(s.v_min_kmh), "lowest speed searched [km/h]")(
+        "v-max-kmh", value(s.v_max_kmh), "highest speed searched [km/h]")(
+        "harmonics", value(s.harmonics), "harmonics of v/d in the spectral comb")(
+        "peaks", po::bool_switch(&s.peaks), "use axle-passage peaks (a channel that sees each axle) instead of spectral lines")(
+        "min-interval-s", value(s.min_interval_s), "peaks: least time between two axle peaks [s]");
   };
   c.usage_and_samples =
       "Spectral: the speed whose harmonics k*v/d (k = 1..harmonics) best match the lines of the\n"
@@ -267,19 +313,18 @@ Command speed_command() {
       "Sample runs:\n"
       "  viaduct speed data/records/synthetic-deck.csv --channel deck_acc --distance-m 13.14 --v-min-kmh 100 --v-max-kmh 250 --out out/speed\n"
       "  viaduct speed data/records/synthetic-deck.csv --channel deck_disp --distance-m 13.14 --peaks --min-interval-s 0.2 --out out/speed-peaks\n";
-  c.run = [](const Common& o, const po::variables_map& vm) {
+  const auto body = [](const Common& o, const SpeedOptions& s) {
     const io::Record in = io::read_record(o.scenario);
-    if (!vm.count("distance-m")) throw InputError("--distance-m is required (the train's characteristic distance)");
-    const double d = vm["distance-m"].as<double>();
-    const bool peaks = vm["peaks"].as<bool>();
+    if (!s.distance_m) throw InputError("--distance-m is required (the train's characteristic distance)");
+    const double d = *s.distance_m;
+    const bool peaks = s.peaks;
     std::vector<std::vector<std::string>> rows;
     auto num = [](double v) { return format_number(v, 8); };
-    for (std::size_t ch : selected(in, vm)) {
+    for (std::size_t ch : selected(in, s.channels)) {
       const Vector x = in.data.col(static_cast<Index>(ch));
       const study::SpeedEstimate e =
-          peaks ? study::speed_from_peaks(x, in.fs_hz, d, vm["min-interval-s"].as<double>())
-                : study::speed_from_spectrum(x, in.fs_hz, d, vm["v-min-kmh"].as<double>() / 3.6,
-                                             vm["v-max-kmh"].as<double>() / 3.6, vm["harmonics"].as<int>());
+          peaks ? study::speed_from_peaks(x, in.fs_hz, d, s.min_interval_s)
+                : study::speed_from_spectrum(x, in.fs_hz, d, s.v_min_kmh / 3.6, s.v_max_kmh / 3.6, s.harmonics);
       rows.push_back({in.channels[ch], peaks ? "axle-peaks" : "spectral-lines", num(e.speed * 3.6),
                       num(e.uncertainty * 3.6), num(e.frequency_hz), std::to_string(e.n_used)});
       if (!o.quiet)
@@ -292,6 +337,7 @@ Command speed_command() {
     if (!o.quiet) std::printf("wrote %s/speed.csv\n", o.out.c_str());
     return ok;
   };
+  bind(c, +declare, +body);
   return c;
 }
 
@@ -300,10 +346,10 @@ Command resample_command() {
   c.name = "resample";
   c.positional = "RECORD";
   c.summary = "a record at another sampling rate: decimation or anti-aliased interpolation (resampled.csv)";
-  c.add_options = [](po::options_description& d) {
-    add_channel_option(d);
-    d.add_options()("fs-hz", po::value<double>(), "new sampling rate [Hz] (anti-alias low-pass when lower)")(
-        "decimate", po::value<int>(), "keep every q-th sample after scipy.signal.decimate's low-pass");
+  const auto declare = [](po::options_description& d, ResampleOptions& r) {
+    add_channel_option(d, r.channels);
+    d.add_options()("fs-hz", optional_value(r.fs_hz), "new sampling rate [Hz] (anti-alias low-pass when lower)")(
+        "decimate", optional_value(r.decimate), "keep every q-th sample after scipy.signal.decimate's low-pass");
   };
   c.usage_and_samples =
       "--decimate Q follows scipy.signal.decimate(x, Q) (Chebyshev I order 8, 0.05 dB, zero phase).\n"
@@ -312,14 +358,14 @@ Command resample_command() {
       "Sample runs:\n"
       "  viaduct resample data/records/synthetic-deck.csv --decimate 5 --out out/dec\n"
       "  viaduct resample data/records/synthetic-deck.csv --fs-hz 4096 --out out/up\n";
-  c.run = [](const Common& o, const po::variables_map& vm) {
+  const auto body = [](const Common& o, const ResampleOptions& r) {
     const io::Record in = io::read_record(o.scenario);
-    if (vm.count("fs-hz") == vm.count("decimate")) throw InputError("give exactly one of --fs-hz or --decimate");
-    const auto chans = selected(in, vm);
-    const bool dec = vm.count("decimate") > 0;
-    const double fs_out = dec ? in.fs_hz / vm["decimate"].as<int>() : vm["fs-hz"].as<double>();
+    if (r.fs_hz.has_value() == r.decimate.has_value()) throw InputError("give exactly one of --fs-hz or --decimate");
+    const auto chans = selected(in, r.channels);
+    const bool dec = r.decimate.has_value();
+    const double fs_out = dec ? in.fs_hz / *r.decimate : *r.fs_hz;
     const io::Record out = transform_channels(in, chans, fs_out, [&](const Vector& x) {
-      return dec ? signal::decimate(x, vm["decimate"].as<int>()) : signal::resample(x, in.fs_hz, fs_out);
+      return dec ? signal::decimate(x, *r.decimate) : signal::resample(x, in.fs_hz, fs_out);
     });
     make_out_dir(o.out);
     io::write_record_csv(o.out + "/resampled.csv", out);
@@ -329,6 +375,7 @@ Command resample_command() {
                   static_cast<long>(in.n_samples()), in.fs_hz, static_cast<long>(out.n_samples()), out.fs_hz, o.out.c_str());
     return ok;
   };
+  bind(c, +declare, +body);
   return c;
 }
 
@@ -337,10 +384,10 @@ Command envelope_command() {
   c.name = "envelope";
   c.positional = "RECORD";
   c.summary = "running RMS, max-abs or Hilbert envelope of a record's channels (envelope.csv)";
-  c.add_options = [](po::options_description& d) {
-    add_channel_option(d);
-    d.add_options()("kind", po::value<std::string>()->default_value("rms"), "rms, maxabs or hilbert")(
-        "window-s", po::value<double>()->default_value(1.0), "rms and maxabs: centred window [s]");
+  const auto declare = [](po::options_description& d, EnvelopeOptions& e) {
+    add_channel_option(d, e.channels);
+    d.add_options()("kind", value(e.kind), "rms, maxabs or hilbert")(
+        "window-s", value(e.window_s), "rms and maxabs: centred window [s]");
   };
   c.usage_and_samples =
       "rms: root mean square over a centred window; maxabs: largest |x| over a centred window;\n"
@@ -349,14 +396,14 @@ Command envelope_command() {
       "Sample runs:\n"
       "  viaduct envelope data/records/synthetic-deck.csv --kind rms --window-s 0.5 --out out/rms\n"
       "  viaduct envelope data/records/synthetic-deck.csv --kind hilbert --channel deck_acc --out out/hilbert\n";
-  c.run = [](const Common& o, const po::variables_map& vm) {
+  const auto body = [](const Common& o, const EnvelopeOptions& e) {
     const io::Record in = io::read_record(o.scenario);
-    const std::string kind = vm["kind"].as<std::string>();
+    const std::string& kind = e.kind;
     if (kind != "rms" && kind != "maxabs" && kind != "hilbert") throw InputError("--kind must be rms, maxabs or hilbert");
-    const double w_s = vm["window-s"].as<double>();
+    const double w_s = e.window_s;
     if (!(w_s > 0.0) || !std::isfinite(w_s)) throw InputError("--window-s must be > 0");
     const Index w = 2 * static_cast<Index>(std::llround(w_s * in.fs_hz / 2)) + 1;
-    const auto chans = selected(in, vm);
+    const auto chans = selected(in, e.channels);
     const io::Record out = transform_channels(in, chans, in.fs_hz, [&](const Vector& x) {
       return kind == "rms" ? signal::running_rms(x, w) : kind == "maxabs" ? signal::maxabs_envelope(x, w) : signal::hilbert_envelope(x);
     });
@@ -366,6 +413,7 @@ Command envelope_command() {
     if (!o.quiet) std::printf("%s envelope of %zu channels; wrote %s/envelope.csv\n", kind.c_str(), chans.size(), o.out.c_str());
     return ok;
   };
+  bind(c, +declare, +body);
   return c;
 }
 

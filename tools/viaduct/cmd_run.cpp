@@ -7,13 +7,20 @@
 
 namespace viaduct::cli {
 
+namespace {
+struct RunOptions {
+  std::optional<double> speed_kmh;
+  std::optional<std::string> train;
+};
+}  // namespace
+
 Command run_command() {
   Command c;
   c.name = "run";
   c.summary = "one train at one speed: station time histories (history.csv)";
-  c.add_options = [](po::options_description& d) {
-    d.add_options()("speed-kmh", po::value<double>(), "train speed [km/h] (default: run.speed_kmh)")(
-        "train", po::value<std::string>(), "train name (default: the first of train.files)");
+  const auto declare = [](po::options_description& d, RunOptions& r) {
+    d.add_options()("speed-kmh", optional_value(r.speed_kmh), "train speed [km/h] (default: run.speed_kmh)")(
+        "train", optional_value(r.train), "train name (default: the first of train.files)");
   };
   c.usage_and_samples =
       "Writes OUT/history.csv (t_s and, per station, deflection, raw and filtered acceleration,\n"
@@ -21,13 +28,13 @@ Command run_command() {
       "Sample runs:\n"
       "  viaduct run scenarios/old-guadiana-talgo.toml --out out/talgo\n"
       "  viaduct run scenarios/hslm-simply-supported.toml --speed-kmh 300 --train HSLM-A4 --out out/a4\n";
-  c.run = [](const Common& o, const po::variables_map& vm) {
+  const auto body = [](const Common& o, const RunOptions& ro) {
     const auto t0 = std::chrono::steady_clock::now();
     const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
     study::Scenario sc = io::to_scenario(flat);
     double speed = 0.0;
-    if (vm.count("speed-kmh")) {
-      speed = vm["speed-kmh"].as<double>() / 3.6;
+    if (ro.speed_kmh) {
+      speed = *ro.speed_kmh / 3.6;
       if (!(speed > 0.0) || !std::isfinite(speed)) throw InputError("--speed-kmh must be > 0");
     } else if (sc.run_speed) {
       speed = *sc.run_speed;
@@ -35,14 +42,14 @@ Command run_command() {
       throw InputError("no speed: give --speed-kmh or run.speed_kmh in the scenario");
     }
     const load::Train* train = &sc.trains.front();
-    if (vm.count("train")) {
+    if (ro.train) {
       train = nullptr;
       std::string names;
       for (const auto& t : sc.trains) {
         names += " " + t.name;
-        if (t.name == vm["train"].as<std::string>()) train = &t;
+        if (t.name == *ro.train) train = &t;
       }
-      if (!train) throw InputError("no train named '" + vm["train"].as<std::string>() + "'; the scenario has:" + names);
+      if (!train) throw InputError("no train named '" + *ro.train + "'; the scenario has:" + names);
     }
     sc.settings.ida.log = log_printer(o.quiet);
     const study::PreparedModel pm = study::prepare_model(sc);
@@ -79,6 +86,7 @@ Command run_command() {
     }
     return ok;
   };
+  bind(c, +declare, +body);
   return c;
 }
 

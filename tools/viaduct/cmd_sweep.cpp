@@ -19,7 +19,7 @@ Command sweep_command() {
       "Sample runs:\n"
       "  viaduct sweep scenarios/hslm-simply-supported.toml --set 'train.files=[\"data/trains/hslm/A1.toml\"]' --set sweep.speed_step_kmh=20 --out out/hslm\n"
       "  viaduct sweep scenarios/old-guadiana-sensitivity.toml --set sweep.speed_min_mps=90 --set sweep.n_speeds=1 --threads 0 --out out/og\n";
-  c.run = [](const Common& o, const po::variables_map&) {
+  c.run = [](const Common& o) {
     const auto t0 = std::chrono::steady_clock::now();
     const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
     auto variants = io::sweep_variants(flat);

@@ -22,16 +22,21 @@ std::vector<std::string> cells(const study::TradeoffRow& r) {
           modal ? (s.modal.static_correction ? "true" : "false") : "", num(r.wall_s), std::to_string(r.n_failed),
           num(r.max_acc_error), num(r.max_disp_error)};
 }
+struct TradeoffOptions {
+  std::optional<int> speeds;
+  std::optional<double> reference_dt;
+  bool with_ida = false;
+};
 }  // namespace
 
 Command tradeoff_command() {
   Command c;
   c.name = "tradeoff";
   c.summary = "envelope error against wall time for a ladder of methods and settings (tradeoff.csv)";
-  c.add_options = [](po::options_description& d) {
-    d.add_options()("speeds", po::value<int>(), "use N of the scenario's sweep speeds, evenly spread (default: all)")(
-        "reference-dt", po::value<double>(), "[s] step of the Newmark reference (default: analysis.dt / 4)")(
-        "with-ida", "add IDA rungs (rtol 1e-2, 1e-3, 1e-4; slow on track models)");
+  const auto declare = [](po::options_description& d, TradeoffOptions& t) {
+    d.add_options()("speeds", optional_value(t.speeds), "use N of the scenario's sweep speeds, evenly spread (default: all)")(
+        "reference-dt", optional_value(t.reference_dt), "[s] step of the Newmark reference (default: analysis.dt / 4)")(
+        "with-ida", po::bool_switch(&t.with_ida), "add IDA rungs (rtol 1e-2, 1e-3, 1e-4; slow on track models)");
   };
   c.usage_and_samples =
       "Runs the scenario's speeds and trains (not its variants) with a converged reference (Newmark at\n"
@@ -44,15 +49,15 @@ Command tradeoff_command() {
       "Sample runs:\n"
       "  viaduct tradeoff scenarios/hslm-simply-supported.toml --speeds 3 --set 'train.files=[\"data/trains/hslm/A1.toml\"]' --out out/tradeoff-hslm\n"
       "  viaduct tradeoff scenarios/old-guadiana-sensitivity.toml --speeds 1 --set track.approach_length=3 --set track.exit_length=3 --out out/tradeoff-og\n";
-  c.run = [](const Common& o, const po::variables_map& vm) {
+  const auto body = [](const Common& o, const TradeoffOptions& t) {
     const auto t0 = std::chrono::steady_clock::now();
     const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
     study::Scenario sc = io::to_scenario(flat);
     sc.settings.ida.log = log_printer(o.quiet);
     if (sc.sweep_speeds.empty())
       throw InputError(SourceLocation{o.scenario, 0, "sweep"}, "no speeds: the trade-off runs the scenario's sweep speeds");
-    if (vm.count("speeds")) {
-      const int n = vm["speeds"].as<int>();
+    if (t.speeds) {
+      const int n = *t.speeds;
       if (n < 1) throw InputError("--speeds must be >= 1");
       if (static_cast<std::size_t>(n) < sc.sweep_speeds.size()) {
         std::vector<double> pick;
@@ -62,12 +67,12 @@ Command tradeoff_command() {
       }
     }
     double ref_dt = 0.0;
-    if (vm.count("reference-dt")) {
-      ref_dt = vm["reference-dt"].as<double>();
+    if (t.reference_dt) {
+      ref_dt = *t.reference_dt;
       if (!(ref_dt > 0.0)) throw InputError("--reference-dt must be > 0 [s]");
     }
     const study::RunSettings ref = study::reference_settings(sc, ref_dt);
-    const auto ladder = study::default_ladder(sc, vm.count("with-ida") > 0);
+    const auto ladder = study::default_ladder(sc, t.with_ida);
     make_out_dir(o.out);
     const study::TradeoffResult r = study::run_tradeoff(sc, ref, ladder, o.threads, progress_printer("tradeoff", o.quiet, "sweeps"));
 
@@ -102,6 +107,7 @@ Command tradeoff_command() {
       if (row.n_failed) return runtime_failure;
     return ok;
   };
+  bind(c, +declare, +body);
   return c;
 }
 

@@ -116,6 +116,29 @@ struct LscfResult {
 /// InputError when the band holds fewer than max_order + 2 frequencies.
 LscfResult lscf(const Frf& frf, const LscfOptions& o = {});
 
+// ---------------------------------------------------------------------------------------------
+// The whole fit (viaduct modal-fit)
+
+struct ModalFitOptions {
+  double f_min_hz = 0.0;                 ///< [Hz] band fitted
+  double f_max_hz = 1e9;                 ///< [Hz]
+  double min_relative_prominence = 0.05; ///< peak picking (PeakPickingOptions)
+  int max_order = 40;                    ///< LSCF (LscfOptions)
+  double cluster_tol = 0.005;            ///< LSCF
+  bool refine = true;                    ///< LSCF
+};
+
+struct ModalFitResult {
+  std::vector<IdentifiedMode> peak_picking;
+  std::vector<IdentifiedMode> circle_fit;  ///< one per peak with a finite damping whose fit succeeded
+  LscfResult lscf;
+  std::vector<std::string> warnings;       ///< "circle fit at F Hz: why" for each fit that failed
+};
+
+/// Peak picking on the band, a circle fit started from each peak, and LSCF with its
+/// stabilization diagram: the three estimates viaduct modal-fit reports side by side.
+ModalFitResult modal_fit(const Frf& frf, const ModalFitOptions& o);
+
 /// Residues (receptance) of the poles of `modes` fitted to every response of `frf` over
 /// [f_min, f_max], with lower (mass-like) and upper (stiffness-like) residuals; fills each
 /// mode's shape (normalised as IdentifiedMode::shape says).

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "viaduct/ident/frf.hpp"
+#include "viaduct/io/record.hpp"
 
 namespace viaduct::io {
 
@@ -20,5 +21,27 @@ ident::Frf read_frf_csv(const std::string& path);
 
 void write_steps_csv(const std::string& path, const std::vector<ident::SineStep>& steps);
 std::vector<ident::SineStep> read_steps_csv(const std::string& path);
+
+/// The force and responses of a forced-vibration test, taken from records (viaduct frf RECORD).
+struct FrfInputs {
+  Vector force;                                ///< the force channel
+  Matrix responses;                            ///< one column per response channel
+  std::string force_channel, force_unit;       ///< its full name; "N" or "kN"
+  std::vector<std::string> response_channels;  ///< full names
+  std::vector<std::string> response_units;     ///< their unit suffixes
+  double fs_hz = 0.0, t0_s = 0.0;              ///< rate and first sample of both
+};
+
+/// The channel `force` (N or kN) of `force_record` (or of `record` when null) and the channels
+/// `responses` of `record` (default: every m, mps and mps2 channel). InputError when a channel
+/// is missing or in the wrong unit, when there is no response, or when the two records differ
+/// in rate, start or length.
+FrfInputs frf_inputs(const Record& record, const std::string& record_path, const Record* force_record,
+                     const std::string& force, const std::vector<std::string>& responses);
+
+/// Names an estimated FRF after its channels: "S1_mid_acc_mps2" gives the response "S1_mid"
+/// (quantity tag _acc, _vel or _disp and unit dropped: station names) with the quantity its
+/// unit says; the force unit from the force channel.
+void label_frf(ident::Frf& frf, const FrfInputs& in);
 
 }  // namespace viaduct::io
