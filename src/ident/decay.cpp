@@ -84,64 +84,66 @@ double passage_end_time(double entry_s, double train_length_m, double bridge_len
   return entry_s + (train_length_m + bridge_length_m) / speed_mps;
 }
 
-DecayResult analyse_decay(const Vector& x, double fs_hz, double t0_s, const DecayOptions& o) {
-  require_positive(fs_hz, "sampling rate [Hz]");
-  std::string why;
-  if (!o.is_valid(fs_hz, &why)) throw InputError("decay: " + why);
-  if (x.size() < 16) throw InputError("decay: the record is too short (" + std::to_string(x.size()) + " samples)");
-  if (!x.allFinite()) throw InputError("decay: the record holds NaN or infinite samples");
-  const Index n = x.size();
-  const double t_last = t0_s + static_cast<double>(n - 1) / fs_hz;
-  const double f0 = o.frequency_hz;
-  Vector y = x.array() - x.mean();
+namespace {
+
+// The band-passed record with its Hilbert envelope and unwrapped phase, and the sample/time maps.
+struct DecaySignal {
+  double fs = 0.0, t0 = 0.0;
+  Index n = 0;
+  Vector y, env, phase;
+  double time_of(Index j) const { return t0 + static_cast<double>(j) / fs; }
+  Index index_of(double t) const { return std::clamp<Index>(static_cast<Index>(std::llround((t - t0) * fs)), 0, n - 1); }
+};
+
+DecaySignal band_passed(const Vector& x, double fs_hz, double t0_s, const DecayOptions& o) {
+  DecaySignal s;
+  s.fs = fs_hz;
+  s.t0 = t0_s;
+  s.n = x.size();
+  s.y = x.array() - x.mean();
   if (o.filter_order > 0) {
     signal::Cheby1Spec spec;
     spec.order = o.filter_order;
     spec.ripple_db = o.ripple_db;
     spec.band = signal::BandType::bandpass;
-    spec.low_hz = f0 * (1.0 - o.band_ratio);
-    spec.high_hz = f0 * (1.0 + o.band_ratio);
-    y = signal::sosfiltfilt(signal::cheby1(spec, fs_hz), y);
+    spec.low_hz = o.frequency_hz * (1.0 - o.band_ratio);
+    spec.high_hz = o.frequency_hz * (1.0 + o.band_ratio);
+    s.y = signal::sosfiltfilt(signal::cheby1(spec, fs_hz), s.y);
   }
-  const Eigen::VectorXcd z = signal::analytic_signal(y);
-  const Vector env = z.cwiseAbs();
-  Vector phase(n);
-  for (Index j = 0; j < n; ++j) {
-    phase[j] = std::arg(z[j]);
+  const Eigen::VectorXcd z = signal::analytic_signal(s.y);
+  s.env = z.cwiseAbs();
+  s.phase.resize(s.n);
+  for (Index j = 0; j < s.n; ++j) {
+    s.phase[j] = std::arg(z[j]);
     if (j > 0) {
-      while (phase[j] - phase[j - 1] > M_PI) phase[j] -= 2.0 * M_PI;
-      while (phase[j] - phase[j - 1] < -M_PI) phase[j] += 2.0 * M_PI;
+      while (s.phase[j] - s.phase[j - 1] > M_PI) s.phase[j] -= 2.0 * M_PI;
+      while (s.phase[j] - s.phase[j - 1] < -M_PI) s.phase[j] += 2.0 * M_PI;
     }
   }
-  auto time_of = [&](Index j) { return t0_s + static_cast<double>(j) / fs_hz; };
-  auto index_of = [&](double t) {
-    return std::clamp<Index>(static_cast<Index>(std::llround((t - t0_s) * fs_hz)), 0, n - 1);
-  };
-  const double cycle = 1.0 / f0;
-  const Index edge = std::min<Index>(n / 4, static_cast<Index>(std::ceil(2.0 * cycle * fs_hz)));
+  return s;
+}
 
-  // Noise floor and the end of the analysis.
+// The noise floor: the envelope's median over the record's last 5 % (short of the filter's edge).
+double noise_floor(const DecaySignal& s, Index edge) {
   std::vector<double> tail;
+  const Index n = s.n;
   for (Index j = static_cast<Index>(0.94 * static_cast<double>(n)); j < std::max<Index>(n - edge, static_cast<Index>(0.95 * static_cast<double>(n))); ++j)
-    tail.push_back(env[j]);
-  double noise = 0.0;
-  if (!tail.empty()) {
-    std::nth_element(tail.begin(), tail.begin() + static_cast<std::ptrdiff_t>(tail.size() / 2), tail.end());
-    noise = tail[tail.size() / 2];
-  }
-  const auto pos = peaks_of(y, fs_hz, t0_s, f0, true);
-  const auto neg = peaks_of(y, fs_hz, t0_s, f0, false);
-  std::vector<TimedPeak> half(pos);
-  half.insert(half.end(), neg.begin(), neg.end());
-  std::sort(half.begin(), half.end(), [](const auto& a, const auto& b) { return a.t < b.t; });
-  if (half.size() < 4) throw InputError("decay: fewer than 2 cycles of the mode in the record");
+    tail.push_back(s.env[j]);
+  if (tail.empty()) return 0.0;
+  std::nth_element(tail.begin(), tail.begin() + static_cast<std::ptrdiff_t>(tail.size() / 2), tail.end());
+  return tail[tail.size() / 2];
+}
 
-  DecayResult r;
-  const double t_usable_end = time_of(n - 1 - edge);
+// Start (given, or the first half-cycle peak after the largest from which the peaks only fall)
+// and end (given, or where the envelope sinks into the noise) of the free decay.
+void decay_window(const DecaySignal& s, const std::vector<TimedPeak>& half, double noise, Index edge, const DecayOptions& o,
+                  DecayResult& r) {
+  const double t_last = s.time_of(s.n - 1);
+  const double t_usable_end = s.time_of(s.n - 1 - edge);
   if (std::isfinite(o.start_s)) {
-    if (o.start_s < t0_s || o.start_s >= t_last)
-      throw InputError("decay: start " + std::to_string(o.start_s) + " s lies outside the record [" +
-                       std::to_string(t0_s) + ", " + std::to_string(t_last) + "] s");
+    if (o.start_s < s.t0 || o.start_s >= t_last)
+      throw InputError("decay: start " + std::to_string(o.start_s) + " s lies outside the record [" + std::to_string(s.t0) +
+                       ", " + std::to_string(t_last) + "] s");
     r.start_s = o.start_s;
   } else {
     r.start_detected = true;
@@ -157,41 +159,39 @@ DecayResult analyse_decay(const Vector& x, double fs_hz, double t0_s, const Deca
     r.start_s = half[ks].t;
   }
   if (std::isfinite(o.end_s)) {
-    if (o.end_s <= r.start_s || o.end_s > t_last + 0.5 / fs_hz)
-      throw InputError("decay: end " + std::to_string(o.end_s) + " s must lie after the start (" +
-                       std::to_string(r.start_s) + " s) and within the record");
+    if (o.end_s <= r.start_s || o.end_s > t_last + 0.5 / s.fs)
+      throw InputError("decay: end " + std::to_string(o.end_s) + " s must lie after the start (" + std::to_string(r.start_s) +
+                       " s) and within the record");
     r.end_s = std::min(o.end_s, t_usable_end);
   } else {
     r.end_s = t_usable_end;
-    for (Index j = index_of(r.start_s); j < n - edge; ++j)
-      if (env[j] < o.noise_factor * noise) {
-        r.end_s = time_of(j);
+    for (Index j = s.index_of(r.start_s); j < s.n - edge; ++j)
+      if (s.env[j] < o.noise_factor * noise) {
+        r.end_s = s.time_of(j);
         break;
       }
   }
-  const double a = r.start_s + o.skip_cycles * cycle;
-  const double b = r.end_s;
-  r.n_cycles = std::max(0.0, (b - a) * f0);
-  if (r.n_cycles < o.min_cycles)
-    throw InputError("decay: too short a decay: " + std::to_string(r.n_cycles) + " cycles of " + std::to_string(f0) +
-                     " Hz between " + std::to_string(a) + " s and " + std::to_string(b) +
-                     " s above the noise, at least " + std::to_string(o.min_cycles) + " needed");
+}
 
-  // Zero crossings (upwards) → damped period.
-  // Each crossing's timing error is about noise/(amplitude·ω): weights amplitude².
+// Damped angular frequency from the upward zero crossings in [a, b]. Each crossing's timing
+// error is about noise/(amplitude·ω): weights amplitude².
+double damped_frequency(const DecaySignal& s, double a, double b) {
   std::vector<double> kx, tx, wx;
-  for (Index j = index_of(a); j < index_of(b); ++j)
-    if (y[j] < 0.0 && y[j + 1] >= 0.0) {
-      const double frac = y[j] / (y[j] - y[j + 1]);
+  for (Index j = s.index_of(a); j < s.index_of(b); ++j)
+    if (s.y[j] < 0.0 && s.y[j + 1] >= 0.0) {
+      const double frac = s.y[j] / (s.y[j] - s.y[j + 1]);
       kx.push_back(static_cast<double>(kx.size()));
-      tx.push_back(time_of(j) + frac / fs_hz);
-      wx.push_back(env[j] * env[j]);
+      tx.push_back(s.time_of(j) + frac / s.fs);
+      wx.push_back(s.env[j] * s.env[j]);
     }
   if (kx.size() < 3) throw InputError("decay: fewer than 3 zero crossings in the decay");
-  const double wd = 2.0 * M_PI / fit_line(kx, tx, wx).slope;
+  return 2.0 * M_PI / fit_line(kx, tx, wx).slope;
+}
 
-  // Half-cycle peaks → envelope fit; positive peaks → logarithmic decrement.
-  // ln(peak) has an error of about noise/peak: weights peak².
+// Envelope fit of the half-cycle peaks in [a, b] (ln(peak) has an error of about noise/peak:
+// weights peak²) and logarithmic decrement of the positive peaks.
+void peak_estimates(const std::vector<TimedPeak>& half, const std::vector<TimedPeak>& pos, double a, double b, double wd,
+                    DecayResult& r) {
   std::vector<double> tp, lp, wp;
   for (const auto& p : half)
     if (p.t >= a && p.t <= b) tp.push_back(p.t), lp.push_back(std::log(p.value)), wp.push_back(p.value * p.value);
@@ -214,39 +214,35 @@ DecayResult analyse_decay(const Vector& x, double fs_hz, double t0_s, const Deca
   last = std::max<std::size_t>(last, std::min<std::size_t>(2, pw.size() - 1));
   const double delta = std::log(pw.front().value / pw[last].value) / static_cast<double>(last);
   r.zeta_log_decrement = delta / std::sqrt(4.0 * M_PI * M_PI + delta * delta);
+}
 
-  // Hilbert envelope and phase over the whole window.
-  // ln(envelope) and phase both have errors of about noise/envelope: weights envelope².
-  auto hilbert_fit = [&](double ta, double tb, double* sigma, double* w_d, double* amp_mid) {
-    std::vector<double> t, le, ph, w;
-    for (Index j = index_of(ta); j <= index_of(tb); ++j)
-      if (env[j] > 0.0) t.push_back(time_of(j)), le.push_back(std::log(env[j])), ph.push_back(phase[j]), w.push_back(env[j] * env[j]);
-    const Line l = fit_line(t, le, w);
-    *sigma = -l.slope;
-    *w_d = std::abs(fit_line(t, ph, w).slope);
-    if (amp_mid) *amp_mid = std::exp(l.at(0.5 * (ta + tb)));
-  };
-  double sh = 0.0, wdh = 0.0;
-  hilbert_fit(a, b, &sh, &wdh, nullptr);
-  const double wnh = std::sqrt(wdh * wdh + sh * sh);
-  r.zeta_hilbert = sh / wnh;
-  r.frequency_hilbert_hz = wnh / (2.0 * M_PI);
-  r.amplitude_start = env[index_of(a)];
-  r.amplitude_end = env[index_of(b)];
+// Decay rate, damped angular frequency and mid-window amplitude of the Hilbert envelope and
+// phase over [ta, tb]; both have errors of about noise/envelope: weights envelope².
+void hilbert_fit(const DecaySignal& s, double ta, double tb, double* sigma, double* w_d, double* amp_mid) {
+  std::vector<double> t, le, ph, w;
+  for (Index j = s.index_of(ta); j <= s.index_of(tb); ++j)
+    if (s.env[j] > 0.0) t.push_back(s.time_of(j)), le.push_back(std::log(s.env[j])), ph.push_back(s.phase[j]), w.push_back(s.env[j] * s.env[j]);
+  const Line l = fit_line(t, le, w);
+  *sigma = -l.slope;
+  *w_d = std::abs(fit_line(t, ph, w).slope);
+  if (amp_mid) *amp_mid = std::exp(l.at(0.5 * (ta + tb)));
+}
 
-  // Along the decay: windows of window_cycles, one cycle apart.
+// Along the decay: windows of window_cycles, one cycle apart, and the linear laws of damping and
+// frequency against amplitude.
+void amplitude_dependence(const DecaySignal& s, double a, double b, double wd, const DecayOptions& o, DecayResult& r) {
   const double W = o.window_cycles * 2.0 * M_PI / wd;
   const double step = 2.0 * M_PI / wd;
   std::vector<double> amps, zetas, freqs;
   for (double ta = a; ta + W <= b + 1e-12; ta += step) {
-    double s = 0.0, w = 0.0, amp = 0.0;
-    hilbert_fit(ta, ta + W, &s, &w, &amp);
-    const double wnw = std::sqrt(w * w + s * s);
+    double sg = 0.0, w = 0.0, amp = 0.0;
+    hilbert_fit(s, ta, ta + W, &sg, &w, &amp);
+    const double wnw = std::sqrt(w * w + sg * sg);
     AmplitudePoint p;
     p.t_s = ta + 0.5 * W;
     p.amplitude = amp;
     p.frequency_hz = wnw / (2.0 * M_PI);
-    p.damping_ratio = s / wnw;
+    p.damping_ratio = sg / wnw;
     r.by_amplitude.push_back(p);
     amps.push_back(amp);
     zetas.push_back(p.damping_ratio);
@@ -259,6 +255,47 @@ DecayResult analyse_decay(const Vector& x, double fs_hz, double t0_s, const Deca
     r.law_f_slope_hz = lf.slope;
     r.law_f0_hz = lf.at(0.0);
   }
+}
+
+}  // namespace
+
+DecayResult analyse_decay(const Vector& x, double fs_hz, double t0_s, const DecayOptions& o) {
+  require_positive(fs_hz, "sampling rate [Hz]");
+  std::string why;
+  if (!o.is_valid(fs_hz, &why)) throw InputError("decay: " + why);
+  if (x.size() < 16) throw InputError("decay: the record is too short (" + std::to_string(x.size()) + " samples)");
+  if (!x.allFinite()) throw InputError("decay: the record holds NaN or infinite samples");
+  const double f0 = o.frequency_hz;
+  const DecaySignal s = band_passed(x, fs_hz, t0_s, o);
+  const double cycle = 1.0 / f0;
+  const Index edge = std::min<Index>(s.n / 4, static_cast<Index>(std::ceil(2.0 * cycle * fs_hz)));
+  const double noise = noise_floor(s, edge);
+  const auto pos = peaks_of(s.y, fs_hz, t0_s, f0, true);
+  const auto neg = peaks_of(s.y, fs_hz, t0_s, f0, false);
+  std::vector<TimedPeak> half(pos);
+  half.insert(half.end(), neg.begin(), neg.end());
+  std::sort(half.begin(), half.end(), [](const auto& a, const auto& b) { return a.t < b.t; });
+  if (half.size() < 4) throw InputError("decay: fewer than 2 cycles of the mode in the record");
+
+  DecayResult r;
+  decay_window(s, half, noise, edge, o, r);
+  const double a = r.start_s + o.skip_cycles * cycle;
+  const double b = r.end_s;
+  r.n_cycles = std::max(0.0, (b - a) * f0);
+  if (r.n_cycles < o.min_cycles)
+    throw InputError("decay: too short a decay: " + std::to_string(r.n_cycles) + " cycles of " + std::to_string(f0) +
+                     " Hz between " + std::to_string(a) + " s and " + std::to_string(b) +
+                     " s above the noise, at least " + std::to_string(o.min_cycles) + " needed");
+  const double wd = damped_frequency(s, a, b);
+  peak_estimates(half, pos, a, b, wd, r);
+  double sh = 0.0, wdh = 0.0;
+  hilbert_fit(s, a, b, &sh, &wdh, nullptr);
+  const double wnh = std::sqrt(wdh * wdh + sh * sh);
+  r.zeta_hilbert = sh / wnh;
+  r.frequency_hilbert_hz = wnh / (2.0 * M_PI);
+  r.amplitude_start = s.env[s.index_of(a)];
+  r.amplitude_end = s.env[s.index_of(b)];
+  amplitude_dependence(s, a, b, wd, o, r);
   return r;
 }
 

@@ -224,116 +224,130 @@ ModalReduction::ModalReduction(const SparseMatrix& M, const SparseMatrix& C, con
   if (!complex_) {
     load_rows_ = phi;
   } else {
-    // ẋ = A x + B p with x = [q; q̇], A = [0 I; -Ω² -Cm], B = [0; I]; A = V Λ V⁻¹, y = V⁻¹ x.
-    // Solved in the scaled state x' = [Ω q; q̇] (A' = [0 Ω; −Ω −Cm] = D A D⁻¹, D = diag(Ω, I)):
-    // with frequencies from 10 Hz to tens of kHz the unscaled A spans ω² over ten decades and
-    // its eigenvectors come out inaccurate; A' has entries of size ω. Then V = D⁻¹ V'.
-    Matrix A = Matrix::Zero(2 * m, 2 * m);
-    A.topRightCorner(m, m) = omega.asDiagonal();
-    A.bottomLeftCorner(m, m) = -Matrix(omega.asDiagonal());
-    A.bottomRightCorner(m, m) = -Cm;
-    Eigen::EigenSolver<Matrix> es(A);
-    if (es.info() != Eigen::Success) throw SolverError("modal reduction: the complex eigenproblem failed");
-    const CVector lam = es.eigenvalues();
-    const CMatrix vec = es.eigenvectors();
-    // Keep one coordinate per conjugate pair (Im λ > 0) and every real one; rebuild V with exact
-    // conjugate partners so that the dropped coordinates are exactly the conjugates of the kept.
-    const double scale = lam.cwiseAbs().maxCoeff();
-    std::vector<Index> kept;
-    for (Index k = 0; k < 2 * m; ++k)
-      if (lam[k].imag() >= -1e-12 * scale) {
-        if (std::abs(lam[k].imag()) <= 1e-12 * scale || lam[k].imag() > 0) kept.push_back(k);
-      }
-    CMatrix V(2 * m, 2 * m);
-    Index col = 0;
-    std::vector<bool> is_pair;
-    for (Index k : kept) {
-      const bool pair = lam[k].imag() > 1e-12 * scale;
-      is_pair.push_back(pair);
-      if (pair) {
-        V.col(col++) = vec.col(k);
-        V.col(col++) = vec.col(k).conjugate();
-      } else {
-        V.col(col++) = vec.col(k).real().cast<std::complex<double>>();
-      }
-    }
-    if (col != 2 * m)
-      throw SolverError("modal reduction: the damped eigenvalues do not come in conjugate pairs (defective system?)");
-    Eigen::PartialPivLU<CMatrix> lu(V);
-    const CMatrix Vinv = lu.inverse();
-    if (!Vinv.allFinite()) throw SolverError("modal reduction: complex mode basis is singular");
-    // A wrong decomposition must not pass for a result: check A' V' = V' Λ and V'⁻¹ V' = I.
-    {
-      CVector lam_v(2 * m);
-      Index c = 0;
-      for (std::size_t k = 0; k < kept.size(); ++k) {
-        lam_v[c++] = lam[kept[k]];
-        if (is_pair[k]) lam_v[c++] = std::conj(lam[kept[k]]);
-      }
-      // On a few fixed pseudo-random probes x (matrix-vector products: the check costs O(n²)
-      // beside the O(n³) decomposition): A'V'x = V'Λx and V'⁻¹V'x = x.
-      const CMatrix Ac = A.cast<std::complex<double>>();
-      double r_eig = 0.0, r_inv = 0.0;
-      for (int probe = 0; probe < 3; ++probe) {
-        CVector x(2 * m);
-        for (Index i = 0; i < 2 * m; ++i)
-          x[i] = std::complex<double>(std::cos(0.7 * i + probe), std::sin(1.3 * i * (probe + 1)));
-        const CVector Vx = V * x;
-        r_eig = std::max(r_eig, (Ac * Vx - V * (lam_v.asDiagonal() * x)).norm() / (Ac.norm() * Vx.norm()));
-        r_inv = std::max(r_inv, (Vinv * Vx - x).norm() / x.norm());
-      }
-      if (!(r_eig < 1e-8 && r_inv < 1e-6))
-        throw SolverError("modal reduction: the complex modes are not accurate (eigen-residual " + num(r_eig) +
-                          ", inverse residual " + num(r_inv) + "): the damping makes the basis ill-conditioned; "
-                          "lower modal.max_frequency_hz or modal.n_modes");
-    }
-    const auto nk = static_cast<Index>(kept.size());
-    lambda_.resize(nk);
-    weight_.resize(nk);
-    channel_.assign(static_cast<std::size_t>(nk), 0);
-    // Columns of V / rows of V⁻¹ for each kept coordinate.
-    CMatrix Vk(2 * m, nk), Gk(nk, m);
-    Index n_ch = 0;
-    col = 0;
-    for (Index k = 0; k < nk; ++k) {
-      const Index src = kept[static_cast<std::size_t>(k)];
-      lambda_[k] = is_pair[static_cast<std::size_t>(k)] ? lam[src] : std::complex<double>(lam[src].real(), 0.0);
-      weight_[k] = is_pair[static_cast<std::size_t>(k)] ? 2.0 : 1.0;
-      Vk.col(k) = V.col(col);
-      Gk.row(k) = Vinv.row(col).tail(m);  // V⁻¹ B: the rows' q̇ part
-      channel_[static_cast<std::size_t>(k)] = n_ch;
-      n_ch += is_pair[static_cast<std::size_t>(k)] ? 2 : 1;
-      col += is_pair[static_cast<std::size_t>(k)] ? 2 : 1;
-    }
-    // Load channels: u_k = G_k Φᵀ f = (Φ G_kᵀ)ᵀ f, split into real and imaginary parts.
-    const CMatrix psi = phi.cast<std::complex<double>>() * Gk.transpose();  // n × nk
-    Matrix L(n, n_ch);
-    for (Index k = 0; k < nk; ++k) {
-      const Index c = channel_[static_cast<std::size_t>(k)];
-      L.col(c) = psi.col(k).real();
-      if (weight_[k] == 2.0) L.col(c + 1) = psi.col(k).imag();
-    }
-    load_rows_ = L;
-    const CMatrix S = out_shape_.cast<std::complex<double>>();
-    const CMatrix Vtop = omega.cwiseInverse().asDiagonal() * Vk.topRows(m), Vbot = Vk.bottomRows(m);  // V = D⁻¹ V'
-    c_disp_ = S * Vtop;  // q = V_top y
-    c_acc_ = S * Vbot;   // q̈ = V_bot ẏ = V_bot (Λ y + u)
-    c_static_ = out_static_.cast<std::complex<double>>() * Vbot;  // p = V_bot u (all coordinates)
+    build_complex_basis(phi, Cm, omega);
   }
-  if (static_correction) {
-    Eigen::SimplicialLDLT<SparseMatrix> lk(K);
-    if (lk.info() != Eigen::Success)
-      throw SolverError("static correction: K cannot be factored (is the structure supported?)");
-    Matrix out_flex = Matrix::Zero(n, n_out);
-    for (Index j = 0; j < n_out; ++j) {
-      Vector c = Vector::Zero(n);
-      for (std::size_t k = 0; k < outputs[j].dof.size(); ++k) c[outputs[j].dof[k]] += outputs[j].weight[k];
-      out_flex.col(j) = lk.solve(c);
-      if (lk.info() != Eigen::Success || !out_flex.col(j).allFinite())
-        throw SolverError("static correction: K is singular (is the structure supported?)");
-    }
-    out_flex_rows_ = out_flex;
+  if (static_correction) build_static_correction(K, outputs);
+}
+
+namespace {
+// On a few fixed pseudo-random probes x (matrix-vector products: the check costs O(n²) beside
+// the O(n³) decomposition): A'V'x = V'Λx and V'⁻¹V'x = x. SolverError when either fails.
+void check_complex_basis(const Matrix& A, const Eigen::MatrixXcd& V, const Eigen::MatrixXcd& Vinv, const Eigen::VectorXcd& lam_v) {
+  const Index n2 = A.rows();
+  const Eigen::MatrixXcd Ac = A.cast<std::complex<double>>();
+  double r_eig = 0.0, r_inv = 0.0;
+  for (int probe = 0; probe < 3; ++probe) {
+    Eigen::VectorXcd x(n2);
+    for (Index i = 0; i < n2; ++i) x[i] = std::complex<double>(std::cos(0.7 * i + probe), std::sin(1.3 * i * (probe + 1)));
+    const Eigen::VectorXcd Vx = V * x;
+    r_eig = std::max(r_eig, (Ac * Vx - V * (lam_v.asDiagonal() * x)).norm() / (Ac.norm() * Vx.norm()));
+    r_inv = std::max(r_inv, (Vinv * Vx - x).norm() / x.norm());
   }
+  if (!(r_eig < 1e-8 && r_inv < 1e-6))
+    throw SolverError("modal reduction: the complex modes are not accurate (eigen-residual " + num(r_eig) +
+                      ", inverse residual " + num(r_inv) + "): the damping makes the basis ill-conditioned; "
+                      "lower modal.max_frequency_hz or modal.n_modes");
+}
+}  // namespace
+
+void ModalReduction::build_complex_basis(const Matrix& phi, const Matrix& Cm, const Vector& omega) {
+  const Index n = phi.rows(), m = phi.cols();
+  // ẋ = A x + B p with x = [q; q̇], A = [0 I; -Ω² -Cm], B = [0; I]; A = V Λ V⁻¹, y = V⁻¹ x.
+  // Solved in the scaled state x' = [Ω q; q̇] (A' = [0 Ω; −Ω −Cm] = D A D⁻¹, D = diag(Ω, I)):
+  // with frequencies from 10 Hz to tens of kHz the unscaled A spans ω² over ten decades and
+  // its eigenvectors come out inaccurate; A' has entries of size ω. Then V = D⁻¹ V'.
+  Matrix A = Matrix::Zero(2 * m, 2 * m);
+  A.topRightCorner(m, m) = omega.asDiagonal();
+  A.bottomLeftCorner(m, m) = -Matrix(omega.asDiagonal());
+  A.bottomRightCorner(m, m) = -Cm;
+  Eigen::EigenSolver<Matrix> es(A);
+  if (es.info() != Eigen::Success) throw SolverError("modal reduction: the complex eigenproblem failed");
+  const CVector lam = es.eigenvalues();
+  const CMatrix vec = es.eigenvectors();
+  // Keep one coordinate per conjugate pair (Im λ > 0) and every real one; rebuild V with exact
+  // conjugate partners so that the dropped coordinates are exactly the conjugates of the kept.
+  const double scale = lam.cwiseAbs().maxCoeff();
+  std::vector<Index> kept;
+  for (Index k = 0; k < 2 * m; ++k)
+    if (lam[k].imag() >= -1e-12 * scale) {
+      if (std::abs(lam[k].imag()) <= 1e-12 * scale || lam[k].imag() > 0) kept.push_back(k);
+    }
+  CMatrix V(2 * m, 2 * m);
+  Index col = 0;
+  std::vector<bool> is_pair;
+  for (Index k : kept) {
+    const bool pair = lam[k].imag() > 1e-12 * scale;
+    is_pair.push_back(pair);
+    if (pair) {
+      V.col(col++) = vec.col(k);
+      V.col(col++) = vec.col(k).conjugate();
+    } else {
+      V.col(col++) = vec.col(k).real().cast<std::complex<double>>();
+    }
+  }
+  if (col != 2 * m)
+    throw SolverError("modal reduction: the damped eigenvalues do not come in conjugate pairs (defective system?)");
+  Eigen::PartialPivLU<CMatrix> lu(V);
+  const CMatrix Vinv = lu.inverse();
+  if (!Vinv.allFinite()) throw SolverError("modal reduction: complex mode basis is singular");
+  // A wrong decomposition must not pass for a result: check A' V' = V' Λ and V'⁻¹ V' = I.
+  {
+    CVector lam_v(2 * m);
+    Index c = 0;
+    for (std::size_t k = 0; k < kept.size(); ++k) {
+      lam_v[c++] = lam[kept[k]];
+      if (is_pair[k]) lam_v[c++] = std::conj(lam[kept[k]]);
+    }
+    check_complex_basis(A, V, Vinv, lam_v);
+  }
+  const auto nk = static_cast<Index>(kept.size());
+  lambda_.resize(nk);
+  weight_.resize(nk);
+  channel_.assign(static_cast<std::size_t>(nk), 0);
+  // Columns of V / rows of V⁻¹ for each kept coordinate.
+  CMatrix Vk(2 * m, nk), Gk(nk, m);
+  Index n_ch = 0;
+  col = 0;
+  for (Index k = 0; k < nk; ++k) {
+    const Index src = kept[static_cast<std::size_t>(k)];
+    lambda_[k] = is_pair[static_cast<std::size_t>(k)] ? lam[src] : std::complex<double>(lam[src].real(), 0.0);
+    weight_[k] = is_pair[static_cast<std::size_t>(k)] ? 2.0 : 1.0;
+    Vk.col(k) = V.col(col);
+    Gk.row(k) = Vinv.row(col).tail(m);  // V⁻¹ B: the rows' q̇ part
+    channel_[static_cast<std::size_t>(k)] = n_ch;
+    n_ch += is_pair[static_cast<std::size_t>(k)] ? 2 : 1;
+    col += is_pair[static_cast<std::size_t>(k)] ? 2 : 1;
+  }
+  // Load channels: u_k = G_k Φᵀ f = (Φ G_kᵀ)ᵀ f, split into real and imaginary parts.
+  const CMatrix psi = phi.cast<std::complex<double>>() * Gk.transpose();  // n × nk
+  Matrix L(n, n_ch);
+  for (Index k = 0; k < nk; ++k) {
+    const Index c = channel_[static_cast<std::size_t>(k)];
+    L.col(c) = psi.col(k).real();
+    if (weight_[k] == 2.0) L.col(c + 1) = psi.col(k).imag();
+  }
+  load_rows_ = L;
+  const CMatrix S = out_shape_.cast<std::complex<double>>();
+  const CMatrix Vtop = omega.cwiseInverse().asDiagonal() * Vk.topRows(m), Vbot = Vk.bottomRows(m);  // V = D⁻¹ V'
+  c_disp_ = S * Vtop;  // q = V_top y
+  c_acc_ = S * Vbot;   // q̈ = V_bot ẏ = V_bot (Λ y + u)
+  c_static_ = out_static_.cast<std::complex<double>>() * Vbot;  // p = V_bot u (all coordinates)
+}
+
+void ModalReduction::build_static_correction(const SparseMatrix& K, const std::vector<Functional>& outputs) {
+  const Index n = K.rows(), n_out = static_cast<Index>(outputs.size());
+  Eigen::SimplicialLDLT<SparseMatrix> lk(K);
+  if (lk.info() != Eigen::Success)
+    throw SolverError("static correction: K cannot be factored (is the structure supported?)");
+  Matrix out_flex = Matrix::Zero(n, n_out);
+  for (Index j = 0; j < n_out; ++j) {
+    Vector c = Vector::Zero(n);
+    for (std::size_t k = 0; k < outputs[j].dof.size(); ++k) c[outputs[j].dof[k]] += outputs[j].weight[k];
+    out_flex.col(j) = lk.solve(c);
+    if (lk.info() != Eigen::Success || !out_flex.col(j).allFinite())
+      throw SolverError("static correction: K is singular (is the structure supported?)");
+  }
+  out_flex_rows_ = out_flex;
 }
 
 namespace {

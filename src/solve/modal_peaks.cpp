@@ -345,10 +345,115 @@ void complex_kernel(const ComplexInput& in, double* st, double* ma, double* md) 
 
 }  // namespace
 
-std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingChannels& L,
-                                         const std::vector<PeaksCase>& cases, double dt, std::size_t n_outputs,
-                                         bool record_acc, double max_history_bytes) {
-  if (cases.empty()) return {};
+namespace {
+
+// The kernel inputs of one reduction and one set of folded loads, with the arrays they point
+// into: the exact step of each damped oscillator (classical modes), or of each complex
+// coordinate with the output rows split into parts (complex modes).
+struct PeaksSetup {
+  bool complex = false;
+  std::vector<double> c8, two_zw, w2;  // classical
+  KernelInput in;
+  std::vector<double> co, rows;        // complex
+  std::vector<std::size_t> chan;
+  std::vector<unsigned char> pair;
+  ComplexInput ci;
+};
+
+void prepare_classical(const ModalReduction& r, const MovingChannels& L, double dt, std::size_t no, PeaksSetup& k) {
+  const std::size_t nm = L.n_modes;
+  k.c8.resize(8 * nm), k.two_zw.resize(nm), k.w2.resize(nm);
+  for (std::size_t i = 0; i < nm; ++i) {
+    const double om = r.omega()[static_cast<Index>(i)], ze = r.zeta()[static_cast<Index>(i)];
+    const auto cf = exact_step_coefficients(om, ze, dt);
+    std::copy(cf.begin(), cf.end(), k.c8.begin() + static_cast<std::ptrdiff_t>(8 * i));
+    k.two_zw[i] = 2.0 * ze * om;
+    k.w2[i] = om * om;
+  }
+  KernelInput& in = k.in;
+  in.c8 = k.c8.data();
+  in.two_zw = k.two_zw.data();
+  in.w2 = k.w2.data();
+  in.S = r.output_rows().data();
+  in.breaks = L.breaks.data();
+  in.coef = L.coef.data();
+  in.n_pieces = L.breaks.size() - 1;
+  in.x_start = L.x_start;
+  in.dt = dt;
+  in.nm = nm;
+  in.nc = L.n_channels;
+  in.no = no;
+  in.flex = L.n_outputs > 0;
+}
+
+void prepare_complex(const ModalReduction& r, const MovingChannels& L, double dt, std::size_t no, PeaksSetup& k) {
+  using cd = std::complex<double>;
+  const ModalReduction::ComplexForm cf = r.complex_form();
+  const std::size_t nk = cf.lambda.size();
+  k.co.resize(6 * nk);
+  k.chan.resize(nk);
+  k.pair.resize(nk);
+  for (std::size_t c = 0; c < nk; ++c) {
+    const auto [e, al, be] = complex_step_coefficients(cf.lambda[c], dt);  // y₁ = E y₀ + α u₀ + β u₁
+    const double v6[6] = {e.real(), e.imag(), al.real(), al.imag(), be.real(), be.imag()};
+    std::copy(v6, v6 + 6, k.co.begin() + static_cast<std::ptrdiff_t>(6 * c));
+    k.chan[c] = static_cast<std::size_t>(cf.channel[c]);
+    k.pair[c] = cf.pair[c] ? 1 : 0;
+  }
+  k.rows.resize(6 * no * nk);
+  for (std::size_t j = 0; j < no; ++j)
+    for (std::size_t c = 0; c < nk; ++c) {
+      const auto jj = static_cast<Index>(j), kk = static_cast<Index>(c);
+      const cd d = cf.disp(jj, kk), a = cf.acc(jj, kk), al = a * cf.lambda[c];
+      const double v6[6] = {d.real(), d.imag(), al.real(), al.imag(), a.real(), a.imag()};
+      std::copy(v6, v6 + 6, k.rows.begin() + static_cast<std::ptrdiff_t>(6 * (j * nk + c)));
+    }
+  ComplexInput& ci = k.ci;
+  ci.nk = nk;
+  ci.nch = L.n_modes;
+  ci.nc = L.n_channels;
+  ci.no = no;
+  ci.flex = L.n_outputs > 0;
+  ci.co = k.co.data();
+  ci.ch = k.chan.data();
+  ci.pair = k.pair.data();
+  ci.rows = k.rows.data();
+  ci.breaks = L.breaks.data();
+  ci.coef = L.coef.data();
+  ci.n_pieces = L.breaks.size() - 1;
+  ci.x_start = L.x_start;
+  ci.dt = dt;
+}
+
+// Peaks (and the acceleration histories when recorded) of lane l after a kernel run; SolverError
+// when the lane's state or outputs are not finite.
+PeaksCaseResult lane_result(std::size_t l, std::size_t no, const std::vector<double>& ma, const std::vector<double>& md,
+                            double state, const std::vector<double>* hist, std::size_t stride, Index n_steps, double speed) {
+  // A non-finite state stays so (the recurrence is linear), and std::max would skip a NaN.
+  PeaksCaseResult res;
+  res.max_abs_disp.resize(static_cast<Index>(no));
+  res.max_abs_acc.resize(static_cast<Index>(no));
+  if (hist) res.acc.resize(n_steps + 1, static_cast<Index>(no));
+  bool finite = std::isfinite(state);
+  for (std::size_t j = 0; j < no; ++j) {
+    const auto jj = static_cast<Index>(j);
+    res.max_abs_disp[jj] = md[j * W + l];
+    res.max_abs_acc[jj] = ma[j * W + l];
+    finite = finite && std::isfinite(md[j * W + l]);
+    if (hist) {
+      res.acc.col(jj) = Eigen::Map<const Vector>(hist->data() + (l * no + j) * stride, n_steps + 1);
+      finite = finite && res.acc.col(jj).allFinite();
+    } else {
+      finite = finite && std::isfinite(ma[j * W + l]);
+    }
+  }
+  if (!finite)
+    throw SolverError("modal superposition: the state became non-finite (speed " + format_number(speed, 6) + " m/s)");
+  return res;
+}
+
+void check_peaks_input(const ModalReduction& r, const MovingChannels& L, const std::vector<PeaksCase>& cases, double dt,
+                       std::size_t n_outputs) {
   for (const PeaksCase& c : cases) {
     require_positive(c.speed, "speed [m/s]");
     require_valid(TimeGrid{dt, c.t_end}, "modal superposition");
@@ -360,76 +465,21 @@ std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingCh
     throw InputError("the folded loads do not belong to this modal model");
   if (n_outputs < 1 || n_outputs > static_cast<std::size_t>(r.n_outputs()))
     throw InputError("the modal model lacks the outputs asked for");
+}
+
+}  // namespace
+
+std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingChannels& L,
+                                         const std::vector<PeaksCase>& cases, double dt, std::size_t n_outputs,
+                                         bool record_acc, double max_history_bytes) {
+  if (cases.empty()) return {};
+  check_peaks_input(r, L, cases, dt, n_outputs);
   // The recorded outputs are the reduction's first n_outputs (rails above deck stations may follow).
-  const std::size_t nm = L.n_modes, no = n_outputs, nc = L.n_channels;
-  const bool complex = r.complex_modes();
-  // Classical modes: the exact step of each damped oscillator.
-  std::vector<double> c8, two_zw, w2;
-  KernelInput in;
-  // Complex modes: the exact step of each coordinate and the split output rows.
-  std::vector<double> co, rows;
-  std::vector<std::size_t> chan;
-  std::vector<unsigned char> pair;
-  ComplexInput ci;
-  if (!complex) {
-    c8.resize(8 * nm), two_zw.resize(nm), w2.resize(nm);
-    for (std::size_t i = 0; i < nm; ++i) {
-      const double om = r.omega()[static_cast<Index>(i)], ze = r.zeta()[static_cast<Index>(i)];
-      const auto cf = exact_step_coefficients(om, ze, dt);
-      std::copy(cf.begin(), cf.end(), c8.begin() + static_cast<std::ptrdiff_t>(8 * i));
-      two_zw[i] = 2.0 * ze * om;
-      w2[i] = om * om;
-    }
-    in.c8 = c8.data();
-    in.two_zw = two_zw.data();
-    in.w2 = w2.data();
-    in.S = r.output_rows().data();
-    in.breaks = L.breaks.data();
-    in.coef = L.coef.data();
-    in.n_pieces = L.breaks.size() - 1;
-    in.x_start = L.x_start;
-    in.dt = dt;
-    in.nm = nm;
-    in.nc = nc;
-    in.no = no;
-    in.flex = L.n_outputs > 0;
-  } else {
-    using cd = std::complex<double>;
-    const ModalReduction::ComplexForm cf = r.complex_form();
-    const std::size_t nk = cf.lambda.size();
-    co.resize(6 * nk);
-    chan.resize(nk);
-    pair.resize(nk);
-    for (std::size_t k = 0; k < nk; ++k) {
-      const auto [e, al, be] = complex_step_coefficients(cf.lambda[k], dt);  // y₁ = E y₀ + α u₀ + β u₁
-      const double v6[6] = {e.real(), e.imag(), al.real(), al.imag(), be.real(), be.imag()};
-      std::copy(v6, v6 + 6, co.begin() + static_cast<std::ptrdiff_t>(6 * k));
-      chan[k] = static_cast<std::size_t>(cf.channel[k]);
-      pair[k] = cf.pair[k] ? 1 : 0;
-    }
-    rows.resize(6 * no * nk);
-    for (std::size_t j = 0; j < no; ++j)
-      for (std::size_t k = 0; k < nk; ++k) {
-        const auto jj = static_cast<Index>(j), kk = static_cast<Index>(k);
-        const cd d = cf.disp(jj, kk), a = cf.acc(jj, kk), al = a * cf.lambda[k];
-        const double v6[6] = {d.real(), d.imag(), al.real(), al.imag(), a.real(), a.imag()};
-        std::copy(v6, v6 + 6, rows.begin() + static_cast<std::ptrdiff_t>(6 * (j * nk + k)));
-      }
-    ci.nk = nk;
-    ci.nch = nm;
-    ci.nc = nc;
-    ci.no = no;
-    ci.flex = L.n_outputs > 0;
-    ci.co = co.data();
-    ci.ch = chan.data();
-    ci.pair = pair.data();
-    ci.rows = rows.data();
-    ci.breaks = L.breaks.data();
-    ci.coef = L.coef.data();
-    ci.n_pieces = L.breaks.size() - 1;
-    ci.x_start = L.x_start;
-    ci.dt = dt;
-  }
+  const std::size_t nm = L.n_modes, no = n_outputs;
+  PeaksSetup k;
+  k.complex = r.complex_modes();
+  if (!k.complex) prepare_classical(r, L, dt, no, k);
+  else prepare_complex(r, L, dt, no, k);
   std::vector<double> hist;
   std::vector<PeaksCaseResult> out;
   std::vector<double> q(nm * W), qd(nm * W), ma(no * W), md(no * W), state(W);
@@ -451,7 +501,8 @@ std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingCh
         throw InputError("the station histories of four speeds would not fit in memory: raise analysis.dt");
       hist.assign(W * no * stride, 0.0);
     }
-    if (!complex) {
+    if (!k.complex) {
+      KernelInput& in = k.in;
       std::copy(v, v + W, in.v);
       std::copy(n_steps, n_steps + W, in.n_steps);
       in.n_max = n_max;
@@ -463,6 +514,7 @@ std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingCh
         for (std::size_t i = 0; i < nm; ++i) state[l] += q[i * W + l] + qd[i * W + l];
       }
     } else {
+      ComplexInput& ci = k.ci;
       std::copy(v, v + W, ci.v);
       std::copy(n_steps, n_steps + W, ci.n_steps);
       ci.n_max = n_max;
@@ -472,27 +524,7 @@ std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingCh
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     for (std::size_t l = 0; l < n_lanes; ++l) {
-      // A non-finite state stays so (the recurrence is linear), and std::max would skip a NaN.
-      PeaksCaseResult res;
-      res.max_abs_disp.resize(static_cast<Index>(no));
-      res.max_abs_acc.resize(static_cast<Index>(no));
-      if (record_acc) res.acc.resize(n_steps[l] + 1, static_cast<Index>(no));
-      bool finite = std::isfinite(state[l]);
-      for (std::size_t j = 0; j < no; ++j) {
-        const auto jj = static_cast<Index>(j);
-        res.max_abs_disp[jj] = md[j * W + l];
-        res.max_abs_acc[jj] = ma[j * W + l];
-        finite = finite && std::isfinite(md[j * W + l]);
-        if (record_acc) {
-          res.acc.col(jj) = Eigen::Map<const Vector>(hist.data() + (l * no + j) * stride, n_steps[l] + 1);
-          finite = finite && res.acc.col(jj).allFinite();
-        } else {
-          finite = finite && std::isfinite(ma[j * W + l]);
-        }
-      }
-      if (!finite)
-        throw SolverError("modal superposition: the state became non-finite (speed " + format_number(v[l], 6) +
-                          " m/s)");
+      PeaksCaseResult res = lane_result(l, no, ma, md, state[l], record_acc ? &hist : nullptr, stride, n_steps[l], v[l]);
       Summary& s = res.summary;
       s.kernel = "modal-peaks";
       s.n_steps = n_steps[l];

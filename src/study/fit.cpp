@@ -726,11 +726,104 @@ double from_unit(const FitParameter& p, double z) {
   return p.lower + z * (p.upper - p.lower);
 }
 
-FitResult fit(const FitProblem& problem, const FitOptions& options) {
-  const auto t_start = std::chrono::steady_clock::now();
-  // The library is quiet: Ceres' own log lines (glog) are dropped; its messages reach the result.
-  static std::once_flag quiet_glog;
-  std::call_once(quiet_glog, [] { FLAGS_minloglevel = google::GLOG_FATAL; });
+namespace {
+
+// Pseudo-inverse of A = JᵀJ without its flat directions; marks the parameters in a null
+// direction (in_null) and those sharing one with others (in_flat, with a warning).
+Matrix flat_directions(const Matrix& A, const Matrix& J, const FitProblem& problem, std::vector<bool>& in_null,
+                       std::vector<bool>& in_flat, std::vector<std::string>& warnings) {
+  const Index nzi = A.rows();
+  Eigen::SelfAdjointEigenSolver<Matrix> es(A);
+  const Vector lam = es.eigenvalues();
+  const double lam_max = std::max(lam.maxCoeff(), 0.0);
+  Matrix Ainv = Matrix::Zero(nzi, nzi);
+  for (Index k = 0; k < nzi; ++k) {
+    if (lam[k] > 1e-10 * lam_max && lam[k] > 0) {
+      Ainv += es.eigenvectors().col(k) * es.eigenvectors().col(k).transpose() / lam[k];
+    } else {
+      for (Index i = 0; i < nzi; ++i)
+        if (std::abs(es.eigenvectors()(i, k)) > 0.1) in_null[static_cast<std::size_t>(i)] = true;
+    }
+  }
+  for (Index k = 0; k < nzi; ++k) {
+    if (lam[k] > 1e-10 * lam_max && lam[k] > 0) continue;
+    std::string keys;
+    int n_in = 0;
+    for (Index i = 0; i < nzi; ++i)
+      if (std::abs(es.eigenvectors()(i, k)) > 0.1 && J.col(i).norm() > 1e-9 * std::max(1.0, std::sqrt(lam_max))) {
+        keys += (keys.empty() ? "" : ", ") + problem.params[static_cast<std::size_t>(i)].key;
+        ++n_in;
+      }
+    if (n_in > 1) {
+      warnings.push_back(keys + " are not determined separately: the data fix only a combination of them (a flat direction of the misfit)");
+      for (Index i = 0; i < nzi; ++i)
+        if (std::abs(es.eigenvectors()(i, k)) > 0.1) in_flat[static_cast<std::size_t>(i)] = true;
+    }
+  }
+  return Ainv;
+}
+
+// Correlations of the parameters with finite standard errors; strongly correlated pairs flagged.
+void fit_correlations(const FitProblem& problem, const FitOptions& options, const Matrix& Cz, const std::vector<bool>& in_null,
+                      FitResult& out) {
+  const std::size_t np = problem.params.size();
+  out.correlation = Matrix::Constant(static_cast<Index>(np), static_cast<Index>(np), kNaN);
+  for (std::size_t i = 0; i < np; ++i)
+    for (std::size_t j = 0; j < np; ++j) {
+      const auto ii = static_cast<Index>(i), jj = static_cast<Index>(j);
+      if (!std::isfinite(out.std_error[i]) || !std::isfinite(out.std_error[j]) || in_null[i] || in_null[j]) continue;
+      const double d = std::sqrt(Cz(ii, ii) * Cz(jj, jj));
+      out.correlation(ii, jj) = d > 0 ? Cz(ii, jj) / d : (i == j ? 1.0 : 0.0);
+    }
+  for (std::size_t i = 0; i < np; ++i)
+    for (std::size_t j = i + 1; j < np; ++j) {
+      const double rho = out.correlation(static_cast<Index>(i), static_cast<Index>(j));
+      if (std::isfinite(rho) && std::abs(rho) > options.max_correlation) {
+        out.determined[i] = out.determined[j] = false;
+        out.warnings.push_back(problem.params[i].key + " and " + problem.params[j].key + " are strongly correlated (rho = " +
+                               num(rho, 4) + "): the data fix a combination of them, not each");
+      }
+    }
+}
+
+// Time overlays (measured, initial, fitted) and modal pairs before and after the fit.
+void fit_overlays(const Evaluator& ev, const FitProblem& problem, FitResult& out) {
+  const Simulated s_init = ev.simulate_at(out.initial);
+  const Simulated s_fit = ev.simulate_at(out.estimate);
+  const std::vector<double> sh_init = ev.align(s_init), sh_fit = ev.align(s_fit);
+  out.shift_s.assign(problem.records.size(), kNaN);
+  for (std::size_t r = 0; r < ev.n_records(); ++r) {
+    const auto& pr = ev.record(r);
+    out.shift_s[r] = sh_fit[r];
+    for (std::size_t c = 0; c < pr.channels.size(); ++c) {
+      FitOverlay ov;
+      ov.record = pr.in->name;
+      ov.channel = pr.in->channels[c].name;
+      const Index n = pr.channels[c].y.size();
+      ov.t = Vector::LinSpaced(n, pr.in->t0_s, pr.in->t0_s + static_cast<double>(n - 1) / pr.in->fs_hz);
+      ov.measured = pr.channels[c].y;
+      ov.initial = ev.processed(s_init, r, c, sh_init[r]);
+      ov.fitted = ev.processed(s_fit, r, c, sh_fit[r]);
+      out.overlays.push_back(std::move(ov));
+    }
+  }
+  if (const ModalTarget* mt = ev.modal())
+    for (const auto& tm : mt->modes) {
+      ModalPair mp;
+      mp.frequency_hz = tm.frequency_hz;
+      const Index j0 = ev.pair_mode(s_init, tm), j1 = ev.pair_mode(s_fit, tm);
+      mp.model_before_hz = s_init.modal_f[j0];
+      mp.model_after_hz = s_fit.modal_f[j1];
+      mp.mac_before = tm.shape.size() ? Evaluator::mac_real(tm.shape, s_init.modal_shapes.col(j0)) : kNaN;
+      mp.mac_after = tm.shape.size() ? Evaluator::mac_real(tm.shape, s_fit.modal_shapes.col(j1)) : kNaN;
+      mp.damping_ratio = tm.damping_ratio;
+      mp.model_damping_before = s_init.modal_zeta[j0];
+      mp.model_damping_after = s_fit.modal_zeta[j1];
+      out.modal_pairs.push_back(mp);
+    }
+}
+
+void check_fit_input(const FitProblem& problem, const FitOptions& options) {
   std::string why;
   if (!options.is_valid(&why)) throw InputError("fit: " + why);
   if (problem.params.empty()) throw InputError("fit: no parameter to fit");
@@ -744,6 +837,76 @@ FitResult fit(const FitProblem& problem, const FitOptions& options) {
     if (!(p.initial >= p.lower && p.initial <= p.upper))
       throw InputError(k + "initial value " + num(p.initial) + " is outside the bounds [" + num(p.lower) + ", " + num(p.upper) + "]");
   }
+}
+
+// Standard errors, sensitivities, correlations and the flags that qualify them, from the
+// Jacobian at the estimate (sandwich form with per-block variances); fills `out`.
+void fit_statistics(const Evaluator& ev, const FitProblem& problem, const FitOptions& options, const StartOutcome& bo,
+                    const Vector& r_fit, const Matrix& J, FitResult& out) {
+  const std::size_t np = ev.n_params(), nz = ev.n_z();
+  const Index m = J.rows();
+  const auto nzi = static_cast<Index>(nz);
+  const Matrix A = J.transpose() * J;
+  Matrix B = Matrix::Zero(nzi, nzi);
+  const double dof_factor = m > nzi ? static_cast<double>(m) / static_cast<double>(m - nzi) : 1.0;
+  for (const auto& b : ev.blocks()) {
+    const Matrix Jb = J.middleRows(b.offset, b.size);
+    const double s2 = r_fit.segment(b.offset, b.size).squaredNorm() / static_cast<double>(b.size) * dof_factor;
+    B += b.kappa * s2 * (Jb.transpose() * Jb);
+  }
+  std::vector<bool> in_null(nz, false), in_flat(nz, false);
+  const Matrix Ainv = flat_directions(A, J, problem, in_null, in_flat, out.warnings);
+  const Matrix Cz = Ainv * B * Ainv;
+  const bool no_dof = m <= nzi;  // as many residuals as parameters: no noise estimate
+  if (no_dof)
+    out.warnings.push_back("the fit has " + std::to_string(m) + " residuals for " + std::to_string(nzi) +
+                           " parameters: no standard errors without more data (more modes, sensors or records)");
+  double col_max = 0.0;
+  for (std::size_t i = 0; i < np; ++i) col_max = std::max(col_max, J.col(static_cast<Index>(i)).norm());
+  out.std_error.assign(np, kNaN);
+  out.sensitivity.assign(np, 0.0);
+  out.at_bound.assign(np, false);
+  out.determined.assign(np, true);
+  for (std::size_t i = 0; i < np; ++i) out.determined[i] = !in_flat[i];
+  for (std::size_t i = 0; i < np; ++i) {
+    const FitParameter& p = problem.params[i];
+    const auto ii = static_cast<Index>(i);
+    const double col = J.col(ii).norm();
+    out.sensitivity[i] = col_max > 0 ? col / col_max : 0.0;
+    const double z = bo.z[i];
+    out.at_bound[i] = z <= 1e-6 || z >= 1.0 - 1e-6;
+    const double dpdz = p.scale == ParameterScale::log ? out.estimate[i] * std::log(p.upper / p.lower) : p.upper - p.lower;
+    if (col <= 1e-9 * std::max(1.0, col_max)) {
+      out.std_error[i] = kInf;
+      out.determined[i] = false;
+      out.warnings.push_back(p.key + " is insensitive: the fitted data do not change with it over [" + num(p.lower) + ", " +
+                             num(p.upper) + "]; it keeps no meaning in this fit");
+      continue;
+    }
+    out.std_error[i] = in_null[i] ? kInf : no_dof ? kNaN : dpdz * std::sqrt(std::max(0.0, Cz(ii, ii)));
+    const double ref = p.scale == ParameterScale::log || out.estimate[i] != 0.0 ? std::abs(out.estimate[i]) : p.upper - p.lower;
+    if (out.at_bound[i]) {
+      out.determined[i] = false;
+      out.warnings.push_back(p.key + " ended on its " + std::string(z <= 0.5 ? "lower" : "upper") + " bound " +
+                             num(z <= 0.5 ? p.lower : p.upper) +
+                             ": the data want a value beyond it (widen the bounds or question the model); its standard error is not meaningful");
+    } else if (!no_dof && !(out.std_error[i] <= options.max_relative_std * ref)) {
+      out.determined[i] = false;
+      out.warnings.push_back(p.key + " is not determined by the data: standard error " +
+                             (std::isfinite(out.std_error[i]) ? num(100.0 * out.std_error[i] / ref, 3) + " % of the estimate" : "unbounded (flat direction)"));
+    }
+  }
+  fit_correlations(problem, options, Cz, in_null, out);
+}
+
+}  // namespace
+
+FitResult fit(const FitProblem& problem, const FitOptions& options) {
+  const auto t_start = std::chrono::steady_clock::now();
+  // The library is quiet: Ceres' own log lines (glog) are dropped; its messages reach the result.
+  static std::once_flag quiet_glog;
+  std::call_once(quiet_glog, [] { FLAGS_minloglevel = google::GLOG_FATAL; });
+  check_fit_input(problem, options);
   const Evaluator ev(problem, options);
   // The spectral pre-stage: amplitude spectra (and the modal objective) only.
   FitOptions pre_options = options;
@@ -806,140 +969,13 @@ FitResult fit(const FitProblem& problem, const FitOptions& options) {
   }
   out.cost_initial = 0.5 * r_init.squaredNorm();
   out.cost_final = 0.5 * r_fit.squaredNorm();
-  const Index m = J.rows();
-  const auto nzi = static_cast<Index>(nz);
-  const Matrix A = J.transpose() * J;
-  Matrix B = Matrix::Zero(nzi, nzi);
-  const double dof_factor = m > nzi ? static_cast<double>(m) / static_cast<double>(m - nzi) : 1.0;
-  for (const auto& b : ev.blocks()) {
-    const Matrix Jb = J.middleRows(b.offset, b.size);
-    const double s2 = r_fit.segment(b.offset, b.size).squaredNorm() / static_cast<double>(b.size) * dof_factor;
-    B += b.kappa * s2 * (Jb.transpose() * Jb);
-  }
-  Eigen::SelfAdjointEigenSolver<Matrix> es(A);
-  const Vector lam = es.eigenvalues();
-  const double lam_max = std::max(lam.maxCoeff(), 0.0);
-  Matrix Ainv = Matrix::Zero(nzi, nzi);
-  std::vector<bool> in_null(nz, false);
-  for (Index k = 0; k < nzi; ++k) {
-    if (lam[k] > 1e-10 * lam_max && lam[k] > 0) {
-      Ainv += es.eigenvectors().col(k) * es.eigenvectors().col(k).transpose() / lam[k];
-    } else {
-      for (Index i = 0; i < nzi; ++i)
-        if (std::abs(es.eigenvectors()(i, k)) > 0.1) in_null[static_cast<std::size_t>(i)] = true;
-    }
-  }
-  std::vector<bool> in_flat(nz, false);  // in a flat direction shared by several parameters
-  for (Index k = 0; k < nzi; ++k) {
-    if (lam[k] > 1e-10 * lam_max && lam[k] > 0) continue;
-    std::string keys;
-    int n_in = 0;
-    for (Index i = 0; i < nzi; ++i)
-      if (std::abs(es.eigenvectors()(i, k)) > 0.1 && J.col(i).norm() > 1e-9 * std::max(1.0, std::sqrt(lam_max))) {
-        keys += (keys.empty() ? "" : ", ") + problem.params[static_cast<std::size_t>(i)].key;
-        ++n_in;
-      }
-    if (n_in > 1) {
-      out.warnings.push_back(keys + " are not determined separately: the data fix only a combination of them (a flat direction of the misfit)");
-      for (Index i = 0; i < nzi; ++i)
-        if (std::abs(es.eigenvectors()(i, k)) > 0.1) in_flat[static_cast<std::size_t>(i)] = true;
-    }
-  }
-  const Matrix Cz = Ainv * B * Ainv;
-  const bool no_dof = m <= nzi;  // as many residuals as parameters: no noise estimate
-  if (no_dof)
-    out.warnings.push_back("the fit has " + std::to_string(m) + " residuals for " + std::to_string(nzi) +
-                           " parameters: no standard errors without more data (more modes, sensors or records)");
-  double col_max = 0.0;
-  for (std::size_t i = 0; i < np; ++i) col_max = std::max(col_max, J.col(static_cast<Index>(i)).norm());
-  out.std_error.assign(np, kNaN);
-  out.sensitivity.assign(np, 0.0);
-  out.at_bound.assign(np, false);
-  out.determined.assign(np, true);
-  for (std::size_t i = 0; i < np; ++i) out.determined[i] = !in_flat[i];
-  out.correlation = Matrix::Constant(static_cast<Index>(np), static_cast<Index>(np), kNaN);
-  for (std::size_t i = 0; i < np; ++i) {
-    const FitParameter& p = problem.params[i];
-    const auto ii = static_cast<Index>(i);
-    const double col = J.col(ii).norm();
-    out.sensitivity[i] = col_max > 0 ? col / col_max : 0.0;
-    const double z = bo.z[i];
-    out.at_bound[i] = z <= 1e-6 || z >= 1.0 - 1e-6;
-    const double dpdz = p.scale == ParameterScale::log ? out.estimate[i] * std::log(p.upper / p.lower) : p.upper - p.lower;
-    if (col <= 1e-9 * std::max(1.0, col_max)) {
-      out.std_error[i] = kInf;
-      out.determined[i] = false;
-      out.warnings.push_back(p.key + " is insensitive: the fitted data do not change with it over [" + num(p.lower) + ", " +
-                             num(p.upper) + "]; it keeps no meaning in this fit");
-      continue;
-    }
-    out.std_error[i] = in_null[i] ? kInf : no_dof ? kNaN : dpdz * std::sqrt(std::max(0.0, Cz(ii, ii)));
-    const double ref = p.scale == ParameterScale::log || out.estimate[i] != 0.0 ? std::abs(out.estimate[i]) : p.upper - p.lower;
-    if (out.at_bound[i]) {
-      out.determined[i] = false;
-      out.warnings.push_back(p.key + " ended on its " + std::string(z <= 0.5 ? "lower" : "upper") + " bound " +
-                             num(z <= 0.5 ? p.lower : p.upper) +
-                             ": the data want a value beyond it (widen the bounds or question the model); its standard error is not meaningful");
-    } else if (!no_dof && !(out.std_error[i] <= options.max_relative_std * ref)) {
-      out.determined[i] = false;
-      out.warnings.push_back(p.key + " is not determined by the data: standard error " +
-                             (std::isfinite(out.std_error[i]) ? num(100.0 * out.std_error[i] / ref, 3) + " % of the estimate" : "unbounded (flat direction)"));
-    }
-  }
-  for (std::size_t i = 0; i < np; ++i)
-    for (std::size_t j = 0; j < np; ++j) {
-      const auto ii = static_cast<Index>(i), jj = static_cast<Index>(j);
-      if (!std::isfinite(out.std_error[i]) || !std::isfinite(out.std_error[j]) || in_null[i] || in_null[j]) continue;
-      const double d = std::sqrt(Cz(ii, ii) * Cz(jj, jj));
-      out.correlation(ii, jj) = d > 0 ? Cz(ii, jj) / d : (i == j ? 1.0 : 0.0);
-    }
-  for (std::size_t i = 0; i < np; ++i)
-    for (std::size_t j = i + 1; j < np; ++j) {
-      const double rho = out.correlation(static_cast<Index>(i), static_cast<Index>(j));
-      if (std::isfinite(rho) && std::abs(rho) > options.max_correlation) {
-        out.determined[i] = out.determined[j] = false;
-        out.warnings.push_back(problem.params[i].key + " and " + problem.params[j].key + " are strongly correlated (rho = " +
-                               num(rho, 4) + "): the data fix a combination of them, not each");
-      }
-    }
+  fit_statistics(ev, problem, options, bo, r_fit, J, out);
 
   // Terms, overlays and modal pairs before and after.
   for (const auto& b : ev.blocks())
     out.terms.push_back({b.objective, b.record, b.channel, r_init.segment(b.offset, b.size).squaredNorm(),
                          r_fit.segment(b.offset, b.size).squaredNorm()});
-  const Simulated s_init = ev.simulate_at(out.initial);
-  const Simulated s_fit = ev.simulate_at(out.estimate);
-  const std::vector<double> sh_init = ev.align(s_init), sh_fit = ev.align(s_fit);
-  out.shift_s.assign(problem.records.size(), kNaN);
-  for (std::size_t r = 0; r < ev.n_records(); ++r) {
-    const auto& pr = ev.record(r);
-    out.shift_s[r] = sh_fit[r];
-    for (std::size_t c = 0; c < pr.channels.size(); ++c) {
-      FitOverlay ov;
-      ov.record = pr.in->name;
-      ov.channel = pr.in->channels[c].name;
-      const Index n = pr.channels[c].y.size();
-      ov.t = Vector::LinSpaced(n, pr.in->t0_s, pr.in->t0_s + static_cast<double>(n - 1) / pr.in->fs_hz);
-      ov.measured = pr.channels[c].y;
-      ov.initial = ev.processed(s_init, r, c, sh_init[r]);
-      ov.fitted = ev.processed(s_fit, r, c, sh_fit[r]);
-      out.overlays.push_back(std::move(ov));
-    }
-  }
-  if (const ModalTarget* mt = ev.modal())
-    for (const auto& tm : mt->modes) {
-      ModalPair mp;
-      mp.frequency_hz = tm.frequency_hz;
-      const Index j0 = ev.pair_mode(s_init, tm), j1 = ev.pair_mode(s_fit, tm);
-      mp.model_before_hz = s_init.modal_f[j0];
-      mp.model_after_hz = s_fit.modal_f[j1];
-      mp.mac_before = tm.shape.size() ? Evaluator::mac_real(tm.shape, s_init.modal_shapes.col(j0)) : kNaN;
-      mp.mac_after = tm.shape.size() ? Evaluator::mac_real(tm.shape, s_fit.modal_shapes.col(j1)) : kNaN;
-      mp.damping_ratio = tm.damping_ratio;
-      mp.model_damping_before = s_init.modal_zeta[j0];
-      mp.model_damping_after = s_fit.modal_zeta[j1];
-      out.modal_pairs.push_back(mp);
-    }
+  fit_overlays(ev, problem, out);
   out.simulations = ev.simulations() + (pre ? pre->simulations() : 0);
   out.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   return out;

@@ -108,6 +108,10 @@ class ModalReduction {
   ComplexForm complex_form() const;
 
  private:
+  // Parts of the constructor: the damped (complex) basis from the modal damping matrix Cm, and
+  // the static correction's flexibility rows K⁻¹ cⱼᵀ of the outputs.
+  void build_complex_basis(const Matrix& phi, const Matrix& Cm, const Vector& omega);
+  void build_static_correction(const SparseMatrix& K, const std::vector<Functional>& outputs);
   Summary integrate_complex(ModalForce& force, const TimeGrid& grid, const ModalOptions& opt,
                             const OutputObserver& observe) const;
   RowMatrix load_rows_;  // n × n_channels
