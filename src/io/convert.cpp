@@ -222,12 +222,14 @@ std::vector<study::Variant> sweep_variants(const FlatScenario& flat) {
   struct Axis {
     std::string key, label;
     std::vector<double> factors;
+    SourceLocation where;  // the [[sweep.variants]] entry's key
   };
   std::vector<Axis> axes;
   for (std::size_t i : item_indices(flat, "sweep.variants")) {
     const std::string pre = "sweep.variants[" + std::to_string(i) + "].";
     Axis a;
     a.key = flat.at(pre + "key").s;
+    a.where = flat.at(pre + "key").where;
     a.label = flat.at(pre + "label").s.empty() ? a.key : flat.at(pre + "label").s;
     a.factors = flat.at(pre + "factors").xs;
     if (a.factors.empty()) bad(flat.at(pre + "factors"), "needs at least one factor");
@@ -243,7 +245,7 @@ std::vector<study::Variant> sweep_variants(const FlatScenario& flat) {
     FlatScenario v = flat;
     std::string label;
     for (const auto& [ai, factor] : settings) {
-      scale_key(v, axes[ai].key, factor);
+      scale_key(v, axes[ai].key, factor, axes[ai].where);
       label += (label.empty() ? "" : ", ") + label_of(axes[ai], factor);
     }
     try {
@@ -286,6 +288,7 @@ load::Train train_from_csv(const std::string& path) {
   std::string line;
   int ln = 0;
   bool header = false;
+  std::vector<int> lines;  // of each axle
   while (std::getline(in, line)) {
     ++ln;
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -310,6 +313,7 @@ load::Train train_from_csv(const std::string& path) {
         throw std::invalid_argument("trailing text");
       t.offset.push_back(x);
       t.load.push_back(p * 1e3);
+      lines.push_back(ln);
     } catch (const std::exception&) {
       throw InputError(SourceLocation{path, ln, ""}, "not a number in '" + line + "'");
     }
@@ -320,7 +324,8 @@ load::Train train_from_csv(const std::string& path) {
   for (std::size_t i = 0; i < t.offset.size(); ++i) {
     t.offset[i] -= x0;
     if (i > 0 && t.offset[i] < t.offset[i - 1])
-      throw InputError(SourceLocation{path, 0, ""}, "axle positions must be listed head to tail, not decreasing (axle " + std::to_string(i + 1) + ")");
+      throw InputError(SourceLocation{path, lines[i], ""},
+                       "axle positions must be listed head to tail, not decreasing (axle " + std::to_string(i + 1) + ")");
   }
   try {
     t.validate();

@@ -358,14 +358,14 @@ FlatScenario load_flat(const std::string& path, const std::vector<std::string>& 
   return fsn;
 }
 
-void scale_key(FlatScenario& flat, const std::string& key, double factor) {
+void scale_key(FlatScenario& flat, const std::string& key, double factor, const SourceLocation& declared) {
   auto it = flat.values.find(key);
   if (it == flat.values.end())
-    throw InputError(SourceLocation{flat.path, 0, key}, "variant key is not set in the scenario" + did_you_mean(key));
+    throw InputError(declared, "variant key '" + key + "' is not set in the scenario" + did_you_mean(key));
   Value& v = it->second;
   if (v.type == ValueType::number) v.x *= factor;
   else if (v.type == ValueType::number_list) for (double& x : v.xs) x *= factor;
-  else throw InputError(SourceLocation{flat.path, 0, key}, "variant key must be numeric (not an integer, string or boolean)");
+  else throw InputError(declared, "variant key '" + key + "' must be numeric (not an integer, string or boolean)");
   flat.defaulted.erase(key);
   if (const KeySpec* spec = find_spec(key)) {
     try {

@@ -70,8 +70,9 @@ study::Scenario to_scenario(const FlatScenario& flat);
 /// The sweep's variants (one-at-a-time multipliers or a full grid) as resolved scenarios;
 /// a single "reference" variant without [[sweep.variants]].
 std::vector<study::Variant> sweep_variants(const FlatScenario& flat);
-/// Multiplies a numeric key (number or list) by `factor` in place; InputError if not numeric.
-void scale_key(FlatScenario& flat, const std::string& key, double factor);
+/// Multiplies a numeric key (number or list) by `factor` in place; InputError at `declared` (the
+/// variant's entry) if the key is absent or not numeric.
+void scale_key(FlatScenario& flat, const std::string& key, double factor, const SourceLocation& declared);
 
 /// Sets a numeric key (a number, or a list that then holds `value` alone) to `value`, checking
 /// the key's constraint; InputError naming the key and the violated constraint.

@@ -167,7 +167,8 @@ TEST_CASE("train files: CSV and TOML, with clear errors") {
   REQUIRE(error_of("a.csv", "x,y\n1,2\n").find("a.csv:1: train CSV header must be 'position_m,load_kN'") != std::string::npos);
   REQUIRE(error_of("b.csv", "# c\nposition_m,load_kN\n0,100\n3,abc\n").find("b.csv:4: not a number") != std::string::npos);
   REQUIRE(error_of("c.csv", "position_m,load_kN\n0,100\n3,-5\n").find("load must be > 0") != std::string::npos);
-  REQUIRE(error_of("d.csv", "position_m,load_kN\n5,100\n3,100\n").find("not decreasing") != std::string::npos);
+  REQUIRE(error_of("d.csv", "position_m,load_kN\n5,100\n3,100\n").find("d.csv:3: axle positions must be listed head to tail, not decreasing") !=
+          std::string::npos);
   REQUIRE(error_of("e.csv", "position_m,load_kN\n").find("no axles") != std::string::npos);
   REQUIRE(error_of("f.toml", "kind = \"regular\"\nn_axle = 3\n").find("f.toml:2: key 'n_axle': unknown train key") != std::string::npos);
   REQUIRE(error_of("g.toml", "kind = \"magic\"\n").find("must be hslm, regular or axles") != std::string::npos);
@@ -192,7 +193,8 @@ TEST_CASE("grid variants and variant keys are checked") {
   const std::string z = s.scenario("[sweep]\nspeeds_kmh = [100]\n[[sweep.variants]]\nkey = \"bridge.EI\"\nfactors = [0.0]\n");
   REQUIRE_THROWS_WITH(sweep_variants(load_flat(z)), Catch::Contains("factor 0 on") && Catch::Contains("key 'bridge.EI': must be > 0"));
   const std::string r = s.scenario("[sweep]\nspeeds_kmh = [100]\n[[sweep.variants]]\nkey = \"filter.order\"\nfactors = [2.0]\n");
-  REQUIRE_THROWS_WITH(sweep_variants(load_flat(r)), Catch::Contains("variant key must be numeric"));
+  // Reported at the variant's entry, with its line.
+  REQUIRE_THROWS_WITH(sweep_variants(load_flat(r)), Catch::Contains(":12: key 'sweep.variants[0].key': variant key 'filter.order' must be numeric"));
 }
 
 TEST_CASE("docs/scenarios.md documents every key (regenerate with scripts/gen_docs.sh)") {
