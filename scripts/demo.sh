@@ -18,5 +18,5 @@ fi
 out=out/old-guadiana-sensitivity
 build/release/viaduct modes scenarios/old-guadiana-sensitivity.toml --n-modes 10 --out "$out"
 build/release/viaduct sweep scenarios/old-guadiana-sensitivity.toml --threads 0 --out "$out" "$@"
-/usr/bin/python3 scripts/plot_envelope.py "$out"
+/usr/bin/python3 scripts/plot/plot_envelope.py "$out"
 echo "results: $out/envelope.csv, plot: $out/envelope.png"

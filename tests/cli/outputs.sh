@@ -75,10 +75,10 @@ expect 0 "wrote" -- "$VIADUCT" compare "$TALGO" --record "$WORK/shifted.csv" --m
 expect 0 "ok" -- awk -F, 'NR > 1 { if ($4 < 1.998 || $4 > 2.002 || $7 < 0.65 || $7 > 0.68) bad = 1 } END { print bad ? "shift/gain off: " $4 " " $7 : "ok" }' "$WORK/cmp2/compare_metrics.csv"
 
 # The plot scripts draw what the commands wrote.
-expect 0 "compare.png" -- /usr/bin/python3 "$SRC/scripts/plot_compare.py" "$WORK/cmp"
-expect 0 "envelope.png" -- /usr/bin/python3 "$SRC/scripts/plot_envelope.py" "$WORK/s1"
-expect 0 "envelope_disp.png" -- /usr/bin/python3 "$SRC/scripts/plot_envelope.py" "$WORK/s1" --quantity disp
-expect 0 "history.png" -- /usr/bin/python3 "$SRC/scripts/plot_history.py" "$WORK/og"
+expect 0 "compare.png" -- /usr/bin/python3 "$SRC/scripts/plot/plot_compare.py" "$WORK/cmp"
+expect 0 "envelope.png" -- /usr/bin/python3 "$SRC/scripts/plot/plot_envelope.py" "$WORK/s1"
+expect 0 "envelope_disp.png" -- /usr/bin/python3 "$SRC/scripts/plot/plot_envelope.py" "$WORK/s1" --quantity disp
+expect 0 "history.png" -- /usr/bin/python3 "$SRC/scripts/plot/plot_history.py" "$WORK/og"
 expect 0 "" -- test -s "$WORK/og/history.png"
 # Model updating: every output, the fitted scenario runs, the plots draw, threads agree.
 FIT=(fit "$HS" --record "$WORK/run/history.csv" --map mid_acc_mps2=mid --param bridge.EI=5e9:1e10 --param bridge.damping.ratio=0.005:0.05
@@ -95,7 +95,7 @@ expect 0 "time," -- cat "$WORK/fit1/fit_residuals.csv"
 expect 0 "key,bridge.EI,bridge.damping.ratio" -- head -1 "$WORK/fit1/fit_correlation.csv"
 expect 0 "bridge.EI = 7694" -- "$VIADUCT" check "$WORK/fit1/fitted.toml"
 expect 0 "wrote" -- "$VIADUCT" run "$WORK/fit1/fitted.toml" --out "$WORK/fitrun"
-expect 0 "fit_trace.png" -- /usr/bin/python3 "$SRC/scripts/plot_fit.py" "$WORK/fit1"
+expect 0 "fit_trace.png" -- /usr/bin/python3 "$SRC/scripts/plot/plot_fit.py" "$WORK/fit1"
 expect 0 "" -- test -s "$WORK/fit1/fit_time.png"
-expect 1 "not found" -- /usr/bin/python3 "$SRC/scripts/plot_envelope.py" "$WORK/nothing"
+expect 1 "not found" -- /usr/bin/python3 "$SRC/scripts/plot/plot_envelope.py" "$WORK/nothing"
 finish

@@ -1,5 +1,5 @@
 // Recovery errors and cost of `viaduct fit` on synthetic records with known parameters (issue
-// #6): prints markdown tables. Run by scripts/fit_accuracy.sh (docs/fitting-accuracy.md).
+// #6): prints markdown tables. Run by scripts/measure/fit_accuracy.sh (docs/fitting-accuracy.md).
 //   viaduct_fit_recovery [SOURCE_DIR] [SEEDS]
 #include <algorithm>
 #include <chrono>

@@ -1,5 +1,5 @@
 // Recovery errors of the identification methods on synthetic cases with known modal properties
-// (issue #4): prints markdown tables. Run by scripts/ident_accuracy.sh (docs/identification.md).
+// (issue #4): prints markdown tables. Run by scripts/measure/ident_accuracy.sh (docs/identification.md).
 //   viaduct_ident_recovery [SOURCE_DIR]
 #include <algorithm>
 #include <chrono>

@@ -174,7 +174,7 @@ Command compare_command() {
       "[filter], aligns them by cross-correlation (the shift is reported) and writes OUT/\n"
       "compare_time.csv, compare_spectrum.csv, compare_metrics.csv and manifest.toml. The\n"
       "channel's unit picks the model quantity: _mps2 or _g acceleration, _m or _mm deflection.\n"
-      "Plot with scripts/plot_compare.py OUT.\n\n"
+      "Plot with scripts/plot/plot_compare.py OUT.\n\n"
       "The speed is --speed-kmh, or identified from the record with --identify-speed-m d (the\n"
       "lines k·v/d of the first mapped channel, as viaduct speed does), or run.speed_kmh.\n\n"
       "Sample runs:\n"

@@ -52,7 +52,7 @@ Command fit_command() {
       "[fit] section (docs/fitting.md). Writes OUT/fit.csv (estimates, standard errors, flags),\n"
       "fit_correlation.csv, fit.toml, fitted.toml (the scenario with the fitted values),\n"
       "fit_trace.csv, fit_residuals.csv, fit_time.csv, fit_modes.csv and manifest.toml; plot with\n"
-      "scripts/plot_fit.py OUT. Exit 1 when the fit did not converge (the outputs say why).\n\n"
+      "scripts/plot/plot_fit.py OUT. Exit 1 when the fit did not converge (the outputs say why).\n\n"
       "The first two samples use the outputs of the samples of viaduct run and modal-fit.\n\n"
       "Sample runs:\n"
       "  viaduct fit scenarios/hslm-simply-supported.toml --record out/a4/history.csv --map mid_acc_mps2=mid --train HSLM-A4 --speed-kmh 300 --param bridge.EI=5e9:1e10 --param bridge.damping.ratio=0.005:0.05 --set bridge.EI=7e9 --set bridge.damping.ratio=0.02 --out out/fit-hslm\n"

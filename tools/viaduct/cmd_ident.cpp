@@ -439,7 +439,7 @@ Command modal_fit_command() {
       "nonlinear least squares on the FRFs, clusters hiding two modes split by a residual test)),\n"
       "OUT/shapes.csv, OUT/stabilization.csv (every physical pole of every order, with its status)\n"
       "and, with --model, OUT/mac.csv (identified LSCF modes against the model's modes).\n"
-      "Plot with scripts/plot_stabilization.py OUT.\n\n"
+      "Plot with scripts/plot/plot_stabilization.py OUT.\n\n"
       "Sample runs:\n"
       "  viaduct frf scenarios/old-guadiana-talgo.toml --force-at 6 --f-min 5 --f-max 15 --n-freq 201 --out out/frf-model\n"
       "  viaduct modal-fit out/frf-model/frf.csv --f-min 7 --f-max 13 --max-order 20 --model scenarios/old-guadiana-talgo.toml --out out/fit\n"
@@ -507,7 +507,7 @@ Command decay_command() {
       "windows along the decay. Writes OUT/decay.csv (one row per record), OUT/decay_amplitude.csv\n"
       "(record,t_s,amplitude,frequency_hz,damping_ratio) and OUT/decay_summary.csv (mean, std over\n"
       "records). Records that fail are named on stderr (exit 2) after the others are written.\n"
-      "Plot with scripts/plot_decay.py OUT.\n\n"
+      "Plot with scripts/plot/plot_decay.py OUT.\n\n"
       "Sample runs:\n"
       "  viaduct run scenarios/old-guadiana-talgo.toml --set analysis.free_vibration_s=5 --out out/passage\n"
       "  viaduct decay out/passage/history.csv --channel S1_mid_acc --frequency-hz 10 --out out/decay\n";

@@ -24,7 +24,7 @@ Command run_command() {
   };
   c.usage_and_samples =
       "Writes OUT/history.csv (t_s and, per station, deflection, raw and filtered acceleration,\n"
-      "rail deflection with track) and OUT/manifest.toml. Plot with scripts/plot_history.py OUT.\n\n"
+      "rail deflection with track) and OUT/manifest.toml. Plot with scripts/plot/plot_history.py OUT.\n\n"
       "Sample runs:\n"
       "  viaduct run scenarios/old-guadiana-talgo.toml --out out/talgo\n"
       "  viaduct run scenarios/hslm-simply-supported.toml --speed-kmh 300 --train HSLM-A4 --out out/a4\n";

@@ -15,7 +15,7 @@ Command sweep_command() {
       "Writes OUT/envelope.csv (variant,train,speed_kmh,station,max_abs_acc_mps2,max_abs_disp_m;\n"
       "accelerations filtered as the scenario says), OUT/failures.csv and OUT/manifest.toml.\n"
       "Results are identical for any --threads. A case that fails is listed in failures.csv,\n"
-      "the others complete, and the exit code is 1. Plot with scripts/plot_envelope.py OUT.\n\n"
+      "the others complete, and the exit code is 1. Plot with scripts/plot/plot_envelope.py OUT.\n\n"
       "Sample runs:\n"
       "  viaduct sweep scenarios/hslm-simply-supported.toml --set 'train.files=[\"data/trains/hslm/A1.toml\"]' --set sweep.speed_step_kmh=20 --out out/hslm\n"
       "  viaduct sweep scenarios/old-guadiana-sensitivity.toml --set sweep.speed_min_mps=90 --set sweep.n_speeds=1 --threads 0 --out out/og\n";

@@ -45,7 +45,7 @@ Command tradeoff_command() {
       "superposition when there are several trains; IDA rungs with --with-ida. Error of a rung: the largest envelope difference\n"
       "over speeds, relative to the largest reference value of the same (train, station) curve.\n"
       "Writes OUT/tradeoff.csv (one row per rung, the reference first), OUT/tradeoff_stations.csv\n"
-      "(errors per station) and OUT/manifest.toml. Plot with scripts/plot_tradeoff.py OUT.\n\n"
+      "(errors per station) and OUT/manifest.toml. Plot with scripts/plot/plot_tradeoff.py OUT.\n\n"
       "Sample runs:\n"
       "  viaduct tradeoff scenarios/hslm-simply-supported.toml --speeds 3 --set 'train.files=[\"data/trains/hslm/A1.toml\"]' --out out/tradeoff-hslm\n"
       "  viaduct tradeoff scenarios/old-guadiana-sensitivity.toml --speeds 1 --set track.approach_length=3 --set track.exit_length=3 --out out/tradeoff-og\n";

@@ -197,7 +197,7 @@ TEST_CASE("grid variants and variant keys are checked") {
   REQUIRE_THROWS_WITH(sweep_variants(load_flat(r)), Catch::Contains(":12: key 'sweep.variants[0].key': variant key 'filter.order' must be numeric"));
 }
 
-TEST_CASE("docs/scenarios.md documents every key (regenerate with scripts/gen_docs.sh)") {
+TEST_CASE("docs/scenarios.md documents every key (regenerate with scripts/generate/gen_docs.sh)") {
   std::ifstream in(src + "/docs/scenarios.md");
   std::stringstream ss;
   ss << in.rdbuf();

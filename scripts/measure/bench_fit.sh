@@ -2,9 +2,9 @@
 # Benchmark of model updating (issue #6), not a test: the 3-parameter fit of the Old Guadiana
 # model to data/records/og-calibration.csv (README walk-through) with 1 and 2 threads, by direct
 # Newmark (the default) and by modal superposition. Writes docs/benchmarks-fitting.md.
-#   scripts/bench_fit.sh [--repeats N]
+#   scripts/measure/bench_fit.sh [--repeats N]
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 repeats=3
 [ "${1:-}" = "--repeats" ] && repeats=$2
 scripts/setup.sh
@@ -46,7 +46,7 @@ out=docs/benchmarks-fitting.md
 cat > "$out" <<DOC
 # Benchmarks: model updating
 
-Measured by \`scripts/bench_fit.sh\` on $(date -u +%Y-%m-%d), $(nproc) cores ($(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1)),
+Measured by \`scripts/measure/bench_fit.sh\` on $(date -u +%Y-%m-%d), $(nproc) cores ($(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1)),
 release preset, viaduct $($V --version | cut -d' ' -f2); wall times are medians of $repeats runs of the whole
 command (reading, fitting, statistics, writing). Issue #6's target: a 3-parameter fit of the Old
 Guadiana model to one record in under a minute.

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Draw a model-updating result written by `viaduct fit`.
 
-Usage: scripts/plot_fit.py DIR [--out-prefix PREFIX]
+Usage: scripts/plot/plot_fit.py DIR [--out-prefix PREFIX]
 
 Reads DIR/fit_time.csv, fit_trace.csv, fit.csv and fit_modes.csv and writes
 DIR/fit_time.png: per record channel the filtered record against the aligned model with the

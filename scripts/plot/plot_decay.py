@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Damping and frequency against amplitude from `viaduct decay`.
 
-Usage: scripts/plot_decay.py DIR [--out FILE]
+Usage: scripts/plot/plot_decay.py DIR [--out FILE]
 
 Reads DIR/decay_amplitude.csv (windows along each decay), DIR/decay.csv (one row per record,
 with the fitted linear laws) and DIR/decay_summary.csv; draws damping ratio and natural

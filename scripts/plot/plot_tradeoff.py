@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Draw the speed/accuracy trade-off written by `viaduct tradeoff`.
 
-Usage: scripts/plot_tradeoff.py DIR [--out FILE]
+Usage: scripts/plot/plot_tradeoff.py DIR [--out FILE]
 
 Reads DIR/tradeoff.csv and writes DIR/tradeoff.png: envelope error against wall time (both
 logarithmic), one panel for the filtered acceleration and one for the deflection; Newmark,

@@ -2,15 +2,15 @@
 # Regenerates data/records/synthetic-deck.csv: a record made by viaduct with known content
 # (the Old Guadiana model under the Talgo Altaria at 154.8 km/h, Newmark dt = 2 ms, deck
 # mid-span of span 1, unfiltered deflection and acceleration). Run after building the release
-# preset: scripts/make_synthetic_records.sh [path/to/viaduct]
+# preset: scripts/generate/make_synthetic_records.sh [path/to/viaduct]
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 V=${1:-build/release/viaduct}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 "$V" run scenarios/old-guadiana-talgo.toml --set analysis.dt=0.002 --set filter.enabled=false --quiet --out "$tmp"
 {
-  echo "# Synthetic record made by viaduct $("$V" --version | cut -d' ' -f2) (scripts/make_synthetic_records.sh):"
+  echo "# Synthetic record made by viaduct $("$V" --version | cut -d' ' -f2) (scripts/generate/make_synthetic_records.sh):"
   echo "# Old Guadiana model, Talgo Altaria at 154.8 km/h, dt = 2 ms, deck at mid-span 1, unfiltered."
   echo "# Known content: first bending mode 10.01 Hz; axle passages of the Talgo rake every 13.14 m (0.306 s, 3.27 Hz)."
   echo "# sampling_rate_hz = 500"
@@ -42,7 +42,7 @@ rng = np.random.default_rng(6)
 sigma = 0.05 * np.sqrt(np.mean(out[0][lead:] ** 2))
 out = [x + rng.normal(0.0, sigma, x.size) for x in out]
 with open(dst, "w") as f:
-    f.write("# Synthetic record made by viaduct %s (scripts/make_synthetic_records.sh): the Old Guadiana\n" % version)
+    f.write("# Synthetic record made by viaduct %s (scripts/generate/make_synthetic_records.sh): the Old Guadiana\n" % version)
     f.write("# model under the Talgo Altaria at 154.8 km/h with EI = 7.8e9 N m2, track.pad.k = 2e8 N/m and\n")
     f.write("# damping 2.5 % at 10.065 Hz (the scenario has 7.09e9, 1e8, 3.1 %); 1.5 s of logging before the\n")
     f.write("# train; deck mid-span of spans 1 and 2, unfiltered, white noise of %.3g m/s2 (5 %% of the RMS).\n" % sigma)

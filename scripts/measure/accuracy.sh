@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Measures the speed/accuracy ladder (`viaduct tradeoff`) on the two shipped studies and writes
 # docs/accuracy.md with the tables, the presets' measured errors and the commands.
-#   scripts/accuracy.sh [--quick]
+#   scripts/measure/accuracy.sh [--quick]
 # --quick: 4 speeds and one train each (a smoke run; does not write the docs).
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 quick=0
 [ "${1:-}" = "--quick" ] && quick=1
 scripts/setup.sh
@@ -29,9 +29,9 @@ echo "accuracy: HSLM" >&2
 echo "accuracy: HSLM-A1 with IDA" >&2
 "$V" tradeoff scenarios/hslm-simply-supported.toml --speeds 5 --with-ida --set 'train.files=["data/trains/hslm/A1.toml"]' \
   --threads 2 --quiet --out "$O/hslm-ida"
-/usr/bin/python3 scripts/plot_tradeoff.py "$O/og" >/dev/null
-/usr/bin/python3 scripts/plot_tradeoff.py "$O/hslm" >/dev/null
-/usr/bin/python3 scripts/plot_tradeoff.py "$O/hslm-ida" >/dev/null
+/usr/bin/python3 scripts/plot/plot_tradeoff.py "$O/og" >/dev/null
+/usr/bin/python3 scripts/plot/plot_tradeoff.py "$O/hslm" >/dev/null
+/usr/bin/python3 scripts/plot/plot_tradeoff.py "$O/hslm-ida" >/dev/null
 # Presets: the full studies with each preset, errors against the reference rung of the tradeoff
 # (same speeds: the tradeoff's speeds are all 60 of Old Guadiana; HSLM every 10 km/h).
 preset_cell() {  # preset tradeoff.csv -> "x % acc, y % disp, t s"
@@ -48,7 +48,7 @@ fi
 cat > docs/accuracy.md <<DOC
 # Speed against accuracy
 
-Measured by \`scripts/accuracy.sh\` on $(date -u +%Y-%m-%d) ($(nproc) cores, release preset, 2 threads),
+Measured by \`scripts/measure/accuracy.sh\` on $(date -u +%Y-%m-%d) ($(nproc) cores, release preset, 2 threads),
 with \`viaduct tradeoff\`: each rung runs the scenario's speeds and trains (not its sensitivity
 variants); its error is the largest difference of the maximum-response envelope over speeds,
 divided by the largest reference value of the same (train, station) curve, then the worst curve.
@@ -119,7 +119,7 @@ IDA, HSLM-A1 only, 5 speeds (140, 210, 280, 350, 420 km/h), against the same New
 |---|---|---|---|---|---|---|
 $(table "$O/hslm-ida/tradeoff.csv" | grep -E '^[|] (ida|newmark)')
 
-Plots: \`scripts/plot_tradeoff.py out/accuracy/og\` and \`.../hslm\` (error against wall time, log–log,
+Plots: \`scripts/plot/plot_tradeoff.py out/accuracy/og\` and \`.../hslm\` (error against wall time, log–log,
 Pareto front).
 
 ## Presets
@@ -148,7 +148,7 @@ and 1.6 points of the 1.9 % between dt = 1 ms and 0.0625 ms were that edge, not 
 Errors now converge as the methods do (Newmark: dt²).
 
 The whole Old Guadiana sensitivity study (13 models × 60 speeds, against Newmark at 0.1 ms) with
-each preset and the bases around them is measured by \`scripts/bench.sh\` (docs/benchmarks.md).
+each preset and the bases around them is measured by \`scripts/measure/bench.sh\` (docs/benchmarks.md).
 There the modal error is largest at high speed on the pad and ballast variants: the axles pass
 the sleepers at v/0.6 m (67–167 Hz over the sweep) and excite track modes above the basis whose
 response reaches the deck's band. It does not fall steadily with the basis (with damping

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""Compares two output trees written by scripts/snapshot_outputs.sh (before and after a change).
+"""Compares two output trees written by scripts/measure/snapshot_outputs.sh (before and after a change).
 
-    scripts/compare_outputs.py BEFORE AFTER [--rtol 0]
+    scripts/measure/compare_outputs.py BEFORE AFTER [--rtol 0]
 
 Every file is compared: CSV and text files cell by cell (numbers by value, with the relative
 tolerance given; 0 asks for identical values), PNG and other binary files by size only. Lines

@@ -2,10 +2,10 @@
 # Benchmarks (not tests): wall time of the headline studies and the accuracy bought with the
 # time step. Builds the release preset, runs everything in one go on this machine, and writes
 # docs/benchmarks.md with the figures and the commands that produced them.
-#   scripts/bench.sh [--repeats N] [--quick]
+#   scripts/measure/bench.sh [--repeats N] [--quick]
 # --quick: HSLM on 3 trains, Old Guadiana on 12 speeds (a smoke run; does not write the docs).
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 repeats=3
 quick=0
 while [ $# -gt 0 ]; do
@@ -208,14 +208,14 @@ per_step() { awk -v w="$1" -v s="$2" -v t="$3" 'BEGIN{printf "%.1f", 1e6*w*t/s}'
 cat > docs/benchmarks.md <<DOC
 # Benchmarks
 
-Measured by \`scripts/bench.sh\` on $(date -u +%Y-%m-%d), $(nproc) cores ($(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1)),
+Measured by \`scripts/measure/bench.sh\` on $(date -u +%Y-%m-%d), $(nproc) cores ($(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1)),
 release preset, viaduct $($V --version | cut -d' ' -f2). Speed is measured here, never asserted in tests. The machine
 is shared and noisy: 2-thread wall times are medians of $repeats runs, 1-thread times one run each
 (one to two minutes apiece); the thread ratio comes from the same session. Identification paths
 (model FRF, shaker test, modal fit, decay): [benchmarks-identification.md](benchmarks-identification.md)
-(\`scripts/bench_ident.sh\`). Model updating: the 3-parameter fit of the Old Guadiana model to one
+(\`scripts/measure/bench_ident.sh\`). Model updating: the 3-parameter fit of the Old Guadiana model to one
 record takes $(sed -n 's/^| Newmark, dt = 1 ms (default) | 2 | \([0-9.]*\) .*/\1/p' docs/benchmarks-fitting.md) s on 2 threads (target < 60 s), [benchmarks-fitting.md](benchmarks-fitting.md)
-(\`scripts/bench_fit.sh\`).
+(\`scripts/measure/bench_fit.sh\`).
 
 ## Studies
 

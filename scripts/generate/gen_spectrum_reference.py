@@ -2,7 +2,7 @@
 """Generate the committed SciPy reference vectors for viaduct's Welch PSD and CSD
 (tests/unit/signal/test_spectrum.cpp).
 
-Run with Debian's python3-scipy:  /usr/bin/python3 scripts/gen_spectrum_reference.py
+Run with Debian's python3-scipy:  /usr/bin/python3 scripts/generate/gen_spectrum_reference.py
 Writes tests/data/spectrum_reference/<case>.csv. Regenerate only on purpose (golden files).
 """
 import os
@@ -10,7 +10,7 @@ import numpy as np
 import scipy
 from scipy import signal
 
-OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data", "spectrum_reference")
+OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tests", "data", "spectrum_reference")
 
 # name, fs, n, nperseg, noverlap, window, detrend
 CASES = [

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Overlay FRFs written by `viaduct frf` (measured and model).
 
-Usage: scripts/plot_frf.py FRF.csv [FRF.csv ...] [--label NAME ...] [--out FILE]
+Usage: scripts/plot/plot_frf.py FRF.csv [FRF.csv ...] [--label NAME ...] [--out FILE]
 
 Draws magnitude (logarithmic), phase and, when the file has it, coherence against frequency,
 one colour per response and one line style per file (first file solid with markers when it has

@@ -2,7 +2,7 @@
 """Generate the committed SciPy reference vectors for viaduct's decimation and Hilbert envelope
 (tests/unit/signal/test_resample.cpp).
 
-Run with Debian's python3-scipy:  /usr/bin/python3 scripts/gen_resample_reference.py
+Run with Debian's python3-scipy:  /usr/bin/python3 scripts/generate/gen_resample_reference.py
 Writes tests/data/resample_reference.csv. Regenerate only on purpose (golden files).
 """
 import os
@@ -10,7 +10,7 @@ import numpy as np
 import scipy
 from scipy import signal
 
-OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data", "resample_reference.csv")
+OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tests", "data", "resample_reference.csv")
 
 
 def main():

@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # Wall times of two viaduct binaries on the headline studies, alternating A and B in each round so
 # that the machine's noise falls on both alike; prints the median of each and the ratio B/A.
-# For a refactor: A = the binary before, B = after (docs/benchmarks.md rows are scripts/bench.sh's).
+# For a refactor: A = the binary before, B = after (docs/benchmarks.md rows are scripts/measure/bench.sh's).
 #
-#   scripts/bench_ab.sh A B [ROUNDS]      (ROUNDS: default 3)
+#   scripts/measure/bench_ab.sh A B [ROUNDS]      (ROUNDS: default 3)
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 [ $# -ge 2 ] || { sed -n '2,7p' "$0"; exit 2; }
 A=$(realpath "$1")
 B=$(realpath "$2")

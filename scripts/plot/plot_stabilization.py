@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Stabilization diagram of `viaduct modal-fit`.
 
-Usage: scripts/plot_stabilization.py DIR [--frf FRF.csv] [--out FILE]
+Usage: scripts/plot/plot_stabilization.py DIR [--frf FRF.csv] [--out FILE]
 
 Reads DIR/stabilization.csv (every physical pole of every LSCF order, with its status) and
 DIR/modes.csv; draws the poles against frequency and model order (o new, + frequency stable,

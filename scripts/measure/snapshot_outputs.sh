@@ -1,15 +1,15 @@
 #!/usr/bin/env bash
-# Runs the README's commands and the studies of scripts/bench.sh (speed lists shortened where a
+# Runs the README's commands and the studies of scripts/measure/bench.sh (speed lists shortened where a
 # full list would take minutes; every kernel and code path of the full runs is exercised) with one
 # viaduct binary and writes every output under DIR, so that a refactor can be checked to change
-# no result: run it with the binary before and after, then scripts/compare_outputs.py A B.
+# no result: run it with the binary before and after, then scripts/measure/compare_outputs.py A B.
 #
-#   scripts/snapshot_outputs.sh DIR [VIADUCT]      (VIADUCT: default build/release/viaduct)
+#   scripts/measure/snapshot_outputs.sh DIR [VIADUCT]      (VIADUCT: default build/release/viaduct)
 #
 # Takes about 3 minutes on 2 cores. Wall times and versions are left for compare_outputs.py to
 # ignore.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 [ $# -ge 1 ] || { sed -n '2,9p' "$0"; exit 2; }
 D=$1
 V=$(realpath "${2:-build/release/viaduct}")
@@ -74,7 +74,7 @@ run decay-train decay "$D/passage/history.csv" --channel S1_mid_acc --frequency-
 # model updating (one parameter pair, a few iterations)
 run fit fit $TA --record data/records/og-calibration.csv --map S1_mid_acc=S1_mid --map S2_mid_acc=S2_mid \
   --param bridge.EI=5e9:1e10 --param bridge.damping.ratio1=0.01:0.06 --threads 2
-# scripts/bench.sh studies (speed lists shortened)
+# scripts/measure/bench.sh studies (speed lists shortened)
 for dt in 0.002 0.0005; do
   run "bench-dt-$dt" sweep $OG --set analysis.dt=$dt --set sweep.mode=reference --threads 2 --set sweep.n_speeds=6
 done

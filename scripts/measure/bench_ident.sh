@@ -2,9 +2,9 @@
 # Benchmarks of the identification paths (issue #4), not tests: model FRF by direct solve, the
 # simulated shaker test, stepped-sine processing, modal fit and free-decay analysis, on the Old
 # Guadiana model. Writes docs/benchmarks-identification.md with the figures and the commands.
-#   scripts/bench_ident.sh [--repeats N]
+#   scripts/measure/bench_ident.sh [--repeats N]
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 repeats=3
 [ "${1:-}" = "--repeats" ] && repeats=$2
 scripts/setup.sh
@@ -45,7 +45,7 @@ per_step=$(awk -v w="$s1" -v s="$steps" 'BEGIN{printf "%.1f", 1e6 * w / s}')
 cat > docs/benchmarks-identification.md <<DOC
 # Benchmarks: identification
 
-Measured by \`scripts/bench_ident.sh\` on $(date -u +%Y-%m-%d), $(nproc) cores, release preset, on the Old
+Measured by \`scripts/measure/bench_ident.sh\` on $(date -u +%Y-%m-%d), $(nproc) cores, release preset, on the Old
 Guadiana model (\`$OG\`, 528 DOFs with the track). Medians of $repeats runs (the shaker test: one run);
 wall time of the whole command (model build and I/O included).
 

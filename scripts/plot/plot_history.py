@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Draw the station time histories written by `viaduct run`.
 
-Usage: scripts/plot_history.py DIR [--out FILE] [--raw]
+Usage: scripts/plot/plot_history.py DIR [--out FILE] [--raw]
 
 Reads DIR/history.csv and writes DIR/history.png: per station, deck (or rail) deflection in mm
 and filtered acceleration (raw acceleration too with --raw), one row per station.

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Draw maximum-response envelopes written by `viaduct sweep`.
 
-Usage: scripts/plot_envelope.py DIR [--quantity acc|disp] [--limit 3.5] [--out FILE]
+Usage: scripts/plot/plot_envelope.py DIR [--quantity acc|disp] [--limit 3.5] [--out FILE]
 
 Reads DIR/envelope.csv (and DIR/failures.csv if present) and writes DIR/envelope.png
 (envelope_disp.png for displacements). Layout:

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Draw a model-against-record comparison written by `viaduct compare`.
 
-Usage: scripts/plot_compare.py DIR [--out FILE] [--fmax HZ]
+Usage: scripts/plot/plot_compare.py DIR [--out FILE] [--fmax HZ]
 
 Reads DIR/compare_time.csv, compare_spectrum.csv and compare_metrics.csv and writes
 DIR/compare.png: one row per channel, filtered time histories (record and aligned model) on the

@@ -2,7 +2,7 @@
 """Generate the committed SciPy reference vectors for viaduct's Chebyshev I design and
 zero-phase filtering (tests/unit/signal/test_iir.cpp).
 
-Run with Debian's python3-scipy:  /usr/bin/python3 scripts/gen_filter_reference.py
+Run with Debian's python3-scipy:  /usr/bin/python3 scripts/generate/gen_filter_reference.py
 Writes tests/data/filter_reference/<case>.csv. Regenerate only on purpose (golden files).
 """
 import os
@@ -10,7 +10,7 @@ import numpy as np
 import scipy
 from scipy import signal
 
-OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data", "filter_reference")
+OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tests", "data", "filter_reference")
 
 # name, band, order, ripple_db, low_hz, high_hz, fs_hz, n_samples
 CASES = [

@@ -2,9 +2,9 @@
 # Measures how well viaduct fit recovers known parameters from synthetic records (a small span at
 # three noise levels, 20 realisations each; the Old Guadiana model, 5 realisations) and writes
 # docs/fitting-accuracy.md. About 3 minutes.
-#   scripts/fit_accuracy.sh [SEEDS]
+#   scripts/measure/fit_accuracy.sh [SEEDS]
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 seeds=${1:-20}
 scripts/setup.sh
 cmake --preset release -G Ninja >/dev/null
@@ -13,7 +13,7 @@ out=docs/fitting-accuracy.md
 {
   echo "# Model updating: measured recovery errors"
   echo
-  echo "Written by \`scripts/fit_accuracy.sh\` (\`build/release/viaduct_fit_recovery . $seeds\`, source in"
+  echo "Written by \`scripts/measure/fit_accuracy.sh\` (\`build/release/viaduct_fit_recovery . $seeds\`, source in"
   echo "\`tools/bench/fit_recovery.cpp\`, records made by \`tests/unit/study/fit_synthetic.hpp\`) on"
   echo "$(date -u +%Y-%m-%d), $(nproc) cores, 2 threads per fit. Method: [fitting.md](fitting.md)."
   echo
