@@ -5,15 +5,12 @@
 # --quick: 4 speeds and one train each (a smoke run; does not write the docs).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+. scripts/measure/lib.sh
 quick=0
 [ "${1:-}" = "--quick" ] && quick=1
-scripts/setup.sh
-cmake --preset release -G Ninja >/dev/null
-cmake --build --preset release -j "$(nproc)" >/dev/null
-V=build/release/viaduct
+release_build
 O=out/accuracy
-rm -rf "$O"
-mkdir -p "$O"
+fresh_dir "$O"
 og_args=(--speeds 60)
 hslm_args=(--speeds 29)
 if [ "$quick" -eq 1 ]; then

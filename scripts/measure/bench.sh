@@ -6,6 +6,7 @@
 # --quick: HSLM on 3 trains, Old Guadiana on 12 speeds (a smoke run; does not write the docs).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+. scripts/measure/lib.sh
 repeats=3
 quick=0
 while [ $# -gt 0 ]; do
@@ -16,13 +17,9 @@ while [ $# -gt 0 ]; do
   esac
   shift
 done
-scripts/setup.sh
-cmake --preset release -G Ninja >/dev/null
-cmake --build --preset release -j "$(nproc)" >/dev/null
-V=build/release/viaduct
+release_build
 B=out/bench
-rm -rf "$B"
-mkdir -p "$B"
+fresh_dir "$B"
 extra_hslm=()
 extra_og=()
 if [ "$quick" -eq 1 ]; then
@@ -34,7 +31,6 @@ fi
 field() { sed -n "s/^$2 = //p" "$1/manifest.toml" | tr -d '"'; }
 fmt() { printf '%.1f' "$1"; }
 fmt2() { printf '%.2f' "$1"; }
-median() { sort -g | awk '{a[NR]=$1} END{print (NR%2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2)}'; }
 
 # 1. wall time: median of N runs each, for 1 and 2 threads
 time_runs() {  # name scenario threads runs args...

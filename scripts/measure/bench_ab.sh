@@ -6,6 +6,7 @@
 #   scripts/measure/bench_ab.sh A B [ROUNDS]      (ROUNDS: default 3)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+. scripts/measure/lib.sh
 [ $# -ge 2 ] || { sed -n '2,7p' "$0"; exit 2; }
 A=$(realpath "$1")
 B=$(realpath "$2")
@@ -13,7 +14,6 @@ rounds=${3:-3}
 W=$(mktemp -d)
 trap 'rm -rf "$W"' EXIT
 field() { sed -n "s/^$2 = //p" "$1/manifest.toml" | tr -d '"'; }
-median() { sort -g | awk '{a[NR]=$1} END{print (NR%2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2)}'; }
 studies=(
   "hslm-3modes|sweep scenarios/hslm-simply-supported.toml --set analysis.method=\"modal\" --set modal.n_modes=3 --set filter.enabled=false --set analysis.dt=0.0005 --set analysis.free_vibration_s=2 --threads 2|sweep_wall_s"
   "og-default|sweep scenarios/old-guadiana-sensitivity.toml --set analysis.preset=\"default\" --threads 2|sweep_wall_s"

@@ -5,16 +5,12 @@
 #   scripts/measure/bench_fit.sh [--repeats N]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+. scripts/measure/lib.sh
 repeats=3
 [ "${1:-}" = "--repeats" ] && repeats=$2
-scripts/setup.sh
-cmake --preset release -G Ninja >/dev/null
-cmake --build --preset release -j "$(nproc)" >/dev/null
-V=build/release/viaduct
+release_build
 B=out/bench-fit
-rm -rf "$B"
-mkdir -p "$B"
-median() { sort -g | awk '{a[NR]=$1} END{print (NR%2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2)}'; }
+fresh_dir "$B"
 fit_args=(fit scenarios/old-guadiana-talgo.toml --record data/records/og-calibration.csv --map S1_mid_acc=S1_mid
           --map S2_mid_acc=S2_mid --param bridge.EI=5e9:1e10 --param track.pad.k=2e7:1e9
           --param bridge.damping.ratio1=0.01:0.06 --quiet)

@@ -5,17 +5,13 @@
 #   scripts/measure/bench_ident.sh [--repeats N]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+. scripts/measure/lib.sh
 repeats=3
 [ "${1:-}" = "--repeats" ] && repeats=$2
-scripts/setup.sh
-cmake --preset release -G Ninja >/dev/null
-cmake --build --preset release -j "$(nproc)" >/dev/null
-V=build/release/viaduct
+release_build
 B=out/bench-ident
-rm -rf "$B"
-mkdir -p "$B"
+fresh_dir "$B"
 OG=scenarios/old-guadiana-talgo.toml
-median() { sort -g | awk '{a[NR]=$1} END{print (NR%2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2)}'; }
 wall() {  # runs the command, prints its wall time [s]
   local t0 t1
   t0=$(date +%s.%N)

@@ -5,10 +5,9 @@
 #   scripts/measure/fit_accuracy.sh [SEEDS]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+. scripts/measure/lib.sh
 seeds=${1:-20}
-scripts/setup.sh
-cmake --preset release -G Ninja >/dev/null
-cmake --build --preset release -j "$(nproc)" >/dev/null
+release_build
 out=docs/fitting-accuracy.md
 {
   echo "# Model updating: measured recovery errors"

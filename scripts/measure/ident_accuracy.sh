@@ -5,9 +5,8 @@
 #   scripts/measure/ident_accuracy.sh
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-scripts/setup.sh
-cmake --preset release -G Ninja >/dev/null
-cmake --build --preset release -j "$(nproc)" >/dev/null
+. scripts/measure/lib.sh
+release_build
 out=docs/identification-accuracy.md
 {
   echo "# Identification: measured recovery errors"
