@@ -62,6 +62,12 @@ struct TextTable {
   std::vector<int> lines;
 };
 
+// Drops a UTF-8 byte-order mark from the first line of a file (spreadsheets and Windows editors
+// write one; it would otherwise stick to the first header cell or the first "-1").
+inline void drop_bom(std::string& first_line) {
+  if (first_line.compare(0, 3, "\xEF\xBB\xBF") == 0) first_line.erase(0, 3);
+}
+
 inline TextTable read_text_table(const std::string& path, bool quoted) {
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open");
@@ -69,7 +75,7 @@ inline TextTable read_text_table(const std::string& path, bool quoted) {
   std::string line;
   int ln = 0;
   while (std::getline(in, line)) {
-    ++ln;
+    if (++ln == 1) drop_bom(line);
     if (line.empty() || line[0] == '#' || line == "\r") continue;
     auto cells = quoted ? split_quoted_csv(line) : split_csv(line);
     if (t.header.empty()) {

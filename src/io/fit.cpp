@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "viaduct/core/error.hpp"
+#include "atomic_file.hpp"
 #include "csv_cells.hpp"
 #include "viaduct/io/record.hpp"
 #include "viaduct/io/results.hpp"
@@ -283,8 +284,7 @@ void write_scenario_toml(const std::string& path, const FlatScenario& flat, cons
     const std::string table = dot == std::string::npos ? "" : key.substr(0, dot);
     tables[table].push_back({dot == std::string::npos ? key : key.substr(dot + 1), val});
   }
-  std::ofstream out(path);
-  if (!out) throw SolverError("cannot write " + path);
+  std::ostringstream out;
   std::stringstream cs(comment);
   for (std::string line; std::getline(cs, line);) out << "# " << line << "\n";
   auto leaves = [&](const std::vector<std::pair<std::string, Value>>& ls) {
@@ -302,7 +302,7 @@ void write_scenario_toml(const std::string& path, const FlatScenario& flat, cons
       out << "\n[[" << a << "]]\n";
       leaves(ls);
     }
-  if (!out) throw SolverError("cannot write " + path);
+  detail::write_text_atomically(path, out.str());
 }
 
 namespace {
@@ -546,10 +546,7 @@ void write_fit_summary(const std::string& dir, const std::string& scenario_path,
         << "\nstd_error = " << (std::isfinite(r.std_error[i]) ? fmt(r.std_error[i]) : "inf")
         << "\ndetermined = " << (r.determined[i] ? "true" : "false") << "\n";
     }
-    std::FILE* f = std::fopen((dir + "/fit.toml").c_str(), "w");
-    if (!f) throw SolverError("cannot write " + dir + "/fit.toml");
-    std::fputs(t.str().c_str(), f);
-    std::fclose(f);
+    detail::write_text_atomically(dir + "/fit.toml", t.str());
   }
   // The scenario with the fitted values.
   FlatScenario fitted = flat;

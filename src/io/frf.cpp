@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "viaduct/core/error.hpp"
+#include "atomic_file.hpp"
 #include "csv_cells.hpp"
 
 namespace viaduct::io {
@@ -54,8 +55,7 @@ std::string fmt(double v) {
 
 void write_frf_csv(const std::string& path, const ident::Frf& frf) {
   frf.check(path);
-  std::ofstream out(path);
-  if (!out) throw SolverError("cannot write " + path);
+  std::ostringstream out;
   const bool coh = frf.coherence.size() != 0;
   out << "frequency_hz";
   for (Index c = 0; c < frf.n_responses(); ++c) {
@@ -75,7 +75,7 @@ void write_frf_csv(const std::string& path, const ident::Frf& frf) {
     }
     out << "\n";
   }
-  if (!out) throw SolverError("write failed: " + path);
+  detail::write_text_atomically(path, out.str());
 }
 
 ident::Frf read_frf_csv(const std::string& path) {
@@ -151,11 +151,10 @@ ident::Frf read_frf_csv(const std::string& path) {
 }
 
 void write_steps_csv(const std::string& path, const std::vector<ident::SineStep>& steps) {
-  std::ofstream out(path);
-  if (!out) throw SolverError("cannot write " + path);
+  std::ostringstream out;
   out << "t_start_s,t_end_s,frequency_hz\n";
   for (const auto& s : steps) out << fmt(s.t_start_s) << "," << fmt(s.t_end_s) << "," << fmt(s.frequency_hz) << "\n";
-  if (!out) throw SolverError("write failed: " + path);
+  detail::write_text_atomically(path, out.str());
 }
 
 std::vector<ident::SineStep> read_steps_csv(const std::string& path) {

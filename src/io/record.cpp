@@ -1,5 +1,7 @@
 #include "viaduct/io/record.hpp"
 
+#include "atomic_file.hpp"
+
 #include "csv_cells.hpp"
 
 #include <algorithm>
@@ -44,7 +46,7 @@ Record read_record_csv(const std::string& path) {
   int ln = 0;
   std::size_t n_cols = 0;
   while (std::getline(in, line)) {
-    ++ln;
+    if (++ln == 1) detail::drop_bom(line);
     const std::string t = trim(line);
     if (t.empty()) continue;
     if (t[0] == '#') {
@@ -142,13 +144,10 @@ Record read_record_csv(const std::string& path) {
 }
 
 void write_record_csv(const std::string& path, const Record& r, int significant_digits) {
-  struct Closer {
-    void operator()(std::FILE* f) const {
-      if (f) std::fclose(f);
-    }
-  };
-  std::unique_ptr<std::FILE, Closer> f(std::fopen(path.c_str(), "w"));
-  if (!f) throw SolverError("cannot write " + path);
+  for (Index c = 0; c < r.data.cols(); ++c)
+    if (!r.data.col(c).allFinite())
+      throw SolverError("not writing " + path + ": channel " + r.channels[static_cast<std::size_t>(c)] + " holds a non-finite value");
+  detail::AtomicFile f(path);
   std::fprintf(f.get(), "# sampling_rate_hz = %.17g\nt_s", r.fs_hz);
   for (const auto& c : r.channels) std::fprintf(f.get(), ",%s", c.c_str());
   std::fprintf(f.get(), "\n");
@@ -157,7 +156,7 @@ void write_record_csv(const std::string& path, const Record& r, int significant_
     for (Index c = 0; c < r.data.cols(); ++c) std::fprintf(f.get(), ",%.*g", significant_digits, r.data(k, c));
     std::fprintf(f.get(), "\n");
   }
-  if (std::ferror(f.get()) || std::fclose(f.release()) != 0) throw SolverError("error writing " + path);
+  f.commit();
 }
 
 ChannelQuantity channel_quantity(const std::string& unit, const std::string& channel, const std::string& who) {

@@ -1,6 +1,7 @@
 #include "viaduct/io/results.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
@@ -17,28 +18,14 @@
 #ifndef VIADUCT_VERSION
 #define VIADUCT_VERSION "0.0.0"
 #endif
+#include "atomic_file.hpp"
 #include "git_commit.hpp"  // VIADUCT_GIT_COMMIT, written at build time (cmake/git_commit.cmake)
 
 namespace viaduct::io {
 
 namespace {
 
-struct FileCloser {
-  void operator()(std::FILE* f) const {
-    if (f) std::fclose(f);
-  }
-};
-using File = std::unique_ptr<std::FILE, FileCloser>;
-
-File open_out(const std::string& path) {
-  File f(std::fopen(path.c_str(), "w"));
-  if (!f) throw SolverError("cannot write " + path);
-  return f;
-}
-
-void finish(File& f, const std::string& path) {
-  if (std::ferror(f.get()) || std::fclose(f.release()) != 0) throw SolverError("error writing " + path);
-}
+using detail::AtomicFile;
 
 std::string csv_text(const std::string& s) {
   if (s.find_first_of(",\"\n") == std::string::npos) return s;
@@ -52,7 +39,7 @@ std::string csv_text(const std::string& s) {
 std::string version() { return VIADUCT_VERSION; }
 
 void write_history_csv(const std::string& path, const study::RunResult& r) {
-  File f = open_out(path);
+  AtomicFile f(path);
   std::vector<const Vector*> cols;
   std::fprintf(f.get(), "t_s");
   for (const auto& h : r.stations) {
@@ -76,30 +63,30 @@ void write_history_csv(const std::string& path, const study::RunResult& r) {
     for (const Vector* c : cols) std::fprintf(f.get(), ",%.9g", (*c)[k]);
     std::fprintf(f.get(), "\n");
   }
-  finish(f, path);
+  f.commit();
 }
 
 void write_envelope_csv(const std::string& path, const std::vector<study::EnvelopeRow>& rows) {
-  File f = open_out(path);
+  AtomicFile f(path);
   std::fprintf(f.get(), "variant,train,speed_kmh,station,max_abs_acc_mps2,max_abs_disp_m\n");
   for (const auto& r : rows)
     std::fprintf(f.get(), "%s,%s,%.10g,%s,%.10g,%.10g\n", csv_text(r.variant).c_str(), csv_text(r.train).c_str(),
                  r.speed * 3.6, csv_text(r.station).c_str(), r.max_abs_acc, r.max_abs_disp);
-  finish(f, path);
+  f.commit();
 }
 
 void write_failures_csv(const std::string& path, const std::vector<study::CaseFailure>& failures) {
-  File f = open_out(path);
+  AtomicFile f(path);
   std::fprintf(f.get(), "variant,train,speed_kmh,error\n");
   for (const auto& r : failures)
     std::fprintf(f.get(), "%s,%s,%.10g,%s\n", csv_text(r.variant).c_str(), csv_text(r.train).c_str(), r.speed * 3.6,
                  csv_text(r.message).c_str());
-  finish(f, path);
+  f.commit();
 }
 
 void write_modes_csv(const std::string& path, const model::Modes& m,
                      const std::vector<study::ResolvedStation>& stations) {
-  File f = open_out(path);
+  AtomicFile f(path);
   std::fprintf(f.get(), "mode,frequency_hz");
   for (const auto& s : stations) {
     if (s.has_deck) std::fprintf(f.get(), ",%s_deck", s.name.c_str());
@@ -115,7 +102,7 @@ void write_modes_csv(const std::string& path, const model::Modes& m,
     }
     std::fprintf(f.get(), "\n");
   }
-  finish(f, path);
+  f.commit();
 }
 
 void write_columns_csv(const std::string& path, const std::vector<std::string>& names,
@@ -123,19 +110,24 @@ void write_columns_csv(const std::string& path, const std::vector<std::string>& 
   if (names.size() != columns.size() || columns.empty()) throw InputError("write_columns_csv: one name per column");
   for (const auto& c : columns)
     if (c.size() != columns.front().size()) throw InputError("write_columns_csv: columns differ in length");
-  File f = open_out(path);
+  for (std::size_t j = 0; j < columns.size(); ++j)
+    for (Index k = 0; k < columns[j].size(); ++k)
+      if (!std::isfinite(columns[j][k]))
+        throw SolverError("not writing " + path + ": column " + names[j] + " holds a non-finite value (row " + std::to_string(k + 1) +
+                          ")");
+  AtomicFile f(path);
   for (std::size_t j = 0; j < names.size(); ++j) std::fprintf(f.get(), "%s%s", j ? "," : "", csv_text(names[j]).c_str());
   std::fprintf(f.get(), "\n");
   for (Index k = 0; k < columns.front().size(); ++k) {
     for (std::size_t j = 0; j < columns.size(); ++j) std::fprintf(f.get(), "%s%.10g", j ? "," : "", columns[j][k]);
     std::fprintf(f.get(), "\n");
   }
-  finish(f, path);
+  f.commit();
 }
 
 void write_table_csv(const std::string& path, const std::vector<std::string>& header,
                      const std::vector<std::vector<std::string>>& rows) {
-  File f = open_out(path);
+  AtomicFile f(path);
   auto line = [&](const std::vector<std::string>& cells) {
     if (cells.size() != header.size()) throw InputError("write_table_csv: row width differs from the header");
     for (std::size_t j = 0; j < cells.size(); ++j) std::fprintf(f.get(), "%s%s", j ? "," : "", csv_text(cells[j]).c_str());
@@ -143,7 +135,7 @@ void write_table_csv(const std::string& path, const std::vector<std::string>& he
   };
   line(header);
   for (const auto& r : rows) line(r);
-  finish(f, path);
+  f.commit();
 }
 
 std::string git_commit() { return VIADUCT_GIT_COMMIT; }
@@ -220,8 +212,7 @@ void write_manifest(const std::string& path, const Manifest& m, const FlatScenar
       for (const auto& t : flat->at("train.files").ss) add(t);
   }
   for (const auto& f : m.inputs) add(f);
-  std::ofstream out(path);
-  if (!out) throw SolverError("cannot write " + path);
+  std::ostringstream out;
   const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
   char stamp[32];
   std::strftime(stamp, sizeof stamp, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
@@ -269,7 +260,7 @@ void write_manifest(const std::string& path, const Manifest& m, const FlatScenar
     out << "\n[[inputs]]\nfile = " << q(f) << "\nsha256 = " << q(sum) << "\n";
   }
   if (flat) out << "\n[scenario]\n" << resolved_toml(*flat);
-  if (!out) throw SolverError("error writing " + path);
+  detail::write_text_atomically(path, out.str());
 }
 
 }  // namespace viaduct::io

@@ -8,6 +8,7 @@
 
 #include "viaduct/core/error.hpp"
 #include "viaduct/io/record.hpp"
+#include "csv_cells.hpp"
 
 namespace viaduct::io {
 
@@ -55,6 +56,7 @@ Record read_uff58(const std::string& path) {
   std::vector<std::string> lines;
   for (std::string l; std::getline(in, l);) {
     if (!l.empty() && l.back() == '\r') l.pop_back();
+    if (lines.empty()) detail::drop_bom(l);
     lines.push_back(l);
   }
   Record r;
@@ -63,6 +65,11 @@ Record read_uff58(const std::string& path) {
   std::size_t i = 0;
   while (i < lines.size()) {
     if (trim(lines[i]) != "-1") {
+      // Between datasets only blank lines: anything else means a "-1" went missing and a
+      // dataset would be lost without a word.
+      if (!trim(lines[i]).empty())
+        throw err(static_cast<int>(i + 1), "'" + trim(lines[i]).substr(0, 40) +
+                                               "' outside any dataset: a -1 delimiter is missing before or after it");
       ++i;
       continue;
     }

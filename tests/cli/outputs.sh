@@ -16,6 +16,11 @@ expect 0 "reference,HSLM-A9,210,mid," -- cat "$WORK/s1/envelope.csv"
 expect 0 "" -- cmp "$WORK/s1/envelope.csv" "$WORK/s2/envelope.csv"
 expect 0 "n_failed = 0" -- cat "$WORK/s2/manifest.toml"
 expect 0 "11" -- wc -l "$WORK/s1/envelope.csv"
+# A run killed while writing (here by the file size limit, SIGXFSZ: exit 153) leaves the earlier
+# output whole: the manifest (about 5 kB) of the same sweep into s1 cannot be written in 1 kB.
+cp "$WORK/s1/manifest.toml" "$WORK/manifest.before"
+expect 153 "" -- bash -c "ulimit -f 1; exec \"\$0\" \"\$@\"" "$VIADUCT" sweep "$HS" "${SET[@]}" --out "$WORK/s1" --quiet
+expect 0 "" -- cmp "$WORK/s1/manifest.toml" "$WORK/manifest.before"
 # A rail station along the approach track (track model).
 OG=$SRC/scenarios/old-guadiana-talgo.toml
 expect 0 "wrote" -- "$VIADUCT" run "$OG" --set 'stations[3].track_x=-5.0' --set 'stations[3].name="approach"' --out "$WORK/og" --speed-kmh 200

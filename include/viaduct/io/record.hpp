@@ -52,7 +52,8 @@ ChannelQuantity channel_quantity(const std::string& unit, const std::string& cha
 /// read_uff58 for .uff/.unv files, read_record_csv otherwise.
 Record read_record(const std::string& path);
 
-/// Writes `r` with a t_s column (t0 + k/fs). Throws SolverError on I/O failure.
+/// Writes `r` with a t_s column (t0 + k/fs), atomically. Throws SolverError on I/O failure and
+/// for a non-finite sample (named by channel), which is never written.
 void write_record_csv(const std::string& path, const Record& r, int significant_digits = 10);
 
 }  // namespace viaduct::io

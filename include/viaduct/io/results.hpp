@@ -28,7 +28,8 @@ void write_modes_csv(const std::string& path, const model::Modes& m,
                      const std::vector<study::ResolvedStation>& stations);
 
 /// A table of equally long columns: a header `names[0],names[1],...` and one row per index.
-/// Throws InputError for mismatched lengths, SolverError on I/O failure.
+/// Throws InputError for mismatched lengths, SolverError on I/O failure and for a non-finite
+/// value (named by column), which is never written. Written atomically.
 void write_columns_csv(const std::string& path, const std::vector<std::string>& names,
                        const std::vector<Vector>& columns);
 

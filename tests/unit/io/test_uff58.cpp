@@ -1,6 +1,7 @@
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -90,4 +91,19 @@ TEST_CASE("UFF dataset 58: what records cannot hold is refused with file and lin
   std::string bad = dataset("x", 4, 4, 0, 0.1, "m", v);
   bad.replace(bad.find("2.00000000000e+00"), 17, "   2.0000000000x0");
   REQUIRE(error_of(d.write("t.uff", bad)).find("t.uff:14: not a finite number") != std::string::npos);
+}
+
+TEST_CASE("UFF dataset 58: a byte-order mark is read through, a missing -1 is an error, not a lost channel") {
+  Dir d;
+  std::vector<double> a(11, 0.5), b(11, 1.5);
+  const std::string one = dataset("S1", 2, 11, 0.0, 0.01, "m/s^2", a), two = dataset("S2", 2, 11, 0.0, 0.01, "m/s^2", b);
+  // Windows editors put EF BB BF before the first "-1": both channels are still read.
+  const Record r = read_record(d.write("bom.uff", "\xEF\xBB\xBF" + one + two));
+  REQUIRE(r.channels == std::vector<std::string>{"S1_mps2", "S2_mps2"});
+  // The first dataset's closing -1 missing: its data would end at the second's opening -1 and
+  // the second dataset be skipped; now the orphan "58" line is reported at its line.
+  const std::string cut = one.substr(0, one.size() - std::string("    -1\n").size());
+  const int line_58 = static_cast<int>(std::count(cut.begin(), cut.end(), '\n')) + 2;
+  CHECK(error_of(d.write("cut.uff", cut + two)) ==
+        (d.p / "cut.uff").string() + ":" + std::to_string(line_58) + ": '58' outside any dataset: a -1 delimiter is missing before or after it");
 }

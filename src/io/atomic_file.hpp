@@ -1,0 +1,35 @@
+#pragma once
+// Output files written atomically: the text goes to a hidden temporary file in the target's
+// directory, which replaces the target by rename() only once it is complete and closed. An
+// interrupted or failed run leaves the old file (or none), never a cut one; a full disk leaves
+// the earlier result in place.
+
+#include <cstdio>
+#include <string>
+
+namespace viaduct::io::detail {
+
+class AtomicFile {
+ public:
+  /// Opens ".<name>.tmp-<pid>-<n>" beside `path`; SolverError when it cannot.
+  explicit AtomicFile(std::string path);
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+  /// Removes the temporary file unless commit() succeeded.
+  ~AtomicFile();
+
+  std::FILE* get() const { return f_; }
+  /// Flushes, closes and renames over the target; SolverError (temporary file removed) when any
+  /// write, the close or the rename failed.
+  void commit();
+
+ private:
+  std::string path_, tmp_;
+  std::FILE* f_ = nullptr;
+  bool committed_ = false;
+};
+
+/// `text` as the whole content of `path`, atomically.
+void write_text_atomically(const std::string& path, const std::string& text);
+
+}  // namespace viaduct::io::detail
