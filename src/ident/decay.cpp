@@ -233,6 +233,9 @@ void hilbert_fit(const DecaySignal& s, double ta, double tb, double* sigma, doub
 void amplitude_dependence(const DecaySignal& s, double a, double b, double wd, const DecayOptions& o, DecayResult& r) {
   const double W = o.window_cycles * 2.0 * M_PI / wd;
   const double step = 2.0 * M_PI / wd;
+  // Counted in floating point before any window is made: one per cycle of the decay.
+  const double n_windows = (b - a - W) / step + 1.0;
+  if (!(n_windows < 1e7)) throw InputError("decay: the damped period is not resolved (" + std::to_string(n_windows) + " windows)");
   std::vector<double> amps, zetas, freqs;
   for (double ta = a; ta + W <= b + 1e-12; ta += step) {
     double sg = 0.0, w = 0.0, amp = 0.0;
@@ -265,6 +268,21 @@ DecayResult analyse_decay(const Vector& x, double fs_hz, double t0_s, const Deca
   if (!o.is_valid(fs_hz, &why)) throw InputError("decay: " + why);
   if (x.size() < 16) throw InputError("decay: the record is too short (" + std::to_string(x.size()) + " samples)");
   if (!x.allFinite()) throw InputError("decay: the record holds NaN or infinite samples");
+  const double peak = x.cwiseAbs().maxCoeff();
+  if (!(peak > 0.0)) throw InputError("decay: the record is zero throughout");
+  // Squares of samples beyond 1e100 (and of those below 1e-100) would overflow (underflow): such a
+  // record is analysed scaled by a power of two, exact, and its amplitudes scaled back.
+  const int exponent = peak > 1e100 || peak < 1e-100 ? std::ilogb(peak) : 0;
+  if (exponent != 0) {
+    DecayResult r = analyse_decay(std::ldexp(1.0, -exponent) * x, fs_hz, t0_s, o);
+    const double back = std::ldexp(1.0, exponent);
+    r.amplitude_start *= back;
+    r.amplitude_end *= back;
+    for (auto& p : r.by_amplitude) p.amplitude *= back;
+    r.law_zeta_slope /= back;
+    r.law_f_slope_hz /= back;
+    return r;
+  }
   const double f0 = o.frequency_hz;
   const DecaySignal s = band_passed(x, fs_hz, t0_s, o);
   const double cycle = 1.0 / f0;
@@ -287,6 +305,8 @@ DecayResult analyse_decay(const Vector& x, double fs_hz, double t0_s, const Deca
                      " Hz between " + std::to_string(a) + " s and " + std::to_string(b) +
                      " s above the noise, at least " + std::to_string(o.min_cycles) + " needed");
   const double wd = damped_frequency(s, a, b);
+  if (!(std::isfinite(wd) && wd > 0.0))
+    throw InputError("decay: no oscillation of the mode in the decay window (the zero crossings give no period)");
   peak_estimates(half, pos, a, b, wd, r);
   double sh = 0.0, wdh = 0.0;
   hilbert_fit(s, a, b, &sh, &wdh, nullptr);

@@ -3,10 +3,13 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
 #include <toml.hpp>
+
+#include "toml_file.hpp"
 
 #include "viaduct/io/scenario.hpp"
 #include "viaduct/study/tradeoff.hpp"
@@ -105,7 +108,9 @@ std::vector<double> speeds_of(const FlatScenario& f) {
     for (long i = 0; i <= n; ++i) v.push_back((a + static_cast<double>(i) * s) / 3.6);
   } else if (mps) {
     const double a = get_number(f, "sweep.speed_min_mps"), b = get_number(f, "sweep.speed_max_mps");
-    const int n = static_cast<int>(get_number(f, "sweep.n_speeds"));
+    const double n_speeds = get_number(f, "sweep.n_speeds");
+    if (n_speeds > 1000000) bad(f.at("sweep.n_speeds"), "must be at most a million speeds");
+    const int n = static_cast<int>(n_speeds);
     if (b < a) bad(f.at("sweep.speed_max_mps"), "must be >= sweep.speed_min_mps");
     for (int i = 0; i < n; ++i) v.push_back(n == 1 ? a : a + (b - a) * i / (n - 1));
   }
@@ -218,7 +223,7 @@ study::Scenario to_scenario(const FlatScenario& f) {
 }
 
 
-std::vector<study::Variant> sweep_variants(const FlatScenario& flat) {
+std::vector<study::Variant> sweep_variants(const FlatScenario& flat, bool isolate_failures) {
   struct Axis {
     std::string key, label;
     std::vector<double> factors;
@@ -241,20 +246,20 @@ std::vector<study::Variant> sweep_variants(const FlatScenario& flat) {
     os << a.label << " x" << f;
     return os.str();
   };
+  std::vector<study::Variant> out;
   auto make = [&](const std::vector<std::pair<std::size_t, double>>& settings) {
     FlatScenario v = flat;
     std::string label;
-    for (const auto& [ai, factor] : settings) {
-      scale_key(v, axes[ai].key, factor, axes[ai].where);
-      label += (label.empty() ? "" : ", ") + label_of(axes[ai], factor);
-    }
+    for (const auto& [ai, factor] : settings) label += (label.empty() ? "" : ", ") + label_of(axes[ai], factor);
     try {
-      return study::Variant{label.empty() ? "reference" : label, to_scenario(v)};
+      for (const auto& [ai, factor] : settings) scale_key(v, axes[ai].key, factor, axes[ai].where);
+      return study::Variant{label.empty() ? "reference" : label, to_scenario(v), ""};
     } catch (const InputError& e) {
-      throw InputError("variant '" + label + "': " + e.what());
+      const std::string why = "variant '" + label + "': " + e.what();
+      if (!isolate_failures || out.empty()) throw InputError(why);
+      return study::Variant{label, out.front().scenario, why};  // the reference's trains and speeds
     }
   };
-  std::vector<study::Variant> out;
   out.push_back(make({}));
   if (axes.empty() || flat.at("sweep.mode").s == "reference") return out;
   if (flat.at("sweep.mode").s == "grid") {
@@ -340,26 +345,47 @@ load::Train train_from_csv(const std::string& path) {
 load::Train read_train_file(const std::string& path) {
   if (fs::path(path).extension() == ".csv") return train_from_csv(path);
   if (!fs::exists(path)) throw InputError("train file not found: " + path);
-  toml::value root;
+  detail::TomlFile parsed;
   try {
-    root = toml::parse(path);
+    parsed = detail::parse_toml_file(path);
   } catch (const std::exception& e) {
     throw InputError(std::string("TOML syntax error: ") + e.what());
   }
-  static const std::set<std::string> known = {"name", "kind", "notes", "hslm_number", "n_coaches", "coach_length",
-                                              "bogie_spacing", "axle_load_kN", "n_axles", "spacing", "csv"};
+  const toml::value& root = parsed.root;
+  // The keys of each kind (name, kind and notes belong to all): a key of another kind is an error,
+  // not silently ignored.
+  static const std::map<std::string, std::set<std::string>> keys_of = {
+      {"hslm", {"hslm_number", "n_coaches", "coach_length", "bogie_spacing", "axle_load_kN"}},
+      {"regular", {"n_axles", "spacing", "axle_load_kN"}},
+      {"axles", {"csv"}}};
   auto where = [&](const std::string& key) {
-    const auto l = root.contains(key) ? root.at(key).location() : root.location();
-    return SourceLocation{path, root.contains(key) ? static_cast<int>(l.line()) : 0, key};
+    return SourceLocation{path, root.contains(key) ? parsed.line_of(root.at(key)) : 0, key};
   };
-  for (const auto& kv : root.as_table())
-    if (!known.count(kv.first)) throw InputError(where(kv.first), "unknown train key");
+  const std::string kind_name = root.contains("kind") && root.at("kind").is_string() ? root.at("kind").as_string().str : "";
+  for (const auto& kv : root.as_table()) {
+    const std::string& k = kv.first;
+    if (k == "name" || k == "kind" || k == "notes") continue;
+    std::string owner;
+    for (const auto& [kind, keys] : keys_of)
+      if (keys.count(k)) owner += (owner.empty() ? "" : " or ") + kind;
+    if (owner.empty()) throw InputError(where(k), "unknown train key");
+    if (keys_of.count(kind_name) && !keys_of.at(kind_name).count(k))
+      throw InputError(where(k), "belongs to " + owner + " trains, not to kind = \"" + kind_name + "\"");
+  }
   auto number = [&](const std::string& key) -> double {
     if (!root.contains(key)) throw InputError(where(key), "required for this kind of train");
     const auto& v = root.at(key);
     if (v.is_integer()) return static_cast<double>(v.as_integer());
     if (v.is_floating()) return v.as_floating();
     throw InputError(where(key), "must be a number");
+  };
+  // A whole number in [lo, hi], checked before it becomes an int.
+  auto whole = [&](const std::string& key, double lo, double hi) -> int {
+    const double v = number(key);
+    if (!(v == std::floor(v) && v >= lo && v <= hi))
+      throw InputError(where(key), "must be a whole number from " + format_number(lo) + " to " + format_number(hi) + ", got " +
+                                       format_number(v));
+    return static_cast<int>(v);
   };
   auto string = [&](const std::string& key) -> std::string {
     if (!root.contains(key)) throw InputError(where(key), "required");
@@ -372,11 +398,9 @@ load::Train read_train_file(const std::string& path) {
     if (kind == "hslm") {
       load::HslmRow row;
       if (root.contains("hslm_number")) {
-        const double n = number("hslm_number");
-        if (n != std::floor(n)) throw InputError(where("hslm_number"), "must be an integer 1..10");
-        row = load::hslm_a_row(static_cast<int>(n));
+        row = load::hslm_a_row(whole("hslm_number", 1, 10));
       } else {
-        row.n_coaches = static_cast<int>(number("n_coaches"));
+        row.n_coaches = whole("n_coaches", 1, 1000);
         row.coach_length = number("coach_length");
         row.bogie_spacing = number("bogie_spacing");
         row.axle_load = number("axle_load_kN") * 1e3;
@@ -384,7 +408,8 @@ load::Train read_train_file(const std::string& path) {
       return load::hslm_a(name, row);
     }
     if (kind == "regular")
-      return load::regular_train(name, static_cast<int>(number("n_axles")), number("spacing"), number("axle_load_kN") * 1e3);
+      return load::regular_train(name, whole("n_axles", 1, static_cast<double>(load::kMaxAxles)), number("spacing"),
+                                 number("axle_load_kN") * 1e3);
     if (kind == "axles") {
       load::Train t = train_from_csv((fs::path(path).parent_path() / string("csv")).lexically_normal().string());
       t.name = name;

@@ -10,6 +10,8 @@
 
 #include <toml.hpp>
 
+#include "toml_file.hpp"
+
 namespace viaduct::io {
 
 namespace fs = std::filesystem;
@@ -59,12 +61,11 @@ std::string did_you_mean(const std::string& key) {
   return "";
 }
 
-SourceLocation loc_of(const toml::value& v, const std::string& key, const std::string& file) {
+SourceLocation loc_of(const toml::value& v, const std::string& key, const std::string& file, const detail::TomlFile& tf) {
   SourceLocation w;
   w.file = file;
   w.key = key;
-  const auto l = v.location();
-  w.line = static_cast<int>(l.line());
+  w.line = tf.line_of(v);
   return w;
 }
 
@@ -107,28 +108,28 @@ Value scalar_from_toml(const toml::value& v, const SourceLocation& w) {
   return out;
 }
 
-void flatten(const toml::value& v, const std::string& prefix, const std::string& file,
+void flatten(const toml::value& v, const std::string& prefix, const std::string& file, const detail::TomlFile& tf,
              std::map<std::string, Value>& out) {
   for (const auto& [k, child] : v.as_table()) {
     const std::string key = prefix.empty() ? k : prefix + "." + k;
     if (child.is_table()) {
-      flatten(child, key, file, out);
+      flatten(child, key, file, tf, out);
     } else if (child.is_array() && !child.as_array().empty() && child.as_array().front().is_table()) {
       const auto& arr = child.as_array();
       for (std::size_t i = 0; i < arr.size(); ++i) {
-        if (!arr[i].is_table()) bad(loc_of(arr[i], key, file), "mixed array of tables");
-        flatten(arr[i], key + "[" + std::to_string(i) + "]", file, out);
+        if (!arr[i].is_table()) bad(loc_of(arr[i], key, file, tf), "mixed array of tables");
+        flatten(arr[i], key + "[" + std::to_string(i) + "]", file, tf, out);
       }
     } else {
-      out[key] = scalar_from_toml(child, loc_of(child, key, file));
+      out[key] = scalar_from_toml(child, loc_of(child, key, file, tf));
     }
   }
 }
 
-toml::value parse_file(const std::string& path, const SourceLocation& referenced_from) {
+detail::TomlFile parse_file(const std::string& path, const SourceLocation& referenced_from) {
   if (!fs::exists(path)) throw InputError(referenced_from, "file not found: " + path);
   try {
-    return toml::parse(path);
+    return detail::parse_toml_file(path);
   } catch (const toml::syntax_error& e) {
     throw InputError(std::string("TOML syntax error: ") + e.what());
   } catch (const std::exception& e) {
@@ -282,8 +283,8 @@ const Value& FlatScenario::at(const std::string& key) const {
 FlatScenario load_flat(const std::string& path, const std::vector<std::string>& overrides) {
   FlatScenario fsn;
   fsn.path = path;
-  const toml::value root = parse_file(path, SourceLocation{});
-  flatten(root, "", path, fsn.values);
+  const detail::TomlFile root = parse_file(path, SourceLocation{});
+  flatten(root.root, "", path, root, fsn.values);
   for (const auto& o : overrides) {
     const auto eq = o.find('=');
     if (eq == std::string::npos || eq == 0)
@@ -300,9 +301,9 @@ FlatScenario load_flat(const std::string& path, const std::vector<std::string>& 
     if (it->second.type != ValueType::string) bad(it->second.where, "must be a string (a path)");
     const std::string file = resolve_relative(it->second.s, it->second.where);
     it->second.s = file;
-    const toml::value croot = parse_file(file, it->second.where);
+    const detail::TomlFile croot = parse_file(file, it->second.where);
     std::map<std::string, Value> cvals;
-    flatten(croot, comp, file, cvals);
+    flatten(croot.root, comp, file, croot, cvals);
     for (auto& kv : cvals) {
       if (kv.first == comp + ".file") bad(kv.second.where, "component files cannot reference other files");
       fsn.values.emplace(kv.first, kv.second);

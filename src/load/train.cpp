@@ -13,6 +13,8 @@ void Train::validate() const {
   const std::string n = "train '" + name + "': ";
   if (offset.empty()) throw InputError(n + "has no axles");
   if (offset.size() != load.size()) throw InputError(n + "offsets and loads differ in count");
+  if (offset.size() > kMaxAxles)
+    throw InputError(n + std::to_string(offset.size()) + " axles, more than the limit of " + std::to_string(kMaxAxles));
   if (offset.front() != 0.0) throw InputError(n + "first axle offset must be 0");
   for (std::size_t i = 0; i < offset.size(); ++i) {
     if (!std::isfinite(offset[i]) || !std::isfinite(load[i]))
@@ -72,6 +74,8 @@ Train hslm_a(const std::string& name, const HslmRow& row) {
 
 Train regular_train(const std::string& name, int n_axles, double spacing, double load) {
   if (n_axles < 1) throw InputError("train '" + name + "': n_axles must be >= 1");
+  if (static_cast<std::size_t>(n_axles) > kMaxAxles)
+    throw InputError("train '" + name + "': n_axles must be at most " + std::to_string(kMaxAxles));
   if (n_axles > 1 && !(spacing > 0.0)) throw InputError("train '" + name + "': spacing must be > 0 [m]");
   Train t;
   t.name = name;

@@ -31,10 +31,13 @@ void check_window(Index w, Index n, const char* what) {
 Vector decimate(const Vector& x, int q) {
   check(x, "decimate");
   if (q < 2) throw InputError("decimate: factor must be >= 2, got " + std::to_string(q));
+  if (q >= x.size())
+    throw InputError("decimate: factor " + std::to_string(q) + " leaves fewer than two of the " + std::to_string(x.size()) + " samples");
   // Normalised edge 0.8/q of Nyquist, i.e. 0.8·(fs/2)/q with fs = 2.
   const Vector y = antialias(x, 2.0, 0.8 / q);
   Vector out((x.size() + q - 1) / q);
   for (Index i = 0; i < out.size(); ++i) out[i] = y[i * q];
+  if (!out.allFinite()) throw SolverError("decimate: the anti-alias filter is not accurate at factor " + std::to_string(q));
   return out;
 }
 
@@ -44,7 +47,16 @@ Vector resample(const Vector& x, double fs_in, double fs_out) {
   require_positive(fs_out, "output sampling rate [Hz]");
   const Vector y = fs_out < fs_in ? antialias(x, fs_in, 0.8 * fs_out / 2) : x;
   const double duration = static_cast<double>(x.size() - 1) / fs_in;
-  const auto n = static_cast<Index>(std::floor(duration * fs_out + 1e-9)) + 1;
+  // Counted in floating point before it becomes a size: at least two samples, at most
+  // kMaxResampled (2 GiB of doubles per channel).
+  const double n_out = std::floor(duration * fs_out + 1e-9) + 1.0;
+  if (!(n_out >= 2.0))
+    throw InputError("resample: " + format_number(fs_out, 6) + " Hz leaves fewer than two samples over the record's " +
+                     format_number(duration, 6) + " s");
+  if (!(n_out <= kMaxResampled))
+    throw InputError("resample: " + format_number(fs_out, 6) + " Hz would make " + format_number(n_out, 3) +
+                     " samples per channel, more than the limit of " + format_number(kMaxResampled, 3));
+  const auto n = static_cast<Index>(n_out);
   Vector out(n);
   for (Index j = 0; j < n; ++j) {
     const double s = static_cast<double>(j) / fs_out * fs_in;
@@ -52,12 +64,15 @@ Vector resample(const Vector& x, double fs_in, double fs_out) {
     const double w = s - static_cast<double>(i);
     out[j] = (i + 1 < x.size()) ? (1 - w) * y[i] + w * y[i + 1] : y[i];
   }
+  if (!out.allFinite())
+    throw SolverError("resample: the anti-alias filter is not accurate at " + format_number(fs_out / fs_in, 3) + " times the rate");
   return out;
 }
 
 Vector running_rms(const Vector& x, Index window) {
   check(x, "running RMS");
   check_window(window, x.size(), "running RMS");
+  if (const int e = overflow_exponent(x)) return std::ldexp(1.0, e) * running_rms(std::ldexp(1.0, -e) * x, window);
   const Index h = window / 2, n = x.size();
   Vector c(n + 1);  // prefix sums of x²
   c[0] = 0.0;
@@ -91,6 +106,7 @@ Vector maxabs_envelope(const Vector& x, Index window) {
 
 Eigen::VectorXcd analytic_signal(const Vector& x) {
   check(x, "analytic signal");
+  if (const int e = overflow_exponent(x)) return std::ldexp(1.0, e) * analytic_signal(std::ldexp(1.0, -e) * x);
   const Index n = x.size();
   const ComplexVector X = rfft(x);
   Eigen::VectorXcd Z = Eigen::VectorXcd::Zero(n);

@@ -13,6 +13,11 @@ Vector rfft_frequencies(Index n, double fs_hz) {
   return f;
 }
 
+int overflow_exponent(const Vector& x) {
+  const double peak = x.size() ? x.cwiseAbs().maxCoeff() : 0.0;
+  return (peak > 1e100 || (peak > 0.0 && peak < 1e-100)) && std::isfinite(peak) ? std::ilogb(peak) : 0;
+}
+
 Vector make_window(Window w, Index n) {
   if (n < 1) throw InputError("window length must be >= 1");
   Vector v(n);
@@ -111,6 +116,15 @@ AmplitudeSpectrum amplitude_spectrum(const Vector& x, double fs_hz, Window w) {
 
 Psd welch(const Vector& x, double fs_hz, const WelchOptions& o) {
   check_record(x, fs_hz, "Welch PSD");
+  if (const int e = overflow_exponent(x)) {
+    Psd p = welch(std::ldexp(1.0, -e) * x, fs_hz, o);
+    p.density *= std::ldexp(1.0, e);
+    p.density *= std::ldexp(1.0, e);
+    if (!p.density.allFinite())
+      throw InputError("Welch PSD: the density of samples up to " + format_number(x.cwiseAbs().maxCoeff(), 3) +
+                       " overflows a double: give the record in a larger unit");
+    return p;
+  }
   const Csd c = welch_cross(x, x, fs_hz, o);
   return Psd{c.frequency_hz, c.density.real(), c.n_segments};
 }
@@ -121,7 +135,14 @@ Csd csd(const Vector& x, const Vector& y, double fs_hz, const WelchOptions& o) {
   if (x.size() != y.size())
     throw InputError("cross spectral density: records differ in length (" + std::to_string(x.size()) + " and " +
                      std::to_string(y.size()) + " samples)");
-  return welch_cross(x, y, fs_hz, o);
+  const int ex = overflow_exponent(x), ey = overflow_exponent(y);
+  if (ex == 0 && ey == 0) return welch_cross(x, y, fs_hz, o);
+  Csd c = welch_cross(std::ldexp(1.0, -ex) * x, std::ldexp(1.0, -ey) * y, fs_hz, o);
+  c.density *= std::ldexp(1.0, ex);
+  c.density *= std::ldexp(1.0, ey);
+  if (!c.density.allFinite())
+    throw InputError("cross spectral density: it overflows a double for these samples: give the records in larger units");
+  return c;
 }
 
 }  // namespace viaduct::signal

@@ -57,10 +57,14 @@ class Sweep {
   // peaks kernel (a custom runner opts out).
   void prepare() {
     parallel_for(variants_.size(), options_.threads, [&](std::size_t v, int) {
+      if (!variants_[v].error.empty()) {
+        prepared_[v].error = variants_[v].error;
+        return;
+      }
       try {
         prepared_[v].model = prepare_model(variants_[v].scenario, /*rail_outputs=*/false);
       } catch (const std::exception& e) {
-        prepared_[v].error = e.what();
+        prepared_[v].error = std::string("model: ") + e.what();
       }
     });
     std::vector<std::pair<std::size_t, std::size_t>> to_fold;
@@ -114,7 +118,7 @@ class Sweep {
       for (auto& x : o) x.error = m;
     };
     if (!prepared_[c.variant].error.empty()) {
-      fail_all("model: " + prepared_[c.variant].error);
+      fail_all(prepared_[c.variant].error);
     } else {
       const PreparedModel& pm = *prepared_[c.variant].model;
       bool retry_alone = false;

@@ -151,4 +151,11 @@ expect 2 "fitbad.toml:10: key 'bridge.EJ': unknown scenario key" -- "$VIADUCT" f
 expect 2 "fitbad2.toml:10: key 'fit.starts': must be >= 1" -- "$VIADUCT" fit "$(scen fitbad2 '[fit]\nstarts = 0\n')" --out "$WORK/o"
 expect 1 "did not converge" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --param bridge.damping.ratio=0:0.1 --set bridge.EI=1.2e9 --max-iterations 1 --out "$WORK/o"
 [ -s "$WORK/o/fit.csv" ] && grep -q 'status = "no_convergence"' "$WORK/o/fit.toml" && n_pass=$((n_pass + 1)) || { echo "FAIL: a fit without convergence writes fit.csv and says so in fit.toml"; n_fail=$((n_fail + 1)); }
+# A sweep factor that breaks its key's rule fails that variant's cases (exit 1, failures.csv
+# says why); the reference and the other variants are computed. viaduct check refuses it (2).
+FACT='[sweep]\nspeeds_kmh = [100, 150]\n[[sweep.variants]]\nkey = "bridge.EI"\nfactors = [0.0, 2.0]\n'
+expect 1 "" -- "$VIADUCT" sweep "$(scen factor "$FACT")" --quiet --out "$WORK/factor"
+expect 0 "bridge.EI x0,train,100,\"variant 'bridge.EI x0': factor 0 on" -- cat "$WORK/factor/failures.csv"
+expect 0 "bridge.EI x2,train,150,mid," -- cat "$WORK/factor/envelope.csv"
+expect 2 "factor 0 on" -- "$VIADUCT" check "$(scen factor "$FACT")"
 finish

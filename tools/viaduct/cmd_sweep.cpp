@@ -22,7 +22,7 @@ Command sweep_command() {
   c.run = [](const Common& o) {
     const auto t0 = std::chrono::steady_clock::now();
     const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
-    auto variants = io::sweep_variants(flat);
+    auto variants = io::sweep_variants(flat, /*isolate_failures=*/true);
     for (auto& v : variants) v.scenario.settings.ida.log = log_printer(o.quiet);
     if (variants.front().scenario.sweep_speeds.empty())
       throw InputError(SourceLocation{o.scenario, 0, "sweep"},

@@ -69,7 +69,9 @@ FlatScenario load_flat(const std::string& path, const std::vector<std::string>& 
 study::Scenario to_scenario(const FlatScenario& flat);
 /// The sweep's variants (one-at-a-time multipliers or a full grid) as resolved scenarios;
 /// a single "reference" variant without [[sweep.variants]].
-std::vector<study::Variant> sweep_variants(const FlatScenario& flat);
+/// A variant that cannot be formed (a factor breaking its key's rule) is an InputError, or with
+/// isolate_failures a Variant whose `error` says why (the sweep fails its cases and runs the rest).
+std::vector<study::Variant> sweep_variants(const FlatScenario& flat, bool isolate_failures = false);
 /// Multiplies a numeric key (number or list) by `factor` in place; InputError at `declared` (the
 /// variant's entry) if the key is absent or not numeric.
 void scale_key(FlatScenario& flat, const std::string& key, double factor, const SourceLocation& declared);

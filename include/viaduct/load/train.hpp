@@ -7,6 +7,9 @@
 namespace viaduct::load {
 
 /// A train of constant axle loads. Axle i is `offset[i]` metres behind the first axle.
+/// Most axles a train may have (a 1.5 km freight train has about 400).
+constexpr std::size_t kMaxAxles = 10000;
+
 struct Train {
   std::string name;
   std::vector<double> offset;  ///< [m] first 0, non-decreasing

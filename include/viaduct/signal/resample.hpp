@@ -9,10 +9,14 @@ namespace viaduct::signal {
 /// ripple, edge at 0.8·fs/(2q), forward and backward, then every q-th sample. q >= 2.
 Vector decimate(const Vector& x, int q);
 
+/// Most samples resample() makes of one channel (2 GiB of doubles).
+constexpr double kMaxResampled = 268435456.0;
+
 /// x (at fs_in) on a grid at fs_out from the same start, by linear interpolation; when
 /// fs_out < fs_in the signal is first low-passed (Chebyshev I order 8, 0.05 dB, edge at
 /// 0.8·fs_out/2, zero phase) so that nothing aliases; its passband ripple changes amplitudes by
-/// up to 1.2 % (2 x 0.05 dB). The last sample is at or before x's.
+/// up to 1.2 % (2 x 0.05 dB). The last sample is at or before x's. InputError when fs_out leaves
+/// fewer than two samples or more than kMaxResampled.
 Vector resample(const Vector& x, double fs_in, double fs_out);
 
 /// Root mean square over a centred window of `window` samples (odd, >= 1); shorter windows at

@@ -24,6 +24,11 @@ Vector irfft(const ComplexVector& X, Index n);
 /// (y[j] ≈ g·x[j - lag]); lags searched in [-max_lag, max_lag]. FFT-based, O(n log n).
 double best_lag(const Vector& x, const Vector& y, Index max_lag);
 
+/// e with 2^e near max|x| when max|x| lies outside [1e-100, 1e100], else 0: squares and sums of
+/// squares of such samples would overflow (underflow), so the functions here work on 2^-e·x,
+/// which is exact, and scale their results back (an InputError if the result itself overflows).
+int overflow_exponent(const Vector& x);
+
 /// Frequencies [Hz] of the n/2 + 1 bins of an n-point rfft at sampling rate fs_hz.
 Vector rfft_frequencies(Index n, double fs_hz);
 

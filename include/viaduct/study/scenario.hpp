@@ -77,6 +77,10 @@ struct Scenario {
 struct Variant {
   std::string label;  ///< e.g. "reference", "Kp x0.5"
   Scenario scenario;
+  /// Non-empty: the variant could not be formed (a factor breaking its key's rule); `scenario`
+  /// is then the reference's, for its trains and speeds, and every case of the variant fails
+  /// with this reason.
+  std::string error{};
 };
 
 }  // namespace viaduct::study

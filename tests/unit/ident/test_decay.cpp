@@ -109,3 +109,25 @@ TEST_CASE("Free decay rejects bad input with the reason") {
   CHECK(passage_end_time(2.0, 200.0, 50.0, 50.0) == Approx(7.0));
   CHECK_THROWS_AS(passage_end_time(2.0, 200.0, 50.0, 0.0), InputError);
 }
+
+TEST_CASE("Free decay of huge, tiny or silent records: the same estimates, amplitudes scaled, no runaway") {
+  const double fs = 200.0;
+  const Vector x = passage(fs, 3.0, 0.02, 5.0, 30.0, 40.0, 1);
+  DecayOptions o;
+  o.frequency_hz = 3.0;
+  const DecayResult r = analyse_decay(x, fs, 0.0, o);
+  // One sample of 1e160 made the squares overflow and the analysis loop for ever (issue #18);
+  // records scaled by 2^600 and 2^-700 are analysed scaled back: the estimates agree to rounding
+  // (1e-9: logarithms of the scaled envelope differ by a constant), amplitudes scale exactly.
+  for (const int e : {600, -700}) {
+    INFO("scale 2^" << e);
+    const double s = std::ldexp(1.0, e);
+    const DecayResult q = analyse_decay(s * x, fs, 0.0, o);
+    CHECK(q.frequency_hz == Approx(r.frequency_hz).epsilon(1e-9));
+    CHECK(q.zeta_envelope_fit == Approx(r.zeta_envelope_fit).epsilon(1e-9));
+    CHECK(q.zeta_hilbert == Approx(r.zeta_hilbert).epsilon(1e-9));
+    CHECK(q.amplitude_start / s == Approx(r.amplitude_start).epsilon(1e-12));
+    REQUIRE(q.by_amplitude.size() == r.by_amplitude.size());
+  }
+  CHECK_THROWS_WITH(analyse_decay(Vector::Zero(x.size()), fs, 0.0, o), Catch::Contains("zero throughout"));
+}

@@ -172,7 +172,18 @@ TEST_CASE("train files: CSV and TOML, with clear errors") {
   REQUIRE(error_of("e.csv", "position_m,load_kN\n").find("no axles") != std::string::npos);
   REQUIRE(error_of("f.toml", "kind = \"regular\"\nn_axle = 3\n").find("f.toml:2: key 'n_axle': unknown train key") != std::string::npos);
   REQUIRE(error_of("g.toml", "kind = \"magic\"\n").find("must be hslm, regular or axles") != std::string::npos);
-  REQUIRE(error_of("h.toml", "kind = \"hslm\"\nhslm_number = 12\n").find("1..10") != std::string::npos);
+  REQUIRE(error_of("h.toml", "kind = \"hslm\"\nhslm_number = 12\n").find("h.toml:2: key 'hslm_number': must be a whole number from 1 to 10, got 12") !=
+          std::string::npos);
+  // Sizes are checked before they become integers: no overflow, no billion-axle train.
+  REQUIRE(error_of("i.toml", "kind = \"regular\"\nn_axles = 1e12\nspacing = 2.0\naxle_load_kN = 100\n")
+              .find("i.toml:2: key 'n_axles': must be a whole number from 1 to 10000, got 1e+12") != std::string::npos);
+  REQUIRE(error_of("j.toml", "kind = \"regular\"\nn_axles = 2.5\nspacing = 2.0\naxle_load_kN = 100\n").find("whole number") !=
+          std::string::npos);
+  // A key of another kind of train is an error, not silently ignored.
+  REQUIRE(error_of("k.toml", "kind = \"regular\"\nn_axles = 4\nspacing = 2.0\naxle_load_kN = 100\nhslm_number = 3\n")
+              .find("k.toml:5: key 'hslm_number': belongs to hslm trains, not to kind = \"regular\"") != std::string::npos);
+  REQUIRE(error_of("l.toml", "kind = \"hslm\"\nhslm_number = 3\nspacing = 2.0\n").find("belongs to regular trains") !=
+          std::string::npos);
   REQUIRE_THROWS_WITH(read_train_file(s.dir.string() + "/missing.toml"), Catch::Contains("train file not found"));
 }
 
@@ -192,9 +203,57 @@ TEST_CASE("grid variants and variant keys are checked") {
   // A factor that breaks the varied key's own constraint is caught when the variant is made.
   const std::string z = s.scenario("[sweep]\nspeeds_kmh = [100]\n[[sweep.variants]]\nkey = \"bridge.EI\"\nfactors = [0.0]\n");
   REQUIRE_THROWS_WITH(sweep_variants(load_flat(z)), Catch::Contains("factor 0 on") && Catch::Contains("key 'bridge.EI': must be > 0"));
+  // For a sweep, that variant alone fails (its cases, with the reason); the others stand.
+  const std::string z2 = s.scenario("[sweep]\nspeeds_kmh = [100]\n[[sweep.variants]]\nkey = \"bridge.EI\"\nfactors = [0.0, 2.0]\n");
+  const auto iso = sweep_variants(load_flat(z2), /*isolate_failures=*/true);
+  REQUIRE(iso.size() == 3);
+  CHECK(iso[0].error.empty());
+  CHECK(iso[1].label == "bridge.EI x0");
+  CHECK_THAT(iso[1].error, Catch::Contains("variant 'bridge.EI x0': factor 0 on") && Catch::Contains("must be > 0"));
+  CHECK(iso[1].scenario.sweep_speeds == iso[0].scenario.sweep_speeds);
+  CHECK(iso[2].error.empty());
+  CHECK(iso[2].scenario.bridge.spans[0].EI == Approx(4e9));
   const std::string r = s.scenario("[sweep]\nspeeds_kmh = [100]\n[[sweep.variants]]\nkey = \"filter.order\"\nfactors = [2.0]\n");
   // Reported at the variant's entry, with its line.
   REQUIRE_THROWS_WITH(sweep_variants(load_flat(r)), Catch::Contains(":12: key 'sweep.variants[0].key': variant key 'filter.order' must be numeric"));
+}
+
+TEST_CASE("a scenario with a megabyte line reads in linear time, with its values and line numbers") {
+  // toml11 alone takes minutes on a 1 MB line (issue #18): long lines are split after their
+  // array commas before parsing. 150000 speeds: the values, then a bad key after the long line
+  // reported on its own line (13), not on a line of the split.
+  Scratch s;
+  std::string speeds = "speeds_kmh = [";
+  for (int i = 0; i < 150000; ++i) speeds += (i ? ", " : "") + std::to_string(100 + i % 200) + ".5";
+  speeds += "]  # a comment, with [brackets], and commas\n";
+  REQUIRE(speeds.size() > 1000000);
+  const std::string p = s.scenario("[sweep]\n" + speeds + "[filter]\norder = 3\n");
+  const FlatScenario f = load_flat(p);
+  const auto& v = f.at("sweep.speeds_kmh");
+  REQUIRE(v.xs.size() == 150000);
+  CHECK(v.xs[149999] == Approx(100 + 149999 % 200 + 0.5));
+  CHECK(v.where.line == 10);
+  CHECK(f.at("filter.order").where.line == 12);
+  const std::string q = s.scenario("[sweep]\n" + speeds + "[filter]\norder = 3\nhigh_hz = -1\n");
+  REQUIRE_THROWS_WITH(load_flat(q), Catch::Contains(":13: key 'filter.high_hz'"));
+  // Strings keep their commas and brackets.
+  std::string names = "files = [";
+  for (int i = 0; i < 400; ++i) names += std::string(i ? ", " : "") + "\"a, [b] 'c' \\\" " + std::to_string(i) + ".toml\"";
+  names += "]\n";
+  REQUIRE(names.size() > 4096);
+  Scratch t;
+  const FlatScenario g = load_flat(t.write("r.toml", "[train]\n" + names));
+  const auto& files = g.at("train.files").ss;
+  REQUIRE(files.size() == 400);
+  CHECK_THAT(files[7], Catch::EndsWith("/a, [b] 'c' \" 7.toml"));  // resolved against the file's directory
+}
+
+TEST_CASE("the number of sweep speeds is limited before any is made") {
+  Scratch s;
+  const std::string p = s.scenario("[sweep]\nspeed_min_mps = 10\nspeed_max_mps = 90\nn_speeds = 10000000\n");
+  REQUIRE_THROWS_WITH(to_scenario(load_flat(p)), Catch::Contains(":12: key 'sweep.n_speeds': must be at most a million speeds"));
+  const std::string q = s.scenario("[sweep]\nspeed_min_kmh = 10\nspeed_max_kmh = 400\nspeed_step_kmh = 1e-6\n");
+  REQUIRE_THROWS_WITH(to_scenario(load_flat(q)), Catch::Contains("gives more than a million speeds"));
 }
 
 TEST_CASE("docs/scenarios.md documents every key (regenerate with scripts/generate/gen_docs.sh)") {

@@ -5,6 +5,7 @@
 
 #include "viaduct/core/error.hpp"
 #include "viaduct/signal/resample.hpp"
+#include "viaduct/signal/spectrum.hpp"
 
 using namespace viaduct;
 using namespace viaduct::signal;
@@ -82,4 +83,34 @@ TEST_CASE("resampling, running RMS and max-abs envelope") {
   Vector bad = x;
   bad[7] = NAN;
   REQUIRE_THROWS_WITH(resample(bad, fs, 100.0), Catch::Contains("NaN"));
+}
+
+TEST_CASE("records of huge or tiny samples: the same results scaled, no overflow, and rates that leave no samples refused") {
+  const Index n = 4096;
+  Vector x(n);
+  for (Index k = 0; k < n; ++k) x[k] = std::sin(0.05 * k) + 0.3 * std::cos(0.31 * k);
+  // Scaled by powers of two far beyond the range where squares overflow (1e154) or underflow:
+  // the envelopes are the unscaled ones times the scale (power-of-two scaling is exact; only the
+  // squares would leave the range). 1e-12: FFT rounding, relative to an envelope of order 1.
+  for (const int e : {600, -700}) {
+    INFO("scale 2^" << e);
+    const double s = std::ldexp(1.0, e);
+    const Vector env = hilbert_envelope(s * x), rms = running_rms(s * x, 101);
+    REQUIRE(env.allFinite());
+    REQUIRE(rms.allFinite());
+    CHECK((env / s - hilbert_envelope(x)).cwiseAbs().maxCoeff() <= 1e-12);
+    CHECK((rms / s - running_rms(x, 101)).cwiseAbs().maxCoeff() <= 1e-12);
+  }
+  WelchOptions o;
+  o.nperseg = 512;
+  // Samples of 1e155 at 1 MHz: |X|² overflows, the density (about 1e307) does not.
+  const Psd p = welch(1e155 * x, 1e6, o), p0 = welch(x, 1e6, o);
+  REQUIRE(p.density.allFinite());
+  CHECK((p.density / 1e155 / 1e155 - p0.density).cwiseAbs().maxCoeff() <= 1e-12 * p0.density.maxCoeff());
+  // One that overflows is refused, not written as inf.
+  CHECK_THROWS_WITH(welch(std::ldexp(1.0, 600) * x, 100.0, o), Catch::Contains("overflows a double"));
+  // Rate changes that would leave fewer than two samples, or billions of them.
+  CHECK_THROWS_WITH(resample(x, 100.0, 1e-308), Catch::Contains("fewer than two samples"));
+  CHECK_THROWS_WITH(resample(x, 100.0, 1e12), Catch::Contains("more than the limit"));
+  CHECK_THROWS_WITH(decimate(x, static_cast<int>(n)), Catch::Contains("fewer than two"));
 }

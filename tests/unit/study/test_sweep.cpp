@@ -50,6 +50,19 @@ TEST_CASE("a variant whose model cannot be built fails its own cases only") {
   REQUIRE(r.rows.size() == 16);
 }
 
+TEST_CASE("a variant that could not be formed fails its own cases with its reason") {
+  Variant broken{"EI x0", small_scenario(), "variant 'EI x0': factor 0 on key 'bridge.EI': must be > 0"};
+  std::vector<Variant> v = {{"reference", small_scenario()}, broken};
+  const SweepResult r = run_sweep(v, SweepOptions{});
+  REQUIRE(r.failures.size() == 8);
+  for (const auto& f : r.failures) {
+    CHECK(f.variant == "EI x0");
+    CHECK(f.message == broken.error);
+  }
+  REQUIRE(r.rows.size() == 16);
+  for (const auto& row : r.rows) CHECK(row.variant == "reference");
+}
+
 TEST_CASE("sweep results are identical for any thread count") {
   Scenario b = small_scenario();
   b.bridge.spans[0].EI *= 2;

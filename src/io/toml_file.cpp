@@ -1,0 +1,105 @@
+#include "toml_file.hpp"
+
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace viaduct::io::detail {
+
+int TomlFile::line_of(const toml::value& v) const {
+  const auto parsed = static_cast<std::size_t>(v.location().line());
+  if (original_line.empty()) return static_cast<int>(parsed);
+  return parsed < original_line.size() ? original_line[parsed] : static_cast<int>(parsed);
+}
+
+std::string split_long_lines(const std::string& text, std::vector<int>& original_line) {
+  std::string out;
+  out.reserve(text.size() + text.size() / 8);
+  original_line.assign(1, 0);
+  int line = 1;
+  bool in_multiline = false;  // inside a """ or ''' string that spans lines: left as it is
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    std::size_t end = text.find('\n', start);
+    const bool last = end == std::string::npos;
+    if (last) end = text.size();
+    const std::string_view l(text.data() + start, end - start);
+    const std::size_t triples = [&] {
+      std::size_t n = 0;
+      for (const char* q : {"\"\"\"", "'''"})
+        for (std::size_t p = l.find(q); p != std::string_view::npos; p = l.find(q, p + 3)) ++n;
+      return n;
+    }();
+    if (l.size() <= kLongLine || in_multiline || triples > 0) {
+      out.append(l);
+      original_line.push_back(line);
+    } else {
+      // Break after each comma inside brackets, outside strings and comments.
+      int depth = 0;
+      char quote = 0;
+      for (std::size_t i = 0; i < l.size(); ++i) {
+        const char c = l[i];
+        out.push_back(c);
+        if (quote) {
+          if (c == '\\' && quote == '"' && i + 1 < l.size()) out.push_back(l[++i]);
+          else if (c == quote) quote = 0;
+        } else if (c == '"' || c == '\'') {
+          quote = c;
+        } else if (c == '#') {
+          out.append(l.substr(i + 1));
+          break;
+        } else if (c == '[') {
+          ++depth;
+        } else if (c == ']') {
+          --depth;
+        } else if (c == ',' && depth > 0) {
+          out.push_back('\n');
+          original_line.push_back(line);
+        }
+      }
+      original_line.push_back(line);
+    }
+    if (triples % 2 == 1) in_multiline = !in_multiline;
+    if (last) break;
+    out.push_back('\n');
+    start = end + 1;
+    ++line;
+  }
+  return out;
+}
+
+TomlFile parse_toml_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot open " + path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string text = ss.str();
+  TomlFile f;
+  bool long_line = false;
+  for (std::size_t start = 0, end; start < text.size(); start = end + 1) {
+    end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    if (end - start > kLongLine) {
+      long_line = true;
+      break;
+    }
+  }
+  if (!long_line) {
+    std::istringstream is(text);
+    f.root = toml::parse(is, path);
+    return f;
+  }
+  std::istringstream is(split_long_lines(text, f.original_line));
+  try {
+    f.root = toml::parse(is, path);
+  } catch (const toml::syntax_error& e) {
+    throw toml::syntax_error(std::string(e.what()) +
+                                 "\n(lines longer than " + std::to_string(kLongLine) +
+                                 " characters were split after their commas to be read: the line numbers above count "
+                                 "those parts)",
+                             e.location());
+  }
+  return f;
+}
+
+}  // namespace viaduct::io::detail
