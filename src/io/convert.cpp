@@ -103,8 +103,9 @@ std::vector<double> speeds_of(const FlatScenario& f) {
     const double a = get_number(f, "sweep.speed_min_kmh"), b = get_number(f, "sweep.speed_max_kmh"),
                  s = get_number(f, "sweep.speed_step_kmh");
     if (b < a) bad(f.at("sweep.speed_max_kmh"), "must be >= sweep.speed_min_kmh");
-    const auto n = static_cast<long>(std::floor((b - a) / s + 1e-9));
-    if (n > 1000000) bad(f.at("sweep.speed_step_kmh"), "gives more than a million speeds");
+    const double n_steps = std::floor((b - a) / s + 1e-9);  // checked before it becomes an integer
+    if (!(n_steps <= 1000000)) bad(f.at("sweep.speed_step_kmh"), "gives more than a million speeds");
+    const auto n = static_cast<long>(n_steps);
     for (long i = 0; i <= n; ++i) v.push_back((a + static_cast<double>(i) * s) / 3.6);
   } else if (mps) {
     const double a = get_number(f, "sweep.speed_min_mps"), b = get_number(f, "sweep.speed_max_mps");
@@ -114,6 +115,9 @@ std::vector<double> speeds_of(const FlatScenario& f) {
     if (b < a) bad(f.at("sweep.speed_max_mps"), "must be >= sweep.speed_min_mps");
     for (int i = 0; i < n; ++i) v.push_back(n == 1 ? a : a + (b - a) * i / (n - 1));
   }
+  // Speeds near the largest double overflow in the arithmetic above: refused, never inf.
+  for (double x : v)
+    if (!std::isfinite(x)) throw InputError(where_of(f, "sweep", ""), "the speeds are too large to compute (" + num(x) + " m/s)");
   return v;
 }
 

@@ -83,6 +83,7 @@ Value scalar_from_toml(const toml::value& v, const SourceLocation& w) {
   } else if (v.is_floating()) {
     out.type = ValueType::number;
     out.x = v.as_floating();
+    if (!std::isfinite(out.x)) bad(w, "must be a finite number, got " + num(out.x));
   } else if (v.is_string()) {
     out.type = ValueType::string;
     out.s = v.as_string().str;
@@ -95,7 +96,10 @@ Value scalar_from_toml(const toml::value& v, const SourceLocation& w) {
     }
     if (arr.empty() || all_num) {
       out.type = ValueType::number_list;
-      for (const auto& e : arr) out.xs.push_back(e.is_integer() ? static_cast<double>(e.as_integer()) : e.as_floating());
+      for (const auto& e : arr) {
+        out.xs.push_back(e.is_integer() ? static_cast<double>(e.as_integer()) : e.as_floating());
+        if (!std::isfinite(out.xs.back())) bad(w, "must hold finite numbers, got " + num(out.xs.back()));
+      }
     } else if (all_str) {
       out.type = ValueType::string_list;
       for (const auto& e : arr) out.ss.push_back(e.as_string().str);

@@ -254,6 +254,16 @@ TEST_CASE("the number of sweep speeds is limited before any is made") {
   REQUIRE_THROWS_WITH(to_scenario(load_flat(p)), Catch::Contains(":12: key 'sweep.n_speeds': must be at most a million speeds"));
   const std::string q = s.scenario("[sweep]\nspeed_min_kmh = 10\nspeed_max_kmh = 400\nspeed_step_kmh = 1e-6\n");
   REQUIRE_THROWS_WITH(to_scenario(load_flat(q)), Catch::Contains("gives more than a million speeds"));
+  const std::string r = s.scenario("[sweep]\nspeed_min_kmh = 10\nspeed_max_kmh = 400\nspeed_step_kmh = 1e-300\n");
+  REQUIRE_THROWS_WITH(to_scenario(load_flat(r)), Catch::Contains("gives more than a million speeds"));
+  // Found by the fuzzer: 1e999 reads as the largest double, whose arithmetic overflowed to an
+  // infinite speed; TOML's inf and nan are refused for every key.
+  const std::string big = s.scenario("[sweep]\nspeed_min_mps = 40\nspeed_max_mps = 100.1e999\nn_speeds = 60\n");
+  REQUIRE_THROWS_WITH(to_scenario(load_flat(big)), Catch::Contains("the speeds are too large to compute"));
+  const std::string inf = s.scenario("[analysis]\ndt = inf\n");
+  REQUIRE_THROWS_WITH(load_flat(inf), Catch::Contains(":10: key 'analysis.dt': must be a finite number, got inf"));
+  const std::string nan = s.scenario("[sweep]\nspeeds_kmh = [100, nan]\n");
+  REQUIRE_THROWS_WITH(load_flat(nan), Catch::Contains("key 'sweep.speeds_kmh': must hold finite numbers, got nan"));
 }
 
 TEST_CASE("docs/scenarios.md documents every key (regenerate with scripts/generate/gen_docs.sh)") {
