@@ -230,6 +230,11 @@ void write_manifest(const std::string& path, const Manifest& m, const FlatScenar
   out << "finished_utc = " << q(stamp) << "\n";
   out << "wall_s = " << m.wall_s << "\n";
   for (const auto& [k, v] : m.extra) out << k << " = " << v << "\n";
+  if (!m.warnings.empty()) {
+    out << "warnings = [";
+    for (std::size_t i = 0; i < m.warnings.size(); ++i) out << (i ? ", " : "") << q(m.warnings[i]);
+    out << "]\n";
+  }
   out << "\n[versions]\n";
   out << "viaduct = " << q(version()) << "\n";
   out << "git_commit = " << q(git_commit()) << "\n";

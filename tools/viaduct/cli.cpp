@@ -135,6 +135,10 @@ io::Manifest start_manifest(const Common& o, const std::string& command, std::ve
   return m;
 }
 
+void print_warnings(const std::string& command, const std::vector<std::string>& warnings) {
+  for (const auto& w : warnings) std::cerr << ("viaduct " + command + ": warning: " + w + "\n");
+}
+
 LogSink log_printer(bool quiet) {
   return [quiet](LogLevel level, const std::string& msg) {
     if (quiet && level != LogLevel::warning) return;

@@ -85,6 +85,9 @@ std::vector<std::pair<std::string, std::string>> tool_versions();
 /// line and the tool's versions filled in.
 io::Manifest start_manifest(const Common& o, const std::string& command, std::vector<std::string> inputs = {});
 
+/// Prints each warning on stderr ("viaduct COMMAND: warning: ..."), also with --quiet.
+void print_warnings(const std::string& command, const std::vector<std::string>& warnings);
+
 /// Message printer for the library's log sink (stderr, "viaduct: warning: ...").
 LogSink log_printer(bool quiet);
 

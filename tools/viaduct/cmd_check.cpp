@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "cli.hpp"
+#include "viaduct/study/guards.hpp"
 #include "viaduct/io/scenario.hpp"
 #include "viaduct/model/structure.hpp"
 
@@ -22,6 +23,9 @@ Command check_command() {
     const study::Scenario sc = io::to_scenario(flat);
     const auto variants = io::sweep_variants(flat);
     const model::Structure s = model::build_structure(sc.bridge, sc.track);
+    std::vector<double> speeds = sc.sweep_speeds;
+    if (sc.run_speed) speeds.push_back(*sc.run_speed);
+    print_warnings("check", study::accuracy_warnings(sc, speeds));
     if (o.quiet) return ok;
     std::cout << io::format_resolved(flat) << "\n# model\n";
     std::cout << "# spans: " << sc.bridge.spans.size() << ", bridge length " << sc.bridge.total_length() << " m\n";

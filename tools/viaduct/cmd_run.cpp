@@ -4,6 +4,7 @@
 
 #include "cli.hpp"
 #include "viaduct/io/results.hpp"
+#include "viaduct/study/guards.hpp"
 
 namespace viaduct::cli {
 
@@ -58,6 +59,8 @@ Command run_command() {
     make_out_dir(o.out);
     io::write_history_csv(o.out + "/history.csv", r);
     io::Manifest m = start_manifest(o, "run");
+    m.warnings = study::accuracy_warnings(sc, {speed});
+    print_warnings("run", m.warnings);
     m.as_run = io::settings_as_run(sc.settings);
     m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     m.extra = {{"train", "\"" + train->name + "\""},

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "cli.hpp"
+#include "viaduct/study/guards.hpp"
 #include "viaduct/io/results.hpp"
 
 namespace viaduct::cli {
@@ -35,6 +36,8 @@ Command sweep_command() {
     io::write_envelope_csv(o.out + "/envelope.csv", r.rows);
     io::write_failures_csv(o.out + "/failures.csv", r.failures);
     io::Manifest m = start_manifest(o, "sweep");
+    m.warnings = study::accuracy_warnings(variants.front().scenario, variants.front().scenario.sweep_speeds);
+    print_warnings("sweep", m.warnings);
     m.as_run = io::settings_as_run(variants.front().scenario.settings);
     m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     m.extra = {{"threads", std::to_string(o.threads)},

@@ -47,6 +47,7 @@ struct Manifest {
   std::string command_line;                                 ///< the invocation as given (arguments quoted where needed)
   double wall_s = 0.0;                                      ///< [s]
   std::vector<std::pair<std::string, std::string>> extra;   ///< more [run] entries (already TOML values)
+  std::vector<std::string> warnings;                         ///< [run] warnings = [...] when any (accuracy guards)
   std::vector<std::pair<std::string, std::string>> versions;///< more dependency versions (name, version)
   std::vector<std::pair<std::string, std::string>> as_run;  ///< [analysis_as_run] entries (TOML values)
   std::vector<std::string> inputs;  ///< files read besides the scenario's own (records, mode files)
