@@ -143,6 +143,15 @@ study::Scenario to_scenario(const FlatScenario& f) {
   }
   finish_bridge(f, sc.bridge);
   if (has_track) finish_track(f, *sc.track);
+  try {
+    model::check_model_size(sc.bridge, sc.track);
+  } catch (const InputError& e) {
+    // The message starts with the key it blames: reported at that key's line.
+    const std::string why = e.what();
+    const std::string key = why.substr(0, why.find(' '));
+    if (!f.has(key)) throw;
+    throw InputError(f.at(key).where, why.substr(key.size() + 1));
+  }
 
   // Trains.
   const Value& files = f.at("train.files");

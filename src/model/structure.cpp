@@ -209,16 +209,8 @@ void add_span(Assembly& as, const BridgeParams& bridge, std::size_t si, double x
   auto& [s, tm, tk, tc, next] = as;
   const SpanParams& sp = bridge.spans[si];
   const double m = sp.mass_per_m + bridge.added_mass_per_m - deck_mass_reduction;
-  if (!(m > 0.0))
-    throw InputError("span " + std::to_string(si + 1) + ": deck mass per metre after removing the " +
-                     "modelled track mass (" + str(deck_mass_reduction) + " kg/m) must be > 0, got " +
-                     str(m) + " kg/m");
   if (si == 0) s.deck_mass_per_m_used = m;
   const double n_el_real = std::ceil(sp.length / bridge.element_size - 1e-9);
-  if (n_el_real > kMaxSpanElements)
-    throw InputError("span " + std::to_string(si + 1) + ": element_size " + str(bridge.element_size) + " m gives " +
-                     str(n_el_real) + " elements; at most " + std::to_string(kMaxSpanElements) +
-                     " per span (raise bridge.element_size)");
   const int n_el = std::max(1, static_cast<int>(n_el_real));
   const double h = sp.length / n_el;
   s.span_start.push_back(x);
@@ -280,12 +272,6 @@ void add_track(Assembly& as, const TrackParams& tp, double L_bridge) {
   const double x_start = -tp.approach_length;
   const double L_track = tp.approach_length + L_bridge + tp.exit_length;
   const double n_bays_real = std::floor(L_track / d + 1e-9);
-  if (n_bays_real < 1) throw InputError("track shorter than one sleeper spacing");
-  if (n_bays_real * tp.rail_elements_per_bay > kMaxRailElements)
-    throw InputError("track of " + str(L_track) + " m with sleepers every " + str(d) + " m and " +
-                     std::to_string(tp.rail_elements_per_bay) + " rail elements per bay gives " +
-                     str(n_bays_real * tp.rail_elements_per_bay) + " rail elements; at most " +
-                     std::to_string(kMaxRailElements) + " (shorten the approach/exit track or coarsen it)");
   const int n_bays = static_cast<int>(n_bays_real);
   const int n_sub = tp.rail_elements_per_bay;
   const int n_nodes = n_bays * n_sub + 1;
@@ -352,10 +338,39 @@ void add_track(Assembly& as, const TrackParams& tp, double L_bridge) {
 }
 }  // namespace
 
+void check_model_size(const BridgeParams& bridge, const std::optional<TrackParams>& track) {
+  const double deck_mass_reduction = track && bridge.mass_includes_track ? track->mass_per_m() : 0.0;
+  for (std::size_t si = 0; si < bridge.spans.size(); ++si) {
+    const SpanParams& sp = bridge.spans[si];
+    const double m = sp.mass_per_m + bridge.added_mass_per_m - deck_mass_reduction;
+    if (!(m > 0.0))
+      throw InputError("bridge.mass_per_m plus added_mass_per_m minus the modelled track mass (" + str(deck_mass_reduction) +
+                       " kg/m, mass_includes_track = true) must be > 0 on span " + std::to_string(si + 1) + ", got " + str(m) +
+                       " kg/m");
+    const double n_el_real = std::ceil(sp.length / bridge.element_size - 1e-9);
+    if (!(n_el_real <= kMaxSpanElements))
+      throw InputError("bridge.element_size " + str(bridge.element_size) + " m gives " + str(n_el_real) + " elements on span " +
+                       std::to_string(si + 1) + "; at most " + std::to_string(kMaxSpanElements) +
+                       " per span (raise bridge.element_size)");
+  }
+  if (!track) return;
+  const TrackParams& tp = *track;
+  const double L_track = tp.approach_length + bridge.total_length() + tp.exit_length;
+  const double n_bays_real = std::floor(L_track / tp.sleeper_spacing + 1e-9);
+  if (!(n_bays_real >= 1))
+    throw InputError("track.sleeper_spacing " + str(tp.sleeper_spacing) + " m is longer than the track (" + str(L_track) + " m)");
+  if (!(n_bays_real * tp.rail_elements_per_bay <= kMaxRailElements))
+    throw InputError("track.rail_elements_per_bay " + std::to_string(tp.rail_elements_per_bay) + " with sleepers every " +
+                     str(tp.sleeper_spacing) + " m over " + str(L_track) + " m of track gives " +
+                     str(n_bays_real * tp.rail_elements_per_bay) + " rail elements; at most " + std::to_string(kMaxRailElements) +
+                     " (shorten the approach/exit track or coarsen it)");
+}
+
 Structure build_structure(const BridgeParams& bridge, const std::optional<TrackParams>& track) {
   std::string why;
   if (!bridge.is_valid(&why)) throw InputError("bridge: " + why);
   if (track && !track->is_valid(&why)) throw InputError("track: " + why);
+  check_model_size(bridge, track);
 
   Structure s;
   s.has_track = track.has_value();

@@ -83,8 +83,10 @@ printf '# sampling_rate_hz = 100\nv_V\n1\n2\n3\n' > "$WORK/volts.csv"
 expect 2 "only _mps2, _g, _m or _mm compare with the model" -- "$VIADUCT" compare "$TALGO" --record "$WORK/volts.csv" --map v=S1_mid
 
 # Sizes that would exhaust memory or time are refused with the key to change.
-expect 2 "elements; at most 1000 per span (raise bridge.element_size)" -- "$VIADUCT" check "$OG" --set bridge.element_size=1e-6
-expect 2 "rail elements; at most 100000" -- "$VIADUCT" check "$OG" --set track.rail_elements_per_bay=2000
+expect 2 "key 'bridge.element_size': 1e-06 m gives 11930000 elements on span 1; at most 1000 per span (raise bridge.element_size)" -- "$VIADUCT" check "$OG" --set bridge.element_size=1e-6
+expect 2 "key 'track.rail_elements_per_bay': 2000 with sleepers every 0.6 m over 63.86 m of track gives 212000 rail elements; at most 100000" -- "$VIADUCT" check "$OG" --set track.rail_elements_per_bay=2000
+expect 2 "key 'track.sleeper_spacing': 500 m is longer than the track (63.86 m)" -- "$VIADUCT" check "$OG" --set track.sleeper_spacing=500
+expect 2 "key 'bridge.mass_per_m': plus added_mass_per_m minus the modelled track mass" -- "$VIADUCT" check "$SRC/scenarios/old-guadiana-talgo.toml" --set bridge.mass_per_m=10 --set bridge.mass_includes_track=true
 expect 2 "GiB of histories" -- "$VIADUCT" run "$OG" --speed-kmh 0.001 --out "$WORK/o"
 expect 2 "the dense eigen solver takes at most 6000 DOFs" -- "$VIADUCT" modes "$OG" --set track.rail_elements_per_bay=40 --out "$WORK/o"
 

@@ -142,6 +142,11 @@ constexpr int kMaxRailElements = 100000;
 /// beyond the limits above.
 Structure build_structure(const BridgeParams& bridge, const std::optional<TrackParams>& track);
 
+/// The sizes and masses the assembly would have, checked before anything is allocated (done by
+/// build_structure too). InputError whose message starts with the scenario key it blames
+/// ("bridge.element_size 0.001 m gives ..."), so that a scenario reader can point at its line.
+void check_model_size(const BridgeParams& bridge, const std::optional<TrackParams>& track);
+
 /// Coupling of a point on a sequence of beam elements (sorted by x0, contiguous).
 /// Throws InputError naming `what` when x lies outside [first.x0, last.x0 + last.h].
 PointCoupling point_on(const std::vector<PathElement>& elements, double x, const char* what);
