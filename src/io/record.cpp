@@ -35,7 +35,11 @@ using detail::trim;
 Record read_record_csv(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError("cannot open record " + path);
-  auto err = [&](int line, const std::string& msg) { return InputError(SourceLocation{path, line, ""}, msg); };
+  bool cut = false;  // the line being read is the last and has no newline: an error in it may be a file cut short
+  auto err = [&](int line, const std::string& msg) {
+    return InputError(SourceLocation{path, line, ""},
+                      cut ? msg + " (the file ends inside this line, without a newline: cut short?)" : msg);
+  };
   Record r;
   double declared_fs = 0.0;
   bool has_time = false;
@@ -47,6 +51,7 @@ Record read_record_csv(const std::string& path) {
   std::size_t n_cols = 0;
   while (std::getline(in, line)) {
     if (++ln == 1) detail::drop_bom(line);
+    cut = in.eof();
     const std::string t = trim(line);
     if (t.empty()) continue;
     if (t[0] == '#') {

@@ -65,4 +65,10 @@ TEST_CASE("bad records give file, line and column, and nothing is repaired") {
   REQUIRE(error_of(d.write("none.csv", "# only a comment\n")).find("no header line") != std::string::npos);
   REQUIRE(error_of(d.write("text.csv", h + "0,1,2x\n")).find("unexpected text") != std::string::npos);
   REQUIRE(error_of((d.p / "missing.csv").string()).find("cannot open record") != std::string::npos);
+  // A file cut inside its last line says so; the same line with its newline does not, and a last
+  // line without a newline but whole is read (hand-made files often end so).
+  REQUIRE(error_of(d.write("cut.csv", h + "0,1,2\n0.1,1,2\n0.2,1")).find("cut.csv:4: expected 3 columns as in the header, got 2 (the file ends inside this line, without a newline: cut short?)") !=
+          std::string::npos);
+  REQUIRE(error_of(d.write("cols2.csv", h + "0,1,2\n0.1,1,2\n0.2,1\n")).find("cut short") == std::string::npos);
+  REQUIRE(read_record_csv(d.write("whole.csv", h + "0,1,2\n0.1,1,2\n0.2,1,2")).n_samples() == 3);
 }
