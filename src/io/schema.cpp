@@ -144,7 +144,7 @@ std::vector<KeySpec> analysis_keys() {  // analysis
        [](S& sc, const V& v) { sc.settings.newmark.gamma = v.x; }},
       {"analysis.alpha", T::number, "0.0", "-", "[-1/3, 0]", "HHT-α (0: plain Newmark); with alpha use beta = (1-alpha)²/4, gamma = (1-2 alpha)/2.",
        [](S& sc, const V& v) { sc.settings.newmark.alpha = v.x; }},
-      {"analysis.preset", T::string, "\"\"", "", "|fast|default|reference", "Named speed/accuracy setting (docs/accuracy.md): sets analysis.method, analysis.dt and modal.* from the band edge f_c (filter.high_hz, or 30 Hz); keys given explicitly override it."},
+      {"analysis.preset", T::string, "\"\"", "", "|fast|default|reference", "Named speed/accuracy setting (docs/accuracy.md): sets analysis.method, analysis.dt and modal.* from the band edge f_c (filter.high_hz, or 30 Hz); keys given explicitly override it. fast and default take modal superposition, or Newmark when the rail's resonance on its pads lies below their modal cut-off (soft pads, docs/reliability.md)."},
       {"analysis.method", T::string, "\"newmark\"", "", "newmark|modal|ida", "newmark: fixed-step integration of the whole model; modal: superposition of its modes up to modal.max_frequency_hz / modal.n_modes, solved exactly per step; ida: adaptive BDF of the whole model (SUNDIALS IDA, ida.* tolerances), sampled every analysis.dt (docs/accuracy.md).",
        [](S& sc, const V& v) { sc.settings.method = method_of(v.s); }},
       {"ida.rtol", T::number, "1e-6", "-", "[1e-12, 0.1]", "ida: relative tolerance.",

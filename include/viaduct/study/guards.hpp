@@ -16,6 +16,11 @@ constexpr double kMaxEdgeStepRatio = 0.1;
 /// Below this many steps per crossing of the shortest span the sampled load misses the peaks.
 constexpr double kMinStepsPerCrossing = 20.0;
 
+/// [Hz] The rail's resonance on its pads, sqrt(k_pad / (sleeper spacing · rail mass per m)) / 2π:
+/// below the modal basis' cut-off the basis truncates the rail's bending modes that then carry
+/// the load to the deck (measured +6 % to +22 % with preset "default", docs/reliability.md).
+double rail_on_pad_hz(const model::TrackParams& t);
+
 /// Warnings for `sc` run at `speeds` [m/s] (the sweep's, or the one speed of a run); empty when
 /// the settings lie in the measured region.
 std::vector<std::string> accuracy_warnings(const Scenario& sc, const std::vector<double>& speeds);

@@ -4,6 +4,7 @@
 
 #include "viaduct/io/scenario.hpp"
 #include "viaduct/study/guards.hpp"
+#include "viaduct/study/tradeoff.hpp"
 
 using namespace viaduct;
 
@@ -35,4 +36,21 @@ TEST_CASE("accuracy guards: silent on the shipped scenarios, a warning with the 
   REQUIRE(fast.size() == 1);
   CHECK_THAT(fast[0], Catch::Contains("at 1e+06 km/h the axles cross the shortest span (15 m) in") &&
                           Catch::Contains("52 % at 2.5"));
+}
+
+TEST_CASE("soft pads: a modal basis below the rail's resonance on its pads warns, the presets take Newmark") {
+  // Old Guadiana track: UIC60 (60.3 kg/m) every 0.6 m; pads of 3e6 N/m resonate at 45.8 Hz.
+  const study::Scenario soft = shipped("old-guadiana-talgo", {"track.pad.k=3e6", "analysis.method=\"modal\"", "modal.max_frequency_hz=60"});
+  CHECK(study::rail_on_pad_hz(*soft.track) == Approx(45.8).epsilon(2e-3));
+  const auto w = study::accuracy_warnings(soft, {*soft.run_speed});
+  REQUIRE(w.size() == 1);
+  CHECK_THAT(w[0], Catch::Contains("resonance on its pads at 45.8 Hz, below the modal basis' 60 Hz") && Catch::Contains("+6.4 % at 46 Hz"));
+  // The shipped pads (f = 265 Hz) keep the presets modal; soft ones make them Newmark at the same step.
+  const study::Scenario normal = shipped("old-guadiana-talgo");
+  CHECK(study::preset_settings("default", normal).method == study::Method::modal);
+  const study::Scenario soft_preset = shipped("old-guadiana-talgo", {"track.pad.k=3e6"});
+  const study::RunSettings p = study::preset_settings("default", soft_preset);
+  CHECK(p.method == study::Method::newmark);
+  CHECK(p.dt == Approx(study::preset_settings("default", normal).dt));
+  CHECK(study::preset_settings("fast", shipped("old-guadiana-talgo", {"track.pad.k=1e7"})).method == study::Method::modal);  // 84 Hz > 45 Hz
 }
