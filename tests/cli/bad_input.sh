@@ -160,4 +160,8 @@ expect 1 "" -- "$VIADUCT" sweep "$(scen factor "$FACT")" --quiet --out "$WORK/fa
 expect 0 "bridge.EI x0,train,100,\"variant 'bridge.EI x0': factor 0 on" -- cat "$WORK/factor/failures.csv"
 expect 0 "bridge.EI x2,train,150,mid," -- cat "$WORK/factor/envelope.csv"
 expect 2 "factor 0 on" -- "$VIADUCT" check "$(scen factor "$FACT")"
+# A record command's option refused by a library check is named as the option, with the record.
+REC=$SRC/data/records/synthetic-deck.csv
+expect 2 "synthetic-deck.csv: Welch: --nperseg = 100000: violated constraint nperseg <= the record's 3009 samples" -- "$VIADUCT" spectrum "$REC" --welch --nperseg 100000 --out "$WORK/o"
+expect 2 "synthetic-deck.csv: Chebyshev filter: --high-hz = 400: violated constraint high_hz in (0, fs/2 = 250) Hz" -- "$VIADUCT" filter "$REC" --high-hz 400 --out "$WORK/o"
 finish

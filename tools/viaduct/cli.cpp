@@ -4,16 +4,49 @@
 
 #include <boost/version.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <regex>
 
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/thread_pool.hpp"
 
 namespace viaduct::cli {
+
+namespace {
+
+// A library check names the options struct and field it refused ("WelchOptions::nperseg =
+// 100000: violated constraint ..."); when the field is one of this command's options, the message
+// names the option instead (--nperseg), and the input file the check was made against.
+std::string in_option_terms(const std::string& msg, const po::options_description& opts, const Command& cmd,
+                            const std::string& input) {
+  static const std::regex field(R"(\b[A-Z][A-Za-z0-9]*::([a-z][a-z0-9_]*)\b)");
+  std::string out;
+  bool named = false;
+  auto from = msg.cbegin();
+  for (std::sregex_iterator it(msg.begin(), msg.end(), field), end; it != end; ++it) {
+    std::string option = (*it)[1].str();
+    std::replace(option.begin(), option.end(), '_', '-');
+    out.append(from, (*it)[0].first);
+    if (opts.find_nothrow(option, false)) {
+      out += "--" + option;
+      named = true;
+    } else {
+      out += (*it)[0].str();
+    }
+    from = (*it)[0].second;
+  }
+  out.append(from, msg.cend());
+  const bool about_a_file = cmd.positional.find("SCENARIO") == std::string::npos && !input.empty();
+  if (named && about_a_file && out.find(input) == std::string::npos) out = input + ": " + out;
+  return out;
+}
+
+}  // namespace
 
 int dispatch(const Command& cmd, int argc, char** argv) {
   po::options_description opts("Options");
@@ -79,7 +112,7 @@ int dispatch(const Command& cmd, int argc, char** argv) {
   try {
     return cmd.run(c);
   } catch (const InputError& e) {
-    std::cerr << prefix << "error: " << e.what() << "\n";
+    std::cerr << prefix << "error: " << in_option_terms(e.what(), opts, cmd, c.scenario) << "\n";
     return usage_error;
   } catch (const po::error& e) {
     std::cerr << prefix << "error: " << e.what() << "\n";
