@@ -5,10 +5,12 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <boost/program_options.hpp>
 
+#include "viaduct/core/error.hpp"
 #include "viaduct/core/log.hpp"
 #include "viaduct/io/results.hpp"
 
@@ -51,10 +53,12 @@ void bind(Command& c, void (*declare)(po::options_description&, Options&), Resul
   c.run = [opts, body](const Common& o) { return body(o, *opts); };
 }
 
-/// An option writing into `field`, whose initial value is the default shown by --help.
+/// An option writing into `field`, whose initial value is the default shown by --help (numbers
+/// as written: 0.15, not 0.14999999999999999).
 template <class T>
 po::typed_value<T>* value(T& field) {
-  return po::value<T>(&field)->default_value(field);
+  if constexpr (std::is_floating_point_v<T>) return po::value<T>(&field)->default_value(field, format_number(field));
+  else return po::value<T>(&field)->default_value(field);
 }
 
 /// An option without a default: `field` holds a value only when the option was given.

@@ -35,7 +35,11 @@ std::vector<Mapping> mappings_of(const std::vector<std::string>& pairs, const io
         mp.station = i;
         found = true;
       }
-    if (!found) throw InputError("--map: no station '" + st + "' in the scenario");
+    if (!found) {
+      std::string have;
+      for (const auto& s : sc.stations) have += " " + s.name;
+      throw InputError("--map: no station '" + st + "' in the scenario; it has:" + have);
+    }
     const io::ChannelQuantity q = io::channel_quantity(rec.units[mp.channel], rec.channels[mp.channel], "--map");
     mp.quantity = q.acceleration ? "acc" : "disp";
     mp.scale = q.scale;

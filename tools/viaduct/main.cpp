@@ -1,4 +1,5 @@
 // viaduct: railway train–track–bridge dynamics. One executable, git-style subcommands.
+#include <algorithm>
 #include <cstring>
 #include <iostream>
 #include <vector>
@@ -33,7 +34,26 @@ int main(int argc, char** argv) {
   }
   for (const auto& c : commands)
     if (c.name == name) return dispatch(c, argc - 1, argv + 1);
-  std::cerr << "viaduct: unknown command '" << name << "'\n";
+  // The nearest command by edit distance, when near enough to be a typo.
+  auto distance = [](const std::string& x, const std::string& y) {
+    std::vector<std::size_t> row(y.size() + 1);
+    for (std::size_t j = 0; j <= y.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= x.size(); ++i) {
+      std::size_t diag = row[0];
+      row[0] = i;
+      for (std::size_t j = 1; j <= y.size(); ++j) {
+        const std::size_t up = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (x[i - 1] == y[j - 1] ? 0 : 1)});
+        diag = up;
+      }
+    }
+    return row[y.size()];
+  };
+  std::string best;
+  std::size_t best_d = 3;  // at most two edits
+  for (const auto& c : commands)
+    if (const std::size_t d = distance(name, c.name); d < best_d) best_d = d, best = c.name;
+  std::cerr << "viaduct: unknown command '" << name << "'" << (best.empty() ? "" : " (did you mean '" + best + "'?)") << "\n";
   usage(std::cerr);
   return usage_error;
 }
