@@ -164,6 +164,25 @@ void write_record_csv(const std::string& path, const Record& r, int significant_
   f.commit();
 }
 
+Record time_window(const Record& r, std::optional<double> start_s, std::optional<double> end_s, const std::string& what) {
+  if (!start_s && !end_s) return r;
+  const double t_last = r.t0_s + static_cast<double>(r.n_samples() - 1) / r.fs_hz;
+  const double a = start_s.value_or(r.t0_s), b = end_s.value_or(t_last);
+  if (!std::isfinite(a) || !std::isfinite(b) || !(b > a))
+    throw InputError(what + ": the window [" + format_number(a) + ", " + format_number(b) + "] s is empty or reversed");
+  // Samples k with a <= t0 + k/fs <= b (half a microsample of rounding allowed).
+  const double k0 = std::max(0.0, std::ceil((a - r.t0_s) * r.fs_hz - 1e-6));
+  const double k1 = std::min(static_cast<double>(r.n_samples() - 1), std::floor((b - r.t0_s) * r.fs_hz + 1e-6));
+  if (!(k1 - k0 >= 1.0))
+    throw InputError(what + ": the window [" + format_number(a) + ", " + format_number(b) + "] s holds fewer than 2 of the record's samples (" +
+                     format_number(r.t0_s) + " to " + format_number(t_last) + " s)");
+  Record out = r;
+  const auto first = static_cast<Index>(k0), n = static_cast<Index>(k1 - k0) + 1;
+  out.data = r.data.middleRows(first, n);
+  out.t0_s = r.t0_s + k0 / r.fs_hz;
+  return out;
+}
+
 ChannelQuantity channel_quantity(const std::string& unit, const std::string& channel, const std::string& who) {
   if (unit == "mps2") return {true, 1.0};
   if (unit == "g") return {true, 1.0 / 9.80665};

@@ -41,6 +41,12 @@ top=$(sort -t, -k4 -g "$WORK/pk/peaks.csv" | tail -1 | cut -d, -f3)
 # Forced at the rake's axle frequency 43/13.14 = 3.27 Hz, whose third harmonic (9.82 Hz) lies
 # next to f1 = 10.01 Hz: the main peak of the whole record sits between the two.
 expect 0 "ok" -- awk -v f="$top" 'BEGIN { if (f > 9.8 && f < 10.05) print "ok"; else print "top peak at " f }'
+# The free vibration after the train (from 4 s), in a band: the first mode, 10.01 Hz, on top.
+expect 0 "1 peaks" -- "$VIADUCT" peaks "$REC" --channel deck_acc --start-s 4 --f-min 5 --f-max 20 --max-peaks 1 --out "$WORK/pkfree"
+free=$(awk -F, 'NR == 2 { print $3 }' "$WORK/pkfree/peaks.csv")
+expect 0 "ok" -- awk -v f="$free" 'BEGIN { if (f > 9.95 && f < 10.07) print "ok"; else print "free-vibration peak at " f }'
+expect 0 "30 frequencies up to 19.8216 Hz" -- "$VIADUCT" spectrum "$REC" --channel deck_acc --start-s 4 --f-min 5 --f-max 20 --out "$WORK/specband"
+expect 0 "ok" -- awk -F, 'NR > 1 && ($1 < 5 || $1 > 20) { bad = 1 } END { print bad ? "row outside the band" : "ok" }' "$WORK/specband/spectrum.csv"
 # Axle passages in the deflection: the Talgo's 8 rake axles 13.14 m apart at 43 m/s are 0.306 s apart.
 expect 0 "peaks" -- "$VIADUCT" peaks "$REC" --channel deck_disp --time --min-distance 0.2 --max-peaks 0 --out "$WORK/ax"
 expect 0 "ok" -- awk -F, 'NR > 1 && $3 > 1.3 && $3 < 3.2 { if (n > 0) { d = $3 - p; if (d < 0.29 || d > 0.32) bad = 1 }; p = $3; n++ } END { print (n >= 6 && !bad) ? "ok" : "spacing off" }' "$WORK/ax/peaks.csv"

@@ -2,6 +2,8 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <limits>
+#include <optional>
 
 #include "cli.hpp"
 #include "viaduct/io/record.hpp"
@@ -66,7 +68,31 @@ struct FilterOptions {
   double ripple_db = 0.5;
 };
 
+// A time window and a frequency band, shared by spectrum and peaks.
+struct WindowBand {
+  std::optional<double> start_s, end_s, f_min, f_max;
+};
+
+void add_window_band_options(po::options_description& d, WindowBand& w) {
+  d.add_options()("start-s", optional_value(w.start_s), "analyse from this time on [s] (default: the record's start)")(
+      "end-s", optional_value(w.end_s), "analyse up to this time [s] (default: its end)")(
+      "f-min", optional_value(w.f_min), "[Hz] lowest frequency kept (spectrum)")(
+      "f-max", optional_value(w.f_max), "[Hz] highest frequency kept (spectrum)");
+}
+
+// Indices [first, last] of the frequencies inside the band; InputError when none is.
+std::pair<Index, Index> band_of(const Vector& f, const WindowBand& w) {
+  const double lo = w.f_min.value_or(-1.0), hi = w.f_max.value_or(std::numeric_limits<double>::infinity());
+  Index first = 0, last = f.size() - 1;
+  while (first < f.size() && f[first] < lo) ++first;
+  while (last >= 0 && f[last] > hi) --last;
+  if (first > last)
+    throw InputError("--f-min/--f-max: no frequency of the spectrum (0 to " + format_number(f[f.size() - 1], 6) + " Hz) in the band");
+  return {first, last};
+}
+
 struct SpectrumOptions {
+  WindowBand wb;
   std::vector<std::string> channels;
   bool welch = false;
   long nperseg = 4096, noverlap = -1;
@@ -74,6 +100,7 @@ struct SpectrumOptions {
 };
 
 struct PeaksOptions {
+  WindowBand wb;
   std::vector<std::string> channels;
   bool time = false;
   std::string window = "hann";
@@ -164,17 +191,19 @@ Command spectrum_command() {
         "noverlap", value(s.noverlap), "Welch: overlap in samples (-1: half a segment)")(
         "window", value(s.window), "hann or rectangular")(
         "detrend", value(s.detrend), "Welch: constant, linear or none");
+    add_window_band_options(d, s.wb);
   };
   c.usage_and_samples =
       "Amplitude spectrum: one-sided 2|X|/sum(w) of the whole record (a sine of amplitude a on a\n"
       "bin reads a with the rectangular window; Hann gives smoother peaks, correct amplitude at\n"
       "bin centres). Welch PSD: scipy.signal.welch conventions (unit^2/Hz). Writes\n"
-      "OUT/spectrum.csv: frequency_hz, then <channel>_amp_<unit> or <channel>_psd_<unit>2_per_hz.\n\n"
+      "OUT/spectrum.csv: frequency_hz, then <channel>_amp_<unit> or <channel>_psd_<unit>2_per_hz;\n"
+      "--start-s/--end-s take a part of the record, --f-min/--f-max keep a band.\n\n"
       "Sample runs:\n"
       "  viaduct spectrum data/records/synthetic-deck.csv --out out/spectrum\n"
       "  viaduct spectrum data/records/synthetic-deck.csv --welch --nperseg 1024 --out out/psd\n";
   const auto body = [](const Common& o, const SpectrumOptions& s) {
-    const io::Record in = io::read_record(o.scenario);
+    const io::Record in = io::time_window(io::read_record(o.scenario), s.wb.start_s, s.wb.end_s, "--start-s/--end-s");
     const auto chans = selected(in, s.channels);
     const signal::Window w = window_option(s.window);
     const bool welch = s.welch;
@@ -205,6 +234,9 @@ Command spectrum_command() {
         names.push_back(base_name(in, ch) + "_amp_" + in.units[ch]);
       }
     }
+    const auto [first, last] = band_of(f, s.wb);
+    f = Vector(f.segment(first, last - first + 1));
+    for (auto& col : cols) col = Vector(col.segment(first, last - first + 1));
     make_out_dir(o.out);
     const std::string path = o.out + "/spectrum.csv";
     names.insert(names.begin(), "frequency_hz");
@@ -233,16 +265,20 @@ Command peaks_command() {
         "min-prominence", value(p.min_prominence), "keep peaks at least this prominent (SciPy's definition)")(
         "min-distance", value(p.min_distance), "between kept peaks: Hz (spectrum) or s (time)")(
         "max-peaks", value(p.max_peaks), "keep the highest N (0: all)");
+    add_window_band_options(d, p.wb);
   };
   c.usage_and_samples =
       "Writes OUT/peaks.csv: channel,unit,frequency_hz (or t_s),value,prominence, positions\n"
       "refined between samples (log-parabola). On a Hann spectrum a sine's frequency is found\n"
-      "within 0.1 bin.\n\n"
+      "within 0.1 bin. --start-s/--end-s take a part of the record (on a passage, the free vibration\n"
+      "after the train: the top peaks of the whole record are forcing lines), --f-min/--f-max a band.\n\n"
       "Sample runs:\n"
       "  viaduct peaks data/records/synthetic-deck.csv --channel deck_acc --max-peaks 3 --out out/peaks\n"
+      "  viaduct peaks data/records/synthetic-deck.csv --channel deck_acc --start-s 4 --f-min 5 --f-max 20 --max-peaks 1 --out out/peaks-free\n"
       "  viaduct peaks data/records/synthetic-deck.csv --channel deck_disp --time --min-distance 0.2 --max-peaks 0 --out out/axles\n";
   const auto body = [](const Common& o, const PeaksOptions& p) {
-    const io::Record in = io::read_record(o.scenario);
+    const io::Record in = io::time_window(io::read_record(o.scenario), p.wb.start_s, p.wb.end_s, "--start-s/--end-s");
+    if (p.time && (p.wb.f_min || p.wb.f_max)) throw InputError("--f-min/--f-max choose spectrum peaks: not with --time");
     const bool time = p.time;
     const signal::Window window = window_option(p.window);
     signal::PeakOptions po_;
@@ -260,9 +296,10 @@ Command peaks_command() {
       double step = 1.0 / in.fs_hz, origin = in.t0_s;
       if (!time) {
         const auto a = signal::amplitude_spectrum(y, in.fs_hz, window);
-        y = a.amplitude;
         step = in.fs_hz / static_cast<double>(in.n_samples());
-        origin = 0.0;
+        const auto [first, last] = band_of(a.frequency_hz, p.wb);  // peaks inside the band only
+        y = a.amplitude.segment(first, last - first + 1);
+        origin = static_cast<double>(first) * step;
       }
       po_.min_distance = std::max<Index>(1, static_cast<Index>(std::ceil(dist / step)));
       for (const auto& pk : signal::find_peaks(y, po_)) {

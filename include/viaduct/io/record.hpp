@@ -8,6 +8,7 @@
 /// NaN or empty cells, wrong column counts, non-increasing or irregular time, duplicated or
 /// unit-less channels. Nothing is repaired silently.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,10 @@ struct Record {
 
 /// Unit suffixes a channel name may end with.
 const std::vector<std::string>& known_units();
+
+/// The samples of `r` with start_s <= t <= end_s (either may be absent), t0_s moved to the first
+/// kept one. InputError naming `what` when the window is reversed or holds fewer than 2 samples.
+Record time_window(const Record& r, std::optional<double> start_s, std::optional<double> end_s, const std::string& what);
 
 /// Reads a record CSV (streaming, about 1 s per 100 MB). Throws InputError with file:line.
 Record read_record_csv(const std::string& path);
