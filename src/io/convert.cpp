@@ -95,7 +95,8 @@ std::vector<double> speeds_of(const FlatScenario& f) {
   const bool mps = f.has("sweep.speed_min_mps") || f.has("sweep.speed_max_mps") || f.has("sweep.n_speeds");
   if (int(list) + int(kmh) + int(mps) > 1)
     throw InputError(where_of(f, "sweep", ""),
-                     "give speeds one way only: speeds_kmh, or speed_min/max/step_kmh, or speed_min/max_mps with n_speeds");
+                     "give speeds one way only: speeds_kmh, or speed_min/max/step_kmh, or speed_min/max_mps with n_speeds "
+                     "(on the command line, --unset the keys of the other way)");
   std::vector<double> v;
   if (list) {
     for (double s : f.at("sweep.speeds_kmh").xs) v.push_back(s / 3.6);
@@ -268,7 +269,7 @@ std::vector<study::Variant> sweep_variants(const FlatScenario& flat, bool isolat
       for (const auto& [ai, factor] : settings) scale_key(v, axes[ai].key, factor, axes[ai].where);
       return study::Variant{label.empty() ? "reference" : label, to_scenario(v), ""};
     } catch (const InputError& e) {
-      const std::string why = "variant '" + label + "': " + e.what();
+      const std::string why = settings.empty() ? std::string(e.what()) : "variant '" + label + "': " + e.what();
       if (!isolate_failures || out.empty()) throw InputError(why);
       return study::Variant{label, out.front().scenario, why};  // the reference's trains and speeds
     }

@@ -284,7 +284,7 @@ const Value& FlatScenario::at(const std::string& key) const {
   return it->second;
 }
 
-FlatScenario load_flat(const std::string& path, const std::vector<std::string>& overrides) {
+FlatScenario load_flat(const std::string& path, const std::vector<std::string>& overrides, const std::vector<std::string>& unset) {
   FlatScenario fsn;
   fsn.path = path;
   const detail::TomlFile root = parse_file(path, SourceLocation{});
@@ -312,6 +312,23 @@ FlatScenario load_flat(const std::string& path, const std::vector<std::string>& 
       if (kv.first == comp + ".file") bad(kv.second.where, "component files cannot reference other files");
       fsn.values.emplace(kv.first, kv.second);
     }
+  }
+  // --unset: a key as written in the scenario or its component files, or all under a prefix.
+  for (const auto& key : unset) {
+    const SourceLocation w{"--unset", 0, key};
+    std::size_t n = 0;
+    for (auto it = fsn.values.begin(); it != fsn.values.end();) {
+      const std::string& k = it->first;
+      const bool under = k == key || (k.size() > key.size() && k.compare(0, key.size(), key) == 0 &&
+                                      (k[key.size()] == '.' || k[key.size()] == '['));
+      if (under) {
+        it = fsn.values.erase(it);
+        ++n;
+      } else {
+        ++it;
+      }
+    }
+    if (n == 0) bad(w, find_spec(key) ? "is not set in the scenario" : "unknown key" + did_you_mean(key));
   }
   // Unknown keys and types.
   for (auto& [key, v] : fsn.values) {

@@ -69,7 +69,7 @@ expect 2 "synthetic-deck.csv: Chebyshev filter: --high-hz = 300: violated constr
 expect 2 "synthetic-deck.csv: Welch: --nperseg = 100000: violated constraint nperseg <= the record's 3009 samples" -- "$VIADUCT" spectrum "$SRC/data/records/synthetic-deck.csv" --welch --nperseg 100000
 expect 2 "no channel 'rail'" -- "$VIADUCT" spectrum "$SRC/data/records/synthetic-deck.csv" --channel rail
 expect 2 "RECORD is required" -- "$VIADUCT" spectrum
-expect 2 "--set changes scenario keys; viaduct filter takes no scenario" -- "$VIADUCT" filter "$SRC/data/records/synthetic-deck.csv" --set filter.high_hz=20
+expect 2 "--set and --unset change scenario keys; viaduct filter takes no scenario" -- "$VIADUCT" filter "$SRC/data/records/synthetic-deck.csv" --set filter.high_hz=20
 
 # compare: missing or wrong mappings
 TALGO=$SRC/scenarios/old-guadiana-talgo.toml
@@ -165,4 +165,11 @@ expect 2 "unknown command 'swep' (did you mean 'sweep'?)" -- "$VIADUCT" swep "$O
 expect 2 "--map: no station 'S9' in the scenario; it has: S1_mid S1_3L4 S2_mid" -- "$VIADUCT" compare "$SRC/scenarios/old-guadiana-talgo.toml" --record "$SRC/data/records/synthetic-deck.csv" --map deck_acc=S9 --out "$WORK/o"
 expect 0 "--band-ratio arg (=0.15)" -- "$VIADUCT" decay --help
 expect 0 "--cluster-tol arg (=0.005)" -- "$VIADUCT" modal-fit --help
+# --unset: a speed list replaces the scenario's range from the command line (#22).
+expect 2 "give speeds one way only: speeds_kmh, or speed_min/max/step_kmh, or speed_min/max_mps with n_speeds (on the command line, --unset the keys of the other way)" -- "$VIADUCT" sweep "$OG" --set 'sweep.speeds_kmh=[154.8]' --out "$WORK/o"
+expect 0 "1 speeds x 1 trains x 1 variants" -- "$VIADUCT" check "$OG" --unset sweep.speed_min_mps --unset sweep.speed_max_mps --unset sweep.n_speeds --unset sweep.variants --set 'sweep.speeds_kmh=[154.8]'
+expect 2 "--unset: key 'sweep.speed_mni_mps': unknown key (did you mean 'sweep.speed_min_mps'?)" -- "$VIADUCT" check "$OG" --unset sweep.speed_mni_mps
+expect 2 "--unset: key 'sweep.speeds_kmh': is not set in the scenario" -- "$VIADUCT" check "$OG" --unset sweep.speeds_kmh
+expect 2 "--set sweep.n_speeds and --unset sweep.n_speeds: give a key one of them" -- "$VIADUCT" check "$OG" --unset sweep.n_speeds --set sweep.n_speeds=3
+expect 2 "--set and --unset change scenario keys; viaduct spectrum takes no scenario" -- "$VIADUCT" spectrum "$SRC/data/records/synthetic-deck.csv" --unset x
 finish

@@ -53,6 +53,8 @@ int dispatch(const Command& cmd, int argc, char** argv) {
   opts.add_options()("help,h", "show this help")(
       "set", po::value<std::vector<std::string>>()->composing(),
       "override a scenario key: --set key=value (dotted key, TOML value; repeatable)")(
+      "unset", po::value<std::vector<std::string>>()->composing(),
+      "remove a scenario key, or a table with all under it (repeatable): --unset sweep.speed_min_kmh")(
       "out", po::value<std::string>()->default_value("out"), "output directory")(
       "threads", po::value<int>()->default_value(1), "worker threads (0: all cores)")(
       "quiet,q", po::bool_switch(), "print nothing but errors");
@@ -89,6 +91,7 @@ int dispatch(const Command& cmd, int argc, char** argv) {
   if (vm.count("scenario")) c.scenario = vm["scenario"].as<std::string>();
   if (vm.count("more")) c.more = vm["more"].as<std::vector<std::string>>();
   if (vm.count("set")) c.set = vm["set"].as<std::vector<std::string>>();
+  if (vm.count("unset")) c.unset = vm["unset"].as<std::vector<std::string>>();
   c.out = vm["out"].as<std::string>();
   c.threads = vm["threads"].as<int>();
   c.quiet = vm["quiet"].as<bool>();
@@ -100,8 +103,8 @@ int dispatch(const Command& cmd, int argc, char** argv) {
     for (char ch : a) quoted += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
     c.command_line += " " + (plain ? a : quoted + "'");
   }
-  if (!c.set.empty() && cmd.positional.find("SCENARIO") == std::string::npos) {
-    std::cerr << prefix << "error: --set changes scenario keys; viaduct " << cmd.name << " takes no scenario\n";
+  if ((!c.set.empty() || !c.unset.empty()) && cmd.positional.find("SCENARIO") == std::string::npos) {
+    std::cerr << prefix << "error: --set and --unset change scenario keys; viaduct " << cmd.name << " takes no scenario\n";
     return usage_error;
   }
   if (c.threads < 0) {
@@ -123,6 +126,16 @@ int dispatch(const Command& cmd, int argc, char** argv) {
   }
 }
 
+
+io::FlatScenario load_scenario(const Common& o) {
+  for (const auto& s : o.set)
+    for (const auto& u : o.unset) {
+      const std::string key = s.substr(0, s.find('='));
+      if (key == u || key.rfind(u + ".", 0) == 0 || key.rfind(u + "[", 0) == 0)
+        throw InputError("--set " + key + " and --unset " + u + ": give a key one of them (--unset removes after --set)");
+    }
+  return io::load_flat(o.scenario, o.set, o.unset);
+}
 
 void make_out_dir(const std::string& dir) {
   std::error_code ec;

@@ -25,6 +25,7 @@ struct Common {
   std::string scenario;
   std::vector<std::string> more;  ///< further positional arguments (Command::many_positionals)
   std::vector<std::string> set;
+  std::vector<std::string> unset;  ///< --unset KEY: keys (or tables) removed from the scenario
   std::string out = "out";
   int threads = 1;
   bool quiet = false;
@@ -75,6 +76,9 @@ inline po::typed_value<std::vector<std::string>>* list_value(std::vector<std::st
 /// Parses argv for `cmd`, handles --help, and maps exceptions to exit codes (2 input/usage,
 /// 1 runtime). Prints errors on stderr as "viaduct <cmd>: error: ...".
 int dispatch(const Command& cmd, int argc, char** argv);
+
+/// The command's scenario with --set and --unset applied (io::load_flat).
+io::FlatScenario load_scenario(const Common& o);
 
 /// Creates the output directory (throws SolverError when it cannot).
 void make_out_dir(const std::string& dir);

@@ -19,7 +19,7 @@ Command check_command() {
       "  viaduct check scenarios/old-guadiana-sensitivity.toml\n"
       "  viaduct check scenarios/hslm-simply-supported.toml --set bridge.damping.ratio=0.02\n";
   c.run = [](const Common& o) {
-    const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
+    const io::FlatScenario flat = load_scenario(o);
     const study::Scenario sc = io::to_scenario(flat);
     const auto variants = io::sweep_variants(flat);
     const model::Structure s = model::build_structure(sc.bridge, sc.track);

@@ -71,7 +71,7 @@ int compare_body(const Common& o, const CompareOptions& k) {
   if (k.maps.empty()) throw InputError("at least one --map CHANNEL=STATION is required");
   const std::string& record_path = *k.record;
   const io::Record rec = io::read_record(record_path);
-  const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
+  const io::FlatScenario flat = load_scenario(o);
   study::Scenario sc = io::to_scenario(flat);
   double speed = 0.0;
   std::string speed_source = "run.speed_kmh";

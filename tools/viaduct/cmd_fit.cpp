@@ -60,7 +60,7 @@ Command fit_command() {
       "  viaduct fit scenarios/old-guadiana-talgo.toml --record data/records/og-calibration.csv --map S1_mid_acc=S1_mid --map S2_mid_acc=S2_mid --param bridge.EI=5e9:1e10 --param track.pad.k=2e7:1e9 --param bridge.damping.ratio1=0.01:0.06 --threads 2 --out out/fit-og\n";
   const auto body = [](const Common& o, const io::FitRequest& request) {
     const auto t0 = std::chrono::steady_clock::now();
-    const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
+    const io::FlatScenario flat = load_scenario(o);
     io::FitRequest q = request;
     q.threads = o.threads;
     auto [problem, opt] = io::fit_setup(flat, q);

@@ -99,7 +99,7 @@ struct FrfOptions {
 };
 
 int frf_from_scenario(const Common& o, const FrfOptions& fo) {
-  const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
+  const io::FlatScenario flat = load_scenario(o);
   const study::Scenario sc = io::to_scenario(flat);
   const model::Structure s = model::build_structure(sc.bridge, sc.track);
   const study::ForcedSetup setup = forced_setup(s, sc, fo.forced);
@@ -343,7 +343,7 @@ Command shaker_command() {
       "  viaduct shaker scenarios/old-guadiana-talgo.toml --force-at 6 --stepped 9:11:0.5 --dwell-s 6 --out out/shaker\n"
       "  viaduct shaker scenarios/hslm-simply-supported.toml --force-at 5 --swept 2:30 --sweep-s 60 --snr-db 40 --out out/sweep\n";
   const auto body = [](const Common& o, const ShakerOptions& sh) {
-    const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
+    const io::FlatScenario flat = load_scenario(o);
     const study::Scenario sc = io::to_scenario(flat);
     const model::Structure s = model::build_structure(sc.bridge, sc.track);
     const study::ForcedSetup setup = forced_setup(s, sc, sh.forced);

@@ -27,7 +27,7 @@ Command modes_command() {
   const auto body = [](const Common& o, const ModesOptions& opts) {
     const int n = opts.n_modes;
     if (n < 0) throw InputError("--n-modes must be >= 0");
-    const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
+    const io::FlatScenario flat = load_scenario(o);
     const study::Scenario sc = io::to_scenario(flat);
     const model::Structure s = model::build_structure(sc.bridge, sc.track);
     const auto stations = study::resolve_stations(s, sc.stations);

@@ -31,7 +31,7 @@ Command run_command() {
       "  viaduct run scenarios/hslm-simply-supported.toml --speed-kmh 300 --train HSLM-A4 --out out/a4\n";
   const auto body = [](const Common& o, const RunOptions& ro) {
     const auto t0 = std::chrono::steady_clock::now();
-    const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
+    const io::FlatScenario flat = load_scenario(o);
     study::Scenario sc = io::to_scenario(flat);
     double speed = 0.0;
     if (ro.speed_kmh) {

@@ -22,7 +22,7 @@ Command sweep_command() {
       "  viaduct sweep scenarios/old-guadiana-sensitivity.toml --set sweep.speed_min_mps=90 --set sweep.n_speeds=1 --threads 0 --out out/og\n";
   c.run = [](const Common& o) {
     const auto t0 = std::chrono::steady_clock::now();
-    const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
+    const io::FlatScenario flat = load_scenario(o);
     auto variants = io::sweep_variants(flat, /*isolate_failures=*/true);
     for (auto& v : variants) v.scenario.settings.ida.log = log_printer(o.quiet);
     if (variants.front().scenario.sweep_speeds.empty())

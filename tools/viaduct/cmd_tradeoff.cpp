@@ -51,7 +51,7 @@ Command tradeoff_command() {
       "  viaduct tradeoff scenarios/old-guadiana-sensitivity.toml --speeds 1 --set track.approach_length=3 --set track.exit_length=3 --out out/tradeoff-og\n";
   const auto body = [](const Common& o, const TradeoffOptions& t) {
     const auto t0 = std::chrono::steady_clock::now();
-    const io::FlatScenario flat = io::load_flat(o.scenario, o.set);
+    const io::FlatScenario flat = load_scenario(o);
     study::Scenario sc = io::to_scenario(flat);
     sc.settings.ida.log = log_printer(o.quiet);
     if (sc.sweep_speeds.empty())

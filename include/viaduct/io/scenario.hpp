@@ -61,9 +61,11 @@ struct FlatScenario {
   bool has(const std::string& key) const { return values.count(key) > 0; }
 };
 
-/// Reads, merges, overrides ("key=value", value in TOML syntax; bare words are strings),
+/// Reads, merges, overrides ("key=value", value in TOML syntax; bare words are strings), removes
+/// the `unset` keys (a key, or a table or array of tables with everything under it: "sweep.variants"),
 /// checks types, constraints and unknown keys, fills defaults. Throws InputError.
-FlatScenario load_flat(const std::string& path, const std::vector<std::string>& overrides = {});
+FlatScenario load_flat(const std::string& path, const std::vector<std::string>& overrides = {},
+                       const std::vector<std::string>& unset = {});
 /// Converts to plain data, checking cross-key rules (required keys, physics). Throws InputError
 /// with the key and where it was set.
 study::Scenario to_scenario(const FlatScenario& flat);
