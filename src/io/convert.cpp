@@ -89,6 +89,35 @@ void finish_track(const FlatScenario& f, model::TrackParams& t) {
   if (!t.is_valid(&why)) throw InputError(where_of(f, "track", why), why);
 }
 
+// "hslm:A1-A10", "hslm:A4" or "hslm:A1,A5,A9": the Eurocode HSLM-A trains by number.
+std::vector<load::Train> hslm_trains(const std::string& entry, const Value& where) {
+  const std::string spec = entry.substr(5);
+  auto number = [&](const std::string& s) {
+    if (s.size() < 2 || (s[0] != 'A' && s[0] != 'a') || s.find_first_not_of("0123456789", 1) != std::string::npos ||
+        s.size() > 3)
+      bad(where, "'" + entry + "': HSLM trains are named A1 to A10 (\"hslm:A1-A10\", \"hslm:A4\", \"hslm:A1,A5\")");
+    const int n = std::stoi(s.substr(1));
+    if (n < 1 || n > 10) bad(where, "'" + entry + "': HSLM trains are A1 to A10, not A" + std::to_string(n));
+    return n;
+  };
+  std::vector<int> numbers;
+  std::stringstream ss(spec);
+  for (std::string part; std::getline(ss, part, ',');) {
+    const auto dash = part.find('-');
+    if (dash == std::string::npos) {
+      numbers.push_back(number(part));
+    } else {
+      const int a = number(part.substr(0, dash)), b = number(part.substr(dash + 1));
+      if (b < a) bad(where, "'" + entry + "': the range must go up (A1-A10)");
+      for (int n = a; n <= b; ++n) numbers.push_back(n);
+    }
+  }
+  if (numbers.empty()) bad(where, "'" + entry + "': name the trains (\"hslm:A1-A10\")");
+  std::vector<load::Train> out;
+  for (int n : numbers) out.push_back(load::hslm_a("HSLM-A" + std::to_string(n), load::hslm_a_row(n)));
+  return out;
+}
+
 std::vector<double> speeds_of(const FlatScenario& f) {
   const bool list = f.has("sweep.speeds_kmh");
   const bool kmh = f.has("sweep.speed_min_kmh") || f.has("sweep.speed_max_kmh") || f.has("sweep.speed_step_kmh");
@@ -158,6 +187,10 @@ study::Scenario to_scenario(const FlatScenario& f) {
   const Value& files = f.at("train.files");
   if (files.ss.empty()) bad(files, "needs at least one train file");
   for (const auto& p : files.ss) {
+    if (p.rfind("hslm:", 0) == 0) {
+      for (auto& t : hslm_trains(p, files)) sc.trains.push_back(std::move(t));
+      continue;
+    }
     try {
       sc.trains.push_back(read_train_file(p));
     } catch (const InputError& e) {

@@ -209,7 +209,8 @@ void write_manifest(const std::string& path, const Manifest& m, const FlatScenar
     add(flat->path);
     for (const auto& kv : flat->values) add(kv.second.where.file);
     if (flat->has("train.files"))
-      for (const auto& t : flat->at("train.files").ss) add(t);
+      for (const auto& t : flat->at("train.files").ss)
+        if (t.rfind("hslm:", 0) != 0) add(t);
   }
   for (const auto& f : m.inputs) add(f);
   std::ostringstream out;

@@ -342,7 +342,8 @@ FlatScenario load_flat(const std::string& path, const std::vector<std::string>& 
   }
   // Train files are relative to where the key was written.
   if (auto it = fsn.values.find("train.files"); it != fsn.values.end())
-    for (auto& f : it->second.ss) f = resolve_relative(f, it->second.where);
+    for (auto& f : it->second.ss)
+      if (f.rfind("hslm:", 0) != 0) f = resolve_relative(f, it->second.where);  // "hslm:A1-A10" names no file
   // So are the fit's record and mode files.
   for (auto& [key, v] : fsn.values) {
     const bool record_file = key.rfind("fit.records[", 0) == 0 && key.size() > 5 && key.compare(key.size() - 5, 5, ".file") == 0;

@@ -128,7 +128,7 @@ std::vector<KeySpec> track_keys() {  // track
 
 std::vector<KeySpec> train_keys() {  // trains
   return {
-      {"train.files", T::string_list, "", "", "", "Train files (.toml: hslm, regular or axles; .csv: position_m,load_kN), relative to the referencing file (required)."},
+      {"train.files", T::string_list, "", "", "", "Train files (.toml: hslm, regular or axles; .csv: position_m,load_kN), relative to the referencing file (required); \"hslm:A1-A10\" (or hslm:A4, hslm:A1,A5) names the Eurocode HSLM-A trains without files."},
       {"train.load_factor", T::number, "1.0", "-", "> 0", "Multiplies every axle load (0.5: one rail of a half-deck model carries half of each axle).",
        [](S& sc, const V& v) { sc.settings.load_factor = v.x; }},
   };

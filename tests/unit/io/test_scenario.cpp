@@ -248,6 +248,25 @@ TEST_CASE("a scenario with a megabyte line reads in linear time, with its values
   CHECK_THAT(files[7], Catch::EndsWith("/a, [b] 'c' \" 7.toml"));  // resolved against the file's directory
 }
 
+TEST_CASE("train.files entry hslm:A1-A10 gives the ten Eurocode trains the shipped files give") {
+  const std::string hs = src + "/scenarios/hslm-simply-supported.toml";
+  const study::Scenario files = to_scenario(load_flat(hs));
+  const study::Scenario named = to_scenario(load_flat(hs, {"train.files=[\"hslm:A1-A10\"]"}));
+  REQUIRE(named.trains.size() == 10);
+  REQUIRE(files.trains.size() == 10);
+  for (std::size_t i = 0; i < 10; ++i) {
+    CHECK(named.trains[i].name == files.trains[i].name);
+    CHECK(named.trains[i].offset == files.trains[i].offset);
+    CHECK(named.trains[i].load == files.trains[i].load);
+  }
+  const study::Scenario some = to_scenario(load_flat(hs, {"train.files=[\"hslm:A3,A5-A6\"]"}));
+  REQUIRE(some.trains.size() == 3);
+  CHECK(some.trains[1].name == "HSLM-A5");
+  REQUIRE_THROWS_WITH(to_scenario(load_flat(hs, {"train.files=[\"hslm:A11\"]"})), Catch::Contains("HSLM trains are A1 to A10, not A11"));
+  REQUIRE_THROWS_WITH(to_scenario(load_flat(hs, {"train.files=[\"hslm:B2\"]"})), Catch::Contains("are named A1 to A10"));
+  REQUIRE_THROWS_WITH(to_scenario(load_flat(hs, {"train.files=[\"hslm:A5-A2\"]"})), Catch::Contains("must go up"));
+}
+
 TEST_CASE("the number of sweep speeds is limited before any is made") {
   Scratch s;
   const std::string p = s.scenario("[sweep]\nspeed_min_mps = 10\nspeed_max_mps = 90\nn_speeds = 10000000\n");
