@@ -395,6 +395,8 @@ load::Train read_train_file(const std::string& path) {
   detail::TomlFile parsed;
   try {
     parsed = detail::parse_toml_file(path);
+  } catch (const InputError&) {
+    throw;
   } catch (const std::exception& e) {
     throw InputError(std::string("TOML syntax error: ") + e.what());
   }

@@ -134,6 +134,8 @@ detail::TomlFile parse_file(const std::string& path, const SourceLocation& refer
   if (!fs::exists(path)) throw InputError(referenced_from, "file not found: " + path);
   try {
     return detail::parse_toml_file(path);
+  } catch (const InputError&) {
+    throw;
   } catch (const toml::syntax_error& e) {
     throw InputError(std::string("TOML syntax error: ") + e.what());
   } catch (const std::exception& e) {

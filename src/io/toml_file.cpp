@@ -1,5 +1,8 @@
 #include "toml_file.hpp"
 
+#include "viaduct/core/error.hpp"
+
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -68,12 +71,36 @@ std::string split_long_lines(const std::string& text, std::vector<int>& original
   return out;
 }
 
+namespace {
+// TOML is UTF-8 text. toml11 reads past its buffer on some invalid bytes inside a literal string
+// (found by fuzzing: heap-buffer-overflow in location::reset), so they are refused before it runs.
+void require_utf8(const std::string& text, const std::string& path) {
+  int line = 1;
+  for (std::size_t i = 0; i < text.size();) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c == '\n') ++line;
+    std::size_t n = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
+    bool ok = n > 0 && i + n <= text.size() && !(c < 0x20 && c != '\t' && c != '\n' && c != '\r') && c != 0x7F;
+    for (std::size_t k = 1; ok && k < n; ++k) ok = (static_cast<unsigned char>(text[i + k]) >> 6) == 0x2;
+    if (!ok) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "0x%02x", c);
+      throw InputError(SourceLocation{path, line, ""}, std::string("not UTF-8 text or a control character (byte ") + hex +
+                                                           "): a TOML file is UTF-8 text");
+    }
+    i += n;
+  }
+}
+}  // namespace
+
 TomlFile parse_toml_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error("cannot open " + path);
   std::stringstream ss;
   ss << in.rdbuf();
-  const std::string text = ss.str();
+  std::string text = ss.str();
+  if (text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);  // a byte-order mark
+  require_utf8(text, path);
   TomlFile f;
   bool long_line = false;
   for (std::size_t start = 0, end; start < text.size(); start = end + 1) {

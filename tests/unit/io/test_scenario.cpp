@@ -179,6 +179,10 @@ TEST_CASE("train files: CSV and TOML, with clear errors") {
               .find("i.toml:2: key 'n_axles': must be a whole number from 1 to 10000, got 1e+12") != std::string::npos);
   REQUIRE(error_of("j.toml", "kind = \"regular\"\nn_axles = 2.5\nspacing = 2.0\naxle_load_kN = 100\n").find("whole number") !=
           std::string::npos);
+  // Invalid UTF-8 is refused before toml11 reads it (found by fuzzing: toml11 read past its
+  // buffer on such bytes in a literal string).
+  REQUIRE(error_of("m.toml", "kind = \"regular\"\nname = 'x\xff\xff'\n").find("m.toml:2: not UTF-8 text or a control character (byte 0xff)") !=
+          std::string::npos);
   // A key of another kind of train is an error, not silently ignored.
   REQUIRE(error_of("k.toml", "kind = \"regular\"\nn_axles = 4\nspacing = 2.0\naxle_load_kN = 100\nhslm_number = 3\n")
               .find("k.toml:5: key 'hslm_number': belongs to hslm trains, not to kind = \"regular\"") != std::string::npos);
