@@ -210,6 +210,11 @@ void check_constraint(const KeySpec& spec, const Value& v) {
 
 Value parse_override_value(const std::string& text, const SourceLocation& w) {
   try {
+    detail::require_utf8(text, "--set");
+  } catch (const InputError&) {
+    throw InputError(w, "the value is not UTF-8 text or holds a control character");
+  }
+  try {
     std::istringstream is("v = " + text);
     const toml::value root = toml::parse(is, "--set");
     return scalar_from_toml(toml::find(root, "v"), w);

@@ -71,7 +71,6 @@ std::string split_long_lines(const std::string& text, std::vector<int>& original
   return out;
 }
 
-namespace {
 // TOML is UTF-8 text. toml11 reads past its buffer on some invalid bytes inside a literal string
 // (found by fuzzing: heap-buffer-overflow in location::reset), so they are refused before it runs.
 void require_utf8(const std::string& text, const std::string& path) {
@@ -91,7 +90,6 @@ void require_utf8(const std::string& text, const std::string& path) {
     i += n;
   }
 }
-}  // namespace
 
 TomlFile parse_toml_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

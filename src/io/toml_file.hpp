@@ -19,6 +19,10 @@ struct TomlFile {
   int line_of(const toml::value& v) const;
 };
 
+/// InputError at `path`:line when `text` holds a byte that is not UTF-8, or a control character
+/// other than tab, CR and LF (toml11 must not see them).
+void require_utf8(const std::string& text, const std::string& path);
+
 /// Parses `path` (toml::syntax_error and std::runtime_error as toml::parse throws them; a syntax
 /// error in a split line names the line as split, with a note saying so).
 TomlFile parse_toml_file(const std::string& path);

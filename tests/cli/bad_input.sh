@@ -172,4 +172,5 @@ expect 2 "--unset: key 'sweep.speed_mni_mps': unknown key (did you mean 'sweep.s
 expect 2 "--unset: key 'sweep.speeds_kmh': is not set in the scenario" -- "$VIADUCT" check "$OG" --unset sweep.speeds_kmh
 expect 2 "--set sweep.n_speeds and --unset sweep.n_speeds: give a key one of them" -- "$VIADUCT" check "$OG" --unset sweep.n_speeds --set sweep.n_speeds=3
 expect 2 "--set and --unset change scenario keys; viaduct spectrum takes no scenario" -- "$VIADUCT" spectrum "$SRC/data/records/synthetic-deck.csv" --unset x
+expect 2 "--set: key 'title': the value is not UTF-8 text or holds a control character" -- "$VIADUCT" check "$OG" --set $'title=\'a\xff\''
 finish
