@@ -75,6 +75,18 @@ void write_envelope_csv(const std::string& path, const std::vector<study::Envelo
   f.commit();
 }
 
+void write_governing_csv(const std::string& path, const std::vector<study::GoverningRow>& rows) {
+  AtomicFile f(path);
+  std::fprintf(f.get(),
+               "station,max_abs_acc_mps2,acc_variant,acc_train,acc_speed_kmh,max_abs_disp_m,disp_variant,disp_train,"
+               "disp_speed_kmh\n");
+  for (const auto& r : rows)
+    std::fprintf(f.get(), "%s,%.10g,%s,%s,%.10g,%.10g,%s,%s,%.10g\n", csv_text(r.station).c_str(), r.acc.value,
+                 csv_text(r.acc.variant).c_str(), csv_text(r.acc.train).c_str(), r.acc.speed * 3.6, r.disp.value,
+                 csv_text(r.disp.variant).c_str(), csv_text(r.disp.train).c_str(), r.disp.speed * 3.6);
+  f.commit();
+}
+
 void write_failures_csv(const std::string& path, const std::vector<study::CaseFailure>& failures) {
   AtomicFile f(path);
   std::fprintf(f.get(), "variant,train,speed_kmh,error\n");

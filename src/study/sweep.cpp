@@ -1,5 +1,6 @@
 #include "viaduct/study/sweep.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <memory>
 #include <mutex>
@@ -233,6 +234,24 @@ SweepResult run_sweep(const std::vector<Variant>& variants, const SweepOptions& 
   if (options.threads < 1) throw InputError("threads must be >= 1");
   SweepResult out = Sweep(variants, options).run();
   out.summary.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+std::vector<GoverningRow> governing(const std::vector<EnvelopeRow>& rows) {
+  std::vector<GoverningRow> out;
+  auto take = [](GoverningCase& g, double v, const EnvelopeRow& r, bool first) {
+    if (first || v > g.value) g = {v, r.variant, r.train, r.speed};
+  };
+  for (const auto& r : rows) {
+    auto it = std::find_if(out.begin(), out.end(), [&](const GoverningRow& g) { return g.station == r.station; });
+    const bool first = it == out.end();
+    if (first) {
+      out.push_back({r.station, {}, {}});
+      it = out.end() - 1;
+    }
+    take(it->acc, r.max_abs_acc, r, first);
+    take(it->disp, r.max_abs_disp, r, first);
+  }
   return out;
 }
 

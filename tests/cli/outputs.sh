@@ -16,6 +16,11 @@ expect 0 "reference,HSLM-A9,210,mid," -- cat "$WORK/s1/envelope.csv"
 expect 0 "" -- cmp "$WORK/s1/envelope.csv" "$WORK/s2/envelope.csv"
 expect 0 "n_failed = 0" -- cat "$WORK/s2/manifest.toml"
 expect 0 "11" -- wc -l "$WORK/s1/envelope.csv"
+expect 0 "station,max_abs_acc_mps2,acc_variant,acc_train,acc_speed_kmh,max_abs_disp_m,disp_variant,disp_train,disp_speed_kmh" -- head -1 "$WORK/s1/governing.csv"
+# The governing row agrees with the envelope's largest acceleration at the station.
+top=$(awk -F, 'NR > 1 && $5 > m { m = $5; t = $2 "," $3 } END { print t }' "$WORK/s1/envelope.csv")
+expect 0 "$top" -- awk -F, 'NR == 2 { print $4 "," $5 }' "$WORK/s1/governing.csv"
+expect 0 "governing cases (largest over trains and speeds)" -- "$VIADUCT" sweep "$HS" "${SET[@]}" --out "$WORK/s3"
 # A run killed while writing (here by the file size limit, SIGXFSZ: exit 153) leaves the earlier
 # output whole: the manifest (about 5 kB) of the same sweep into s1 cannot be written in 1 kB.
 cp "$WORK/s1/manifest.toml" "$WORK/manifest.before"

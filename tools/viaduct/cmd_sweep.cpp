@@ -8,6 +8,20 @@
 
 namespace viaduct::cli {
 
+namespace {
+// The governing case of each station, at a glance.
+void print_governing(const std::vector<study::GoverningRow>& gov, bool with_variant) {
+  if (gov.empty()) return;
+  std::printf("\ngoverning cases (largest over %strains and speeds):\n", with_variant ? "variants, " : "");
+  std::printf("  %-14s %14s  %-16s %7s%s   %12s  %-16s %7s%s\n", "station", "max|acc| m/s²", "train", "km/h",
+              with_variant ? "  variant" : "", "max|disp| mm", "train", "km/h", with_variant ? "  variant" : "");
+  for (const auto& g : gov)
+    std::printf("  %-14s %14.4f  %-16s %7.1f%s   %12.3f  %-16s %7.1f%s\n", g.station.c_str(), g.acc.value, g.acc.train.c_str(),
+                g.acc.speed * 3.6, with_variant ? ("  " + g.acc.variant).c_str() : "", g.disp.value * 1e3,
+                g.disp.train.c_str(), g.disp.speed * 3.6, with_variant ? ("  " + g.disp.variant).c_str() : "");
+}
+}  // namespace
+
 Command sweep_command() {
   Command c;
   c.name = "sweep";
@@ -35,6 +49,8 @@ Command sweep_command() {
     const study::SweepResult r = study::run_sweep(variants, so);
     io::write_envelope_csv(o.out + "/envelope.csv", r.rows);
     io::write_failures_csv(o.out + "/failures.csv", r.failures);
+    const std::vector<study::GoverningRow> gov = study::governing(r.rows);
+    io::write_governing_csv(o.out + "/governing.csv", gov);
     io::Manifest m = start_manifest(o, "sweep");
     m.warnings = study::accuracy_warnings(variants.front().scenario, variants.front().scenario.sweep_speeds);
     print_warnings("sweep", m.warnings);
@@ -48,9 +64,11 @@ Command sweep_command() {
                {"n_dofs_reference", std::to_string(r.summary.n_dofs.front())},
                {"sweep_wall_s", std::to_string(r.summary.wall_s)}};
     io::write_manifest(o.out + "/manifest.toml", m, flat);
-    if (!o.quiet)
-      std::printf("%zu cases (%zu variants), %zu failed, %.1f s; wrote %s/envelope.csv\n", r.summary.n_cases,
+    if (!o.quiet) {
+      std::printf("%zu cases (%zu variants), %zu failed, %.1f s; wrote %s/envelope.csv and governing.csv\n", r.summary.n_cases,
                   variants.size(), r.summary.n_failed, r.summary.wall_s, o.out.c_str());
+      print_governing(gov, variants.size() > 1);
+    }
     for (const auto& f : r.failures)
       std::fprintf(stderr, "viaduct sweep: case failed: %s / %s / %.1f km/h: %s\n", f.variant.c_str(), f.train.c_str(),
                    f.speed * 3.6, f.message.c_str());

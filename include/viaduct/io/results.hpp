@@ -22,6 +22,10 @@ void write_envelope_csv(const std::string& path, const std::vector<study::Envelo
 /// failures.csv: variant,train,speed_kmh,error (header only when nothing failed)
 void write_failures_csv(const std::string& path, const std::vector<study::CaseFailure>& failures);
 
+/// governing.csv: per station the governing acceleration and deflection with the variant, train
+/// and speed where each occurs (study::governing).
+void write_governing_csv(const std::string& path, const std::vector<study::GoverningRow>& rows);
+
 /// modes.csv: mode,frequency_hz, then per station <name>_deck (and <name>_rail) mode-shape
 /// values (mass-normalised, so their scale is arbitrary but consistent).
 void write_modes_csv(const std::string& path, const model::Modes& m,

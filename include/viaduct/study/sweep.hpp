@@ -40,6 +40,23 @@ struct SweepResult {
   SweepSummary summary;
 };
 
+/// The governing case of one station and quantity: the largest value over variants, trains and
+/// speeds, and where it occurs.
+struct GoverningCase {
+  double value = 0.0;  ///< [m/s²] or [m]
+  std::string variant, train;
+  double speed = 0.0;  ///< [m/s]
+};
+
+/// Per station, in the order of the envelope: its governing acceleration and deflection.
+struct GoverningRow {
+  std::string station;
+  GoverningCase acc, disp;
+};
+
+/// The governing cases of an envelope; the first of equal values (in envelope order) wins.
+std::vector<GoverningRow> governing(const std::vector<EnvelopeRow>& rows);
+
 /// Runs one case; replaceable for tests. Default: simulate(). Not used by variants whose
 /// settings ask for unit-response superposition (those run simulate_by_unit_response per speed).
 using CaseRunner =

@@ -87,3 +87,24 @@ TEST_CASE("sweep results are identical for any thread count") {
   // A stiffer bridge deflects less.
   REQUIRE(r1.rows.back().max_abs_disp < r1.rows[r1.rows.size() / 2 - 1].max_abs_disp);
 }
+
+TEST_CASE("governing cases: the largest value per station and quantity, and where it occurs") {
+  std::vector<EnvelopeRow> rows = {{"reference", "A1", "mid", 50.0, 1.0, 0.004}, {"reference", "A1", "end", 50.0, 0.5, 0.001},
+                                   {"reference", "A2", "mid", 60.0, 3.0, 0.002}, {"Kp x2", "A1", "mid", 55.0, 2.0, 0.005},
+                                   {"Kp x2", "A2", "end", 70.0, 0.7, 0.0009}};
+  const auto g = governing(rows);
+  REQUIRE(g.size() == 2);
+  CHECK(g[0].station == "mid");
+  CHECK(g[0].acc.value == 3.0);
+  CHECK(g[0].acc.train == "A2");
+  CHECK(g[0].acc.speed == 60.0);
+  CHECK(g[0].disp.value == 0.005);
+  CHECK(g[0].disp.variant == "Kp x2");
+  CHECK(g[0].disp.speed == 55.0);
+  CHECK(g[1].station == "end");
+  CHECK(g[1].acc.value == 0.7);
+  CHECK(g[1].acc.variant == "Kp x2");
+  CHECK(g[1].disp.value == 0.001);
+  CHECK(g[1].disp.train == "A1");
+  CHECK(governing({}).empty());
+}
