@@ -96,18 +96,19 @@ void write_failures_csv(const std::string& path, const std::vector<study::CaseFa
   f.commit();
 }
 
-void write_modes_csv(const std::string& path, const model::Modes& m,
+void write_modes_csv(const std::string& path, const model::Modes& m, const model::Structure& structure,
                      const std::vector<study::ResolvedStation>& stations) {
   AtomicFile f(path);
-  std::fprintf(f.get(), "mode,frequency_hz");
+  std::fprintf(f.get(), "mode,frequency_hz,kind,deck_mass_share");
   for (const auto& s : stations) {
     if (s.has_deck) std::fprintf(f.get(), ",%s_deck", s.name.c_str());
     if (s.has_rail) std::fprintf(f.get(), ",%s_rail", s.name.c_str());
   }
   std::fprintf(f.get(), "\n");
   for (Index j = 0; j < m.frequency_hz.size(); ++j) {
-    std::fprintf(f.get(), "%ld,%.10g", static_cast<long>(j + 1), m.frequency_hz[j]);
     const Vector phi = m.shape.col(j);
+    const double share = model::deck_mass_share(structure, phi);
+    std::fprintf(f.get(), "%ld,%.10g,%s,%.4f", static_cast<long>(j + 1), m.frequency_hz[j], model::mode_kind(share), share);
     for (const auto& s : stations) {
       if (s.has_deck) std::fprintf(f.get(), ",%.8g", s.deck.value(phi));
       if (s.has_rail) std::fprintf(f.get(), ",%.8g", s.rail.value(phi));

@@ -93,4 +93,14 @@ Modes compute_modes_up_to(const Structure& s, Index n_modes, double max_frequenc
   }
 }
 
+double deck_mass_share(const Structure& s, const Vector& phi) {
+  const double total = phi.dot(s.M * phi);
+  if (!(total > 0.0)) return 0.0;
+  Vector deck = Vector::Zero(phi.size());
+  deck.head(s.n_bridge_dofs) = phi.head(s.n_bridge_dofs);
+  return std::clamp(deck.dot(s.M * deck) / total, 0.0, 1.0);
+}
+
+const char* mode_kind(double deck_share) { return deck_share >= 0.5 ? "deck" : deck_share <= 0.1 ? "track" : "coupled"; }
+
 }  // namespace viaduct::model

@@ -8,7 +8,13 @@ expect 0 "t_s,mid_disp_m,mid_acc_mps2,mid_acc_filt_mps2" -- head -1 "$WORK/run/h
 expect 0 "command = \"run\"" -- cat "$WORK/run/manifest.toml"
 expect 0 "\"bridge.EI\" = 7694000000.0" -- cat "$WORK/run/manifest.toml"
 expect 0 "5.0000" -- "$VIADUCT" modes "$HS" --out "$WORK/modes"
-expect 0 "mode,frequency_hz,mid_deck" -- head -1 "$WORK/modes/modes.csv"
+expect 0 "mode,frequency_hz,kind,deck_mass_share,mid_deck" -- head -1 "$WORK/modes/modes.csv"
+# Deck and track modes told apart (#22): Old Guadiana's first two are deck bending (87 % of the
+# modal mass on the deck), its rail-on-pad modes near 51 Hz are track modes.
+expect 0 "first modes" -- "$VIADUCT" modes "$SRC/scenarios/old-guadiana-sensitivity.toml" --out "$WORK/modes-og"
+expect 0 "1,10.01077416,deck,0.8743," -- cat "$WORK/modes-og/modes.csv"
+expect 0 ",track,0.0000," -- cat "$WORK/modes-og/modes.csv"
+expect 0 "#    1     5.0000 Hz  deck     deck mass share 1.00" -- "$VIADUCT" check "$HS"
 expect 0 "10 cases" -- "$VIADUCT" sweep "$HS" "${SET[@]}" --threads 1 --out "$WORK/s1"
 expect 0 "10 cases" -- "$VIADUCT" sweep "$HS" "${SET[@]}" --threads 2 --out "$WORK/s2"
 expect 0 "variant,train,speed_kmh,station,max_abs_acc_mps2,max_abs_disp_m" -- head -1 "$WORK/s1/envelope.csv"

@@ -181,6 +181,14 @@ io::Manifest start_manifest(const Common& o, const std::string& command, std::ve
   return m;
 }
 
+void print_first_modes(const model::Structure& s, const model::Modes& m, Index n, const char* prefix) {
+  for (Index j = 0; j < std::min<Index>(m.frequency_hz.size(), n); ++j) {
+    const double share = model::deck_mass_share(s, m.shape.col(j));
+    std::printf("%s%2ld  %9.4f Hz  %-7s  deck mass share %.2f\n", prefix, static_cast<long>(j + 1), m.frequency_hz[j],
+                model::mode_kind(share), share);
+  }
+}
+
 void print_warnings(const std::string& command, const std::vector<std::string>& warnings) {
   for (const auto& w : warnings) std::cerr << ("viaduct " + command + ": warning: " + w + "\n");
 }

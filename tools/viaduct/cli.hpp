@@ -13,6 +13,7 @@
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/log.hpp"
 #include "viaduct/io/results.hpp"
+#include "viaduct/model/modes.hpp"
 
 namespace viaduct::cli {
 
@@ -95,6 +96,9 @@ io::Manifest start_manifest(const Common& o, const std::string& command, std::ve
 
 /// Prints each warning on stderr ("viaduct COMMAND: warning: ..."), also with --quiet.
 void print_warnings(const std::string& command, const std::vector<std::string>& warnings);
+
+/// The first `n` modes, one line each: frequency, kind (deck, track, coupled), deck mass share.
+void print_first_modes(const model::Structure& s, const model::Modes& m, Index n, const char* prefix = "  ");
 
 /// Message printer for the library's log sink (stderr, "viaduct: warning: ...").
 LogSink log_printer(bool quiet);

@@ -4,6 +4,7 @@
 #include "cli.hpp"
 #include "viaduct/study/guards.hpp"
 #include "viaduct/io/scenario.hpp"
+#include "viaduct/model/modes.hpp"
 #include "viaduct/model/structure.hpp"
 
 namespace viaduct::cli {
@@ -30,6 +31,9 @@ Command check_command() {
     std::cout << io::format_resolved(flat) << "\n# model\n";
     std::cout << "# spans: " << sc.bridge.spans.size() << ", bridge length " << sc.bridge.total_length() << " m\n";
     std::cout << "# DOFs: " << s.n_dofs << " (bridge " << s.n_bridge_dofs << ", track " << s.n_track_dofs << ")\n";
+    std::cout << "# first modes:\n" << std::flush;
+    print_first_modes(s, model::compute_modes_up_to(s, 6, 0.0), 6, "#   ");
+    std::fflush(stdout);
     if (s.has_track)
       std::cout << "# track: " << s.sleeper_x.size() << " sleepers from x = " << s.path_start() << " to "
                 << s.path_end() << " m; deck beam mass used " << s.deck_mass_per_m_used << " kg/m\n";

@@ -33,12 +33,12 @@ Command modes_command() {
     const auto stations = study::resolve_stations(s, sc.stations);
     const model::Modes m = model::compute_modes(s, n);
     make_out_dir(o.out);
-    io::write_modes_csv(o.out + "/modes.csv", m, stations);
+    io::write_modes_csv(o.out + "/modes.csv", m, s, stations);
     io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "modes"), flat);
     if (!o.quiet) {
-      std::printf("%ld DOFs; first frequencies [Hz]:", static_cast<long>(s.n_dofs));
-      for (Index j = 0; j < std::min<Index>(m.frequency_hz.size(), 6); ++j) std::printf(" %.4f", m.frequency_hz[j]);
-      std::printf("\nwrote %s/modes.csv\n", o.out.c_str());
+      std::printf("%ld DOFs; first modes:\n", static_cast<long>(s.n_dofs));
+      print_first_modes(s, m, 6);
+      std::printf("wrote %s/modes.csv\n", o.out.c_str());
     }
     return ok;
   };

@@ -26,9 +26,10 @@ void write_failures_csv(const std::string& path, const std::vector<study::CaseFa
 /// and speed where each occurs (study::governing).
 void write_governing_csv(const std::string& path, const std::vector<study::GoverningRow>& rows);
 
-/// modes.csv: mode,frequency_hz, then per station <name>_deck (and <name>_rail) mode-shape
+/// modes.csv: mode,frequency_hz,kind (deck, track or coupled),deck_mass_share (of the modal
+/// mass, model::deck_mass_share), then per station <name>_deck (and <name>_rail) mode-shape
 /// values (mass-normalised, so their scale is arbitrary but consistent).
-void write_modes_csv(const std::string& path, const model::Modes& m,
+void write_modes_csv(const std::string& path, const model::Modes& m, const model::Structure& s,
                      const std::vector<study::ResolvedStation>& stations);
 
 /// A table of equally long columns: a header `names[0],names[1],...` and one row per index.

@@ -17,6 +17,13 @@ constexpr Index kMaxDenseModeDofs = 6000;
 /// fine for the few thousand DOFs of a span-and-track model; InputError beyond kMaxDenseModeDofs.
 Modes compute_modes(const Structure& s, Index n_modes);
 
+/// Share of a mode's modal mass on the deck (bridge DOFs): φ_bᵀ M φ_b / φᵀ M φ, in [0, 1]; 1
+/// without track.
+double deck_mass_share(const Structure& s, const Vector& phi);
+
+/// "deck" (deck_mass_share >= 0.5), "track" (<= 0.1) or "coupled".
+const char* mode_kind(double deck_share);
+
 /// How compute_modes_up_to() solves the eigenproblem.
 enum class ModeSolver {
   automatic,  ///< sparse when the model has more than 1000 DOFs and few modes are wanted

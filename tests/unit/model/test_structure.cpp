@@ -194,3 +194,33 @@ TEST_CASE("sparse shift-invert modes (Spectra) match the dense solver") {
   }
   REQUIRE(dense.frequency_hz.size() > 20);  // the test exercises the growing request
 }
+
+TEST_CASE("deck mass share tells deck modes from track modes") {
+  using namespace viaduct::model;
+  BridgeParams b;
+  b.spans = {SpanParams{12.0, 4e9, 10000.0}};
+  Structure bare = build_structure(b, std::nullopt);
+  const Modes mb = compute_modes(bare, 3);
+  for (Index j = 0; j < 3; ++j) CHECK(deck_mass_share(bare, mb.shape.col(j)) == Approx(1.0));
+  CHECK(std::string(mode_kind(1.0)) == "deck");
+  CHECK(std::string(mode_kind(0.05)) == "track");
+  CHECK(std::string(mode_kind(0.3)) == "coupled");
+  // A vector on the track DOFs only has no share on the deck.
+  TrackParams t;
+  t.rail_EI = 6.4e6;
+  t.rail_mass_per_m = 60.0;
+  t.sleeper_mass = 150.0;
+  t.ballast_mass = 500.0;
+  t.pad = {1e8, 5e4};
+  t.ballast = {1e8, 5e4};
+  t.shear = {1e8, 5e4};
+  t.subgrade = {1e8, 5e4};
+  t.subgrade_on_bridge = {1e8, 5e4};
+  const Structure with = build_structure(b, t);
+  Vector track_only = Vector::Zero(with.n_dofs);
+  track_only.tail(with.n_track_dofs).setOnes();
+  CHECK(deck_mass_share(with, track_only) == Approx(0.0));
+  Vector deck_only = Vector::Zero(with.n_dofs);
+  deck_only.head(with.n_bridge_dofs).setOnes();
+  CHECK(deck_mass_share(with, deck_only) == Approx(1.0));
+}
