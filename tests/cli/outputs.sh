@@ -27,6 +27,8 @@ expect 0 "station,max_abs_acc_mps2,acc_variant,acc_train,acc_speed_kmh,max_abs_d
 top=$(awk -F, 'NR > 1 && $5 > m { m = $5; t = $2 "," $3 } END { print t }' "$WORK/s1/envelope.csv")
 expect 0 "$top" -- awk -F, 'NR == 2 { print $4 "," $5 }' "$WORK/s1/governing.csv"
 expect 0 "governing cases (largest over trains and speeds)" -- "$VIADUCT" sweep "$HS" "${SET[@]}" --out "$WORK/s3"
+# Short work shows no progress lines (#22): the 10-case sweep above takes well under 2 s.
+expect 0 "none" -- bash -c '"$0" sweep "$1" --set "$2" --set "$3" --out "$4" 2>&1 >/dev/null | grep -c "cases, " || echo none' "$VIADUCT" "$HS" "${SET[1]}" "${SET[3]}" "$WORK/s4"
 # A run killed while writing (here by the file size limit, SIGXFSZ: exit 153) leaves the earlier
 # output whole: the manifest (about 5 kB) of the same sweep into s1 cannot be written in 1 kB.
 cp "$WORK/s1/manifest.toml" "$WORK/manifest.before"

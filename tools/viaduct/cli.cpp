@@ -148,8 +148,12 @@ ProgressSink progress_printer(const std::string& what, bool quiet, const std::st
   const bool tty = ::isatty(::fileno(stderr)) != 0;
   auto t0 = std::make_shared<std::chrono::steady_clock::time_point>(std::chrono::steady_clock::now());
   auto last_decile = std::make_shared<std::size_t>(0);
+  auto shown = std::make_shared<bool>(false);
   return [=](std::size_t done, std::size_t total) {
     const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - *t0).count();
+    // Only work that lasts shows progress: nothing before 2 s, and no final line if nothing came before.
+    if (el < 2.0 && !*shown) return;
+    *shown = true;
     const double eta = done ? el * static_cast<double>(total - done) / static_cast<double>(done) : 0.0;
     if (tty) {
       std::fprintf(stderr, "\r%s: %zu/%zu %s, %.0f s elapsed, ~%.0f s left   ", what.c_str(), done, total, unit.c_str(), el, eta);

@@ -84,7 +84,8 @@ io::FlatScenario load_scenario(const Common& o);
 /// Creates the output directory (throws SolverError when it cannot).
 void make_out_dir(const std::string& dir);
 
-/// Progress printer on stderr: a live line on a terminal, every 10 % otherwise; silent if quiet.
+/// Progress printer on stderr: a live line on a terminal, every 10 % otherwise, from 2 s on (short
+/// work prints none); silent if quiet.
 ProgressSink progress_printer(const std::string& what, bool quiet, const std::string& unit = "cases");
 
 /// Versions of the libraries only the tool links (for manifests).
