@@ -206,17 +206,7 @@ TEST_CASE("deck mass share tells deck modes from track modes") {
   CHECK(std::string(mode_kind(0.05)) == "track");
   CHECK(std::string(mode_kind(0.3)) == "coupled");
   // A vector on the track DOFs only has no share on the deck.
-  TrackParams t;
-  t.rail_EI = 6.4e6;
-  t.rail_mass_per_m = 60.0;
-  t.sleeper_mass = 150.0;
-  t.ballast_mass = 500.0;
-  t.pad = {1e8, 5e4};
-  t.ballast = {1e8, 5e4};
-  t.shear = {1e8, 5e4};
-  t.subgrade = {1e8, 5e4};
-  t.subgrade_on_bridge = {1e8, 5e4};
-  const Structure with = build_structure(b, t);
+  const Structure with = build_structure(b, table1_track());
   Vector track_only = Vector::Zero(with.n_dofs);
   track_only.tail(with.n_track_dofs).setOnes();
   CHECK(deck_mass_share(with, track_only) == Approx(0.0));
