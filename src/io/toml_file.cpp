@@ -38,7 +38,7 @@ std::string split_long_lines(const std::string& text, std::vector<int>& original
       original_line.push_back(line);
     } else {
       // Break after each comma inside brackets, outside strings and comments.
-      int depth = 0;
+      int depth = 0, braces = 0;  // inline tables must stay on one line: no break inside {...}
       char quote = 0;
       for (std::size_t i = 0; i < l.size(); ++i) {
         const char c = l[i];
@@ -55,7 +55,11 @@ std::string split_long_lines(const std::string& text, std::vector<int>& original
           ++depth;
         } else if (c == ']') {
           --depth;
-        } else if (c == ',' && depth > 0) {
+        } else if (c == '{') {
+          ++braces;
+        } else if (c == '}') {
+          --braces;
+        } else if (c == ',' && depth > 0 && braces == 0) {
           out.push_back('\n');
           original_line.push_back(line);
         }
