@@ -183,6 +183,12 @@ TEST_CASE("train files: CSV and TOML, with clear errors") {
   // buffer on such bytes in a literal string).
   REQUIRE(error_of("m.toml", "kind = \"regular\"\nname = 'x\xff\xff'\n").find("m.toml:2: not UTF-8 text or a control character (byte 0xff)") !=
           std::string::npos);
+  // Overlong forms and surrogates too (the second fuzz finding: C1 8D in a multi-line string).
+  REQUIRE(error_of("o.toml", "kind = \"regular\"\nname = '''x\xc1\x8d'''\n").find("o.toml:2: not UTF-8 text") != std::string::npos);
+  REQUIRE(error_of("q.toml", "kind = \"regular\"\nname = 'x\xed\xa0\x80'\n").find("q.toml:2: not UTF-8 text") != std::string::npos);
+  // Valid 2-, 3- and 4-byte characters pass (the error is the next key's).
+  REQUIRE(error_of("r.toml", "kind = \"regular\"\nname = \"Mart\xc3\xadnez \xe2\x80\x94 \xf0\x9f\x9a\x84\"\nn_axles = 0\nspacing = 2.0\naxle_load_kN = 100\n").find("whole number") !=
+          std::string::npos);
   // A key of another kind of train is an error, not silently ignored.
   REQUIRE(error_of("k.toml", "kind = \"regular\"\nn_axles = 4\nspacing = 2.0\naxle_load_kN = 100\nhslm_number = 3\n")
               .find("k.toml:5: key 'hslm_number': belongs to hslm trains, not to kind = \"regular\"") != std::string::npos);
