@@ -2,6 +2,7 @@
 
 #include "viaduct/core/error.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -101,6 +102,40 @@ void require_utf8(const std::string& text, const std::string& path) {
   }
 }
 
+// Arrays and inline tables nested deeper than kMaxNesting: toml11 parses them recursively and a
+// few thousand '[' overflow the stack (found by fuzzing), so they are refused first. Strings and
+// comments are skipped; the scan follows TOML's quoting rules.
+void require_shallow(const std::string& text, const std::string& path) {
+  constexpr int kMaxNesting = 64;
+  int depth = 0, line = 1;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\n') {
+      ++line;
+    } else if (c == '#') {
+      while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
+    } else if (c == '"' || c == '\'') {
+      const bool triple = text.compare(i, 3, std::string(3, c)) == 0;
+      const std::string close = triple ? std::string(3, c) : std::string(1, c);
+      std::size_t j = i + close.size();
+      while (j < text.size() && text.compare(j, close.size(), close) != 0) {
+        if (c == '"' && text[j] == '\\') ++j;
+        else if (text[j] == '\n') {
+          if (!triple) break;
+          ++line;
+        }
+        ++j;
+      }
+      i = std::min(text.size(), j + close.size()) - 1;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxNesting)
+        throw InputError(SourceLocation{path, line, ""}, "arrays or tables nested more than " + std::to_string(kMaxNesting) + " deep");
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+}
+
 TomlFile parse_toml_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error("cannot open " + path);
@@ -109,6 +144,7 @@ TomlFile parse_toml_file(const std::string& path) {
   std::string text = ss.str();
   if (text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);  // a byte-order mark
   require_utf8(text, path);
+  require_shallow(text, path);
   TomlFile f;
   bool long_line = false;
   for (std::size_t start = 0, end; start < text.size(); start = end + 1) {

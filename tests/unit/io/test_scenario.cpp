@@ -283,6 +283,16 @@ TEST_CASE("train.files entry hslm:A1-A10 gives the ten Eurocode trains the shipp
   REQUIRE_THROWS_WITH(to_scenario(load_flat(hs, {"train.files=[\"hslm:A5-A2\"]"})), Catch::Contains("must go up"));
 }
 
+TEST_CASE("arrays nested thousands deep are refused before they overflow the parser's stack") {
+  // The third fuzz finding: toml11 parses arrays recursively; 100000 '[' overflowed the stack.
+  Scratch s;
+  const std::string p = s.scenario("[sweep]\nspeeds_kmh = " + std::string(100000, '[') + "\n");
+  REQUIRE_THROWS_WITH(load_flat(p), Catch::Contains(":10: arrays or tables nested more than 64 deep"));
+  // Brackets inside strings and comments do not count.
+  const std::string q = s.write("t.toml", "title = \"" + std::string(200, '[') + "\"  # " + std::string(200, '{') + "\n");
+  CHECK(load_flat(q).at("title").s == std::string(200, '['));
+}
+
 TEST_CASE("the number of sweep speeds is limited before any is made") {
   Scratch s;
   const std::string p = s.scenario("[sweep]\nspeed_min_mps = 10\nspeed_max_mps = 90\nn_speeds = 10000000\n");
