@@ -32,8 +32,15 @@ ComplexVector as_quantity(const Frf& frf, Index c, FrfQuantity to) {
 void normalise_shape(ComplexVector& s) {
   if (s.size() == 0) return;
   Index imax = 0;
-  s.cwiseAbs().maxCoeff(&imax);
-  if (std::abs(s[imax]) > 0.0) s /= s[imax];
+  const double largest = s.cwiseAbs().maxCoeff(&imax);
+  if (!(largest > 0.0) || !std::isfinite(largest)) return;
+  // Scaled to about 1 by a power of two first (exact): Eigen divides complex numbers through
+  // |b|², which underflows for entries near 1e-160 and leaves NaN.
+  // Two halves: 2^1074 itself is not a double.
+  const int e = -std::ilogb(largest);
+  s *= std::ldexp(1.0, e / 2);
+  s *= std::ldexp(1.0, e - e / 2);
+  s /= s[imax];
 }
 
 // Linear interpolation of the frequency where |y| crosses `level` between samples a and b.
@@ -751,6 +758,14 @@ Matrix mac(const ComplexMatrix& a, const ComplexMatrix& b) {
 }
 
 ModalFitResult modal_fit(const Frf& frf, const ModalFitOptions& o) {
+  // FRF values beyond 1e100 (or below 1e-100) overflow (underflow) in the fits' squares: fitted
+  // scaled by a power of two, which is exact and changes no frequency, damping or normalised shape.
+  const double peak = frf.h.size() ? frf.h.cwiseAbs().maxCoeff() : 0.0;
+  if (std::isfinite(peak) && (peak > 1e100 || (peak > 0.0 && peak < 1e-100))) {
+    Frf scaled = frf;
+    scaled.h *= std::ldexp(1.0, -std::max(std::ilogb(peak), -1022));  // 2^1074 is not a double
+    return modal_fit(scaled, o);
+  }
   ModalFitResult r;
   PeakPickingOptions po;
   po.f_min_hz = o.f_min_hz;

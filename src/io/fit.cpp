@@ -306,7 +306,9 @@ void write_scenario_toml(const std::string& path, const FlatScenario& flat, cons
 }
 
 namespace {
-std::string fmt(double v) { return format_number(v, 10); }
+std::string fmt(double v) { return table_cell(v, 10); }
+// A standard error is infinite for a parameter the data do not determine ("determined" says so).
+std::string error_cell(double v) { return std::isfinite(v) ? fmt(v) : ""; }
 
 std::pair<std::string, std::string> split_pair(const std::string& s, const std::string& option) {
   const auto eq = s.find('=');
@@ -451,8 +453,8 @@ void write_fit_tables(const std::string& dir, const study::FitProblem& problem, 
     const double ref = std::abs(r.estimate[i]) > 0 ? std::abs(r.estimate[i]) : p.upper - p.lower;
     rows.push_back({p.key, p.unit, p.scale == study::ParameterScale::log ? "log" : "linear", fmt(p.lower), fmt(p.upper),
                     fmt(p.initial), fmt(r.estimate.empty() ? p.initial : r.estimate[i]),
-                    r.std_error.empty() ? "nan" : fmt(r.std_error[i]), r.std_error.empty() ? "nan" : fmt(r.std_error[i] / ref),
-                    r.sensitivity.empty() ? "nan" : fmt(r.sensitivity[i]), r.at_bound.empty() ? "" : (r.at_bound[i] ? "true" : "false"),
+                    r.std_error.empty() ? "" : error_cell(r.std_error[i]), r.std_error.empty() ? "" : error_cell(r.std_error[i] / ref),
+                    r.sensitivity.empty() ? "" : fmt(r.sensitivity[i]), r.at_bound.empty() ? "" : (r.at_bound[i] ? "true" : "false"),
                     r.determined.empty() ? "" : (r.determined[i] ? "true" : "false")});
   }
   write_table_csv(dir + "/fit.csv",
@@ -466,7 +468,7 @@ void write_fit_tables(const std::string& dir, const study::FitProblem& problem, 
     for (std::size_t i = 0; i < np; ++i) {
       std::vector<std::string> row = {problem.params[i].key};
       for (std::size_t j = 0; j < np; ++j)
-        row.push_back(r.correlation.size() ? fmt(r.correlation(static_cast<Index>(i), static_cast<Index>(j))) : "nan");
+        row.push_back(r.correlation.size() ? fmt(r.correlation(static_cast<Index>(i), static_cast<Index>(j))) : "");
       cr.push_back(row);
     }
     write_table_csv(dir + "/fit_correlation.csv", head, cr);

@@ -1,5 +1,6 @@
 #include "viaduct/io/results.hpp"
 
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -8,6 +9,7 @@
 #include <fstream>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 #include <algorithm>
 
 #include <Eigen/Core>
@@ -138,8 +140,27 @@ void write_columns_csv(const std::string& path, const std::vector<std::string>& 
   f.commit();
 }
 
+namespace {
+bool is_non_finite_text(std::string s) {
+  if (!s.empty() && (s[0] == '-' || s[0] == '+')) s.erase(0, 1);
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s == "nan" || s == "inf" || s == "infinity" || s.rfind("nan(", 0) == 0;
+}
+}  // namespace
+
+std::string table_cell(double value, int significant) {
+  return std::isnan(value) ? std::string() : format_number(value, significant);
+}
+
 void write_table_csv(const std::string& path, const std::vector<std::string>& header,
                      const std::vector<std::vector<std::string>>& rows) {
+  // Cells come formatted: a number that came out non-finite is refused here, as by the other
+  // writers (a computation failure, not a table to read back).
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    for (std::size_t j = 0; j < rows[i].size() && j < header.size(); ++j)
+      if (is_non_finite_text(rows[i][j]))
+        throw SolverError("not writing " + path + ": column " + header[j] + " holds a non-finite value (row " +
+                          std::to_string(i + 1) + ": " + rows[i][j] + ")");
   AtomicFile f(path);
   auto line = [&](const std::vector<std::string>& cells) {
     if (cells.size() != header.size()) throw InputError("write_table_csv: row width differs from the header");

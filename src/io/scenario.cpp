@@ -401,7 +401,7 @@ void scale_key(FlatScenario& flat, const std::string& key, double factor, const 
     try {
       check_constraint(*spec, v);
     } catch (const InputError& e) {
-      throw InputError("factor " + num(factor) + " on " + e.what());
+      throw InputError(declared, "factor " + num(factor) + " breaks the rule of " + e.what());
     }
   }
 }

@@ -1,5 +1,6 @@
 #include "viaduct/signal/spectrum.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "viaduct/core/error.hpp"
@@ -15,7 +16,9 @@ Vector rfft_frequencies(Index n, double fs_hz) {
 
 int overflow_exponent(const Vector& x) {
   const double peak = x.size() ? x.cwiseAbs().maxCoeff() : 0.0;
-  return (peak > 1e100 || (peak > 0.0 && peak < 1e-100)) && std::isfinite(peak) ? std::ilogb(peak) : 0;
+  // At least -1022: 2^1022 is the largest power of two a subnormal peak can be scaled by in one
+  // factor (2^1074 is not a double).
+  return (peak > 1e100 || (peak > 0.0 && peak < 1e-100)) && std::isfinite(peak) ? std::max(std::ilogb(peak), -1022) : 0;
 }
 
 Vector make_window(Window w, Index n) {

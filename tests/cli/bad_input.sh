@@ -157,9 +157,9 @@ expect 1 "did not converge" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.c
 # says why); the reference and the other variants are computed. viaduct check refuses it (2).
 FACT='[sweep]\nspeeds_kmh = [100, 150]\n[[sweep.variants]]\nkey = "bridge.EI"\nfactors = [0.0, 2.0]\n'
 expect 1 "" -- "$VIADUCT" sweep "$(scen factor "$FACT")" --quiet --out "$WORK/factor"
-expect 0 "bridge.EI x0,train,100,\"variant 'bridge.EI x0': factor 0 on" -- cat "$WORK/factor/failures.csv"
+expect 0 "bridge.EI x0,train,100,\"variant 'bridge.EI x0': $WORK/factor.toml:12: key 'sweep.variants[0].key': factor 0 breaks the rule of" -- cat "$WORK/factor/failures.csv"
 expect 0 "bridge.EI x2,train,150,mid," -- cat "$WORK/factor/envelope.csv"
-expect 2 "factor 0 on" -- "$VIADUCT" check "$(scen factor "$FACT")"
+expect 2 "factor 0 breaks the rule of" -- "$VIADUCT" check "$(scen factor "$FACT")"
 # First-week frictions (#22): a mistyped command, a station that is not there, help defaults.
 expect 2 "unknown command 'swep' (did you mean 'sweep'?)" -- "$VIADUCT" swep "$OG"
 expect 2 "--map: no station 'S9' in the scenario; it has: S1_mid S1_3L4 S2_mid" -- "$VIADUCT" compare "$SRC/scenarios/old-guadiana-talgo.toml" --record "$SRC/data/records/synthetic-deck.csv" --map deck_acc=S9 --out "$WORK/o"

@@ -129,7 +129,7 @@ int compare_body(const Common& o, const CompareOptions& k) {
     fcols.push_back(cc.record_amplitude);
     fnames.push_back(base + "_model_amp_" + u);
     fcols.push_back(cc.model_amplitude);
-    auto num = [](double v) { return format_number(v, 8); };
+    auto num = [](double v) { return io::table_cell(v, 8); };
     metrics.push_back({rec.channels[mp.channel], sc.stations[mp.station].name, mp.quantity, num(cc.shift_s),
                        num(cc.peak_record), num(cc.peak_model), num(cc.peak_ratio), num(cc.rms_ratio),
                        num(cc.correlation), num(cc.f_peak_record_hz), num(cc.f_peak_model_hz),

@@ -21,7 +21,9 @@ namespace viaduct::cli {
 
 namespace {
 
+// "" for NaN (not known; pandas reads it as NaN): write_table_csv refuses a written "nan".
 std::string fmt(double v, const char* f = "%.8g") {
+  if (std::isnan(v)) return "";
   char b[48];
   std::snprintf(b, sizeof b, f, v);
   return b;

@@ -312,7 +312,7 @@ Command peaks_command() {
     }
     std::vector<std::vector<std::string>> rows;
     for (std::size_t i = 0; i < pos.size(); ++i)
-      rows.push_back({chan[i], unit[i], format_number(pos[i], 10), format_number(val[i], 10), format_number(prom[i], 10)});
+      rows.push_back({chan[i], unit[i], io::table_cell(pos[i]), io::table_cell(val[i]), io::table_cell(prom[i])});
     make_out_dir(o.out);
     const std::string path = o.out + "/peaks.csv";
     io::write_table_csv(path, {"channel", "unit", time ? "t_s" : "frequency_hz", "value", "prominence"}, rows);
@@ -356,7 +356,7 @@ Command speed_command() {
     const double d = *s.distance_m;
     const bool peaks = s.peaks;
     std::vector<std::vector<std::string>> rows;
-    auto num = [](double v) { return format_number(v, 8); };
+    auto num = [](double v) { return io::table_cell(v, 8); };
     for (std::size_t ch : selected(in, s.channels)) {
       const Vector x = in.data.col(static_cast<Index>(ch));
       const study::SpeedEstimate e =

@@ -11,7 +11,7 @@
 namespace viaduct::cli {
 
 namespace {
-std::string num(double v) { return format_number(v, 6); }
+std::string num(double v) { return io::table_cell(v, 6); }
 
 std::vector<std::string> cells(const study::TradeoffRow& r) {
   const auto& s = r.settings;

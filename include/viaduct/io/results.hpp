@@ -38,9 +38,16 @@ void write_modes_csv(const std::string& path, const model::Modes& m, const model
 void write_columns_csv(const std::string& path, const std::vector<std::string>& names,
                        const std::vector<Vector>& columns);
 
-/// A table of text cells (already formatted), one row per entry of `rows`.
+/// A table of text cells (already formatted), one row per entry of `rows`. A cell that reads as a
+/// non-finite number (nan, inf) is refused with SolverError naming its column and row: a value
+/// that is not known is an empty cell (table_cell), which pandas reads as NaN.
 void write_table_csv(const std::string& path, const std::vector<std::string>& header,
                      const std::vector<std::vector<std::string>>& rows);
+
+/// A number as a table cell: `significant` digits, or "" when it is NaN (not known: a damping a
+/// method could not tell, a standard error not determined). An infinity stays one, and
+/// write_table_csv refuses it.
+std::string table_cell(double value, int significant = 10);
 
 /// manifest.toml, what a result needs to be reproduced: [run] the command, the command line and
 /// counts; [versions] viaduct, the git commit it was built from (when built from a checkout) and

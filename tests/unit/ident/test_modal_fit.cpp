@@ -205,3 +205,39 @@ TEST_CASE("Modal fits reject bad FRFs and options") {
   CHECK_THROWS_AS(circle_fit(frf, 3, 5.0, 0.01), InputError);
   CHECK_THROWS_AS(circle_fit(frf, 0, 5.0, 0.0), InputError);
 }
+
+TEST_CASE("modal_fit of an FRF scaled far beyond the range of its squares gives the same modes, finite shapes") {
+  vt::ModalSystem m;
+  m.f_hz = {4.0, 9.0};
+  m.zeta = {0.02, 0.03};
+  m.shapes = {{1.0, 0.5}, {0.4, -1.0}};
+  const Frf frf = m.frf(vt::grid(2.0, 12.0, 801), FrfQuantity::accelerance, -1.0);
+  ModalFitOptions o;
+  o.max_order = 12;
+  const ModalFitResult ref = modal_fit(frf, o);
+  REQUIRE(ref.lscf.modes.size() == 2);
+  // Scales whose squares overflow (2^600), underflow (2^-700) and a subnormal FRF (2^-1060):
+  // fitted scaled back by a power of two, so the frequencies, damping and normalised shapes are
+  // the unscaled ones; 1e-9: the refinement's stopping tolerance, relative. The subnormal FRF
+  // itself keeps only 30 to 38 of its 52 bits (2^-1060 to 2^-1067): 1e-7 there.
+  for (const double s : {std::ldexp(1.0, 600), std::ldexp(1.0, -700), std::ldexp(1.0, -530) * std::ldexp(1.0, -530)}) {
+    INFO("scale " << s);
+    const double tol = s < 1e-300 ? 1e-7 : 1e-9;
+    Frf scaled = frf;
+    scaled.h *= s;
+    const ModalFitResult r = modal_fit(scaled, o);
+    REQUIRE(r.peak_picking.size() == ref.peak_picking.size());
+    REQUIRE(r.lscf.modes.size() == 2);
+    for (const auto* modes : {&r.peak_picking, &r.circle_fit, &r.lscf.modes})
+      for (const auto& md : *modes) CHECK(md.shape.allFinite());
+    for (std::size_t k = 0; k < 2; ++k) {
+      CHECK(rel(r.lscf.modes[k].frequency_hz, ref.lscf.modes[k].frequency_hz) < tol);
+      CHECK(rel(r.lscf.modes[k].damping_ratio, ref.lscf.modes[k].damping_ratio) < 1e-6);
+      CHECK((r.lscf.modes[k].shape - ref.lscf.modes[k].shape).cwiseAbs().maxCoeff() < 1e-6);
+    }
+  }
+  // One channel huge and the other tiny at a mode (a corrupt line): shapes stay finite.
+  Frf mixed = frf;
+  mixed.h(100, 0) = 1e308;
+  for (const auto& md : modal_fit(mixed, o).peak_picking) CHECK(md.shape.allFinite());
+}

@@ -74,6 +74,10 @@ TEST_CASE("a failed write leaves the earlier output whole and no temporary file"
   });
   CHECK(slurp(path) == before);
   CHECK_FALSE(fs::exists(dir / "rec.csv"));
+  // A table whose numbers came out non-finite is not written either, and says where.
+  for (const char* bad : {"nan", "-nan", "inf", "-Inf"})
+    REQUIRE_THROWS_WITH(io::write_table_csv(path, {"a", "b"}, {{"1", "2"}, {"3", bad}}), Catch::Contains("column b holds a non-finite value (row 2"));
+  CHECK(slurp(path) == before);
   CHECK(n_files(dir) == 1);  // no temporary file left
   // A write that succeeds replaces the file.
   io::write_table_csv(path, {"a", "b"}, big);

@@ -212,14 +212,14 @@ TEST_CASE("grid variants and variant keys are checked") {
   REQUIRE_THROWS_WITH(load_flat(q), Catch::Contains("key 'sweep.variants[0].factors': must be >= 0, got -1"));
   // A factor that breaks the varied key's own constraint is caught when the variant is made.
   const std::string z = s.scenario("[sweep]\nspeeds_kmh = [100]\n[[sweep.variants]]\nkey = \"bridge.EI\"\nfactors = [0.0]\n");
-  REQUIRE_THROWS_WITH(sweep_variants(load_flat(z)), Catch::Contains("factor 0 on") && Catch::Contains("key 'bridge.EI': must be > 0"));
+  REQUIRE_THROWS_WITH(sweep_variants(load_flat(z)), Catch::Contains("factor 0 breaks the rule of") && Catch::Contains("key 'bridge.EI': must be > 0"));
   // For a sweep, that variant alone fails (its cases, with the reason); the others stand.
   const std::string z2 = s.scenario("[sweep]\nspeeds_kmh = [100]\n[[sweep.variants]]\nkey = \"bridge.EI\"\nfactors = [0.0, 2.0]\n");
   const auto iso = sweep_variants(load_flat(z2), /*isolate_failures=*/true);
   REQUIRE(iso.size() == 3);
   CHECK(iso[0].error.empty());
   CHECK(iso[1].label == "bridge.EI x0");
-  CHECK_THAT(iso[1].error, Catch::Contains("variant 'bridge.EI x0': factor 0 on") && Catch::Contains("must be > 0"));
+  CHECK_THAT(iso[1].error, Catch::Contains("variant 'bridge.EI x0': ") && Catch::Contains("s.toml:12: key 'sweep.variants[0].key': factor 0 breaks the rule of") && Catch::Contains("must be > 0"));
   CHECK(iso[1].scenario.sweep_speeds == iso[0].scenario.sweep_speeds);
   CHECK(iso[2].error.empty());
   CHECK(iso[2].scenario.bridge.spans[0].EI == Approx(4e9));

@@ -107,6 +107,16 @@ TEST_CASE("records of huge or tiny samples: the same results scaled, no overflow
   const Psd p = welch(1e155 * x, 1e6, o), p0 = welch(x, 1e6, o);
   REQUIRE(p.density.allFinite());
   CHECK((p.density / 1e155 / 1e155 - p0.density).cwiseAbs().maxCoeff() <= 1e-12 * p0.density.maxCoeff());
+  // Subnormal samples (about 2^-1060, below the smallest normal double): scaled up by 2^1022 at
+  // most, since 2^1060 is not a double. Subnormals are spaced 2^-1074 apart, so the samples keep
+  // 14 bits; the envelope is that of the samples as stored (xq), times 2^-1060, and is itself
+  // stored as subnormals: 2^-13, twice the spacing 2^-1074 relative to 2^-1060.
+  const Vector stored = std::ldexp(1.0, -530) * (std::ldexp(1.0, -530) * x);
+  const Vector xq = std::ldexp(1.0, 530) * (std::ldexp(1.0, 530) * stored);
+  const Vector env_sub = hilbert_envelope(stored);
+  REQUIRE(env_sub.allFinite());
+  CHECK((xq - x).cwiseAbs().maxCoeff() > 0.0);  // the samples did lose bits
+  CHECK((std::ldexp(1.0, 530) * (std::ldexp(1.0, 530) * env_sub) - hilbert_envelope(xq)).cwiseAbs().maxCoeff() <= std::ldexp(1.0, -13));
   // One that overflows is refused, not written as inf.
   CHECK_THROWS_WITH(welch(std::ldexp(1.0, 600) * x, 100.0, o), Catch::Contains("overflows a double"));
   // Rate changes that would leave fewer than two samples, or billions of them.
