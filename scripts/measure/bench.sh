@@ -64,9 +64,11 @@ done
 conv_rows=""
 for dt in 0.002 0.001 0.0005 0.00025; do
   row=$(awk -F, -v dt="$dt" '
-    NR==FNR { if (FNR>1) { a[$3","$4]=$5; d[$3","$4]=$6; if ($5>m) m=$5; if ($6>md) md=$6 }; next }
-    FNR>1 { k=$3","$4; e=$5-a[k]; if (e<0) e=-e; if (e>me) me=e; if (e/a[k]>mr) mr=e/a[k];
-            f=$6-d[k]; if (f<0) f=-f; if (f>mf) mf=f }
+    FNR==1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+    { v=$c["speed_kmh"]; s=$c["station"]; x=$c["max_abs_acc_mps2"]; y=$c["max_abs_disp_m"] }
+    NR==FNR { a[v","s]=x; d[v","s]=y; if (x>m) m=x; if (y>md) md=y; next }
+    { k=v","s; e=x-a[k]; if (e<0) e=-e; if (e>me) me=e; if (e/a[k]>mr) mr=e/a[k];
+      f=y-d[k]; if (f<0) f=-f; if (f>mf) mf=f }
     END { printf "| %s ms | %.3f | %.2f %% | %.2f %% | %.3f %% |", dt*1000, me, 100*me/m, 100*mr, 100*mf/md }' \
     "$B/dt-0.0001/envelope.csv" "$B/dt-$dt/envelope.csv")
   wall=$(field "$B/dt-$dt" sweep_wall_s)
@@ -100,11 +102,14 @@ sig() { awk -v k="$1" '$1 == k { print $2 }' <<<"$sb"; }
 # 5. fast paths (issue #5): modal superposition and unit-response superposition
 echo "bench: fast paths" >&2
 env_err() {  # ref_dir dir -> "acc_err disp_err": worst (variant, train, station) curve, relative to its peak
-  awk -F, 'NR==FNR { if (FNR>1) { k=$1","$2","$4; a[$1","$2","$3","$4]=$5; d[$1","$2","$3","$4]=$6;
-                                   if ($5>pa[k]) pa[k]=$5; if ($6>pd[k]) pd[k]=$6 }; next }
-           FNR>1 { key=$1","$2","$3","$4; k=$1","$2","$4; if (!(key in a)) next;
-                   e=$5-a[key]; if (e<0) e=-e; if (pa[k]>0 && e/pa[k]>ea) ea=e/pa[k];
-                   f=$6-d[key]; if (f<0) f=-f; if (pd[k]>0 && f/pd[k]>ed) ed=f/pd[k] }
+  # Columns by name (a sweep with variants has KEY_factor columns after `variant`).
+  awk -F, 'FNR==1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+           { k=$c["variant"]","$c["train"]","$c["station"]; key=k","$c["speed_kmh"];
+             x=$c["max_abs_acc_mps2"]; y=$c["max_abs_disp_m"] }
+           NR==FNR { a[key]=x; d[key]=y; if (x>pa[k]) pa[k]=x; if (y>pd[k]) pd[k]=y; next }
+           { if (!(key in a)) next;
+             e=x-a[key]; if (e<0) e=-e; if (pa[k]>0 && e/pa[k]>ea) ea=e/pa[k];
+             f=y-d[key]; if (f<0) f=-f; if (pd[k]>0 && f/pd[k]>ed) ed=f/pd[k] }
            END { printf "%.3g %.3g", ea, ed }' "$1/envelope.csv" "$2/envelope.csv"
 }
 pct() { awk -v x="$1" 'BEGIN{printf "%.3f %%", 100*x}'; }

@@ -298,13 +298,21 @@ std::vector<study::Variant> sweep_variants(const FlatScenario& flat, bool isolat
     FlatScenario v = flat;
     std::string label;
     for (const auto& [ai, factor] : settings) label += (label.empty() ? "" : ", ") + label_of(axes[ai], factor);
+    // One entry per varied key (two entries of sweep.variants may vary the same key).
+    std::vector<std::pair<std::string, double>> factors;
+    for (const Axis& a : axes)
+      if (std::none_of(factors.begin(), factors.end(), [&](const auto& kf) { return kf.first == a.key; }))
+        factors.emplace_back(a.key, 1.0);
+    for (const auto& [ai, factor] : settings)
+      for (auto& kf : factors)
+        if (kf.first == axes[ai].key) kf.second *= factor;
     try {
       for (const auto& [ai, factor] : settings) scale_key(v, axes[ai].key, factor, axes[ai].where);
-      return study::Variant{label.empty() ? "reference" : label, to_scenario(v), ""};
+      return study::Variant{label.empty() ? "reference" : label, to_scenario(v), "", factors};
     } catch (const InputError& e) {
       const std::string why = settings.empty() ? std::string(e.what()) : "variant '" + label + "': " + e.what();
       if (!isolate_failures || out.empty()) throw InputError(why);
-      return study::Variant{label, out.front().scenario, why};  // the reference's trains and speeds
+      return study::Variant{label, out.front().scenario, why, factors};  // the reference's trains and speeds
     }
   };
   out.push_back(make({}));

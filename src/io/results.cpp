@@ -7,6 +7,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -68,12 +69,27 @@ void write_history_csv(const std::string& path, const study::RunResult& r) {
   f.commit();
 }
 
-void write_envelope_csv(const std::string& path, const std::vector<study::EnvelopeRow>& rows) {
+void write_envelope_csv(const std::string& path, const std::vector<study::EnvelopeRow>& rows,
+                        const std::vector<study::Variant>& variants) {
+  std::map<std::string, const study::Variant*> by_label;
+  for (const auto& v : variants) by_label[v.label] = &v;
+  const std::vector<std::pair<std::string, double>> no_factors;
+  const auto& keys = variants.size() < 2 ? no_factors : variants.front().factors;  // the reference alone: none
   AtomicFile f(path);
-  std::fprintf(f.get(), "variant,train,speed_kmh,station,max_abs_acc_mps2,max_abs_disp_m\n");
-  for (const auto& r : rows)
-    std::fprintf(f.get(), "%s,%s,%.10g,%s,%.10g,%.10g\n", csv_text(r.variant).c_str(), csv_text(r.train).c_str(),
-                 r.speed * 3.6, csv_text(r.station).c_str(), r.max_abs_acc, r.max_abs_disp);
+  std::fprintf(f.get(), "variant");
+  for (const auto& kf : keys) std::fprintf(f.get(), ",%s", csv_text(kf.first + "_factor").c_str());
+  std::fprintf(f.get(), ",train,speed_kmh,station,max_abs_acc_mps2,max_abs_disp_m\n");
+  for (const auto& r : rows) {
+    std::fprintf(f.get(), "%s", csv_text(r.variant).c_str());
+    if (!keys.empty()) {
+      const auto it = by_label.find(r.variant);
+      if (it == by_label.end() || it->second->factors.size() != keys.size())
+        throw SolverError("envelope.csv: row of an unknown variant '" + r.variant + "'");
+      for (const auto& kf : it->second->factors) std::fprintf(f.get(), ",%.10g", kf.second);
+    }
+    std::fprintf(f.get(), ",%s,%.10g,%s,%.10g,%.10g\n", csv_text(r.train).c_str(), r.speed * 3.6, csv_text(r.station).c_str(),
+                 r.max_abs_acc, r.max_abs_disp);
+  }
   f.commit();
 }
 

@@ -158,8 +158,22 @@ expect 1 "did not converge" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.c
 FACT='[sweep]\nspeeds_kmh = [100, 150]\n[[sweep.variants]]\nkey = "bridge.EI"\nfactors = [0.0, 2.0]\n'
 expect 1 "" -- "$VIADUCT" sweep "$(scen factor "$FACT")" --quiet --out "$WORK/factor"
 expect 0 "bridge.EI x0,train,100,\"variant 'bridge.EI x0': $WORK/factor.toml:12: key 'sweep.variants[0].key': factor 0 breaks the rule of" -- cat "$WORK/factor/failures.csv"
-expect 0 "bridge.EI x2,train,150,mid," -- cat "$WORK/factor/envelope.csv"
+expect 0 "bridge.EI x2,2,train,150,mid," -- cat "$WORK/factor/envelope.csv"
 expect 2 "factor 0 breaks the rule of" -- "$VIADUCT" check "$(scen factor "$FACT")"
+# Grid variants (#22): one column per varied key, the factor of each row's variant on it; two
+# entries on one key share its column.
+GRID='[sweep]\nspeeds_kmh = [100]\nmode = "grid"\n[[sweep.variants]]\nkey = "bridge.EI"\nfactors = [1.0, 2.0]\n[[sweep.variants]]\nkey = "bridge.damping.ratio"\nfactors = [0.5, 1.0]\n'
+expect 0 "" -- "$VIADUCT" sweep "$(scen grid "$GRID")" --quiet --out "$WORK/grid"
+expect 0 "variant,bridge.EI_factor,bridge.damping.ratio_factor,train,speed_kmh,station," -- head -1 "$WORK/grid/envelope.csv"
+expect 0 "\"bridge.EI x2, bridge.damping.ratio x0.5\",2,0.5,train,100,mid," -- cat "$WORK/grid/envelope.csv"
+expect 0 "bridge.EI x2,2,1,train,100,mid," -- cat "$WORK/grid/envelope.csv"
+TWICE='[sweep]\nspeeds_kmh = [100]\n[[sweep.variants]]\nkey = "bridge.EI"\nlabel = "low"\nfactors = [0.5]\n[[sweep.variants]]\nkey = "bridge.EI"\nlabel = "high"\nfactors = [2.0]\n'
+expect 0 "" -- "$VIADUCT" sweep "$(scen twice "$TWICE")" --quiet --out "$WORK/twice"
+expect 0 "variant,bridge.EI_factor,train" -- head -1 "$WORK/twice/envelope.csv"
+expect 0 "high x2,2,train,100,mid," -- cat "$WORK/twice/envelope.csv"
+# A sweep without variants keeps the plain columns.
+expect 0 "" -- "$VIADUCT" sweep "$(scen plain '[sweep]\nspeeds_kmh = [100]\n')" --quiet --out "$WORK/plain"
+expect 0 "variant,train,speed_kmh,station" -- head -1 "$WORK/plain/envelope.csv"
 # First-week frictions (#22): a mistyped command, a station that is not there, help defaults.
 expect 2 "unknown command 'swep' (did you mean 'sweep'?)" -- "$VIADUCT" swep "$OG"
 expect 2 "--map: no station 'S9' in the scenario; it has: S1_mid S1_3L4 S2_mid" -- "$VIADUCT" compare "$SRC/scenarios/old-guadiana-talgo.toml" --record "$SRC/data/records/synthetic-deck.csv" --map deck_acc=S9 --out "$WORK/o"

@@ -28,7 +28,9 @@ Command sweep_command() {
   c.summary = "speeds x trains x parameter variants: maximum-response envelopes (envelope.csv)";
   c.usage_and_samples =
       "Writes OUT/envelope.csv (variant,train,speed_kmh,station,max_abs_acc_mps2,max_abs_disp_m;\n"
-      "accelerations filtered as the scenario says), OUT/failures.csv and OUT/manifest.toml.\n"
+      "accelerations filtered as the scenario says; with sweep.variants, a column KEY_factor per\n"
+      "varied key after variant), OUT/governing.csv (the largest value per station and where it\n"
+      "occurs), OUT/failures.csv and OUT/manifest.toml.\n"
       "Results are identical for any --threads. A case that fails is listed in failures.csv,\n"
       "the others complete, and the exit code is 1. Plot with scripts/plot/plot_envelope.py OUT.\n\n"
       "Sample runs:\n"
@@ -47,7 +49,7 @@ Command sweep_command() {
     so.threads = o.threads;
     so.progress = progress_printer("sweep", o.quiet);
     const study::SweepResult r = study::run_sweep(variants, so);
-    io::write_envelope_csv(o.out + "/envelope.csv", r.rows);
+    io::write_envelope_csv(o.out + "/envelope.csv", r.rows, variants);
     io::write_failures_csv(o.out + "/failures.csv", r.failures);
     const std::vector<study::GoverningRow> gov = study::governing(r.rows);
     io::write_governing_csv(o.out + "/governing.csv", gov);

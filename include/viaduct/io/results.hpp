@@ -17,8 +17,11 @@ namespace viaduct::io {
 /// <name>_rail_disp_m, <name>_rail_acc_mps2, <name>_rail_acc_filt_mps2. Throws SolverError on I/O failure.
 void write_history_csv(const std::string& path, const study::RunResult& r);
 
-/// envelope.csv: variant,train,speed_kmh,station,max_abs_acc_mps2,max_abs_disp_m
-void write_envelope_csv(const std::string& path, const std::vector<study::EnvelopeRow>& rows);
+/// envelope.csv: variant,train,speed_kmh,station,max_abs_acc_mps2,max_abs_disp_m; with the sweep's
+/// `variants` when they vary keys, one column KEY_factor per varied key after `variant` (the
+/// factor of that row's variant on KEY, 1 where it leaves KEY alone).
+void write_envelope_csv(const std::string& path, const std::vector<study::EnvelopeRow>& rows,
+                        const std::vector<study::Variant>& variants = {});
 /// failures.csv: variant,train,speed_kmh,error (header only when nothing failed)
 void write_failures_csv(const std::string& path, const std::vector<study::CaseFailure>& failures);
 

@@ -81,6 +81,9 @@ struct Variant {
   /// is then the reference's, for its trains and speeds, and every case of the variant fails
   /// with this reason.
   std::string error{};
+  /// The factor on each varied key of the sweep, in the order of sweep.variants (1 for keys this
+  /// variant leaves alone); empty for a sweep without variants. One envelope column per key.
+  std::vector<std::pair<std::string, double>> factors{};
 };
 
 }  // namespace viaduct::study
