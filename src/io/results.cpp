@@ -117,7 +117,7 @@ void write_failures_csv(const std::string& path, const std::vector<study::CaseFa
 void write_modes_csv(const std::string& path, const model::Modes& m, const model::Structure& structure,
                      const std::vector<study::ResolvedStation>& stations) {
   AtomicFile f(path);
-  std::fprintf(f.get(), "mode,frequency_hz,kind,deck_mass_share");
+  std::fprintf(f.get(), "mode,frequency_hz,kind,deck_mass_share,span,bending_order");
   for (const auto& s : stations) {
     if (s.has_deck) std::fprintf(f.get(), ",%s_deck", s.name.c_str());
     if (s.has_rail) std::fprintf(f.get(), ",%s_rail", s.name.c_str());
@@ -127,6 +127,10 @@ void write_modes_csv(const std::string& path, const model::Modes& m, const model
     const Vector phi = m.shape.col(j);
     const double share = model::deck_mass_share(structure, phi);
     std::fprintf(f.get(), "%ld,%.10g,%s,%.4f", static_cast<long>(j + 1), m.frequency_hz[j], model::mode_kind(share), share);
+    // The span and half-waves of the deck's bending; empty for a track mode (the deck barely moves).
+    const model::DeckBending b = share > 0.1 ? model::deck_bending(structure, phi) : model::DeckBending{};
+    if (b.span > 0) std::fprintf(f.get(), ",%d,%d", b.span, b.order);
+    else std::fprintf(f.get(), ",,");
     for (const auto& s : stations) {
       if (s.has_deck) std::fprintf(f.get(), ",%.8g", s.deck.value(phi));
       if (s.has_rail) std::fprintf(f.get(), ",%.8g", s.rail.value(phi));

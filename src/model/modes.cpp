@@ -101,6 +101,68 @@ double deck_mass_share(const Structure& s, const Vector& phi) {
   return std::clamp(deck.dot(s.M * deck) / total, 0.0, 1.0);
 }
 
+DeckBending deck_bending(const Structure& s, const Vector& phi) {
+  DeckBending out;
+  auto w = [&](Index dof) { return dof < 0 ? 0.0 : phi[dof]; };
+  double best = 0.0;
+  std::vector<std::pair<double, double>> best_nodes;  // (x, w) of the span that carries most
+  for (std::size_t k = 0; k < s.span_first_element.size(); ++k) {
+    const std::size_t e0 = s.span_first_element[k];
+    const std::size_t e1 = k + 1 < s.span_first_element.size() ? s.span_first_element[k + 1] : s.deck_elements.size();
+    std::vector<std::pair<double, double>> nodes;
+    double energy = 0.0;
+    for (std::size_t e = e0; e < e1; ++e) {
+      const PathElement& el = s.deck_elements[e];
+      if (e == e0) nodes.emplace_back(el.x0, w(el.dofs[0]));
+      nodes.emplace_back(el.x0 + el.h, w(el.dofs[2]));
+      energy += 0.5 * el.h * (w(el.dofs[0]) * w(el.dofs[0]) + w(el.dofs[2]) * w(el.dofs[2]));
+    }
+    if (energy > best) {
+      best = energy;
+      out.span = static_cast<int>(k) + 1;
+      best_nodes = std::move(nodes);
+    }
+  }
+  if (out.span == 0 || best_nodes.size() < 2) return out;
+  // Bending: the deflection less the chord between the span's ends (the bearings' motion).
+  const auto [xa, wa] = best_nodes.front();
+  const auto [xb, wb] = best_nodes.back();
+  std::vector<double> bend;
+  double peak = 0.0, bend_peak = 0.0;
+  for (const auto& [x, v] : best_nodes) {
+    bend.push_back(v - (wa + (wb - wa) * (x - xa) / (xb - xa)));
+    peak = std::max(peak, std::abs(v));
+    bend_peak = std::max(bend_peak, std::abs(bend.back()));
+  }
+  if (bend_peak < 0.05 * peak) return out;  // rigid body on the bearings: order 0
+  int changes = 0;
+  double last = 0.0;
+  for (double b : bend) {
+    if (std::abs(b) < 1e-6 * bend_peak) continue;  // nodes on the axis (the supports, a node line)
+    if (last != 0.0 && (b > 0) != (last > 0)) ++changes;
+    last = b;
+  }
+  out.order = changes + 1;
+  return out;
+}
+
+std::vector<DeckMode> deck_bending_modes(const Structure& s, std::size_t n) {
+  std::vector<DeckMode> out;
+  // Track modes crowd in above the rail-on-pad frequency: ask for more until n deck modes are
+  // found or every mode has been seen.
+  for (Index want = static_cast<Index>(2 * n + 4);; want *= 4) {
+    const Modes m = compute_modes_up_to(s, std::min(want, s.n_dofs), 0.0);
+    out.clear();
+    for (Index j = 0; j < m.frequency_hz.size() && out.size() < n; ++j) {
+      const double share = deck_mass_share(s, m.shape.col(j));
+      if (share <= 0.1) continue;
+      const DeckBending b = deck_bending(s, m.shape.col(j));
+      if (b.order >= 1) out.push_back({m.frequency_hz[j], b, share});
+    }
+    if (out.size() >= n || want >= s.n_dofs) return out;
+  }
+}
+
 const char* mode_kind(double deck_share) { return deck_share >= 0.5 ? "deck" : deck_share <= 0.1 ? "track" : "coupled"; }
 
 }  // namespace viaduct::model

@@ -8,12 +8,16 @@ expect 0 "t_s,mid_disp_m,mid_acc_mps2,mid_acc_filt_mps2" -- head -1 "$WORK/run/h
 expect 0 "command = \"run\"" -- cat "$WORK/run/manifest.toml"
 expect 0 "\"bridge.EI\" = 7694000000.0" -- cat "$WORK/run/manifest.toml"
 expect 0 "5.0000" -- "$VIADUCT" modes "$HS" --out "$WORK/modes"
-expect 0 "mode,frequency_hz,kind,deck_mass_share,mid_deck" -- head -1 "$WORK/modes/modes.csv"
+expect 0 "mode,frequency_hz,kind,deck_mass_share,span,bending_order,mid_deck" -- head -1 "$WORK/modes/modes.csv"
 # Deck and track modes told apart (#22): Old Guadiana's first two are deck bending (87 % of the
-# modal mass on the deck), its rail-on-pad modes near 51 Hz are track modes.
+# modal mass on the deck; span 1, then span 2, once), its rail-on-pad modes near 51 Hz are track
+# modes (no span, no order), and f1..f3 of the deck can be read: modes 1 and 3 bend span 1.
 expect 0 "first modes" -- "$VIADUCT" modes "$SRC/scenarios/old-guadiana-sensitivity.toml" --out "$WORK/modes-og"
-expect 0 "1,10.01077416,deck,0.8743," -- cat "$WORK/modes-og/modes.csv"
-expect 0 ",track,0.0000," -- cat "$WORK/modes-og/modes.csv"
+expect 0 "1,10.01077416,deck,0.8743,1,1," -- cat "$WORK/modes-og/modes.csv"
+expect 0 "2,10.06251138,deck,0.8743,2,1," -- cat "$WORK/modes-og/modes.csv"
+expect 0 "3,34.56912574,deck,0.8626,1,2," -- cat "$WORK/modes-og/modes.csv"
+expect 0 ",track,0.0000,,," -- cat "$WORK/modes-og/modes.csv"
+expect 0 "span 2 bending 1" -- "$VIADUCT" modes "$SRC/scenarios/old-guadiana-sensitivity.toml" --out "$WORK/modes-og"
 expect 0 "#    1     5.0000 Hz  deck     deck mass share 1.00" -- "$VIADUCT" check "$HS"
 expect 0 "10 cases" -- "$VIADUCT" sweep "$HS" "${SET[@]}" --threads 1 --out "$WORK/s1"
 expect 0 "10 cases" -- "$VIADUCT" sweep "$HS" "${SET[@]}" --threads 2 --out "$WORK/s2"
@@ -27,6 +31,12 @@ expect 0 "station,max_abs_acc_mps2,acc_variant,acc_train,acc_speed_kmh,max_abs_d
 top=$(awk -F, 'NR > 1 && $5 > m { m = $5; t = $2 "," $3 } END { print t }' "$WORK/s1/envelope.csv")
 expect 0 "$top" -- awk -F, 'NR == 2 { print $4 "," $5 }' "$WORK/s1/governing.csv"
 expect 0 "governing cases (largest over trains and speeds)" -- "$VIADUCT" sweep "$HS" "${SET[@]}" --out "$WORK/s3"
+# ... and where resonance is expected (#22): f1 = 5 Hz, d = 18 m (A1: coach length), 26 m (A9);
+# only the speeds swept (140 to 420 km/h) are listed.
+expect 0 "HSLM-A1              d =  18.00 m: 324.0 (j=1), 162.0 (j=2) km/h" -- "$VIADUCT" sweep "$HS" "${SET[@]}" --out "$WORK/s3"
+expect 0 "HSLM-A9              d =  26.00 m: 234.0 (j=2), 156.0 (j=3) km/h" -- "$VIADUCT" sweep "$HS" "${SET[@]}" --out "$WORK/s3"
+# run names f1 of the deck.
+expect 0 "f1 = 5.000 Hz (span 1, first bending)" -- "$VIADUCT" run "$HS" --out "$WORK/run"
 # Short work shows no progress lines (#22): the 10-case sweep above takes well under 2 s.
 expect 0 "none" -- bash -c '"$0" sweep "$1" --set "$2" --set "$3" --out "$4" 2>&1 >/dev/null | grep -c "cases, " || echo none' "$VIADUCT" "$HS" "${SET[1]}" "${SET[3]}" "$WORK/s4"
 # A run killed while writing (here by the file size limit, SIGXFSZ: exit 153) leaves the earlier

@@ -194,8 +194,48 @@ io::Manifest start_manifest(const Common& o, const std::string& command, std::ve
 void print_first_modes(const model::Structure& s, const model::Modes& m, Index n, const char* prefix) {
   for (Index j = 0; j < std::min<Index>(m.frequency_hz.size(), n); ++j) {
     const double share = model::deck_mass_share(s, m.shape.col(j));
-    std::printf("%s%2ld  %9.4f Hz  %-7s  deck mass share %.2f\n", prefix, static_cast<long>(j + 1), m.frequency_hz[j],
-                model::mode_kind(share), share);
+    const model::DeckBending b = share > 0.1 ? model::deck_bending(s, m.shape.col(j)) : model::DeckBending{};
+    std::string where;
+    if (b.span > 0)
+      where = b.order == 0 ? "span " + std::to_string(b.span) + " rigid on its bearings"
+                           : "span " + std::to_string(b.span) + " bending " + std::to_string(b.order);
+    std::printf("%s%2ld  %9.4f Hz  %-7s  deck mass share %.2f  %s\n", prefix, static_cast<long>(j + 1), m.frequency_hz[j],
+                model::mode_kind(share), share, where.c_str());
+  }
+}
+
+std::string describe_f1(const model::Structure& s, std::vector<model::DeckMode>* modes) {
+  static const char* nth[] = {"", "first", "second", "third", "fourth", "fifth"};
+  try {
+    const std::vector<model::DeckMode> deck = model::deck_bending_modes(s, 3);
+    if (modes) *modes = deck;
+    if (deck.empty()) return "f1: no deck bending mode found";
+    const model::DeckMode& d = deck.front();
+    char b[160];
+    std::snprintf(b, sizeof b, "f1 = %.3f Hz (span %d, %s bending)", d.frequency_hz, d.bending.span,
+                  d.bending.order <= 5 ? nth[d.bending.order] : "higher");
+    return b;
+  } catch (const std::exception& e) {
+    return std::string("f1: not computed (") + e.what() + ")";
+  }
+}
+
+void print_resonance_speeds(double f1_hz, const std::vector<load::Train>& trains, double v_min, double v_max) {
+  if (!(f1_hz > 0.0) || trains.empty()) return;
+  std::printf("\nresonance speeds expected from f1 = %.3f Hz, v = f1·d/j, in the speeds swept:\n", f1_hz);
+  for (const auto& t : trains) {
+    const double d = load::characteristic_distance(t);
+    std::string speeds;
+    if (d > 0.0)
+      for (int j = 1; j <= 20; ++j) {
+        const double v = f1_hz * d / j;
+        if (v < v_min * (1 - 1e-9)) break;
+        if (v > v_max * (1 + 1e-9)) continue;
+        char b[48];
+        std::snprintf(b, sizeof b, "%s%.1f (j=%d)", speeds.empty() ? "" : ", ", v * 3.6, j);
+        speeds += b;
+      }
+    std::printf("  %-20s d = %6.2f m: %s\n", t.name.c_str(), d, d > 0.0 ? (speeds.empty() ? "none" : (speeds + " km/h").c_str()) : "single axle");
   }
 }
 

@@ -13,6 +13,7 @@
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/log.hpp"
 #include "viaduct/io/results.hpp"
+#include "viaduct/load/train.hpp"
 #include "viaduct/model/modes.hpp"
 
 namespace viaduct::cli {
@@ -100,6 +101,14 @@ void print_warnings(const std::string& command, const std::vector<std::string>& 
 
 /// The first `n` modes, one line each: frequency, kind (deck, track, coupled), deck mass share.
 void print_first_modes(const model::Structure& s, const model::Modes& m, Index n, const char* prefix = "  ");
+
+/// "f1 = 10.011 Hz (span 1, first bending)": the deck's first bending frequency, or why it is
+/// not known. The deck modes found go to `modes` when given.
+std::string describe_f1(const model::Structure& s, std::vector<model::DeckMode>* modes = nullptr);
+
+/// The resonance speeds v = f1·d/j (j = 1, 2, ...) of each train within [v_min, v_max] [m/s],
+/// one line per train with its characteristic distance d (load::characteristic_distance).
+void print_resonance_speeds(double f1_hz, const std::vector<load::Train>& trains, double v_min, double v_max);
 
 /// Message printer for the library's log sink (stderr, "viaduct: warning: ...").
 LogSink log_printer(bool quiet);

@@ -75,6 +75,7 @@ Command run_command() {
     if (!o.quiet) {
       std::printf("%s at %.1f km/h: %ld DOFs, %ld steps, %.2f s\n", train->name.c_str(), speed * 3.6,
                   static_cast<long>(s.n_dofs), static_cast<long>(r.summary.n_steps), r.summary.wall_s);
+      std::printf("%s\n", describe_f1(s).c_str());
       if (sc.settings.method == study::Method::ida) std::printf("IDA: %s\n", r.summary.describe().c_str());
       if (pm.modal)
         std::printf("modal: %ld modes, %.2f to %.1f Hz; damping coupling up to %.3f (%s)\n",

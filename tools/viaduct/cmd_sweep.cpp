@@ -1,4 +1,5 @@
 // viaduct sweep
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 
@@ -70,6 +71,15 @@ Command sweep_command() {
       std::printf("%zu cases (%zu variants), %zu failed, %.1f s; wrote %s/envelope.csv and governing.csv\n", r.summary.n_cases,
                   variants.size(), r.summary.n_failed, r.summary.wall_s, o.out.c_str());
       print_governing(gov, variants.size() > 1);
+      // Where the peaks are expected, from the reference model's first deck bending frequency.
+      const study::Scenario& ref = variants.front().scenario;
+      std::vector<model::DeckMode> deck;
+      const std::string f1 = describe_f1(model::build_structure(ref.bridge, ref.track), &deck);
+      if (deck.empty()) std::printf("\n%s\n", f1.c_str());
+      else {
+        const auto [lo, hi] = std::minmax_element(ref.sweep_speeds.begin(), ref.sweep_speeds.end());
+        print_resonance_speeds(deck.front().frequency_hz, ref.trains, *lo, *hi);
+      }
     }
     for (const auto& f : r.failures)
       std::fprintf(stderr, "viaduct sweep: case failed: %s / %s / %.1f km/h: %s\n", f.variant.c_str(), f.train.c_str(),

@@ -38,4 +38,11 @@ HslmRow hslm_a_row(int number);
 /// `n_axles` equal loads `load` [N] spaced `spacing` [m].
 Train regular_train(const std::string& name, int n_axles, double spacing, double load);
 
+/// The train's characteristic distance d [m]: the wavelength λ in [min_m, max_m] at which its
+/// loads add up best, |Σ P_k exp(−2πi x_k/λ)| (the first term of ERRI D214's train signature);
+/// the longest λ within 1 % of the best, so that a regular train gives its spacing, not a
+/// fraction of it. Resonance of a span with frequency f is expected at v = f·d/j. 0 for fewer
+/// than two axles.
+double characteristic_distance(const Train& t, double min_m = 5.0, double max_m = 50.0);
+
 }  // namespace viaduct::load

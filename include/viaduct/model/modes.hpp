@@ -24,6 +24,28 @@ double deck_mass_share(const Structure& s, const Vector& phi);
 /// "deck" (deck_mass_share >= 0.5), "track" (<= 0.1) or "coupled".
 const char* mode_kind(double deck_share);
 
+/// Where a mode bends the deck: the span that carries most of its deck deflection (Σ w²·h over
+/// the span's nodes) and the number of half-waves on that span, counted as the sign changes of
+/// the deflection relative to the chord between the span's ends (bearings may move) plus one:
+/// 1 for the first bending mode of a span, 2 for the second... order 0: the span moves as a
+/// rigid body on its bearings (bending under 5 % of its deflection). span 0: no deck deflection.
+struct DeckBending {
+  int span = 0;   ///< 1-based
+  int order = 0;
+};
+DeckBending deck_bending(const Structure& s, const Vector& phi);
+
+/// A mode that bends the deck.
+struct DeckMode {
+  double frequency_hz = 0.0;  ///< [Hz]
+  DeckBending bending;
+  double deck_share = 0.0;    ///< deck_mass_share
+};
+/// The lowest `n` modes that bend the deck (deck mass share above 0.1, bending order >= 1),
+/// skipping track modes and rigid motions on the bearings; fewer when the model has fewer.
+/// f1 of the deck is the first. SolverError when the eigensolver fails.
+std::vector<DeckMode> deck_bending_modes(const Structure& s, std::size_t n);
+
 /// How compute_modes_up_to() solves the eigenproblem.
 enum class ModeSolver {
   automatic,  ///< sparse when the model has more than 1000 DOFs and few modes are wanted

@@ -91,3 +91,17 @@ TEST_CASE("moving loads: consistent nodal forces, entry and exit") {
   REQUIRE_THROWS_AS(MovingLoads(s, t, 0.0), InputError);
   REQUIRE_THROWS_AS(MovingLoads(s, t, -5.0), InputError);
 }
+
+TEST_CASE("characteristic distance: the spacing of a regular train, the coach length of HSLM-A") {
+  // Regular trains add up equally at d, d/2, d/3...: the longest, d, is the one reported. 2 mm:
+  // the 1 mm grid in λ.
+  CHECK(characteristic_distance(regular_train("r", 20, 18.0, 210e3)) == Approx(18.0).margin(2e-3));
+  CHECK(characteristic_distance(regular_train("r", 12, 13.14, 100e3)) == Approx(13.14).margin(2e-3));
+  // HSLM-A: N coaches of length D between power cars; D governs (EN 1991-2 E.1).
+  for (int i = 1; i <= 10; ++i) {
+    INFO("HSLM-A" << i);
+    const HslmRow row = hslm_a_row(i);
+    CHECK(characteristic_distance(hslm_a("a", row)) == Approx(row.coach_length).margin(2e-3));
+  }
+  CHECK(characteristic_distance(regular_train("one", 1, 0.0, 1e5)) == 0.0);
+}

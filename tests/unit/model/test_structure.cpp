@@ -214,3 +214,35 @@ TEST_CASE("deck mass share tells deck modes from track modes") {
   deck_only.head(with.n_bridge_dofs).setOnes();
   CHECK(deck_mass_share(with, deck_only) == Approx(1.0));
 }
+
+TEST_CASE("deck bending order and span of each mode") {
+  // One span on rigid bearings: mode n is the n-th bending mode (f_n = n² f_1).
+  BridgeParams b;
+  b.spans = {SpanParams{12.0, 4e9, 10000.0}};
+  const Structure one = build_structure(b, std::nullopt);
+  const Modes m1 = compute_modes(one, 5);
+  for (Index j = 0; j < 5; ++j) {
+    INFO("mode " << j + 1);
+    const DeckBending d = deck_bending(one, m1.shape.col(j));
+    CHECK(d.span == 1);
+    CHECK(d.order == j + 1);
+  }
+  // Two unequal spans (12 m and 9 m): the first mode bends the longer span once, the mode near
+  // the short span's first frequency bends that one.
+  b.spans = {SpanParams{12.0, 4e9, 10000.0}, SpanParams{9.0, 4e9, 10000.0}};
+  const Structure two = build_structure(b, std::nullopt);
+  const Modes m2 = compute_modes(two, 4);
+  CHECK(deck_bending(two, m2.shape.col(0)).span == 1);
+  CHECK(deck_bending(two, m2.shape.col(0)).order == 1);
+  CHECK(deck_bending(two, m2.shape.col(1)).span == 2);
+  CHECK(deck_bending(two, m2.shape.col(1)).order == 1);
+  // Soft bearings: the lowest mode is the span bouncing on them (order 0), the next bends it.
+  b.spans = {SpanParams{12.0, 4e9, 10000.0}};
+  b.bearings = {false, 1e5, 0.0};
+  const Structure soft = build_structure(b, std::nullopt);
+  const Modes ms = compute_modes(soft, 3);
+  CHECK(deck_bending(soft, ms.shape.col(0)).order == 0);
+  CHECK(deck_bending(soft, ms.shape.col(2)).order == 1);
+  // No deck deflection: no span.
+  CHECK(deck_bending(one, Vector::Zero(one.n_dofs)).span == 0);
+}
