@@ -87,6 +87,9 @@ std::vector<KeySpec> track_keys() {  // track
   return {
       {"track.file", T::string, "", "", "", "Track component file; its keys are read under track. Without any track key the model has no track."},
       {"track.notes", T::string, "\"\"", "", "", "Free text: sources and readings of the parameters."},
+      {"track.rails", T::string, "\"unstated\"", "", "unstated|one|both",
+       "What the track's values describe: one rail line (with half a deck: each rail carries half of each axle, train.load_factor = 0.5) or both rails summed (the whole deck, load_factor = 1). A mismatch with train.load_factor is warned of.",
+       [](S& sc, const V& v) { sc.track_rails = v.s; }},
       {"track.approach_length", T::number, "20.0", "m", ">= 0", "Track before the bridge (axles enter at its start); rounded down to whole sleeper bays with exit_length.",
        [](S& sc, const V& v) { sc.track->approach_length = v.x; }},
       {"track.exit_length", T::number, "20.0", "m", ">= 0", "Track after the bridge.",

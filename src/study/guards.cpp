@@ -27,6 +27,16 @@ std::vector<std::string> accuracy_warnings(const Scenario& sc, const std::vector
                   " Hz: the basis then truncates rail bending modes that carry the load (measured on the Old Guadiana "
                   "model with a 60 Hz basis: +6.4 % at 46 Hz, +21 % at 8.4 Hz; 0.7 % at 84 Hz); use "
                   "analysis.method = \"newmark\"");
+  // A track file of one rail line under whole axle loads (or of both rails under half loads)
+  // doubles (halves) every response.
+  const double lf = sc.settings.load_factor;
+  if (sc.track && sc.track_rails == "one" && std::abs(lf - 0.5) > 1e-9)
+    out.push_back("the track is one rail line on half a deck (track.rails = \"one\") and train.load_factor = " + fmt(lf) +
+                  ": each rail carries half of each axle, so load_factor = 0.5 (with a half-deck bridge) gives the "
+                  "model's responses; " + fmt(lf / 0.5) + " times that is computed");
+  if (sc.track && sc.track_rails == "both" && std::abs(lf - 1.0) > 1e-9)
+    out.push_back("the track holds both rails (track.rails = \"both\") and train.load_factor = " + fmt(lf) +
+                  ": a whole-deck model carries whole axle loads (load_factor = 1); " + fmt(lf) + " times that is computed");
   const double dt = sc.settings.dt;
   const auto& f = sc.settings.filter;
   // The filter's upper band edge sampled too coarsely: measured on the Old Guadiana model,

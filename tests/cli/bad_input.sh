@@ -174,6 +174,10 @@ expect 0 "high x2,2,train,100,mid," -- cat "$WORK/twice/envelope.csv"
 # A sweep without variants keeps the plain columns.
 expect 0 "" -- "$VIADUCT" sweep "$(scen plain '[sweep]\nspeeds_kmh = [100]\n')" --quiet --out "$WORK/plain"
 expect 0 "variant,train,speed_kmh,station" -- head -1 "$WORK/plain/envelope.csv"
+# A track of one rail line (half a deck) under whole axle loads warns (#22); its two-rail,
+# full-deck version under whole loads does not.
+expect 0 "warning: the track is one rail line on half a deck (track.rails = \"one\") and train.load_factor = 1" -- "$VIADUCT" check "$OG" --set train.load_factor=1.0
+expect 0 "no warning" -- bash -c '"$@" 2>&1 | grep -q "warning:" && echo warned || echo "no warning"' _ "$VIADUCT" check "$OG" --set "bridge.file=\"$SRC/data/bridges/old-guadiana-full-deck.toml\"" --set "track.file=\"$SRC/data/tracks/old-guadiana-ballasted-two-rails.toml\"" --set train.load_factor=1.0
 # First-week frictions (#22): a mistyped command, a station that is not there, help defaults.
 expect 2 "unknown command 'swep' (did you mean 'sweep'?)" -- "$VIADUCT" swep "$OG"
 expect 2 "--map: no station 'S9' in the scenario; it has: S1_mid S1_3L4 S2_mid" -- "$VIADUCT" compare "$SRC/scenarios/old-guadiana-talgo.toml" --record "$SRC/data/records/synthetic-deck.csv" --map deck_acc=S9 --out "$WORK/o"

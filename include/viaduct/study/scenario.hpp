@@ -66,6 +66,9 @@ struct Scenario {
   std::string title;
   model::BridgeParams bridge;
   std::optional<model::TrackParams> track;  ///< absent: no track DOFs, loads on the deck
+  /// What the track file says it models (track.rails): "one" rail line on half a deck (axle
+  /// loads halved: train.load_factor = 0.5), "both" rails on the whole deck, or "unstated".
+  std::string track_rails = "unstated";
   std::vector<load::Train> trains;           ///< at least one
   std::vector<StationSpec> stations;         ///< at least one
   RunSettings settings;

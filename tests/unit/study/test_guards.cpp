@@ -4,6 +4,7 @@
 
 #include "viaduct/io/scenario.hpp"
 #include "viaduct/study/guards.hpp"
+#include "viaduct/study/simulation.hpp"
 #include "viaduct/study/tradeoff.hpp"
 
 using namespace viaduct;
@@ -53,4 +54,36 @@ TEST_CASE("soft pads: a modal basis below the rail's resonance on its pads warns
   CHECK(p.method == study::Method::newmark);
   CHECK(p.dt == Approx(study::preset_settings("default", normal).dt));
   CHECK(study::preset_settings("fast", shipped("old-guadiana-talgo", {"track.pad.k=1e7"})).method == study::Method::modal);  // 84 Hz > 45 Hz
+}
+
+TEST_CASE("a two-rail track on the whole deck: the half-deck model's responses, and load factors that do not fit warn") {
+  // The shipped half-deck model (track.rails = "one", load_factor 0.5) is silent (above); the
+  // same under whole axle loads warns that it computes twice the model's responses.
+  const study::Scenario half = shipped("old-guadiana-talgo");
+  CHECK(half.track_rails == "one");
+  const study::Scenario doubled = shipped("old-guadiana-talgo", {"train.load_factor=1.0"});
+  const auto w = study::accuracy_warnings(doubled, {*doubled.run_speed});
+  REQUIRE(w.size() == 1);
+  CHECK_THAT(w[0], Catch::Contains("track.rails = \"one\"") && Catch::Contains("2 times that is computed"));
+  // The two-rail track on the full deck (every value doubled) under whole loads: the deck moves as
+  // the half-deck model does under half loads (a linear model scaled: equal to rounding, 1e-9).
+  const study::Scenario full = shipped("old-guadiana-talgo", {"bridge.file=\"" + src + "/data/bridges/old-guadiana-full-deck.toml\"",
+                                                              "track.file=\"" + src + "/data/tracks/old-guadiana-ballasted-two-rails.toml\"",
+                                                              "train.load_factor=1.0"});
+  CHECK(full.track_rails == "both");
+  CHECK(study::accuracy_warnings(full, {*full.run_speed}).empty());
+  const study::RunResult a = study::simulate(study::prepare_model(half), half.trains.front(), *half.run_speed, half.settings);
+  const study::RunResult b = study::simulate(study::prepare_model(full), full.trains.front(), *full.run_speed, full.settings);
+  REQUIRE(a.stations.size() == b.stations.size());
+  for (std::size_t i = 0; i < a.stations.size(); ++i) {
+    INFO(a.stations[i].name);
+    CHECK((a.stations[i].disp - b.stations[i].disp).cwiseAbs().maxCoeff() <= 1e-9 * a.stations[i].disp.cwiseAbs().maxCoeff());
+    CHECK((a.stations[i].acc - b.stations[i].acc).cwiseAbs().maxCoeff() <= 1e-9 * a.stations[i].acc.cwiseAbs().maxCoeff());
+  }
+  // Both rails under half loads warns too.
+  const study::Scenario halved = shipped("old-guadiana-talgo", {"bridge.file=\"" + src + "/data/bridges/old-guadiana-full-deck.toml\"",
+                                                                "track.file=\"" + src + "/data/tracks/old-guadiana-ballasted-two-rails.toml\""});
+  const auto wh = study::accuracy_warnings(halved, {*halved.run_speed});
+  REQUIRE(wh.size() == 1);
+  CHECK_THAT(wh[0], Catch::Contains("track.rails = \"both\"") && Catch::Contains("load_factor = 0.5"));
 }
