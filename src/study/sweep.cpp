@@ -15,6 +15,7 @@ namespace {
 struct Prepared {
   std::optional<PreparedModel> model;
   std::string error;  // non-empty when the model could not be built
+  bool input_error = false;  // ... because the input is wrong (InputError)
 };
 // One job: a (variant, train, speed) case, or with unit-response superposition a (variant,
 // speed) pair covering every train (train = kAllTrains).
@@ -30,6 +31,7 @@ constexpr std::size_t kSpeedBlock = 8;
 struct CaseOutcome {
   std::vector<StationPeaks> peaks;
   std::string error;
+  bool input_error = false;  // the error is the input's (InputError), not the computation's
   Index n_steps = 0;
   bool done = false;
 };
@@ -60,10 +62,14 @@ class Sweep {
     parallel_for(variants_.size(), options_.threads, [&](std::size_t v, int) {
       if (!variants_[v].error.empty()) {
         prepared_[v].error = variants_[v].error;
+        prepared_[v].input_error = true;  // a factor that breaks its key's rule
         return;
       }
       try {
         prepared_[v].model = prepare_model(variants_[v].scenario, /*rail_outputs=*/false);
+      } catch (const InputError& e) {
+        prepared_[v].error = std::string("model: ") + e.what();
+        prepared_[v].input_error = true;
       } catch (const std::exception& e) {
         prepared_[v].error = std::string("model: ") + e.what();
       }
@@ -115,21 +121,24 @@ class Sweep {
     const std::size_t n_out = std::max(n_trains, c.n_speeds);  // outcomes of this job
     auto& o = outcome_[i];
     o.resize(n_out);
-    auto fail_all = [&](const std::string& m) {
-      for (auto& x : o) x.error = m;
+    auto fail_all = [&](const std::string& m, bool input) {
+      for (auto& x : o) x.error = m, x.input_error = input;
     };
     if (!prepared_[c.variant].error.empty()) {
-      fail_all(prepared_[c.variant].error);
+      fail_all(prepared_[c.variant].error, prepared_[c.variant].input_error);
     } else {
       const PreparedModel& pm = *prepared_[c.variant].model;
       bool retry_alone = false;
       try {
         run_cases(c, pm, o);
+      } catch (const InputError& e) {
+        fail_all(e.what(), true);
+        retry_alone = c.batched;
       } catch (const std::exception& e) {
-        fail_all(e.what());
+        fail_all(e.what(), false);
         retry_alone = c.batched;
       } catch (...) {
-        fail_all("unknown error");
+        fail_all("unknown error", false);
         retry_alone = c.batched;
       }
       // A failing block: every speed again on its own, so only the failing ones are lost.
@@ -139,10 +148,15 @@ class Sweep {
             const RunResult r = runner_(pm, sc.trains[c.train], sc.sweep_speeds[c.speed + k], sc.settings);
             o[k].error.clear();
             take(o[k], peaks(r), r.summary.n_steps);
+          } catch (const InputError& e) {
+            o[k].error = e.what();
+            o[k].input_error = true;
           } catch (const std::exception& e) {
             o[k].error = e.what();
+            o[k].input_error = false;
           } catch (...) {
             o[k].error = "unknown error";
+            o[k].input_error = false;
           }
         }
     }
@@ -202,7 +216,7 @@ class Sweep {
           const std::string& tname = sc.trains[t].name;
           const double speed = sc.sweep_speeds[s];
           if (!o.done) {
-            out.failures.push_back({vname, tname, speed, o.error});
+            out.failures.push_back({vname, tname, speed, o.error, o.input_error});
             continue;
           }
           out.summary.n_steps_total += o.n_steps;

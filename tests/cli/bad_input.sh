@@ -160,6 +160,11 @@ expect 1 "" -- "$VIADUCT" sweep "$(scen factor "$FACT")" --quiet --out "$WORK/fa
 expect 0 "bridge.EI x0,train,100,\"variant 'bridge.EI x0': $WORK/factor.toml:12: key 'sweep.variants[0].key': factor 0 breaks the rule of" -- cat "$WORK/factor/failures.csv"
 expect 0 "bridge.EI x2,2,train,150,mid," -- cat "$WORK/factor/envelope.csv"
 expect 2 "factor 0 breaks the rule of" -- "$VIADUCT" check "$(scen factor "$FACT")"
+# One exit code per kind of error (#18): a value that makes every case's input wrong exits 2 from
+# run and from sweep (which still lists the cases in failures.csv); partial failures exit 1 (above).
+expect 2 "records 1e+303 samples" -- "$VIADUCT" run "$HS" --set analysis.free_vibration_s=1e300 --out "$WORK/o"
+expect 2 "hslm-simply-supported.toml: every case failed on its input (failures.csv): a run of 1e+300 s" -- "$VIADUCT" sweep "$HS" --set analysis.free_vibration_s=1e300 --set 'train.files=["hslm:A1"]' --set sweep.speed_step_kmh=140 --quiet --out "$WORK/allbad"
+expect 0 "HSLM-A1,420," -- cat "$WORK/allbad/failures.csv"
 # Grid variants (#22): one column per varied key, the factor of each row's variant on it; two
 # entries on one key share its column.
 GRID='[sweep]\nspeeds_kmh = [100]\nmode = "grid"\n[[sweep.variants]]\nkey = "bridge.EI"\nfactors = [1.0, 2.0]\n[[sweep.variants]]\nkey = "bridge.damping.ratio"\nfactors = [0.5, 1.0]\n'

@@ -33,7 +33,8 @@ Command sweep_command() {
       "varied key after variant), OUT/governing.csv (the largest value per station and where it\n"
       "occurs), OUT/failures.csv and OUT/manifest.toml.\n"
       "Results are identical for any --threads. A case that fails is listed in failures.csv,\n"
-      "the others complete, and the exit code is 1. Plot with scripts/plot/plot_envelope.py OUT.\n\n"
+      "the others complete, and the exit code is 1 (2 when every case failed on its input, as\n"
+      "`run` exits with the same value). Plot with scripts/plot/plot_envelope.py OUT.\n\n"
       "Sample runs:\n"
       "  viaduct sweep scenarios/hslm-simply-supported.toml --set 'train.files=[\"data/trains/hslm/A1.toml\"]' --set sweep.speed_step_kmh=20 --out out/hslm\n"
       "  viaduct sweep scenarios/old-guadiana-sensitivity.toml --set sweep.speed_min_mps=90 --set sweep.n_speeds=1 --threads 0 --out out/og\n";
@@ -84,7 +85,15 @@ Command sweep_command() {
     for (const auto& f : r.failures)
       std::fprintf(stderr, "viaduct sweep: case failed: %s / %s / %.1f km/h: %s\n", f.variant.c_str(), f.train.c_str(),
                    f.speed * 3.6, f.message.c_str());
-    return r.failures.empty() ? ok : runtime_failure;
+    // One exit code per kind of error (docs/reliability.md): a sweep in which every case failed on
+    // its input is an input error (2), as the same value is for `run`; otherwise failed cases
+    // are a partial result (1, failures.csv).
+    if (r.failures.empty()) return ok;
+    const bool all_input = r.rows.empty() && std::all_of(r.failures.begin(), r.failures.end(), [](const auto& f) { return f.input_error; });
+    if (all_input)
+      std::fprintf(stderr, "viaduct sweep: error: %s: every case failed on its input (failures.csv): %s\n", o.scenario.c_str(),
+                   r.failures.front().message.c_str());
+    return all_input ? usage_error : runtime_failure;
   };
   return c;
 }

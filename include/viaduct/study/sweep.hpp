@@ -24,6 +24,7 @@ struct CaseFailure {
   std::string variant, train;
   double speed = 0.0;  ///< [m/s]
   std::string message;
+  bool input_error = false;  ///< the input is wrong for this case (InputError), not the computation
 };
 
 struct SweepSummary {

@@ -58,9 +58,18 @@ TEST_CASE("a variant that could not be formed fails its own cases with its reaso
   for (const auto& f : r.failures) {
     CHECK(f.variant == "EI x0");
     CHECK(f.message == broken.error);
+    CHECK(f.input_error);  // the input's fault: the CLI exits 2 when every case fails so
   }
   REQUIRE(r.rows.size() == 16);
   for (const auto& row : r.rows) CHECK(row.variant == "reference");
+  // A computation that fails is not the input's.
+  SweepOptions throwing;
+  throwing.runner = [](const PreparedModel&, const load::Train&, double, const RunSettings&) -> RunResult {
+    throw SolverError("non-finite state");
+  };
+  const SweepResult t = run_sweep({{"reference", small_scenario()}}, throwing);
+  REQUIRE_FALSE(t.failures.empty());
+  for (const auto& f : t.failures) CHECK_FALSE(f.input_error);
 }
 
 TEST_CASE("sweep results are identical for any thread count") {
