@@ -5,7 +5,8 @@ Usage: scripts/plot/plot_compare.py DIR [--out FILE] [--fmax HZ]
 
 Reads DIR/compare_time.csv, compare_spectrum.csv and compare_metrics.csv and writes
 DIR/compare.png: one row per channel, filtered time histories (record and aligned model) on the
-left, amplitude spectra on the right, the metrics in each title.
+left, amplitude spectra on the right, the metrics in each title. Units in engineering form
+(deflections in mm, accelerations in m/s²), the scenario's title on top.
 """
 import argparse
 import csv
@@ -17,6 +18,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+import plotlib  # noqa: E402
+
 
 def table(path):
     if not os.path.exists(path):
@@ -24,6 +27,12 @@ def table(path):
     with open(path, newline="") as f:
         header = next(csv.reader(f))
     return header, np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+
+
+def val(row, key):
+    """A metric; NaN when viaduct could not determine it (an empty cell)."""
+    v = plotlib.number(row[key])
+    return float("nan") if v is None else v
 
 
 def main():
@@ -42,30 +51,34 @@ def main():
         ch = m["channel"]
         unit = ch.rsplit("_", 1)[1]
         base = ch[: -len(unit) - 1]
+        _, scale, shown = plotlib.split_unit(ch)
+        shown = shown or unit
         tr, tm = th.index(base + "_record_" + unit), th.index(base + "_model_" + unit)
         ax = axes[i][0]
-        ax.plot(td[:, 0], td[:, tr], lw=0.8, color="0.25", label="record")
-        ax.plot(td[:, 0], td[:, tm], lw=0.8, color="C3", alpha=0.85, label="model (shift %.3f s)" % float(m["shift_s"]))
-        ax.set_ylabel("%s [%s]" % (base, unit), fontsize=9)
-        ax.set_title("%s vs %s: peak ratio %.3f, rms ratio %.3f, r = %.3f" % (ch, m["station"], float(m["peak_ratio"]),
-                     float(m["rms_ratio"]), float(m["correlation"])), fontsize=9)
+        ax.plot(td[:, 0], scale * td[:, tr], lw=0.8, color="0.25", label="record")
+        ax.plot(td[:, 0], scale * td[:, tm], lw=0.8, color="C3", alpha=0.85, label="model (shift %.3f s)" % val(m, "shift_s"))
+        ax.set_ylabel("%s [%s]" % (base, shown), fontsize=9)
+        plotlib.no_offset(ax)
+        ax.set_title("%s vs %s: peak ratio %.3f, rms ratio %.3f, r = %.3f" % (ch, m["station"], val(m, "peak_ratio"),
+                     val(m, "rms_ratio"), val(m, "correlation")), fontsize=9)
         ax.legend(fontsize=7, loc="upper right")
         ax.grid(alpha=0.3)
         fr, fm = fh.index(base + "_record_amp_" + unit), fh.index(base + "_model_amp_" + unit)
         ax = axes[i][1]
-        fmax = a.fmax or 1.5 * max(float(m["f_peak_record_hz"]), float(m["f_peak_model_hz"]), 1.0)
+        fmax = a.fmax or 1.5 * max(val(m, "f_peak_record_hz"), val(m, "f_peak_model_hz"), 1.0)
         sel = fd[:, 0] <= fmax
-        ax.plot(fd[sel, 0], fd[sel, fr], lw=1.0, color="0.25", label="record (peak %.3f Hz)" % float(m["f_peak_record_hz"]))
-        ax.plot(fd[sel, 0], fd[sel, fm], lw=1.0, color="C3", alpha=0.85, label="model (peak %.3f Hz)" % float(m["f_peak_model_hz"]))
-        ax.set_title("amplitude spectra: spectral correlation %.3f" % float(m["spectral_correlation"]), fontsize=9)
+        ax.plot(fd[sel, 0], scale * fd[sel, fr], lw=1.0, color="0.25", label="record (peak %.3f Hz)" % val(m, "f_peak_record_hz"))
+        ax.plot(fd[sel, 0], scale * fd[sel, fm], lw=1.0, color="C3", alpha=0.85, label="model (peak %.3f Hz)" % val(m, "f_peak_model_hz"))
+        ax.set_ylabel("amplitude [%s]" % shown, fontsize=9)
+        plotlib.no_offset(ax)
+        ax.set_title("amplitude spectra: spectral correlation %.3f" % val(m, "spectral_correlation"), fontsize=9)
         ax.legend(fontsize=7)
         ax.grid(alpha=0.3)
     axes[-1][0].set_xlabel("time [s]")
     axes[-1][1].set_xlabel("frequency [Hz]")
+    fig.suptitle(plotlib.scenario_title(a.dir) + ": model against record")
     fig.tight_layout()
-    out = a.out or os.path.join(a.dir, "compare.png")
-    fig.savefig(out, dpi=110)
-    print("wrote", out)
+    plotlib.save(fig, a.out or os.path.join(a.dir, "compare.png"), "plot_compare")
 
 
 if __name__ == "__main__":

@@ -19,6 +19,8 @@ import sys
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+import plotlib  # noqa: E402
 import numpy as np  # noqa: E402
 
 
@@ -76,8 +78,8 @@ def plot_trace(d, out):
         for s in starts:
             sel = [r for r in trace if int(r["start"]) == s]
             ax.plot(range(len(sel)), [float(r[key]) for r in sel], marker="o", ms=3, lw=1, label="start %d" % s)
-        est, se = float(p["estimate"]), float(p["std_error"])
-        if math.isfinite(se):
+        est, se = float(p["estimate"]), plotlib.number(p["std_error"])  # empty: not determined
+        if se is not None and math.isfinite(se):
             ax.axhspan(est - 2 * se, est + 2 * se, color="C3", alpha=0.15, lw=0)
         ax.axhline(est, color="C3", lw=0.8)
         for b in ("lower", "upper"):
@@ -85,7 +87,8 @@ def plot_trace(d, out):
         if p["scale"] == "log":
             ax.set_yscale("log")
         flag = "" if p["determined"] == "true" else "  (flagged: see fit.toml warnings)"
-        ax.set_title("%s = %.6g +- %.3g %s%s" % (key, est, se, p["unit"], flag), fontsize=9)
+        spread = " ± %.3g" % se if se is not None else " (standard error not determined)"
+        ax.set_title("%s = %.6g%s %s%s" % (key, est, spread, p["unit"], flag), fontsize=9)
         ax.grid(alpha=0.3)
         if len(starts) > 1 and i == 0:
             ax.legend(fontsize=7)

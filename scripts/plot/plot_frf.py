@@ -17,6 +17,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+import plotlib  # noqa: E402
+
 
 def read(path):
     if not os.path.exists(path):
@@ -64,7 +66,7 @@ def main():
             ax[1].plot(f, ph, **kw)
             if coh is not None:
                 ax[2].plot(f, coh, **kw)
-    unit = next(iter(data[0][1].values()))[0].replace("_per_", " / ").replace("mps2", "m/s²").replace("mps", "m/s")
+    unit = plotlib.unit_label(next(iter(data[0][1].values()))[0].replace("_per_", "/"))
     ax[0].set_ylabel(f"|H| [{unit}]")
     ax[1].set_ylabel("phase [°]")
     ax[1].set_ylim(-185, 185)
@@ -75,7 +77,8 @@ def main():
     ax[0].legend(fontsize=8, ncol=2)
     for x in ax:
         x.grid(True, which="both", alpha=0.3)
-    fig.suptitle("Frequency response functions")
+    fig.suptitle(plotlib.scenario_title(os.path.dirname(os.path.abspath(a.files[0])), "Measured") +
+                 ": frequency response functions")
     fig.tight_layout()
     out = a.out or os.path.join(os.path.dirname(os.path.abspath(a.files[0])), "frf.png")
     fig.savefig(out, dpi=120)

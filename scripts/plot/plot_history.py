@@ -14,6 +14,8 @@ import sys
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+import plotlib  # noqa: E402
 import numpy as np  # noqa: E402
 
 
@@ -64,11 +66,13 @@ def main():
         ax.grid(alpha=0.3)
     for ax in axes[-1]:
         ax.set_xlabel("time [s]")
-    fig.suptitle("Time histories (%s)" % os.path.basename(os.path.normpath(a.dir)))
+    run = plotlib.manifest(a.dir).get("run", {})
+    case = ""
+    if "train" in run and "speed_kmh" in run:
+        case = ": %s at %.1f km/h" % (run["train"], float(run["speed_kmh"]))
+    fig.suptitle(plotlib.scenario_title(a.dir) + case + " — time histories")
     fig.tight_layout()
-    out = a.out or os.path.join(a.dir, "history.png")
-    fig.savefig(out, dpi=110)
-    print("wrote", out)
+    plotlib.save(fig, a.out or os.path.join(a.dir, "history.png"), "plot_history")
 
 
 if __name__ == "__main__":

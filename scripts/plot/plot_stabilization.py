@@ -17,6 +17,9 @@ import sys
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.ticker import MaxNLocator  # noqa: E402
+
+import plotlib  # noqa: E402
 
 
 def rows_of(path):
@@ -45,9 +48,11 @@ def main():
     for i, m in enumerate(modes):
         f = float(m["frequency_hz"])
         ax.axvline(f, color=f"C{(i + 3) % 10}", lw=0.9, alpha=0.8,
-                   label=f"mode {m['mode']}: {f:.4f} Hz, ζ {100 * float(m['damping_ratio']):.2f} %")
+                   label=f"mode {m['mode']}: {f:.4f} Hz, " + (f"ζ {100 * z:.2f} %" if (z := plotlib.number(m['damping_ratio'])) is not None
+                                                                else "ζ not determined"))
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel("model order")
+    ax.yaxis.set_major_locator(MaxNLocator(integer=True))  # orders are whole numbers
     ax.legend(loc="lower right", fontsize=8)
     if a.frf:
         with open(a.frf, newline="") as f:
@@ -59,7 +64,7 @@ def main():
         ax2.semilogy(fr, s, color="tab:blue", lw=1, alpha=0.6)
         ax2.set_ylabel("Σ |H|", color="tab:blue")
     ax.grid(True, alpha=0.3)
-    ax.set_title("LSCF stabilization diagram")
+    ax.set_title(plotlib.scenario_title(a.dir, "modal fit") + ": LSCF stabilization diagram")
     fig.tight_layout()
     out = a.out or os.path.join(a.dir, "stabilization.png")
     fig.savefig(out, dpi=120)

@@ -18,6 +18,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+import plotlib  # noqa: E402
+
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -45,20 +47,39 @@ def main():
             return dict(marker="s", color="tab:green", label="modal + static correction")
         return dict(marker="^", color="tab:orange", label="modal")
 
-    fig, axes = plt.subplots(1, 2, figsize=(12, 5), constrained_layout=True)
+    # Points carry numbers (short labels that do not pile up where rungs cost the same); the rungs
+    # are listed by number beside the panels.
+    number = {r["rung"]: i + 1 for i, r in enumerate(rungs)}
+    fig, axes = plt.subplots(1, 3, figsize=(16, 5.4), constrained_layout=True, gridspec_kw={"width_ratios": [1, 1, 0.8]})
     for ax, key, title in ((axes[0], "max_acc_error", "filtered acceleration"), (axes[1], "max_disp_error", "deflection")):
+        fig.canvas.draw()
         seen = set()
         pts = []
         for r in rungs:
-            t, e = float(r["wall_s"]), max(float(r[key]), floor)
+            err = plotlib.number(r[key])
+            if err is None:  # a rung that did not run
+                continue
+            t, e = float(r["wall_s"]), max(err, floor)
             st = style(r)
             lab = st.pop("label")
             ax.loglog(t, e, linestyle="none", markersize=7, label=None if lab in seen else lab, **st)
             seen.add(lab)
-            ax.annotate(r["rung"], (t, e), fontsize=6, xytext=(3, 3), textcoords="offset points")
-            pts.append((t, e))
+            pts.append((t, e, str(number[r["rung"]])))
+        # Labels that do not overlap: each placed at the first of a few offsets whose box (in display
+        # pixels) clears the labels already placed.
+        fig.canvas.draw()
+        placed = []
+        for t, e, rung in sorted(pts, key=lambda p: (-p[1], p[0])):
+            x, y = ax.transData.transform((t, e)) / (fig.dpi / 72.0)  # in points, as the offsets
+            w, h = 4.2 * len(rung) + 2, 8
+            for dx, dy in ((4, 3), (4, -11), (-w - 4, 3), (-w - 4, -11), (4, 14), (4, -22), (-w - 4, 14), (-w - 4, -22)):
+                box = (x + dx, y + dy, x + dx + w, y + dy + h)
+                if all(box[2] < b[0] or box[0] > b[2] or box[3] < b[1] or box[1] > b[3] for b in placed):
+                    break
+            placed.append(box)
+            ax.annotate(rung, (t, e), fontsize=7, xytext=(dx, dy), textcoords="offset points")
         front, best = [], float("inf")
-        for t, e in sorted(pts):
+        for t, e, _ in sorted(pts):
             if e < best:
                 front.append((t, e))
                 best = e
@@ -71,6 +92,15 @@ def main():
         ax.set_title(f"{title}: error against cost")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
+    listing = axes[2]
+    listing.axis("off")
+    lines = ["rungs (errors: acceleration, deflection)"]
+    for r in rungs:
+        ea, ed = plotlib.number(r["max_acc_error"]), plotlib.number(r["max_disp_error"])
+        err = "not run" if ea is None or ed is None else "%.2g, %.2g" % (ea, ed)
+        lines.append("%2d  %s: %s" % (number[r["rung"]], r["rung"], err))
+    listing.text(0.0, 1.0, "\n".join(lines), va="top", ha="left", fontsize=7.5, family="monospace", transform=listing.transAxes)
+    fig.suptitle(plotlib.scenario_title(a.dir) + ": accuracy against wall time")
     out = a.out or os.path.join(a.dir, "tradeoff.png")
     fig.savefig(out, dpi=130)
     print(f"wrote {out}")

@@ -564,7 +564,8 @@ Command decay_command() {
     for (const auto& [name, v] : std::vector<std::pair<std::string, std::vector<double>*>>{
              {"frequency_hz", &f}, {"zeta_log_decrement", &zl}, {"zeta_envelope_fit", &ze}, {"zeta_hilbert", &zh}}) {
       const ident::Statistic s = ident::statistic(*v);
-      summary.push_back({name, fmt(s.mean), fmt(s.std), std::to_string(s.n)});
+      // The spread of one record is not known: an empty cell, not 0.
+      summary.push_back({name, fmt(s.mean), s.n >= 2 ? fmt(s.std) : "", std::to_string(s.n)});
     }
     io::write_table_csv(o.out + "/decay_summary.csv", {"estimate", "mean", "std", "n"}, summary);
     std::vector<std::string> inputs = {o.scenario};

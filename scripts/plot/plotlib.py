@@ -1,0 +1,83 @@
+"""What every viaduct plot shares: units in engineering form from the column names, the title
+of the scenario that produced a result, numbers that may be empty (not known), and saving.
+
+Column names carry their unit as a suffix (DESIGN.md): `_mps2`, `_m`, `_N`, ... A plot shows
+deflections in mm, forces in kN, moments in kN·m, never "mps2".
+"""
+import os
+import sys
+
+try:
+    import tomllib
+except ImportError:  # Python < 3.11: the title is then the directory's name
+    tomllib = None
+
+# suffix -> (factor to the shown unit, the unit as printed)
+UNITS = {
+    "mps2": (1.0, "m/s²"),
+    "mps": (1.0, "m/s"),
+    "m": (1e3, "mm"),
+    "mm": (1.0, "mm"),
+    "rad": (1e3, "mrad"),
+    "N": (1e-3, "kN"),
+    "kN": (1.0, "kN"),
+    "Nm": (1e-3, "kN·m"),
+    "kNm": (1.0, "kN·m"),
+    "ue": (1.0, "µε"),
+    "strain": (1e6, "µε"),
+    "s": (1.0, "s"),
+    "Hz": (1.0, "Hz"),
+}
+
+
+def split_unit(column):
+    """('S1_mid_acc', 1.0, 'm/s²') for 'S1_mid_acc_mps2'; (column, 1.0, '') without a known unit."""
+    if "_" in column:
+        base, suffix = column.rsplit("_", 1)
+        if suffix in UNITS:
+            return (base,) + UNITS[suffix]
+    return column, 1.0, ""
+
+
+def unit_label(unit):
+    """'m/s²/N' for the FRF unit 'mps2/N': each part in engineering form."""
+    return "/".join(UNITS.get(p, (1.0, p))[1] for p in unit.split("/"))
+
+
+def number(cell):
+    """A table cell as a float; None when it is empty (a value viaduct could not determine)."""
+    cell = (cell or "").strip()
+    return float(cell) if cell else None
+
+
+def manifest(directory):
+    """The manifest.toml of a result directory as a dict ({} when absent or unreadable)."""
+    path = os.path.join(directory, "manifest.toml")
+    if tomllib is None or not os.path.exists(path):
+        return {}
+    try:
+        with open(path, "rb") as f:
+            return tomllib.load(f)
+    except (OSError, tomllib.TOMLDecodeError):
+        return {}
+
+
+def scenario_title(directory, fallback=None):
+    """The scenario's `title` from the manifest, else `fallback` or the directory's name."""
+    title = manifest(directory).get("scenario", {}).get("title", "")
+    return title or fallback or os.path.basename(os.path.normpath(directory))
+
+
+def no_offset(ax):
+    """Tick labels as the values themselves, never '1e-3 + offset'."""
+    ax.ticklabel_format(axis="y", style="plain", useOffset=False)
+
+
+def save(fig, path, tool, dpi=110):
+    fig.savefig(path, dpi=dpi)
+    print("wrote", path)
+
+
+def need(path, tool, command):
+    if not os.path.exists(path):
+        sys.exit("%s: %s not found (run viaduct %s first)" % (tool, path, command))
