@@ -199,8 +199,8 @@ void print_first_modes(const model::Structure& s, const model::Modes& m, Index n
     if (b.span > 0)
       where = b.order == 0 ? "span " + std::to_string(b.span) + " rigid on its bearings"
                            : "span " + std::to_string(b.span) + " bending " + std::to_string(b.order);
-    std::printf("%s%2ld  %9.4f Hz  %-7s  deck mass share %.2f  %s\n", prefix, static_cast<long>(j + 1), m.frequency_hz[j],
-                model::mode_kind(share), share, where.c_str());
+    std::printf("%s%2ld  %9.4f Hz  %-7s  deck mass share %.2f%s%s\n", prefix, static_cast<long>(j + 1), m.frequency_hz[j],
+                model::mode_kind(share), share, where.empty() ? "" : "  ", where.c_str());
   }
 }
 
