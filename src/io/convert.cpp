@@ -151,6 +151,52 @@ std::vector<double> speeds_of(const FlatScenario& f) {
   return v;
 }
 
+// The [[stations]] entries, each checked at its keys.
+std::vector<study::StationSpec> stations_of(const FlatScenario& f, const model::BridgeParams& bridge, bool has_track) {
+  std::vector<study::StationSpec> out;
+  std::set<std::string> names;
+  for (std::size_t i : item_indices(f, "stations")) {
+    const std::string pre = "stations[" + std::to_string(i) + "].";
+    study::StationSpec s;
+    const Value& name = f.at(pre + "name");
+    s.name = name.s;
+    if (s.name.empty() || s.name.find_first_of(", \"\n") != std::string::npos)
+      bad(name, "station names must be non-empty without spaces, commas or quotes");
+    if (!names.insert(s.name).second) bad(name, "duplicate station name '" + s.name + "'");
+    if (f.has(pre + "span")) {
+      const Value& span = f.at(pre + "span");
+      if (span.x > static_cast<double>(bridge.spans.size()))
+        bad(span, "span " + num(span.x) + " does not exist (the bridge has " + std::to_string(bridge.spans.size()) + ")");
+      s.on_deck = true;
+      s.span = static_cast<std::size_t>(span.x) - 1;
+      const double L = bridge.spans[s.span].length;
+      const bool at = f.has(pre + "at"), x = f.has(pre + "x");
+      if (at == x) bad(span, "a deck station needs exactly one of 'at' (fraction) or 'x' (metres)");
+      if (at) s.x_local = f.at(pre + "at").x * L;
+      else {
+        s.x_local = f.at(pre + "x").x;
+        if (s.x_local > L) bad(f.at(pre + "x"), "must be <= the span length " + num(L) + " m");
+      }
+      if (f.has(pre + "track_x")) bad(f.at(pre + "track_x"), "a station is on a span or on the track, not both");
+      if (f.has(pre + "fibre_m")) {
+        const Value& y = f.at(pre + "fibre_m");
+        if (!(std::abs(y.x) <= 10.0) || y.x == 0.0)
+          bad(y, "the fibre's distance from the neutral axis must be non-zero and within 10 m of it (a deck is not deeper), got " + num(y.x));
+        s.fibre_m = y.x;
+      }
+    } else if (f.has(pre + "track_x")) {
+      s.on_deck = false;
+      s.x_track = f.at(pre + "track_x").x;
+      if (!has_track) bad(f.at(pre + "track_x"), "a rail station needs a track section in the scenario");
+      if (f.has(pre + "fibre_m")) bad(f.at(pre + "fibre_m"), "strain is a deck output: fibre_m needs a deck station (span)");
+    } else {
+      bad(name, "station needs 'span' (with 'at' or 'x') or 'track_x'");
+    }
+    out.push_back(s);
+  }
+  return out;
+}
+
 }  // namespace
 
 study::Scenario to_scenario(const FlatScenario& f) {
@@ -229,40 +275,7 @@ study::Scenario to_scenario(const FlatScenario& f) {
     }
   }
 
-  // Stations.
-  std::set<std::string> names;
-  for (std::size_t i : item_indices(f, "stations")) {
-    const std::string pre = "stations[" + std::to_string(i) + "].";
-    study::StationSpec s;
-    const Value& name = f.at(pre + "name");
-    s.name = name.s;
-    if (s.name.empty() || s.name.find_first_of(", \"\n") != std::string::npos)
-      bad(name, "station names must be non-empty without spaces, commas or quotes");
-    if (!names.insert(s.name).second) bad(name, "duplicate station name '" + s.name + "'");
-    if (f.has(pre + "span")) {
-      const Value& span = f.at(pre + "span");
-      if (span.x > static_cast<double>(sc.bridge.spans.size()))
-        bad(span, "span " + num(span.x) + " does not exist (the bridge has " + std::to_string(sc.bridge.spans.size()) + ")");
-      s.on_deck = true;
-      s.span = static_cast<std::size_t>(span.x) - 1;
-      const double L = sc.bridge.spans[s.span].length;
-      const bool at = f.has(pre + "at"), x = f.has(pre + "x");
-      if (at == x) bad(span, "a deck station needs exactly one of 'at' (fraction) or 'x' (metres)");
-      if (at) s.x_local = f.at(pre + "at").x * L;
-      else {
-        s.x_local = f.at(pre + "x").x;
-        if (s.x_local > L) bad(f.at(pre + "x"), "must be <= the span length " + num(L) + " m");
-      }
-      if (f.has(pre + "track_x")) bad(f.at(pre + "track_x"), "a station is on a span or on the track, not both");
-    } else if (f.has(pre + "track_x")) {
-      s.on_deck = false;
-      s.x_track = f.at(pre + "track_x").x;
-      if (!has_track) bad(f.at(pre + "track_x"), "a rail station needs a track section in the scenario");
-    } else {
-      bad(name, "station needs 'span' (with 'at' or 'x') or 'track_x'");
-    }
-    sc.stations.push_back(s);
-  }
+  sc.stations = stations_of(f, sc.bridge, has_track);
   if (sc.stations.empty()) throw InputError(SourceLocation{f.path, 0, "stations"}, "at least one [[stations]] entry is required");
 
   sc.sweep_speeds = speeds_of(f);

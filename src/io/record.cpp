@@ -17,7 +17,7 @@
 namespace viaduct::io {
 
 const std::vector<std::string>& known_units() {
-  static const std::vector<std::string> u = {"m", "mm", "mps", "mps2", "g", "N", "kN", "Pa", "V", "rad", "1"};
+  static const std::vector<std::string> u = {"m", "mm", "mps", "mps2", "g", "N", "kN", "Nm", "kNm", "ue", "Pa", "V", "rad", "1"};
   return u;
 }
 

@@ -60,6 +60,10 @@ void write_history_csv(const std::string& path, const study::RunResult& r) {
       cols.push_back(&h.rail_disp);
     }
   }
+  for (const auto& e : r.effects) {
+    std::fprintf(f.get(), ",%s", e.name.c_str());
+    cols.push_back(&e.value);
+  }
   std::fprintf(f.get(), "\n");
   for (Index k = 0; k < r.t.size(); ++k) {
     std::fprintf(f.get(), "%.6f", r.t[k]);

@@ -197,6 +197,7 @@ std::vector<KeySpec> station_keys() {  // stations
       {"stations[].at", T::number, "", "-", "[0, 1]", "Deck station position as a fraction of the span length."},
       {"stations[].x", T::number, "", "m", ">= 0", "Deck station position from the span's left end (instead of at)."},
       {"stations[].track_x", T::number, "", "m", "", "Rail station at this global x (x = 0 at the bridge start), instead of span."},
+      {"stations[].fibre_m", T::number, "", "m", "", "Deck stations: a strain gauge's distance from the neutral axis, positive below it (tension under a sagging moment), |y| <= 10 m: run writes <name>_strain_ue = 1e6 M y / EI."},
   };
 }
 

@@ -28,4 +28,8 @@ std::array<double, 4> hermite_shape(double xi, double h) {
           h * (x3 - x2)};
 }
 
+std::array<double, 4> hermite_curvature(double xi, double h) {
+  return {(12.0 * xi - 6.0) / (h * h), (6.0 * xi - 4.0) / h, (6.0 - 12.0 * xi) / (h * h), (6.0 * xi - 2.0) / h};
+}
+
 }  // namespace viaduct::model

@@ -175,6 +175,67 @@ PointCoupling point_on(const std::vector<PathElement>& elements, double x, const
   return pc;
 }
 
+double DofWeights::value(const Vector& u) const {
+  double y = 0.0;
+  for (std::size_t k = 0; k < dof.size(); ++k) y += weight[k] * u[dof[k]];
+  return y;
+}
+
+namespace {
+// The deck elements of span `span` (0-based); InputError when there is no such span.
+std::pair<std::size_t, std::size_t> span_elements(const Structure& s, std::size_t span) {
+  if (span >= s.span_start.size())
+    throw InputError("span " + std::to_string(span + 1) + " does not exist (the bridge has " +
+                     std::to_string(s.span_start.size()) + ")");
+  const std::size_t first = s.span_first_element[span];
+  const std::size_t last = span + 1 < s.span_first_element.size() ? s.span_first_element[span + 1] : s.deck_elements.size();
+  return {first, last};
+}
+
+void add_weight(DofWeights& f, Index dof, double w) {
+  if (dof < 0 || w == 0.0) return;
+  for (std::size_t k = 0; k < f.dof.size(); ++k)
+    if (f.dof[k] == dof) {
+      f.weight[k] += w;
+      return;
+    }
+  f.dof.push_back(dof);
+  f.weight.push_back(w);
+}
+}  // namespace
+
+DofWeights Structure::deck_moment(std::size_t span, double x_local) const {
+  const auto [first, last] = span_elements(*this, span);
+  const double L = span_length[span];
+  const double tol = 1e-9 * std::max(1.0, L);
+  if (!(x_local >= -tol && x_local <= L + tol))
+    throw InputError("x = " + str(x_local) + " m lies outside span " + std::to_string(span + 1) + " [0, " + str(L) + "] m");
+  const double x = span_start[span] + std::clamp(x_local, 0.0, L);
+  // The elements that hold x: one inside an element, both at a node between two.
+  std::vector<std::pair<std::size_t, double>> at;  // element, xi
+  for (std::size_t e = first; e < last; ++e) {
+    const PathElement& el = deck_elements[e];
+    const double xi = (x - el.x0) / el.h;
+    if (xi >= -1e-9 && xi <= 1.0 + 1e-9) at.emplace_back(e, std::clamp(xi, 0.0, 1.0));
+  }
+  DofWeights f;
+  const double share = -span_EI[span] / static_cast<double>(at.size());
+  for (const auto& [e, xi] : at) {
+    const PathElement& el = deck_elements[e];
+    const auto d2 = hermite_curvature(xi, el.h);
+    for (std::size_t i = 0; i < 4; ++i) add_weight(f, el.dofs[i], share * d2[i]);
+  }
+  return f;
+}
+
+DofWeights Structure::deck_end_rotation(std::size_t span, bool end) const {
+  const auto [first, last] = span_elements(*this, span);
+  const PathElement& el = deck_elements[end ? last - 1 : first];
+  DofWeights f;
+  add_weight(f, el.dofs[end ? 3 : 1], 1.0);
+  return f;
+}
+
 double Structure::path_start() const { return load_path().front().x0; }
 double Structure::path_end() const { return load_path().back().x0 + load_path().back().h; }
 
@@ -215,6 +276,7 @@ void add_span(Assembly& as, const BridgeParams& bridge, std::size_t si, double x
   const double h = sp.length / n_el;
   s.span_start.push_back(x);
   s.span_length.push_back(sp.length);
+  s.span_EI.push_back(sp.EI);
   s.span_first_element.push_back(s.deck_elements.size());
 
   const Index first_dof = next;

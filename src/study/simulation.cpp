@@ -41,6 +41,29 @@ std::vector<ResolvedStation> resolve_stations(const model::Structure& s,
   return out;
 }
 
+std::vector<LoadEffect> load_effects(const model::Structure& s, const std::vector<StationSpec>& stations) {
+  auto functional = [](const model::DofWeights& w, double scale) {
+    solve::Functional f;
+    f.dof = w.dof;
+    for (double x : w.weight) f.weight.push_back(scale * x);
+    return f;
+  };
+  std::vector<LoadEffect> out;
+  for (const auto& st : stations) {
+    if (!st.on_deck) continue;
+    const model::DofWeights m = s.deck_moment(st.span, st.x_local);
+    out.push_back({st.name + "_moment_Nm", functional(m, 1.0)});
+    // ε = M·y/EI exactly: the same functional scaled (to microstrain).
+    if (st.fibre_m != 0.0) out.push_back({st.name + "_strain_ue", functional(m, 1e6 * st.fibre_m / s.span_EI[st.span])});
+  }
+  for (std::size_t k = 0; k < s.span_start.size(); ++k) {
+    const std::string span = "span" + std::to_string(k + 1);
+    out.push_back({span + "_start_rot_rad", functional(s.deck_end_rotation(k, false), 1.0)});
+    out.push_back({span + "_end_rot_rad", functional(s.deck_end_rotation(k, true), 1.0)});
+  }
+  return out;
+}
+
 namespace {
 
 std::shared_ptr<const ModalPathTable> make_path_table(const model::Structure& s, const solve::ModalReduction& r) {
@@ -153,7 +176,7 @@ std::vector<solve::Functional> station_functionals(const std::vector<ResolvedSta
 std::shared_ptr<const solve::ModalReduction> make_modal(const model::Structure& s,
                                                         const std::vector<ResolvedStation>& stations,
                                                         const ModalSettings& ms, bool rail, Vector* kept_hz,
-                                                        double dt) {
+                                                        double dt, const std::vector<LoadEffect>& effects = {}) {
   if (ms.n_modes < 0) throw InputError("modal.n_modes must be >= 0");
   require_non_negative(ms.max_frequency_hz, "modal.max_frequency_hz [Hz]");
   const model::Modes modes = model::compute_modes_up_to(s, ms.n_modes, ms.max_frequency_hz);
@@ -173,14 +196,16 @@ std::shared_ptr<const solve::ModalReduction> make_modal(const model::Structure& 
     // into the filter's band (the vectors are then seeded by fewer modes).
     shapes = solve::damping_enriched_basis(s.M, s.C, s.K, shapes, Vector(omega), ms.damping_vectors, &omega,
                                            0.8 * M_PI / dt);
-  return std::make_shared<const solve::ModalReduction>(s.M, s.C, s.K, shapes, omega, station_functionals(stations, rail),
-                                                      ms.static_correction);
+  std::vector<solve::Functional> outputs = station_functionals(stations, rail);
+  for (const auto& e : effects) outputs.push_back(e.functional);
+  return std::make_shared<const solve::ModalReduction>(s.M, s.C, s.K, shapes, omega, outputs, ms.static_correction);
 }
 
-RunResult allocate_histories(const std::vector<ResolvedStation>& stations, double t_end, double dt) {
+RunResult allocate_histories(const std::vector<ResolvedStation>& stations, double t_end, double dt,
+                             std::size_t n_effects = 0) {
   const double n_samples_real = std::ceil(t_end / dt - 1e-9) + 1;
   // Every step is recorded: refuse runs whose histories alone would not fit comfortably.
-  const double bytes = n_samples_real * static_cast<double>(1 + 4 * stations.size()) * sizeof(double);
+  const double bytes = n_samples_real * static_cast<double>(1 + 4 * stations.size() + 2 * n_effects) * sizeof(double);
   if (bytes > kMaxHistoryBytes)
     throw InputError("a run of " + format_number(t_end, 6) + " s at dt = " + format_number(dt, 6) + " s records " +
                      format_number(n_samples_real, 6) + " samples (" + format_number(bytes / (1 << 30), 3) +
@@ -213,22 +238,27 @@ void apply_filter(RunResult& r, const RunSettings& settings) {
 // The recorded outputs: each station's main point, then the rail above deck stations (track
 // models; rail_out[i] its column, -1 when not recorded). A modal model holds its own outputs in
 // this order (rails only when prepared with rail_outputs).
+// Load effects follow (effect_out: the column of the first).
 struct OutputMap {
   std::vector<solve::Functional> outputs;
   std::vector<Index> rail_out;
+  Index effect_out = -1;
+  std::vector<std::string> effect_names;
 };
-OutputMap output_map(const std::vector<ResolvedStation>& stations, const solve::ModalReduction* modal) {
+// `rail`: the rails above deck stations are outputs (a modal model prepared without them has
+// none); `effects` are the model's load effects (a modal model holds them after its stations).
+OutputMap output_map(const std::vector<ResolvedStation>& stations, bool rail, const std::vector<LoadEffect>& effects) {
   OutputMap o;
-  o.outputs = station_functionals(stations, true);
-  const bool rail = !modal || modal->n_outputs() > static_cast<Index>(stations.size());
+  o.outputs = station_functionals(stations, rail);
   Index next = static_cast<Index>(stations.size());
   o.rail_out.assign(stations.size(), -1);
   for (std::size_t i = 0; i < stations.size(); ++i)
-    if (stations[i].has_deck && stations[i].has_rail) {
-      if (rail) o.rail_out[i] = next;
-      ++next;
-    }
-  if (!rail) o.outputs.resize(stations.size());
+    if (rail && stations[i].has_deck && stations[i].has_rail) o.rail_out[i] = next++;
+  if (!effects.empty()) o.effect_out = static_cast<Index>(o.outputs.size());
+  for (const auto& e : effects) {
+    o.outputs.push_back(e.functional);
+    o.effect_names.push_back(e.name);
+  }
   return o;
 }
 
@@ -241,19 +271,32 @@ void take_histories(const solve::CaseResult& c, const OutputMap& map, RunResult&
     if (map.rail_out[i] >= 0) h.rail_disp = c.disp.col(map.rail_out[i]);
     else h.rail_disp.resize(0);  // not an output of this modal model
   }
+  r.effects.clear();
+  for (std::size_t j = 0; j < map.effect_names.size(); ++j)
+    r.effects.push_back({map.effect_names[j], c.disp.col(map.effect_out + static_cast<Index>(j))});
   r.summary = c.summary;
   r.n_modes = c.summary.n_modes;
 }
 
 // Integrates the loads of `sys` for t in [0, t_end] into histories (unfiltered), with the
 // integrator the settings choose.
-RunResult integrate(const std::vector<ResolvedStation>& stations,
+// The outputs of a case: the stations (with their rails, unless a modal model left them out) and
+// the load effects the model was prepared with.
+struct CaseOutputs {
+  const std::vector<ResolvedStation>& stations;
+  bool modal_rails = true;
+  const std::vector<LoadEffect>& effects;
+};
+
+RunResult integrate(const CaseOutputs& out,
                     const std::shared_ptr<const solve::ModalReduction>& modal, const ModalPathTable* path,
                     const solve::SecondOrderSystem& sys, const load::Train& train, double speed, double t_end,
                     const RunSettings& settings) {
-  RunResult r = allocate_histories(stations, t_end, settings.dt);
+  const auto& stations = out.stations;
+  RunResult r = allocate_histories(stations, t_end, settings.dt, out.effects.size());
   r.method = settings.method;
-  const OutputMap map = output_map(stations, settings.method == Method::modal ? modal.get() : nullptr);
+  const bool modal_run = settings.method == Method::modal;
+  const OutputMap map = output_map(stations, !modal_run || out.modal_rails, out.effects);
   const auto integrator = solve::make_integrator(settings.integration(), map.outputs, modal);
   solve::LoadCase c;
   c.system = &sys;
@@ -269,7 +312,7 @@ RunResult integrate(const std::vector<ResolvedStation>& stations,
   return r;
 }
 
-RunResult simulate_impl(const model::Structure& s, const std::vector<ResolvedStation>& stations,
+RunResult simulate_impl(const model::Structure& s, const CaseOutputs& out,
                         const std::shared_ptr<const solve::ModalReduction>& modal, const ModalPathTable* path,
                         const load::Train& train, double speed,
                         const RunSettings& settings, double t_end_min = 0.0) {
@@ -279,7 +322,7 @@ RunResult simulate_impl(const model::Structure& s, const std::vector<ResolvedSta
   const load::MovingLoads loads(s, train, speed, settings.load_factor);
   const MovingLoadSystem sys(s, loads);
   const double t_end = std::max(loads.t_exit() + settings.free_vibration_s, t_end_min);
-  RunResult r = integrate(stations, modal, path, sys, train, speed, t_end, settings);
+  RunResult r = integrate(out, modal, path, sys, train, speed, t_end, settings);
   r.speed = speed;
   return r;
 }
@@ -316,23 +359,28 @@ void add_shifted(const Vector& r, double shift_samples, double P, Vector& y) {
 }  // namespace
 
 PreparedModel prepare_model(model::Structure s, const std::vector<StationSpec>& stations,
-                            const RunSettings& settings, bool rail_outputs) {
+                            const RunSettings& settings, bool rail_outputs, bool with_load_effects) {
   PreparedModel m;
   m.structure = std::move(s);
   m.stations = resolve_stations(m.structure, stations);
+  if (with_load_effects) m.effects = load_effects(m.structure, stations);
+  m.modal_rails = rail_outputs;
   if (settings.method == Method::modal) {
-    m.modal = make_modal(m.structure, m.stations, settings.modal, rail_outputs, &m.modal_frequency_hz, settings.dt);
+    m.modal = make_modal(m.structure, m.stations, settings.modal, rail_outputs, &m.modal_frequency_hz, settings.dt,
+                         m.effects);
     m.modal_path = make_path_table(m.structure, *m.modal);
   }
   return m;
 }
 
-PreparedModel prepare_model(const Scenario& sc, bool rail_outputs) {
-  return prepare_model(model::build_structure(sc.bridge, sc.track), sc.stations, sc.settings, rail_outputs);
+PreparedModel prepare_model(const Scenario& sc, bool rail_outputs, bool with_load_effects) {
+  return prepare_model(model::build_structure(sc.bridge, sc.track), sc.stations, sc.settings, rail_outputs,
+                       with_load_effects);
 }
 
 RunResult simulate(const PreparedModel& m, const load::Train& train, double speed, const RunSettings& settings) {
-  RunResult r = simulate_impl(m.structure, m.stations, m.modal, m.modal_path.get(), train, speed, settings);
+  RunResult r = simulate_impl(m.structure, {m.stations, m.modal_rails, m.effects}, m.modal, m.modal_path.get(), train,
+                              speed, settings);
   apply_filter(r, settings);
   return r;
 }
@@ -345,7 +393,7 @@ RunResult simulate(const model::Structure& s, const std::vector<ResolvedStation>
     modal = make_modal(s, stations, settings.modal, true, nullptr, settings.dt);
     path = make_path_table(s, *modal);
   }
-  RunResult r = simulate_impl(s, stations, modal, path.get(), train, speed, settings);
+  RunResult r = simulate_impl(s, {stations, true, {}}, modal, path.get(), train, speed, settings);
   apply_filter(r, settings);
   return r;
 }
@@ -359,7 +407,7 @@ std::vector<RunResult> simulate_batch(const PreparedModel& m, const load::Train&
   }
   require_non_negative(settings.free_vibration_s, "free_vibration_s [s]");
   require_positive(settings.dt, "analysis.dt [s]");
-  const OutputMap map = output_map(m.stations, nullptr);
+  const OutputMap map = output_map(m.stations, true, {});
   const auto integrator = solve::make_integrator(settings.integration(), map.outputs);
   const std::size_t width = integrator->batch_width();
   solve::Recording rec;
@@ -417,7 +465,8 @@ std::vector<RunResult> simulate_by_unit_response(const PreparedModel& m, const s
   RunSettings us = settings;
   us.load_factor = 1.0;
   const RunResult unit_run =
-      simulate_impl(m.structure, m.stations, m.modal, m.modal_path.get(), unit, speed, us, t_end_max + 3 * dt);
+      simulate_impl(m.structure, {m.stations, m.modal_rails, {}}, m.modal, m.modal_path.get(), unit, speed, us,
+                    t_end_max + 3 * dt);
   const double unit_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
 
   std::vector<RunResult> out;

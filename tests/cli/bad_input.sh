@@ -165,6 +165,9 @@ expect 2 "factor 0 breaks the rule of" -- "$VIADUCT" check "$(scen factor "$FACT
 expect 2 "records 1e+303 samples" -- "$VIADUCT" run "$HS" --set analysis.free_vibration_s=1e300 --out "$WORK/o"
 expect 2 "hslm-simply-supported.toml: every case failed on its input (failures.csv): a run of 1e+300 s" -- "$VIADUCT" sweep "$HS" --set analysis.free_vibration_s=1e300 --set 'train.files=["hslm:A1"]' --set sweep.speed_step_kmh=140 --quiet --out "$WORK/allbad"
 expect 0 "HSLM-A1,420," -- cat "$WORK/allbad/failures.csv"
+# Strain gauges (#20): the fibre's distance is checked at its key.
+expect 2 "fibre0.toml:9: key 'stations[0].fibre_m': the fibre's distance from the neutral axis must be non-zero" -- "$VIADUCT" check "$(scen fibre0 'fibre_m = 0.0\n')"
+expect 2 "fibre20.toml:9: key 'stations[0].fibre_m': the fibre's distance from the neutral axis must be non-zero and within 10 m of it (a deck is not deeper), got 20" -- "$VIADUCT" check "$(scen fibre20 'fibre_m = 20.0\n')"
 # Grid variants (#22): one column per varied key, the factor of each row's variant on it; two
 # entries on one key share its column.
 GRID='[sweep]\nspeeds_kmh = [100]\nmode = "grid"\n[[sweep.variants]]\nkey = "bridge.EI"\nfactors = [1.0, 2.0]\n[[sweep.variants]]\nkey = "bridge.damping.ratio"\nfactors = [0.5, 1.0]\n'

@@ -53,7 +53,7 @@ Command run_command() {
       if (!train) throw InputError("no train named '" + *ro.train + "'; the scenario has:" + names);
     }
     sc.settings.ida.log = log_printer(o.quiet);
-    const study::PreparedModel pm = study::prepare_model(sc);
+    const study::PreparedModel pm = study::prepare_model(sc, /*rail_outputs=*/true, /*with_load_effects=*/true);
     const model::Structure& s = pm.structure;
     const study::RunResult r = study::simulate(pm, *train, speed, sc.settings);
     make_out_dir(o.out);

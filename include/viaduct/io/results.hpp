@@ -15,6 +15,8 @@ namespace viaduct::io {
 /// history.csv: t_s, then per station <name>_disp_m, <name>_acc_mps2, <name>_acc_filt_mps2
 /// (when filtered), <name>_rail_disp_m (deck stations with track). Rail stations write
 /// <name>_rail_disp_m, <name>_rail_acc_mps2, <name>_rail_acc_filt_mps2. Throws SolverError on I/O failure.
+/// Then the load effects, when recorded (study::load_effects: <station>_moment_Nm,
+/// <station>_strain_ue, span<k>_start_rot_rad, span<k>_end_rot_rad).
 void write_history_csv(const std::string& path, const study::RunResult& r);
 
 /// envelope.csv: variant,train,speed_kmh,station,max_abs_acc_mps2,max_abs_disp_m; with the sweep's

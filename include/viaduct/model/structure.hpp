@@ -98,6 +98,13 @@ struct PointCoupling {
   std::complex<double> complex_value(const Eigen::VectorXcd& u) const;  ///< value() of a complex field
 };
 
+/// A linear form of the DOFs, y = Σ weight[k] · u[dof[k]] (fixed DOFs left out).
+struct DofWeights {
+  std::vector<Index> dof;
+  std::vector<double> weight;
+  double value(const Vector& u) const;
+};
+
 /// One beam element of the path the axles roll along (rail with track, deck without).
 struct PathElement {
   double x0 = 0.0;  ///< [m] start
@@ -114,6 +121,7 @@ struct Structure {
   bool has_track = false;
   std::vector<double> span_start;        ///< [m] x of each span's left end
   std::vector<double> span_length;       ///< [m]
+  std::vector<double> span_EI;           ///< [N·m²] bending stiffness of each span
   std::vector<PathElement> deck_elements;  ///< all spans, ordered by x
   std::vector<PathElement> rail_elements;  ///< empty without track
   std::vector<double> sleeper_x;         ///< [m] sleeper positions (empty without track)
@@ -129,6 +137,14 @@ struct Structure {
   /// Deflection interpolation on span `span` (0-based) at x_local [m] from its left end, in
   /// [0, length]; throws InputError outside.
   PointCoupling deck_point(std::size_t span, double x_local) const;
+  /// Bending moment [N·m] at x_local on span `span` (0-based): M = −EI·w''(x), sagging positive
+  /// (w is positive down), from the Hermite elements' curvature; at a node between two elements
+  /// the mean of both (exact when neither carries a point force, half the error of one
+  /// otherwise). InputError outside the span.
+  DofWeights deck_moment(std::size_t span, double x_local) const;
+  /// Rotation θ = dw/dx [rad] of the deck at the start (end = false) or end of span `span`:
+  /// positive where the deck falls towards +x (a sagging span: > 0 at its start, < 0 at its end).
+  DofWeights deck_end_rotation(std::size_t span, bool end) const;
   /// Deflection interpolation on the rail at x; throws InputError without track or outside it.
   PointCoupling rail_point(double x) const;
 };

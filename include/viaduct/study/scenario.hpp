@@ -20,6 +20,9 @@ struct StationSpec {
   std::size_t span = 0;      ///< 0-based span index (deck stations)
   double x_local = 0.0;      ///< [m] from the span's left end (deck stations)
   double x_track = 0.0;      ///< [m] global x (rail stations)
+  /// [m] deck stations: distance of a strain gauge's fibre from the neutral axis, positive below
+  /// it (tension under a sagging moment); 0: no strain output.
+  double fibre_m = 0.0;
 };
 
 /// Post-processing filter of accelerations (zero-phase Chebyshev I).

@@ -57,6 +57,18 @@ struct ResolvedStation {
 std::vector<ResolvedStation> resolve_stations(const model::Structure& s,
                                               const std::vector<StationSpec>& specs);
 
+/// A load effect recorded as a linear functional of the DOFs: a bending moment or strain at a deck
+/// station, a rotation at a span end. Its name carries its unit (S1_mid_moment_Nm).
+struct LoadEffect {
+  std::string name;
+  solve::Functional functional;
+};
+
+/// The load effects of a model: at each deck station its bending moment (sagging positive) and,
+/// with a fibre distance, the strain M·y/EI there [µε, tension positive; y positive below the
+/// neutral axis]; at each span's start and end the deck rotation dw/dx [rad].
+std::vector<LoadEffect> load_effects(const model::Structure& s, const std::vector<StationSpec>& stations);
+
 /// Histories of one station. The main quantities are the deck's for deck stations and the
 /// rail's for rail stations; rail_disp is the rail above a deck station (track models only).
 struct StationHistory {
@@ -68,9 +80,16 @@ struct StationHistory {
   Vector rail_disp;  ///< [m] rail deflection above a deck station (empty without track)
 };
 
+/// History of one load effect (unfiltered).
+struct EffectHistory {
+  std::string name;  ///< with its unit, as LoadEffect::name
+  Vector value;
+};
+
 struct RunResult {
   Vector t;  ///< [s] sample times (every step, t = 0 included)
   std::vector<StationHistory> stations;
+  std::vector<EffectHistory> effects;  ///< when the model was prepared with load effects
   solve::Summary summary;         ///< kernel, steps, counters, time reached, wall time (any method)
   double speed = 0.0;             ///< [m/s]
   Method method = Method::newmark;
@@ -92,16 +111,21 @@ struct PreparedModel {
   std::shared_ptr<const solve::ModalReduction> modal;
   std::shared_ptr<const ModalPathTable> modal_path;  ///< with `modal`
   Vector modal_frequency_hz;  ///< [Hz] frequencies of the modes kept (Method::modal only)
+  bool modal_rails = true;    ///< the modal model's outputs include the rail above deck stations
+  /// Recorded with the stations when prepared with load effects (modal: outputs of the reduction,
+  /// with its static correction, i.e. the mode-acceleration method).
+  std::vector<LoadEffect> effects;
 };
 
 /// Builds the structure, maps the stations and, for the modal method, solves the eigenproblem
 /// and keeps the modes settings.modal selects. rail_outputs = false leaves the rail above deck
 /// stations out of the modal outputs (StationHistory::rail_disp then stays empty; sweeps, which
 /// only take deck peaks, save the work). InputError/SolverError on failure.
-PreparedModel prepare_model(const Scenario& sc, bool rail_outputs = true);
+/// with_load_effects records load_effects() in simulate() (RunResult::effects).
+PreparedModel prepare_model(const Scenario& sc, bool rail_outputs = true, bool with_load_effects = false);
 /// The same from a built structure.
 PreparedModel prepare_model(model::Structure s, const std::vector<StationSpec>& stations,
-                            const RunSettings& settings, bool rail_outputs = true);
+                            const RunSettings& settings, bool rail_outputs = true, bool with_load_effects = false);
 
 /// Runs `train` at `speed` [m/s] from the entry of its first axle until free_vibration_s after
 /// the last axle has left, with settings.method, and records every station at every step.

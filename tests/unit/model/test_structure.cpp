@@ -1,6 +1,8 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
+#include <Eigen/SparseCholesky>
+
 #include "viaduct/core/error.hpp"
 #include "viaduct/model/beam_element.hpp"
 #include "viaduct/model/damping.hpp"
@@ -245,4 +247,37 @@ TEST_CASE("deck bending order and span of each mode") {
   CHECK(deck_bending(soft, ms.shape.col(2)).order == 1);
   // No deck deflection: no span.
   CHECK(deck_bending(one, Vector::Zero(one.n_dofs)).span == 0);
+}
+
+TEST_CASE("deck moment and end rotations: the static closed forms of a simply supported span") {
+  // 15 m span on rigid bearings, 0.5 m elements; a point force P at a, solved statically.
+  BridgeParams b;
+  b.spans = {SpanParams{15.0, 7.694e9, 15000.0}};
+  b.element_size = 0.5;
+  const Structure s = build_structure(b, std::nullopt);
+  Eigen::SimplicialLDLT<SparseMatrix> K(s.K);
+  REQUIRE(K.info() == Eigen::Success);
+  const double L = 15.0, EI = 7.694e9, P = 1e5;
+  for (const double a : {2.0, 5.25, 7.5, 11.1}) {
+    Vector f = Vector::Zero(s.n_dofs);
+    const PointCoupling at = s.deck_point(0, a);
+    for (std::size_t i = 0; i < 4; ++i)
+      if (at.dofs[i] >= 0) f[at.dofs[i]] += P * at.N[i];
+    const Vector u = K.solve(f);
+    for (const double x : {7.5, 3.75, 11.25, 4.1}) {
+      INFO("force at " << a << " m, moment at " << x << " m");
+      const double exact = x <= a ? P * (L - a) * x / L : P * a * (L - x) / L;
+      // Hermite elements are exact at the nodes (and so is the curvature of an element without
+      // the force); an element that holds it, or a point inside one, is off by up to about
+      // P·h/8 (h = 0.5 m): h/2L = 1.7 % of P·L/4 here.
+      const double tol = (std::abs(x - a) < 0.5 || std::fmod(x, 0.5) != 0.0) ? 0.02 * P * L / 4 : 1e-9 * P * L / 4;
+      CHECK(std::abs(s.deck_moment(0, x).value(u) - exact) <= tol);
+    }
+    // End rotations: θ_A = P b (L² − b²) / (6 EI L), b = L − a; θ_B = −P a (L² − a²) / (6 EI L). Exact at nodes.
+    const double bb = L - a;
+    CHECK(s.deck_end_rotation(0, false).value(u) == Approx(P * bb * (L * L - bb * bb) / (6 * EI * L)).epsilon(1e-9));
+    CHECK(s.deck_end_rotation(0, true).value(u) == Approx(-P * a * (L * L - a * a) / (6 * EI * L)).epsilon(1e-9));
+  }
+  CHECK_THROWS_WITH(s.deck_moment(0, 16.0), Catch::Contains("outside span 1"));
+  CHECK_THROWS_WITH(s.deck_moment(1, 1.0), Catch::Contains("span 2 does not exist"));
 }
