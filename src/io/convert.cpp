@@ -233,7 +233,7 @@ study::Scenario to_scenario(const FlatScenario& f) {
   const Value& files = f.at("train.files");
   if (files.ss.empty()) bad(files, "needs at least one train file");
   for (const auto& p : files.ss) {
-    if (p.rfind("hslm:", 0) == 0) {
+    if (is_builtin_train(p)) {
       for (auto& t : hslm_trains(p, files)) sc.trains.push_back(std::move(t));
       continue;
     }

@@ -22,6 +22,7 @@
 #define VIADUCT_VERSION "0.0.0"
 #endif
 #include "atomic_file.hpp"
+#include "viaduct/io/scenario.hpp"
 #include "git_commit.hpp"  // VIADUCT_GIT_COMMIT, written at build time (cmake/git_commit.cmake)
 
 namespace viaduct::io {
@@ -268,7 +269,7 @@ void write_manifest(const std::string& path, const Manifest& m, const FlatScenar
     for (const auto& kv : flat->values) add(kv.second.where.file);
     if (flat->has("train.files"))
       for (const auto& t : flat->at("train.files").ss)
-        if (t.rfind("hslm:", 0) != 0) add(t);
+        if (!is_builtin_train(t)) add(t);
   }
   for (const auto& f : m.inputs) add(f);
   std::ostringstream out;

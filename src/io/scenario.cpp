@@ -325,10 +325,7 @@ FlatScenario load_flat(const std::string& path, const std::vector<std::string>& 
     const SourceLocation w{"--unset", 0, key};
     std::size_t n = 0;
     for (auto it = fsn.values.begin(); it != fsn.values.end();) {
-      const std::string& k = it->first;
-      const bool under = k == key || (k.size() > key.size() && k.compare(0, key.size(), key) == 0 &&
-                                      (k[key.size()] == '.' || k[key.size()] == '['));
-      if (under) {
+      if (key_is_under(it->first, key)) {
         it = fsn.values.erase(it);
         ++n;
       } else {
@@ -350,7 +347,7 @@ FlatScenario load_flat(const std::string& path, const std::vector<std::string>& 
   // Train files are relative to where the key was written.
   if (auto it = fsn.values.find("train.files"); it != fsn.values.end())
     for (auto& f : it->second.ss)
-      if (f.rfind("hslm:", 0) != 0) f = resolve_relative(f, it->second.where);  // "hslm:A1-A10" names no file
+      if (!is_builtin_train(f)) f = resolve_relative(f, it->second.where);  // "hslm:A1-A10" names no file
   // So are the fit's record and mode files.
   for (auto& [key, v] : fsn.values) {
     const bool record_file = key.rfind("fit.records[", 0) == 0 && key.size() > 5 && key.compare(key.size() - 5, 5, ".file") == 0;

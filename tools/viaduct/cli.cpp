@@ -137,7 +137,7 @@ io::FlatScenario load_scenario(const Common& o) {
   for (const auto& s : o.set)
     for (const auto& u : o.unset) {
       const std::string key = s.substr(0, s.find('='));
-      if (key == u || key.rfind(u + ".", 0) == 0 || key.rfind(u + "[", 0) == 0)
+      if (io::key_is_under(key, u))
         throw InputError("--set " + key + " and --unset " + u + ": give a key one of them (--unset removes after --set)");
     }
   return io::load_flat(o.scenario, o.set, o.unset);

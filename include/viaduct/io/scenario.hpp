@@ -90,6 +90,16 @@ std::string resolved_toml(const FlatScenario& flat);
 /// Markdown table of the schema (docs/scenarios.md is generated from it).
 std::string schema_markdown();
 
+/// True when `key` is `prefix` or lies under it (a table's key or an array's item):
+/// sweep.variants[0].key is under sweep.variants and under sweep, not under swee.
+inline bool key_is_under(const std::string& key, const std::string& prefix) {
+  return key == prefix || (key.size() > prefix.size() && key.compare(0, prefix.size(), prefix) == 0 &&
+                           (key[prefix.size()] == '.' || key[prefix.size()] == '['));
+}
+
+/// True for an entry of train.files that names built-in trains ("hslm:A1-A10"), not a file.
+inline bool is_builtin_train(const std::string& entry) { return entry.rfind("hslm:", 0) == 0; }
+
 /// Reads a train file: TOML (kind = "hslm" | "regular" | "axles") or CSV with columns
 /// position_m,load_kN ('#' comment lines). Throws InputError with file and line.
 load::Train read_train_file(const std::string& path);
