@@ -5,6 +5,7 @@
 #include "cli.hpp"
 #include "viaduct/io/results.hpp"
 #include "viaduct/study/guards.hpp"
+#include "viaduct/study/quasi_static.hpp"
 
 namespace viaduct::cli {
 
@@ -13,6 +14,28 @@ struct RunOptions {
   std::optional<double> speed_kmh;
   std::optional<std::string> train;
 };
+
+// quasi_static.csv (the crawling train's histories, same columns as history.csv's load effects and
+// deflections) and dynamic_increments.csv (quantity, max_dynamic, max_static, phi_dyn).
+void write_quasi_static(const std::string& out, const study::RunResult& r, const study::QuasiStaticResult& qs) {
+  std::vector<std::string> names = {"t_s"};
+  std::vector<Vector> cols = {r.t};
+  for (std::size_t q = 0; q < qs.names.size(); ++q) {
+    names.push_back(qs.names[q]);
+    cols.push_back(qs.value[q]);
+  }
+  io::write_columns_csv(out + "/quasi_static.csv", names, cols);
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& d : qs.increments)
+    rows.push_back({d.name, io::table_cell(d.max_dynamic), io::table_cell(d.max_static), io::table_cell(d.phi_dyn)});
+  io::write_table_csv(out + "/dynamic_increments.csv", {"quantity", "max_dynamic", "max_static", "phi_dyn"}, rows);
+}
+
+void print_increments(const study::QuasiStaticResult& qs) {
+  std::printf("dynamic increments phi'dyn = max|dynamic| / max|quasi-static| - 1:\n");
+  for (const auto& d : qs.increments)
+    std::printf("  %-24s %8.4f  (dynamic %.5g, quasi-static %.5g)\n", d.name.c_str(), d.phi_dyn, d.max_dynamic, d.max_static);
+}
 }  // namespace
 
 Command run_command() {
@@ -25,7 +48,11 @@ Command run_command() {
   };
   c.usage_and_samples =
       "Writes OUT/history.csv (t_s and, per station, deflection, raw and filtered acceleration,\n"
-      "rail deflection with track) and OUT/manifest.toml. Plot with scripts/plot/plot_history.py OUT.\n\n"
+      "rail deflection with track; then the load effects: bending moment <station>_moment_Nm,\n"
+      "strain <station>_strain_ue at stations[].fibre_m, span<k>_start/end_rot_rad),\n"
+      "OUT/quasi_static.csv (the same train crawling: deck deflections and load effects),\n"
+      "OUT/dynamic_increments.csv (phi'dyn = max|dynamic| / max|quasi-static| - 1 per quantity)\n"
+      "and OUT/manifest.toml. Plot with scripts/plot/plot_history.py OUT.\n\n"
       "Sample runs:\n"
       "  viaduct run scenarios/old-guadiana-talgo.toml --out out/talgo\n"
       "  viaduct run scenarios/hslm-simply-supported.toml --speed-kmh 300 --train HSLM-A4 --out out/a4\n";
@@ -56,8 +83,11 @@ Command run_command() {
     const study::PreparedModel pm = study::prepare_model(sc, /*rail_outputs=*/true, /*with_load_effects=*/true);
     const model::Structure& s = pm.structure;
     const study::RunResult r = study::simulate(pm, *train, speed, sc.settings);
+    // The same train crawling: the quasi-static response and φ′dyn per quantity (EN 1991-2 6.4.6.5).
+    const study::QuasiStaticResult qs = study::quasi_static(pm, *train, speed, sc.settings.load_factor, r);
     make_out_dir(o.out);
     io::write_history_csv(o.out + "/history.csv", r);
+    write_quasi_static(o.out, r, qs);
     io::Manifest m = start_manifest(o, "run");
     m.warnings = study::accuracy_warnings(sc, {speed});
     print_warnings("run", m.warnings);
@@ -86,7 +116,8 @@ Command run_command() {
       for (std::size_t i = 0; i < pk.size(); ++i)
         std::printf("  %-16s max |acc| %.4f m/s²  max |disp| %.4f mm\n", r.stations[i].name.c_str(), pk[i].max_abs_acc,
                     pk[i].max_abs_disp * 1e3);
-      std::printf("wrote %s/history.csv\n", o.out.c_str());
+      print_increments(qs);
+      std::printf("wrote %s/history.csv, quasi_static.csv, dynamic_increments.csv\n", o.out.c_str());
     }
     return ok;
   };
