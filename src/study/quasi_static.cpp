@@ -52,7 +52,11 @@ QuasiStaticResult quasi_static(const PreparedModel& m, const load::Train& train,
   if (K.info() != Eigen::Success) throw SolverError("quasi-static response: the stiffness matrix cannot be factorised");
   // Influence lines: y(t) = cᵀ K⁻¹ f(t) = zᵀ f(t), z = K⁻¹ c (K symmetric).
   std::vector<Vector> z;
-  for (const auto& f : funcs) z.push_back(K.solve(as_dense(f, s.n_dofs)));
+  for (const auto& f : funcs) {
+    z.push_back(K.solve(as_dense(f, s.n_dofs)));
+    if (!z.back().allFinite())
+      throw SolverError("quasi-static response: the stiffness matrix is singular (a part of the model is not supported)");
+  }
   const load::MovingLoads loads(s, train, speed, load_factor);
   QuasiStaticResult out;
   out.names = names;
