@@ -142,8 +142,8 @@ void decay_window(const DecaySignal& s, const std::vector<TimedPeak>& half, doub
   const double t_usable_end = s.time_of(s.n - 1 - edge);
   if (std::isfinite(o.start_s)) {
     if (o.start_s < s.t0 || o.start_s >= t_last)
-      throw InputError("decay: start " + std::to_string(o.start_s) + " s lies outside the record [" + std::to_string(s.t0) +
-                       ", " + std::to_string(t_last) + "] s");
+      throw InputError("decay: DecayOptions::start_s = " + format_number(o.start_s, 6) + " s lies outside the record [" +
+                       format_number(s.t0, 6) + ", " + format_number(t_last, 6) + "] s");
     r.start_s = o.start_s;
   } else {
     r.start_detected = true;
@@ -160,8 +160,8 @@ void decay_window(const DecaySignal& s, const std::vector<TimedPeak>& half, doub
   }
   if (std::isfinite(o.end_s)) {
     if (o.end_s <= r.start_s || o.end_s > t_last + 0.5 / s.fs)
-      throw InputError("decay: end " + std::to_string(o.end_s) + " s must lie after the start (" + std::to_string(r.start_s) +
-                       " s) and within the record");
+      throw InputError("decay: DecayOptions::end_s = " + format_number(o.end_s, 6) + " s must lie after the start (" +
+                       format_number(r.start_s, 6) + " s) and within the record (to " + format_number(t_last, 6) + " s)");
     r.end_s = std::min(o.end_s, t_usable_end);
   } else {
     r.end_s = t_usable_end;
@@ -300,10 +300,18 @@ DecayResult analyse_decay(const Vector& x, double fs_hz, double t0_s, const Deca
   const double a = r.start_s + o.skip_cycles * cycle;
   const double b = r.end_s;
   r.n_cycles = std::max(0.0, (b - a) * f0);
-  if (r.n_cycles < o.min_cycles)
-    throw InputError("decay: too short a decay: " + std::to_string(r.n_cycles) + " cycles of " + std::to_string(f0) +
-                     " Hz between " + std::to_string(a) + " s and " + std::to_string(b) +
-                     " s above the noise, at least " + std::to_string(o.min_cycles) + " needed");
+  if (r.n_cycles < o.min_cycles) {
+    auto n = [](double v) { return format_number(v, 4); };
+    const std::string where = (r.start_detected ? "the decay detected at " : "the decay given at ") + n(r.start_s) + " s";
+    if (a >= b)  // the window is empty: say why rather than "0 cycles between 3.75 s and 3.13 s"
+      throw InputError("decay: too short a decay: " + where + ", after the " + n(o.skip_cycles) +
+                       " cycles skipped for the filter's transient (to " + n(a) + " s), leaves nothing before " + n(b) +
+                       " s (" + (std::isfinite(o.end_s) ? "--end-s" : "the record's end less two cycles of the filter's edge, or the noise") +
+                       "): record longer after the passage, or give --start-s, --end-s or --skip-cycles");
+    throw InputError("decay: too short a decay: " + n(r.n_cycles) + " cycles of " + n(f0) + " Hz from " + n(a) + " s (" + where +
+                     " plus " + n(o.skip_cycles) + " cycles skipped) to " + n(b) + " s above the noise, at least " +
+                     n(o.min_cycles) + " needed (--min-cycles)");
+  }
   const double wd = damped_frequency(s, a, b);
   if (!(std::isfinite(wd) && wd > 0.0))
     throw InputError("decay: no oscillation of the mode in the decay window (the zero crossings give no period)");

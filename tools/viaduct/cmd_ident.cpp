@@ -221,7 +221,7 @@ struct ModalFitCliOptions {
 
 struct DecayCliOptions {
   std::optional<std::string> channel;
-  std::optional<double> frequency_hz, start_s, entry_s, speed_kmh, train_length_m, bridge_length_m;
+  std::optional<double> frequency_hz, start_s, end_s, entry_s, speed_kmh, train_length_m, bridge_length_m;
   ident::DecayOptions decay;
 };
 
@@ -499,6 +499,8 @@ Command decay_command() {
         "speed-kmh", optional_value(k.speed_kmh), "... the train speed [km/h] ...")(
         "train-length-m", optional_value(k.train_length_m), "... its length [m] ...")(
         "bridge-length-m", optional_value(k.bridge_length_m), "... and the bridge length [m]: start when the last axle leaves")(
+        "end-s", optional_value(k.end_s), "end of the free decay [s] (default: where it sinks into the noise, or the record's end)")(
+        "skip-cycles", value(k.decay.skip_cycles), "cycles left out after the start (the band-pass filter's transient)")(
         "window-cycles", value(k.decay.window_cycles), "cycles per amplitude window")(
         "min-cycles", value(k.decay.min_cycles), "shortest decay accepted [cycles]");
   };
@@ -523,6 +525,7 @@ Command decay_command() {
     if (n_train != 0 && n_train != 4) throw InputError("--entry-s, --speed-kmh, --train-length-m and --bridge-length-m go together");
     if (n_train == 4 && k.start_s) throw InputError("give --start-s or the train's passage, not both");
     if (k.start_s) d.start_s = *k.start_s;
+    if (k.end_s) d.end_s = *k.end_s;
     if (n_train == 4) d.start_s = ident::passage_end_time(*k.entry_s, *k.train_length_m, *k.bridge_length_m, *k.speed_kmh / 3.6);
     std::vector<std::string> files{o.scenario};
     files.insert(files.end(), o.more.begin(), o.more.end());
@@ -572,8 +575,11 @@ Command decay_command() {
     inputs.insert(inputs.end(), o.more.begin(), o.more.end());
     io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "decay", inputs), nullptr);
     if (!failures.empty()) {
-      for (const auto& e : failures) std::fprintf(stderr, "viaduct decay: error: %s\n", e.c_str());
-      return usage_error;
+      // One error per record that failed (the others are written), each in the command's terms
+      // (a library field such as DecayOptions::end_s named as --end-s) by the dispatcher.
+      std::string all;
+      for (std::size_t i = 0; i < failures.size(); ++i) all += (i ? "\nviaduct decay: error: " : "") + failures[i];
+      throw InputError(all);
     }
     if (!o.quiet) std::printf("wrote %s/decay.csv, decay_amplitude.csv, decay_summary.csv\n", o.out.c_str());
     return ok;
