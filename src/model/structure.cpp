@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include <Eigen/SparseCholesky>
+
 #include "viaduct/core/error.hpp"
 #include "viaduct/model/beam_element.hpp"
 #include "viaduct/model/damping.hpp"
@@ -264,6 +266,44 @@ struct Assembly {
   Index next = 0;
 };
 
+// The forces of span si's rigid bearings (its last deck elements just added): minus the fixed DOF's
+// row of the element stiffness and mass, and of the structural damping. Modal damping has no
+// row for a fixed DOF: its damping force field is M Φ diag(2ζω) Φᵀ M v, whose fixed-DOF entry is
+// M_Af M_ff⁻¹ C_ff v; Rayleigh's is a0 M_Af + a1 K_Af.
+void add_rigid_bearings(Structure& s, std::size_t si, const BridgeDamping& damping, const Matrix4& ke, const Matrix4& me,
+                        const SparseMatrix& Ms, const Matrix& Cs, Index first_dof) {
+  const std::size_t first = s.span_first_element[si], last = s.deck_elements.size() - 1;
+  const Index n_span = Ms.rows();
+  Eigen::SimplicialLDLT<SparseMatrix> Mff(Ms);
+  for (const bool end : {false, true}) {
+    BearingForce b;
+    b.span = si;
+    b.end = end;
+    b.rigid = true;
+    b.element = s.deck_elements[end ? last : first];
+    b.fixed_local = end ? 2 : 0;
+    Vector mrow = Vector::Zero(n_span), krow = Vector::Zero(n_span);  // over the span's free DOFs
+    for (int q = 0; q < 4; ++q) {
+      const Index d = b.element.dofs[static_cast<std::size_t>(q)];
+      if (d < 0) continue;
+      add_weight(b.k, d, -ke(b.fixed_local, q));
+      add_weight(b.m, d, -me(b.fixed_local, q));
+      mrow[d - first_dof] += me(b.fixed_local, q);
+      krow[d - first_dof] += ke(b.fixed_local, q);
+    }
+    Vector crow = Vector::Zero(n_span);
+    if (damping.kind == DampingKind::modal) {
+      crow = Cs * Mff.solve(mrow);  // (M_Af M_ff⁻¹ C_ff)ᵀ, C symmetric
+    } else if (damping.kind == DampingKind::rayleigh) {
+      const auto [a0, a1] = rayleigh_coefficients(damping.f1_hz, damping.ratio1, damping.f2_hz, damping.ratio2);
+      crow = a0 * mrow + a1 * krow;
+    }
+    for (Index i = 0; i < n_span; ++i)
+      if (crow[i] != 0.0) add_weight(b.c, first_dof + i, -crow[i]);
+    s.bearings.push_back(b);
+  }
+}
+
 // Span `si` starting at x [m]: its nodes (bearing DOFs fixed when rigid), beam elements, bearing
 // springs and dashpots, and its structural damping from its own M and K.
 void add_span(Assembly& as, const BridgeParams& bridge, std::size_t si, double x, double deck_mass_reduction) {
@@ -305,6 +345,14 @@ void add_span(Assembly& as, const BridgeParams& bridge, std::size_t si, double x
       const Index d = node[static_cast<std::size_t>(j)][0];
       lk.emplace_back(d, d, bridge.bearings.k);
       tc.emplace_back(d, d, bridge.bearings.c);
+      BearingForce b;
+      b.span = si;
+      b.end = j == n_el;
+      b.rigid = false;
+      add_weight(b.k, d, bridge.bearings.k);
+      add_weight(b.c, d, bridge.bearings.c);
+      b.element = s.deck_elements[j == n_el ? s.deck_elements.size() - 1 : s.span_first_element[si]];
+      s.bearings.push_back(b);
     }
   }
   // Structural damping from the span's own M and K (bearing springs included).
@@ -322,6 +370,7 @@ void add_span(Assembly& as, const BridgeParams& bridge, std::size_t si, double x
   for (Index i = 0; i < n_span; ++i)
     for (Index j = 0; j < n_span; ++j)
       if (Cs(i, j) != 0.0) tc.emplace_back(first_dof + i, first_dof + j, Cs(i, j));
+  if (bridge.bearings.rigid) add_rigid_bearings(s, si, bridge.damping, ke, me, Ms, Cs, first_dof);
   tm.insert(tm.end(), lm.begin(), lm.end());
   tk.insert(tk.end(), lk.begin(), lk.end());
 }
@@ -391,6 +440,17 @@ void add_track(Assembly& as, const TrackParams& tp, double L_bridge) {
         const PointCoupling pc = s.deck_point(si, std::clamp(xs - a, 0.0, s.span_length[si]));
         for (std::size_t q = 0; q < 4; ++q) sub.add(pc.dofs[q], -pc.N[q]);
         sd = &tp.subgrade_on_bridge;
+        // The link's force on a rigid bearing's fixed DOF (coefficient −N there), which the
+        // assembly leaves out: minus k·c_A·(link elongation), into that bearing's force.
+        for (std::size_t q : {0u, 2u})
+          if (pc.dofs[q] < 0 && pc.N[q] != 0.0) {
+            BearingForce& bf = s.bearings[2 * si + (q == 2 ? 1 : 0)];
+            const double cA = -pc.N[q];
+            for (int l = 0; l < sub.n; ++l) {
+              add_weight(bf.k, sub.dofs[static_cast<std::size_t>(l)], -sd->k * cA * sub.coef[static_cast<std::size_t>(l)]);
+              add_weight(bf.c, sub.dofs[static_cast<std::size_t>(l)], -sd->c * cA * sub.coef[static_cast<std::size_t>(l)]);
+            }
+          }
         break;
       }
     }

@@ -62,11 +62,14 @@ QuasiStaticResult quasi_static(const PreparedModel& m, const load::Train& train,
   out.names = names;
   out.value.assign(names.size(), Vector::Zero(run.t.size()));
   SparseForce f;
+  const std::size_t n_disp = names.size() - std::min(names.size(), m.effects.size());
   for (Index k = 0; k < run.t.size(); ++k) {
     loads.entries(run.t[k], f);
     for (std::size_t q = 0; q < z.size(); ++q) {
       double y = 0.0;
       for (std::size_t e = 0; e < f.dof.size(); ++e) y += z[q][f.dof[e]] * f.value[e];
+      // A rigid bearing's force: plus the axles on its element (no inertia or damping at rest).
+      if (q >= n_disp) y += bearing_load(s, m.effects[q - n_disp], train, load_factor, s.path_start() + speed * run.t[k]);
       out.value[q][k] = y;
     }
   }

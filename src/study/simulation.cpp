@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "viaduct/core/error.hpp"
+#include "viaduct/model/beam_element.hpp"
 #include "viaduct/model/modes.hpp"
 #include "viaduct/signal/iir.hpp"
 #include "viaduct/signal/peaks.hpp"
@@ -61,10 +62,38 @@ std::vector<LoadEffect> load_effects(const model::Structure& s, const std::vecto
     out.push_back({span + "_start_rot_rad", functional(s.deck_end_rotation(k, false), 1.0)});
     out.push_back({span + "_end_rot_rad", functional(s.deck_end_rotation(k, true), 1.0)});
   }
+  for (std::size_t b = 0; b < s.bearings.size(); ++b) {
+    const model::BearingForce& bf = s.bearings[b];
+    out.push_back({"span" + std::to_string(bf.span + 1) + (bf.end ? "_end" : "_start") + "_reaction_N", functional(bf.k, 1.0),
+                   functional(bf.m, 1.0), functional(bf.c, 1.0), static_cast<int>(b)});
+  }
   return out;
 }
 
+double bearing_load(const model::Structure& s, const LoadEffect& e, const load::Train& train, double load_factor, double x_head) {
+  if (e.bearing < 0 || s.has_track) return 0.0;  // with a track the axles load the rail
+  const model::BearingForce& bf = s.bearings[static_cast<std::size_t>(e.bearing)];
+  if (!bf.rigid) return 0.0;
+  double f = 0.0;
+  for (std::size_t k = 0; k < train.n_axles(); ++k) {
+    const double x = x_head - train.offset[k];
+    if (x < bf.element.x0 || x > bf.element.x0 + bf.element.h) continue;
+    // An axle exactly on the joint of two elements counts once, on the element it lies in first.
+    const double xi = (x - bf.element.x0) / bf.element.h;
+    f += load_factor * train.load[k] * model::hermite_shape(xi, bf.element.h)[static_cast<std::size_t>(bf.fixed_local)];
+  }
+  return f;
+}
+
 namespace {
+
+// The outputs one effect records: its functional, then its inertia and damping parts if any.
+std::vector<solve::Functional> effect_outputs(const LoadEffect& e) {
+  std::vector<solve::Functional> out = {e.functional};
+  if (!e.inertia.dof.empty()) out.push_back(e.inertia);
+  if (!e.damping.dof.empty()) out.push_back(e.damping);
+  return out;
+}
 
 std::shared_ptr<const ModalPathTable> make_path_table(const model::Structure& s, const solve::ModalReduction& r) {
   auto t = std::make_shared<ModalPathTable>();
@@ -197,7 +226,8 @@ std::shared_ptr<const solve::ModalReduction> make_modal(const model::Structure& 
     shapes = solve::damping_enriched_basis(s.M, s.C, s.K, shapes, Vector(omega), ms.damping_vectors, &omega,
                                            0.8 * M_PI / dt);
   std::vector<solve::Functional> outputs = station_functionals(stations, rail);
-  for (const auto& e : effects) outputs.push_back(e.functional);
+  for (const auto& e : effects)
+    for (auto& f : effect_outputs(e)) outputs.push_back(std::move(f));
   return std::make_shared<const solve::ModalReduction>(s.M, s.C, s.K, shapes, omega, outputs, ms.static_correction);
 }
 
@@ -205,7 +235,8 @@ RunResult allocate_histories(const std::vector<ResolvedStation>& stations, doubl
                              std::size_t n_effects = 0) {
   const double n_samples_real = std::ceil(t_end / dt - 1e-9) + 1;
   // Every step is recorded: refuse runs whose histories alone would not fit comfortably.
-  const double bytes = n_samples_real * static_cast<double>(1 + 4 * stations.size() + 2 * n_effects) * sizeof(double);
+  // (an effect records up to three outputs, each a deflection and an acceleration history)
+  const double bytes = n_samples_real * static_cast<double>(1 + 4 * stations.size() + 6 * n_effects) * sizeof(double);
   if (bytes > kMaxHistoryBytes)
     throw InputError("a run of " + format_number(t_end, 6) + " s at dt = " + format_number(dt, 6) + " s records " +
                      format_number(n_samples_real, 6) + " samples (" + format_number(bytes / (1 << 30), 3) +
@@ -242,9 +273,13 @@ void apply_filter(RunResult& r, const RunSettings& settings) {
 struct OutputMap {
   std::vector<solve::Functional> outputs;
   std::vector<Index> rail_out;
-  Index effect_out = -1;
-  std::vector<std::string> effect_names;
+  struct Effect {
+    std::string name;
+    Index value = -1, inertia = -1, damping = -1;  // output columns (-1: none)
+  };
+  std::vector<Effect> effects;
 };
+
 // `rail`: the rails above deck stations are outputs (a modal model prepared without them has
 // none); `effects` are the model's load effects (a modal model holds them after its stations).
 OutputMap output_map(const std::vector<ResolvedStation>& stations, bool rail, const std::vector<LoadEffect>& effects) {
@@ -254,10 +289,20 @@ OutputMap output_map(const std::vector<ResolvedStation>& stations, bool rail, co
   o.rail_out.assign(stations.size(), -1);
   for (std::size_t i = 0; i < stations.size(); ++i)
     if (rail && stations[i].has_deck && stations[i].has_rail) o.rail_out[i] = next++;
-  if (!effects.empty()) o.effect_out = static_cast<Index>(o.outputs.size());
   for (const auto& e : effects) {
+    OutputMap::Effect m;
+    m.name = e.name;
+    m.value = static_cast<Index>(o.outputs.size());
     o.outputs.push_back(e.functional);
-    o.effect_names.push_back(e.name);
+    if (!e.inertia.dof.empty()) {
+      m.inertia = static_cast<Index>(o.outputs.size());
+      o.outputs.push_back(e.inertia);
+    }
+    if (!e.damping.dof.empty()) {
+      m.damping = static_cast<Index>(o.outputs.size());
+      o.outputs.push_back(e.damping);
+    }
+    o.effects.push_back(m);
   }
   return o;
 }
@@ -272,8 +317,19 @@ void take_histories(const solve::CaseResult& c, const OutputMap& map, RunResult&
     else h.rail_disp.resize(0);  // not an output of this modal model
   }
   r.effects.clear();
-  for (std::size_t j = 0; j < map.effect_names.size(); ++j)
-    r.effects.push_back({map.effect_names[j], c.disp.col(map.effect_out + static_cast<Index>(j))});
+  for (const auto& e : map.effects) {
+    Vector y = c.disp.col(e.value);
+    if (e.inertia >= 0) y += c.acc.col(e.inertia);
+    if (e.damping >= 0) {  // damping·v, v the trapezoidal integral of the recorded damping·a
+      const Vector ca = c.acc.col(e.damping);
+      double v = 0.0;
+      for (Index k = 1; k < y.size(); ++k) {
+        v += 0.5 * (r.t[k] - r.t[k - 1]) * (ca[k - 1] + ca[k]);
+        y[k] += v;
+      }
+    }
+    r.effects.push_back({e.name, y});
+  }
   r.summary = c.summary;
   r.n_modes = c.summary.n_modes;
 }
@@ -324,6 +380,11 @@ RunResult simulate_impl(const model::Structure& s, const CaseOutputs& out,
   const double t_end = std::max(loads.t_exit() + settings.free_vibration_s, t_end_min);
   RunResult r = integrate(out, modal, path, sys, train, speed, t_end, settings);
   r.speed = speed;
+  // Axles on a rigid bearing's own element load its fixed DOF directly.
+  for (std::size_t j = 0; j < out.effects.size() && j < r.effects.size(); ++j)
+    if (out.effects[j].bearing >= 0)
+      for (Index k = 0; k < r.t.size(); ++k)
+        r.effects[j].value[k] += bearing_load(s, out.effects[j], train, settings.load_factor, s.path_start() + speed * r.t[k]);
   return r;
 }
 

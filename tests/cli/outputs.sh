@@ -43,6 +43,10 @@ expect 0 "t_s,mid_disp_m,mid_moment_Nm,mid_strain_ue,span1_start_rot_rad,span1_e
 expect 0 "quantity,max_dynamic,max_static,phi_dyn" -- head -1 "$WORK/le/dynamic_increments.csv"
 expect 0 "mid_moment_Nm," -- cat "$WORK/le/dynamic_increments.csv"
 expect 0 "dynamic increments phi'dyn" -- "$VIADUCT" run "$HS" --out "$WORK/le2"
+# Bearing forces with the permanent g·m·L/2 (15 t/m x 15 m: 1103.2 kN), uplift flagged: the
+# same bridge five times lighter (and softer, the same f1) is lifted at resonance.
+expect 0 "span1_start              traffic -979.6 to 1169.9 kN, permanent 1103.2 kN: 123.6 to 2273.1 kN" -- "$VIADUCT" run "$HS" --out "$WORK/le2"
+expect 0 "permanent 220.6 kN: -759.0 to 1390.5 kN  UPLIFT" -- "$VIADUCT" run "$HS" --set bridge.mass_per_m=3000 --set bridge.EI=1.5388e9 --out "$WORK/le3"
 # run names f1 of the deck.
 expect 0 "f1 = 5.000 Hz (span 1, first bending)" -- "$VIADUCT" run "$HS" --out "$WORK/run"
 # Short work shows no progress lines (#22): the 10-case sweep above takes well under 2 s.

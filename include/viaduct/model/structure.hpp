@@ -112,6 +112,20 @@ struct PathElement {
   std::array<Index, 4> dofs{{-1, -1, -1, -1}};  ///< w0, θ0, w1, θ1 (-1: fixed)
 };
 
+/// The force a bearing carries [N], compression positive (the deck pushing down on it), as
+/// R = k·u + m·a + c·v + the consistent load at its fixed DOF. Elastic bearings: the spring and
+/// dashpot, k_b·w + c_b·ẇ. Rigid ones: minus the fixed DOF's row of the element and link forces
+/// that assembly leaves out (the deck element at the bearing, its structural damping, the track
+/// links to the deck near it); an axle on `element` adds P·N of that DOF (loads on the deck).
+struct BearingForce {
+  std::size_t span = 0;
+  bool end = false;   ///< false: at the span's start
+  bool rigid = true;
+  DofWeights k, m, c;
+  PathElement element;  ///< the deck element at the bearing
+  int fixed_local = 0;  ///< rigid: its local DOF that is fixed (0: w0, 2: w1)
+};
+
 /// Assembled model. Matrices are symmetric, stored in full, n_dofs × n_dofs.
 struct Structure {
   SparseMatrix M, C, K;
@@ -134,6 +148,7 @@ struct Structure {
   double path_start() const;  ///< [m]
   double path_end() const;    ///< [m]
   std::vector<std::size_t> span_first_element;  ///< index into deck_elements, per span
+  std::vector<BearingForce> bearings;  ///< per span, its start then its end bearing
   /// Deflection interpolation on span `span` (0-based) at x_local [m] from its left end, in
   /// [0, length]; throws InputError outside.
   PointCoupling deck_point(std::size_t span, double x_local) const;

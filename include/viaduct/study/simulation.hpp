@@ -57,17 +57,31 @@ struct ResolvedStation {
 std::vector<ResolvedStation> resolve_stations(const model::Structure& s,
                                               const std::vector<StationSpec>& specs);
 
-/// A load effect recorded as a linear functional of the DOFs: a bending moment or strain at a deck
-/// station, a rotation at a span end. Its name carries its unit (S1_mid_moment_Nm).
+/// A load effect, linear in the state: y = functional·u + inertia·a + damping·v (+ the axle loads
+/// on a rigid bearing's element when the loads act on the deck). A bending moment, strain or
+/// rotation has only `functional`; a bearing force all three. Its name carries its unit
+/// (S1_mid_moment_Nm). v is the trapezoidal integral of the recorded damping·a from rest (exact
+/// for Newmark's average acceleration).
 struct LoadEffect {
   std::string name;
   solve::Functional functional;
+  solve::Functional inertia{};
+  solve::Functional damping{};
+  int bearing = -1;  ///< index into Structure::bearings for a bearing force
 };
 
 /// The load effects of a model: at each deck station its bending moment (sagging positive) and,
 /// with a fibre distance, the strain M·y/EI there [µε, tension positive; y positive below the
-/// neutral axis]; at each span's start and end the deck rotation dw/dx [rad].
+/// neutral axis]; at each span's start and end the deck rotation dw/dx [rad] and the bearing
+/// force [N, compression positive] (model::BearingForce; traffic only, without the permanent
+/// load).
 std::vector<LoadEffect> load_effects(const model::Structure& s, const std::vector<StationSpec>& stations);
+
+/// The part of a bearing force that the axles put straight on a rigid bearing's fixed DOF (those
+/// on its element; 0 for other effects, elastic bearings and loads on a track), with the first
+/// axle at x_head [m] on the load path.
+double bearing_load(const model::Structure& s, const LoadEffect& e, const load::Train& train, double load_factor,
+                    double x_head);
 
 /// Histories of one station. The main quantities are the deck's for deck stations and the
 /// rail's for rail stations; rail_disp is the rail above a deck station (track models only).

@@ -281,3 +281,52 @@ TEST_CASE("deck moment and end rotations: the static closed forms of a simply su
   CHECK_THROWS_WITH(s.deck_moment(0, 16.0), Catch::Contains("outside span 1"));
   CHECK_THROWS_WITH(s.deck_moment(1, 1.0), Catch::Contains("span 2 does not exist"));
 }
+
+TEST_CASE("bearing forces: the static reactions of a simply supported span, rigid or elastic, with or without track") {
+  const double L = 15.0, P = 1e5;
+  BridgeParams b;
+  b.spans = {SpanParams{L, 7.694e9, 15000.0}};
+  b.element_size = 0.5;
+  for (const bool rigid : {true, false}) {
+    b.bearings = {rigid, rigid ? 0.0 : 5e9, 0.0};
+    const Structure s = build_structure(b, std::nullopt);
+    REQUIRE(s.bearings.size() == 2);
+    Eigen::SimplicialLDLT<SparseMatrix> K(s.K);
+    for (const double a : {0.2, 3.3, 7.5, 14.9}) {
+      INFO((rigid ? "rigid" : "elastic") << ", force at " << a << " m");
+      Vector f = Vector::Zero(s.n_dofs);
+      const PointCoupling at = s.deck_point(0, a);
+      for (std::size_t i = 0; i < 4; ++i)
+        if (at.dofs[i] >= 0) f[at.dofs[i]] += P * at.N[i];
+      const Vector u = K.solve(f);
+      for (const auto& br : s.bearings) {
+        // A force on the bearing's own element loads its fixed DOF directly: P·N there.
+        double direct = 0.0;
+        if (br.rigid && a >= br.element.x0 && a <= br.element.x0 + br.element.h)
+          direct = P * hermite_shape((a - br.element.x0) / br.element.h, br.element.h)[static_cast<std::size_t>(br.fixed_local)];
+        const double R = br.k.value(u) + direct;
+        // Statics: R_start = P (L − a)/L, R_end = P a/L, exact (1e-9) either way.
+        CHECK(R == Approx(br.end ? P * a / L : P * (L - a) / L).epsilon(1e-9));
+      }
+    }
+  }
+  // With the Old Guadiana track on rigid bearings, a force on the rail: the bearings carry it
+  // all (the track's links to the ground off the bridge take a part): R_start + R_end + ground
+  // = P, and the force's own bearing carries most.
+  b.bearings = {true, 0.0, 0.0};
+  const Structure t = build_structure(b, table1_track());
+  REQUIRE(t.bearings.size() == 2);
+  Eigen::SimplicialLDLT<SparseMatrix> K(t.K);
+  Vector f = Vector::Zero(t.n_dofs);
+  const PointCoupling at = t.rail_point(2.0);
+  for (std::size_t i = 0; i < 4; ++i)
+    if (at.dofs[i] >= 0) f[at.dofs[i]] += P * at.N[i];
+  const Vector u = K.solve(f);
+  double ground = 0.0;  // the subgrade springs off the bridge
+  for (std::size_t i = 0; i < t.sleeper_x.size(); ++i)
+    if (t.sleeper_x[i] < -1e-9 || t.sleeper_x[i] > L + 1e-9) ground += table1_track().subgrade.k * u[t.ballast_dof[i]];
+  const double R0 = t.bearings[0].k.value(u), R1 = t.bearings[1].k.value(u);
+  CHECK(R0 + R1 + ground == Approx(P).epsilon(1e-9));
+  CHECK(R0 > R1);
+  CHECK(R1 > 0.0);
+}
