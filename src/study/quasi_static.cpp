@@ -17,16 +17,6 @@ Vector as_dense(const solve::Functional& f, Index n) {
   return c;
 }
 
-solve::Functional deflection_of(const model::PointCoupling& p) {
-  solve::Functional f;
-  for (std::size_t i = 0; i < 4; ++i)
-    if (p.dofs[i] >= 0) {
-      f.dof.push_back(p.dofs[i]);
-      f.weight.push_back(p.N[i]);
-    }
-  return f;
-}
-
 double max_abs(const Vector& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
 }  // namespace
 
@@ -40,7 +30,7 @@ QuasiStaticResult quasi_static(const PreparedModel& m, const load::Train& train,
   for (std::size_t i = 0; i < m.stations.size() && i < run.stations.size(); ++i)
     if (m.stations[i].has_deck) {
       names.push_back(m.stations[i].name + "_disp_m");
-      funcs.push_back(deflection_of(m.stations[i].deck));
+      funcs.push_back(functional_of(m.stations[i].deck));
       dynamic.push_back(&run.stations[i].disp);
     }
   for (std::size_t j = 0; j < m.effects.size() && j < run.effects.size(); ++j) {

@@ -42,6 +42,16 @@ std::vector<ResolvedStation> resolve_stations(const model::Structure& s,
   return out;
 }
 
+solve::Functional functional_of(const model::PointCoupling& c) {
+  solve::Functional f;
+  for (std::size_t i = 0; i < 4; ++i)
+    if (c.dofs[i] >= 0) {
+      f.dof.push_back(c.dofs[i]);
+      f.weight.push_back(c.N[i]);
+    }
+  return f;
+}
+
 std::vector<LoadEffect> load_effects(const model::Structure& s, const std::vector<StationSpec>& stations) {
   auto functional = [](const model::DofWeights& w, double scale) {
     solve::Functional f;
@@ -180,16 +190,6 @@ class MovingModalForce : public solve::ModalForce {
   double speed_;
   std::size_t first_ = 0, last_ = 0;
 };
-
-solve::Functional functional_of(const model::PointCoupling& c) {
-  solve::Functional f;
-  for (std::size_t i = 0; i < 4; ++i)
-    if (c.dofs[i] >= 0) {
-      f.dof.push_back(c.dofs[i]);
-      f.weight.push_back(c.N[i]);
-    }
-  return f;
-}
 
 // Output functionals of the modal model: each station's main point, then the rail above deck
 // stations (track models).

@@ -70,6 +70,9 @@ struct LoadEffect {
   int bearing = -1;  ///< index into Structure::bearings for a bearing force
 };
 
+/// The deflection at a point (its interpolation) as a recorded functional.
+solve::Functional functional_of(const model::PointCoupling& c);
+
 /// The load effects of a model: at each deck station its bending moment (sagging positive) and,
 /// with a fibre distance, the strain M·y/EI there [µε, tension positive; y positive below the
 /// neutral axis]; at each span's start and end the deck rotation dw/dx [rad] and the bearing
