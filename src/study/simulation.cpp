@@ -87,9 +87,12 @@ double bearing_load(const model::Structure& s, const LoadEffect& e, const load::
   double f = 0.0;
   for (std::size_t k = 0; k < train.n_axles(); ++k) {
     const double x = x_head - train.offset[k];
-    if (x < bf.element.x0 || x > bf.element.x0 + bf.element.h) continue;
-    // An axle exactly on the joint of two elements counts once, on the element it lies in first.
-    const double xi = (x - bf.element.x0) / bf.element.h;
+    // [x0, x0 + h) for a start bearing, (x0, x0 + h) for an end one: an axle exactly on the joint
+    // of two spans loads the next span's start bearing only (at its fixed node N = 1; the end
+    // bearing's element would give it N = 1 too).
+    const double x0 = bf.element.x0, x1 = x0 + bf.element.h;
+    if (x < x0 || x >= x1 || (bf.end && x <= x0)) continue;
+    const double xi = (x - x0) / bf.element.h;
     f += load_factor * train.load[k] * model::hermite_shape(xi, bf.element.h)[static_cast<std::size_t>(bf.fixed_local)];
   }
   return f;
