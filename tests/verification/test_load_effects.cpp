@@ -7,6 +7,7 @@
 #include <map>
 
 #include "helpers.hpp"
+#include "viaduct/model/beam_element.hpp"
 #include "viaduct/study/quasi_static.hpp"
 
 using namespace viaduct;
@@ -244,4 +245,23 @@ TEST_CASE("bearing forces of rigid bearings match very stiff elastic ones (k w),
     CHECK(rc.maxCoeff() == Approx(rd.maxCoeff()).epsilon(2e-3));
     CHECK(rc.minCoeff() == Approx(rd.minCoeff()).epsilon(6e-3));
   }
+}
+
+TEST_CASE("an axle on the joint of two spans loads one bearing directly, the next span's start") {
+  model::BridgeParams b = vt::span(10.0, 1e10, 1e4, 0.5);
+  b.spans.push_back(b.spans.front());
+  const model::Structure s = model::build_structure(b, std::nullopt);
+  const std::vector<study::LoadEffect> e = study::load_effects(s, {{"mid", true, 0, 5.0, 0.0}});
+  const load::Train one = load::regular_train("P", 1, 0.0, 1e5);
+  auto force = [&](const std::string& name, double x) {
+    for (const auto& le : e)
+      if (le.name == name) return study::bearing_load(s, le, one, 1.0, x);
+    FAIL("no effect " << name);
+    return 0.0;
+  };
+  CHECK(force("span1_end_reaction_N", 10.0) == 0.0);
+  CHECK(force("span2_start_reaction_N", 10.0) == Approx(1e5));
+  CHECK(force("span1_end_reaction_N", 9.9) == Approx(1e5 * model::hermite_shape(0.8, 0.5)[2]));
+  CHECK(force("span1_start_reaction_N", 0.0) == Approx(1e5));
+  CHECK(force("mid_moment_Nm", 0.0) == 0.0);  // not a bearing
 }
