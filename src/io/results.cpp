@@ -130,11 +130,10 @@ void write_modes_csv(const std::string& path, const model::Modes& m, const model
   std::fprintf(f.get(), "\n");
   for (Index j = 0; j < m.frequency_hz.size(); ++j) {
     const Vector phi = m.shape.col(j);
-    const double share = model::deck_mass_share(structure, phi);
-    std::fprintf(f.get(), "%ld,%.10g,%s,%.4f", static_cast<long>(j + 1), m.frequency_hz[j], model::mode_kind(share), share);
+    const model::ModeTag t = model::tag_mode(structure, phi);
+    std::fprintf(f.get(), "%ld,%.10g,%s,%.4f", static_cast<long>(j + 1), m.frequency_hz[j], t.kind, t.deck_share);
     // The span and half-waves of the deck's bending; empty for a track mode (the deck barely moves).
-    const model::DeckBending b = share > 0.1 ? model::deck_bending(structure, phi) : model::DeckBending{};
-    if (b.span > 0) std::fprintf(f.get(), ",%d,%d", b.span, b.order);
+    if (t.bending.span > 0) std::fprintf(f.get(), ",%d,%d", t.bending.span, t.bending.order);
     else std::fprintf(f.get(), ",,");
     for (const auto& s : stations) {
       if (s.has_deck) std::fprintf(f.get(), ",%.8g", s.deck.value(phi));

@@ -107,8 +107,7 @@ DeckBending deck_bending(const Structure& s, const Vector& phi) {
   double best = 0.0;
   std::vector<std::pair<double, double>> best_nodes;  // (x, w) of the span that carries most
   for (std::size_t k = 0; k < s.span_first_element.size(); ++k) {
-    const std::size_t e0 = s.span_first_element[k];
-    const std::size_t e1 = k + 1 < s.span_first_element.size() ? s.span_first_element[k + 1] : s.deck_elements.size();
+    const auto [e0, e1] = s.span_elements(k);
     std::vector<std::pair<double, double>> nodes;
     double energy = 0.0;
     for (std::size_t e = e0; e < e1; ++e) {
@@ -154,13 +153,19 @@ std::vector<DeckMode> deck_bending_modes(const Structure& s, std::size_t n) {
     const Modes m = compute_modes_up_to(s, std::min(want, s.n_dofs), 0.0);
     out.clear();
     for (Index j = 0; j < m.frequency_hz.size() && out.size() < n; ++j) {
-      const double share = deck_mass_share(s, m.shape.col(j));
-      if (share <= 0.1) continue;
-      const DeckBending b = deck_bending(s, m.shape.col(j));
-      if (b.order >= 1) out.push_back({m.frequency_hz[j], b, share});
+      const ModeTag t = tag_mode(s, m.shape.col(j));
+      if (t.bending.order >= 1) out.push_back({m.frequency_hz[j], t.bending, t.deck_share});
     }
     if (out.size() >= n || want >= s.n_dofs) return out;
   }
+}
+
+ModeTag tag_mode(const Structure& s, const Vector& phi) {
+  ModeTag t;
+  t.deck_share = deck_mass_share(s, phi);
+  t.kind = mode_kind(t.deck_share);
+  if (t.deck_share > 0.1) t.bending = deck_bending(s, phi);
+  return t;
 }
 
 const char* mode_kind(double deck_share) { return deck_share >= 0.5 ? "deck" : deck_share <= 0.1 ? "track" : "coupled"; }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include <Eigen/SparseCholesky>
@@ -183,17 +184,16 @@ double DofWeights::value(const Vector& u) const {
   return y;
 }
 
-namespace {
-// The deck elements of span `span` (0-based); InputError when there is no such span.
-std::pair<std::size_t, std::size_t> span_elements(const Structure& s, std::size_t span) {
-  if (span >= s.span_start.size())
+std::pair<std::size_t, std::size_t> Structure::span_elements(std::size_t span) const {
+  if (span >= span_start.size())
     throw InputError("span " + std::to_string(span + 1) + " does not exist (the bridge has " +
-                     std::to_string(s.span_start.size()) + ")");
-  const std::size_t first = s.span_first_element[span];
-  const std::size_t last = span + 1 < s.span_first_element.size() ? s.span_first_element[span + 1] : s.deck_elements.size();
+                     std::to_string(span_start.size()) + ")");
+  const std::size_t first = span_first_element[span];
+  const std::size_t last = span + 1 < span_first_element.size() ? span_first_element[span + 1] : deck_elements.size();
   return {first, last};
 }
 
+namespace {
 void add_weight(DofWeights& f, Index dof, double w) {
   if (dof < 0 || w == 0.0) return;
   for (std::size_t k = 0; k < f.dof.size(); ++k)
@@ -207,7 +207,7 @@ void add_weight(DofWeights& f, Index dof, double w) {
 }  // namespace
 
 DofWeights Structure::deck_moment(std::size_t span, double x_local) const {
-  const auto [first, last] = span_elements(*this, span);
+  const auto [first, last] = span_elements(span);
   const double L = span_length[span];
   const double tol = 1e-9 * std::max(1.0, L);
   if (!(x_local >= -tol && x_local <= L + tol))
@@ -231,7 +231,7 @@ DofWeights Structure::deck_moment(std::size_t span, double x_local) const {
 }
 
 DofWeights Structure::deck_end_rotation(std::size_t span, bool end) const {
-  const auto [first, last] = span_elements(*this, span);
+  const auto [first, last] = span_elements(span);
   const PathElement& el = deck_elements[end ? last - 1 : first];
   DofWeights f;
   add_weight(f, el.dofs[end ? 3 : 1], 1.0);
@@ -242,12 +242,7 @@ double Structure::path_start() const { return load_path().front().x0; }
 double Structure::path_end() const { return load_path().back().x0 + load_path().back().h; }
 
 PointCoupling Structure::deck_point(std::size_t span, double x_local) const {
-  if (span >= span_start.size())
-    throw InputError("span " + std::to_string(span + 1) + " does not exist (the bridge has " +
-                     std::to_string(span_start.size()) + ")");
-  const std::size_t first = span_first_element[span];
-  const std::size_t last = span + 1 < span_first_element.size() ? span_first_element[span + 1]
-                                                                 : deck_elements.size();
+  const auto [first, last] = span_elements(span);
   std::vector<PathElement> els(deck_elements.begin() + static_cast<std::ptrdiff_t>(first),
                                deck_elements.begin() + static_cast<std::ptrdiff_t>(last));
   return point_on(els, span_start[span] + x_local, "span");
@@ -272,9 +267,11 @@ struct Assembly {
 // M_Af M_ff⁻¹ C_ff v; Rayleigh's is a0 M_Af + a1 K_Af.
 void add_rigid_bearings(Structure& s, std::size_t si, const BridgeDamping& damping, const Matrix4& ke, const Matrix4& me,
                         const SparseMatrix& Ms, const Matrix& Cs, Index first_dof) {
-  const std::size_t first = s.span_first_element[si], last = s.deck_elements.size() - 1;
+  const auto [first, end_of_span] = s.span_elements(si);
+  const std::size_t last = end_of_span - 1;
   const Index n_span = Ms.rows();
-  Eigen::SimplicialLDLT<SparseMatrix> Mff(Ms);
+  std::optional<Eigen::SimplicialLDLT<SparseMatrix>> Mff;  // modal damping only
+  if (damping.kind == DampingKind::modal) Mff.emplace(Ms);
   for (const bool end : {false, true}) {
     BearingForce b;
     b.span = si;
@@ -293,7 +290,7 @@ void add_rigid_bearings(Structure& s, std::size_t si, const BridgeDamping& dampi
     }
     Vector crow = Vector::Zero(n_span);
     if (damping.kind == DampingKind::modal) {
-      crow = Cs * Mff.solve(mrow);  // (M_Af M_ff⁻¹ C_ff)ᵀ, C symmetric
+      crow = Cs * Mff->solve(mrow);  // (M_Af M_ff⁻¹ C_ff)ᵀ, C symmetric
     } else if (damping.kind == DampingKind::rayleigh) {
       const auto [a0, a1] = rayleigh_coefficients(damping.f1_hz, damping.ratio1, damping.f2_hz, damping.ratio2);
       crow = a0 * mrow + a1 * krow;
@@ -351,7 +348,7 @@ void add_span(Assembly& as, const BridgeParams& bridge, std::size_t si, double x
       b.rigid = false;
       add_weight(b.k, d, bridge.bearings.k);
       add_weight(b.c, d, bridge.bearings.c);
-      b.element = s.deck_elements[j == n_el ? s.deck_elements.size() - 1 : s.span_first_element[si]];
+      b.element = s.deck_elements[j == n_el ? s.deck_elements.size() - 1 : s.span_first_element.back()];
       s.bearings.push_back(b);
     }
   }
@@ -509,6 +506,13 @@ Structure build_structure(const BridgeParams& bridge, const std::optional<TrackP
   s.n_bridge_dofs = a.next;
   // --- track ---
   if (track) add_track(a, *track, x);
+  // The self-weight each bearing carries: half the span's deck and track, g·m·L/2 (a uniform
+  // simply supported span); with mass_includes_track the deck's mass holds the track already.
+  for (auto& b : s.bearings) {
+    const SpanParams& sp = bridge.spans[b.span];
+    const double m = sp.mass_per_m + bridge.added_mass_per_m + (track && !bridge.mass_includes_track ? track->mass_per_m() : 0.0);
+    b.permanent = 9.80665 * m * sp.length / 2.0;
+  }
   const Index next = a.next;
   s.n_dofs = next;
   s.n_track_dofs = next - s.n_bridge_dofs;

@@ -27,16 +27,19 @@ QuasiStaticResult quasi_static(const PreparedModel& m, const load::Train& train,
   std::vector<std::string> names;
   std::vector<solve::Functional> funcs;
   std::vector<const Vector*> dynamic;
+  std::vector<const LoadEffect*> bearing;  // per quantity: the bearing force it is, or null
   for (std::size_t i = 0; i < m.stations.size() && i < run.stations.size(); ++i)
     if (m.stations[i].has_deck) {
       names.push_back(m.stations[i].name + "_disp_m");
       funcs.push_back(functional_of(m.stations[i].deck));
       dynamic.push_back(&run.stations[i].disp);
+      bearing.push_back(nullptr);
     }
   for (std::size_t j = 0; j < m.effects.size() && j < run.effects.size(); ++j) {
     names.push_back(m.effects[j].name);
     funcs.push_back(m.effects[j].functional);
     dynamic.push_back(&run.effects[j].value);
+    bearing.push_back(m.effects[j].bearing >= 0 ? &m.effects[j] : nullptr);
   }
   Eigen::SimplicialLDLT<SparseMatrix> K(s.K);
   if (K.info() != Eigen::Success) throw SolverError("quasi-static response: the stiffness matrix cannot be factorised");
@@ -52,14 +55,13 @@ QuasiStaticResult quasi_static(const PreparedModel& m, const load::Train& train,
   out.names = names;
   out.value.assign(names.size(), Vector::Zero(run.t.size()));
   SparseForce f;
-  const std::size_t n_disp = names.size() - std::min(names.size(), m.effects.size());
   for (Index k = 0; k < run.t.size(); ++k) {
     loads.entries(run.t[k], f);
     for (std::size_t q = 0; q < z.size(); ++q) {
       double y = 0.0;
       for (std::size_t e = 0; e < f.dof.size(); ++e) y += z[q][f.dof[e]] * f.value[e];
       // A rigid bearing's force: plus the axles on its element (no inertia or damping at rest).
-      if (q >= n_disp) y += bearing_load(s, m.effects[q - n_disp], train, load_factor, s.path_start() + speed * run.t[k]);
+      if (bearing[q]) y += bearing_load(s, *bearing[q], train, load_factor, s.path_start() + speed * run.t[k]);
       out.value[q][k] = y;
     }
   }

@@ -87,11 +87,11 @@ double bearing_load(const model::Structure& s, const LoadEffect& e, const load::
   double f = 0.0;
   for (std::size_t k = 0; k < train.n_axles(); ++k) {
     const double x = x_head - train.offset[k];
-    // [x0, x0 + h) for a start bearing, (x0, x0 + h) for an end one: an axle exactly on the joint
-    // of two spans loads the next span's start bearing only (at its fixed node N = 1; the end
-    // bearing's element would give it N = 1 too).
+    // The element holds [x0, x0 + h), the path's last one its end too: load::MovingLoads' rule,
+    // so that an axle exactly on the joint of two spans loads the next span's start bearing and
+    // one at the bridge's end (no track) its end bearing.
     const double x0 = bf.element.x0, x1 = x0 + bf.element.h;
-    if (x < x0 || x >= x1 || (bf.end && x <= x0)) continue;
+    if (x < x0 || x > x1 || (x == x1 && x1 < s.path_end())) continue;
     const double xi = (x - x0) / bf.element.h;
     f += load_factor * train.load[k] * model::hermite_shape(xi, bf.element.h)[static_cast<std::size_t>(bf.fixed_local)];
   }
@@ -235,11 +235,12 @@ std::shared_ptr<const solve::ModalReduction> make_modal(const model::Structure& 
 }
 
 RunResult allocate_histories(const std::vector<ResolvedStation>& stations, double t_end, double dt,
-                             std::size_t n_effects = 0) {
+                             std::size_t n_effect_outputs = 0) {
   const double n_samples_real = std::ceil(t_end / dt - 1e-9) + 1;
-  // Every step is recorded: refuse runs whose histories alone would not fit comfortably.
-  // (an effect records up to three outputs, each a deflection and an acceleration history)
-  const double bytes = n_samples_real * static_cast<double>(1 + 4 * stations.size() + 6 * n_effects) * sizeof(double);
+  // Every step is recorded: refuse runs whose histories alone would not fit comfortably (each
+  // effect output records a deflection and an acceleration history).
+  const double bytes =
+      n_samples_real * static_cast<double>(1 + 4 * stations.size() + 2 * n_effect_outputs) * sizeof(double);
   if (bytes > kMaxHistoryBytes)
     throw InputError("a run of " + format_number(t_end, 6) + " s at dt = " + format_number(dt, 6) + " s records " +
                      format_number(n_samples_real, 6) + " samples (" + format_number(bytes / (1 << 30), 3) +
@@ -293,18 +294,14 @@ OutputMap output_map(const std::vector<ResolvedStation>& stations, bool rail, co
   for (std::size_t i = 0; i < stations.size(); ++i)
     if (rail && stations[i].has_deck && stations[i].has_rail) o.rail_out[i] = next++;
   for (const auto& e : effects) {
+    // The columns in effect_outputs' order: the functional, then inertia and damping if any.
     OutputMap::Effect m;
     m.name = e.name;
-    m.value = static_cast<Index>(o.outputs.size());
-    o.outputs.push_back(e.functional);
-    if (!e.inertia.dof.empty()) {
-      m.inertia = static_cast<Index>(o.outputs.size());
-      o.outputs.push_back(e.inertia);
-    }
-    if (!e.damping.dof.empty()) {
-      m.damping = static_cast<Index>(o.outputs.size());
-      o.outputs.push_back(e.damping);
-    }
+    Index col = static_cast<Index>(o.outputs.size());
+    m.value = col++;
+    if (!e.inertia.dof.empty()) m.inertia = col++;
+    if (!e.damping.dof.empty()) m.damping = col++;
+    for (auto& f : effect_outputs(e)) o.outputs.push_back(std::move(f));
     o.effects.push_back(m);
   }
   return o;
@@ -352,10 +349,10 @@ RunResult integrate(const CaseOutputs& out,
                     const solve::SecondOrderSystem& sys, const load::Train& train, double speed, double t_end,
                     const RunSettings& settings) {
   const auto& stations = out.stations;
-  RunResult r = allocate_histories(stations, t_end, settings.dt, out.effects.size());
-  r.method = settings.method;
   const bool modal_run = settings.method == Method::modal;
   const OutputMap map = output_map(stations, !modal_run || out.modal_rails, out.effects);
+  RunResult r = allocate_histories(stations, t_end, settings.dt, map.outputs.size() - stations.size());
+  r.method = settings.method;
   const auto integrator = solve::make_integrator(settings.integration(), map.outputs, modal);
   solve::LoadCase c;
   c.system = &sys;

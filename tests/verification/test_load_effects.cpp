@@ -247,7 +247,7 @@ TEST_CASE("bearing forces of rigid bearings match very stiff elastic ones (k w),
   }
 }
 
-TEST_CASE("an axle on the joint of two spans loads one bearing directly, the next span's start") {
+TEST_CASE("an axle on the joint of two spans loads one bearing directly, the next span's start, as the moving loads do") {
   model::BridgeParams b = vt::span(10.0, 1e10, 1e4, 0.5);
   b.spans.push_back(b.spans.front());
   const model::Structure s = model::build_structure(b, std::nullopt);
@@ -263,5 +263,7 @@ TEST_CASE("an axle on the joint of two spans loads one bearing directly, the nex
   CHECK(force("span2_start_reaction_N", 10.0) == Approx(1e5));
   CHECK(force("span1_end_reaction_N", 9.9) == Approx(1e5 * model::hermite_shape(0.8, 0.5)[2]));
   CHECK(force("span1_start_reaction_N", 0.0) == Approx(1e5));
+  CHECK(force("span2_end_reaction_N", 20.0) == Approx(1e5));  // the bridge's end: still on the path
+  CHECK(force("span2_end_reaction_N", 20.1) == 0.0);          // off the path
   CHECK(force("mid_moment_Nm", 0.0) == 0.0);  // not a bearing
 }

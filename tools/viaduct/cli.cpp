@@ -193,14 +193,14 @@ io::Manifest start_manifest(const Common& o, const std::string& command, std::ve
 
 void print_first_modes(const model::Structure& s, const model::Modes& m, Index n, const char* prefix) {
   for (Index j = 0; j < std::min<Index>(m.frequency_hz.size(), n); ++j) {
-    const double share = model::deck_mass_share(s, m.shape.col(j));
-    const model::DeckBending b = share > 0.1 ? model::deck_bending(s, m.shape.col(j)) : model::DeckBending{};
+    const model::ModeTag t = model::tag_mode(s, m.shape.col(j));
+    const model::DeckBending& b = t.bending;
     std::string where;
     if (b.span > 0)
       where = b.order == 0 ? "span " + std::to_string(b.span) + " rigid on its bearings"
                            : "span " + std::to_string(b.span) + " bending " + std::to_string(b.order);
     std::printf("%s%2ld  %9.4f Hz  %-7s  deck mass share %.2f%s%s\n", prefix, static_cast<long>(j + 1), m.frequency_hz[j],
-                model::mode_kind(share), share, where.empty() ? "" : "  ", where.c_str());
+                t.kind, t.deck_share, where.empty() ? "" : "  ", where.c_str());
   }
 }
 

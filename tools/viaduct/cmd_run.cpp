@@ -31,30 +31,21 @@ void write_quasi_static(const std::string& out, const study::RunResult& r, const
   io::write_table_csv(out + "/dynamic_increments.csv", {"quantity", "max_dynamic", "max_static", "phi_dyn"}, rows);
 }
 
-// The permanent force on each bearing of span k: the self-weight of the deck and of the track it
-// carries, g·m·L/2 (a uniform simply supported span).
-double permanent_bearing_force(const study::Scenario& sc, std::size_t k) {
-  const auto& sp = sc.bridge.spans[k];
-  double m = sp.mass_per_m + sc.bridge.added_mass_per_m;
-  if (sc.track && !sc.bridge.mass_includes_track) m += sc.track->mass_per_m();
-  return 9.80665 * m * sp.length / 2.0;
-}
-
-void print_increments(const study::QuasiStaticResult& qs, const study::RunResult& r, const study::Scenario& sc) {
+void print_increments(const study::QuasiStaticResult& qs, const study::RunResult& r, const study::PreparedModel& pm) {
   std::printf("dynamic increments phi'dyn = max|dynamic| / max|quasi-static| - 1:\n");
   for (const auto& d : qs.increments)
     std::printf("  %-24s %8.4f  (dynamic %.5g, quasi-static %.5g)\n", d.name.c_str(), d.phi_dyn, d.max_dynamic, d.max_static);
   // Bearing forces swing below zero after a resonant passage; the permanent load holds the
   // bearing down unless the swing exceeds it: uplift is flagged.
   std::printf("bearing forces (compression positive), traffic and with the permanent g·m·L/2:\n");
-  for (const auto& e : r.effects) {
-    const std::string suffix = "_reaction_N";
-    if (e.name.size() <= suffix.size() || e.name.compare(e.name.size() - suffix.size(), suffix.size(), suffix) != 0) continue;
-    const std::size_t span = static_cast<std::size_t>(std::stoul(e.name.substr(4))) - 1;  // "span<k>_..."
-    const double lo = e.value.minCoeff(), hi = e.value.maxCoeff(), perm = permanent_bearing_force(sc, span);
-    std::printf("  %-24s traffic %.1f to %.1f kN, permanent %.1f kN: %.1f to %.1f kN%s\n",
-                e.name.substr(0, e.name.size() - suffix.size()).c_str(), lo / 1e3, hi / 1e3, perm / 1e3, (perm + lo) / 1e3,
-                (perm + hi) / 1e3, perm + lo < 0 ? "  UPLIFT" : "");
+  for (std::size_t j = 0; j < pm.effects.size() && j < r.effects.size(); ++j) {
+    if (pm.effects[j].bearing < 0) continue;
+    const model::BearingForce& b = pm.structure.bearings[static_cast<std::size_t>(pm.effects[j].bearing)];
+    const Vector& f = r.effects[j].value;
+    const double lo = f.minCoeff(), hi = f.maxCoeff(), perm = b.permanent;
+    const std::string name = "span" + std::to_string(b.span + 1) + (b.end ? "_end" : "_start");
+    std::printf("  %-24s traffic %.1f to %.1f kN, permanent %.1f kN: %.1f to %.1f kN%s\n", name.c_str(), lo / 1e3, hi / 1e3,
+                perm / 1e3, (perm + lo) / 1e3, (perm + hi) / 1e3, perm + lo < 0 ? "  UPLIFT" : "");
   }
 }
 }  // namespace
@@ -137,7 +128,7 @@ Command run_command() {
       for (std::size_t i = 0; i < pk.size(); ++i)
         std::printf("  %-16s max |acc| %.4f m/s²  max |disp| %.4f mm\n", r.stations[i].name.c_str(), pk[i].max_abs_acc,
                     pk[i].max_abs_disp * 1e3);
-      print_increments(qs, r, sc);
+      print_increments(qs, r, pm);
       std::printf("wrote %s/history.csv, quasi_static.csv, dynamic_increments.csv\n", o.out.c_str());
     }
     return ok;

@@ -35,6 +35,15 @@ struct DeckBending {
 };
 DeckBending deck_bending(const Structure& s, const Vector& phi);
 
+/// What a mode is: its deck mass share, kind, and where it bends the deck (span 0 for a track
+/// mode, whose deck barely moves: share <= 0.1).
+struct ModeTag {
+  double deck_share = 0.0;
+  const char* kind = "track";
+  DeckBending bending;
+};
+ModeTag tag_mode(const Structure& s, const Vector& phi);
+
 /// A mode that bends the deck.
 struct DeckMode {
   double frequency_hz = 0.0;  ///< [Hz]

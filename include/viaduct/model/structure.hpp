@@ -124,6 +124,7 @@ struct BearingForce {
   DofWeights k, m, c;
   PathElement element;  ///< the deck element at the bearing
   int fixed_local = 0;  ///< rigid: its local DOF that is fixed (0: w0, 2: w1)
+  double permanent = 0.0;  ///< [N] the self-weight it carries, g·m·L/2 (deck and the track it carries)
 };
 
 /// Assembled model. Matrices are symmetric, stored in full, n_dofs × n_dofs.
@@ -149,6 +150,9 @@ struct Structure {
   double path_end() const;    ///< [m]
   std::vector<std::size_t> span_first_element;  ///< index into deck_elements, per span
   std::vector<BearingForce> bearings;  ///< per span, its start then its end bearing
+  /// The deck elements of span `span` (0-based): [first, last) into deck_elements; InputError
+  /// when there is no such span.
+  std::pair<std::size_t, std::size_t> span_elements(std::size_t span) const;
   /// Deflection interpolation on span `span` (0-based) at x_local [m] from its left end, in
   /// [0, length]; throws InputError outside.
   PointCoupling deck_point(std::size_t span, double x_local) const;
