@@ -28,6 +28,22 @@ struct Job {
   bool batched = false;  // a block for the peaks kernel or batched Newmark
 };
 constexpr std::size_t kSpeedBlock = 8;
+// Inside a catch block: the exception's message and whether the input was at fault (InputError).
+void describe_failure(std::string& error, bool& input_error) {
+  try {
+    throw;
+  } catch (const InputError& e) {
+    error = e.what();
+    input_error = true;
+  } catch (const std::exception& e) {
+    error = e.what();
+    input_error = false;
+  } catch (...) {
+    error = "unknown error";
+    input_error = false;
+  }
+}
+
 struct CaseOutcome {
   std::vector<StationPeaks> peaks;
   std::string error;
@@ -67,11 +83,9 @@ class Sweep {
       }
       try {
         prepared_[v].model = prepare_model(variants_[v].scenario, /*rail_outputs=*/false);
-      } catch (const InputError& e) {
-        prepared_[v].error = std::string("model: ") + e.what();
-        prepared_[v].input_error = true;
-      } catch (const std::exception& e) {
-        prepared_[v].error = std::string("model: ") + e.what();
+      } catch (...) {
+        describe_failure(prepared_[v].error, prepared_[v].input_error);
+        prepared_[v].error = "model: " + prepared_[v].error;
       }
     });
     std::vector<std::pair<std::size_t, std::size_t>> to_fold;
@@ -131,14 +145,11 @@ class Sweep {
       bool retry_alone = false;
       try {
         run_cases(c, pm, o);
-      } catch (const InputError& e) {
-        fail_all(e.what(), true);
-        retry_alone = c.batched;
-      } catch (const std::exception& e) {
-        fail_all(e.what(), false);
-        retry_alone = c.batched;
       } catch (...) {
-        fail_all("unknown error", false);
+        std::string why;
+        bool input = false;
+        describe_failure(why, input);
+        fail_all(why, input);
         retry_alone = c.batched;
       }
       // A failing block: every speed again on its own, so only the failing ones are lost.
@@ -148,15 +159,8 @@ class Sweep {
             const RunResult r = runner_(pm, sc.trains[c.train], sc.sweep_speeds[c.speed + k], sc.settings);
             o[k].error.clear();
             take(o[k], peaks(r), r.summary.n_steps);
-          } catch (const InputError& e) {
-            o[k].error = e.what();
-            o[k].input_error = true;
-          } catch (const std::exception& e) {
-            o[k].error = e.what();
-            o[k].input_error = false;
           } catch (...) {
-            o[k].error = "unknown error";
-            o[k].input_error = false;
+            describe_failure(o[k].error, o[k].input_error);
           }
         }
     }
