@@ -42,6 +42,8 @@ std::string csv_text(const std::string& s) {
 
 std::string version() { return VIADUCT_VERSION; }
 
+void write_text_file(const std::string& path, const std::string& text) { detail::write_text_atomically(path, text); }
+
 void write_history_csv(const std::string& path, const study::RunResult& r) {
   AtomicFile f(path);
   std::vector<const Vector*> cols;
@@ -74,26 +76,59 @@ void write_history_csv(const std::string& path, const study::RunResult& r) {
   f.commit();
 }
 
+namespace {
+// The variant's columns of a sweep table: its label and, with variants, a KEY_factor column per
+// varied key (the reference alone has none). header() writes the names, row() a row's cells.
+class VariantColumns {
+ public:
+  explicit VariantColumns(const std::vector<study::Variant>& variants)
+      : keys_(variants.size() < 2 ? std::vector<std::pair<std::string, double>>{} : variants.front().factors) {
+    for (const auto& v : variants) by_label_[v.label] = &v;
+  }
+  void header(std::FILE* f) const {
+    std::fprintf(f, "variant");
+    for (const auto& kf : keys_) std::fprintf(f, ",%s", csv_text(kf.first + "_factor").c_str());
+  }
+  void row(std::FILE* f, const std::string& variant, const char* file) const {
+    std::fprintf(f, "%s", csv_text(variant).c_str());
+    if (keys_.empty()) return;
+    const auto it = by_label_.find(variant);
+    if (it == by_label_.end() || it->second->factors.size() != keys_.size())
+      throw SolverError(std::string(file) + ": row of an unknown variant '" + variant + "'");
+    for (const auto& kf : it->second->factors) std::fprintf(f, ",%.10g", kf.second);
+  }
+
+ private:
+  std::vector<std::pair<std::string, double>> keys_;
+  std::map<std::string, const study::Variant*> by_label_;
+};
+}  // namespace
+
 void write_envelope_csv(const std::string& path, const std::vector<study::EnvelopeRow>& rows,
                         const std::vector<study::Variant>& variants) {
-  std::map<std::string, const study::Variant*> by_label;
-  for (const auto& v : variants) by_label[v.label] = &v;
-  const std::vector<std::pair<std::string, double>> no_factors;
-  const auto& keys = variants.size() < 2 ? no_factors : variants.front().factors;  // the reference alone: none
+  const VariantColumns vc(variants);
   AtomicFile f(path);
-  std::fprintf(f.get(), "variant");
-  for (const auto& kf : keys) std::fprintf(f.get(), ",%s", csv_text(kf.first + "_factor").c_str());
+  vc.header(f.get());
   std::fprintf(f.get(), ",train,speed_kmh,station,max_abs_acc_mps2,max_abs_disp_m\n");
   for (const auto& r : rows) {
-    std::fprintf(f.get(), "%s", csv_text(r.variant).c_str());
-    if (!keys.empty()) {
-      const auto it = by_label.find(r.variant);
-      if (it == by_label.end() || it->second->factors.size() != keys.size())
-        throw SolverError("envelope.csv: row of an unknown variant '" + r.variant + "'");
-      for (const auto& kf : it->second->factors) std::fprintf(f.get(), ",%.10g", kf.second);
-    }
+    vc.row(f.get(), r.variant, "envelope.csv");
     std::fprintf(f.get(), ",%s,%.10g,%s,%.10g,%.10g\n", csv_text(r.train).c_str(), r.speed * 3.6, csv_text(r.station).c_str(),
                  r.max_abs_acc, r.max_abs_disp);
+  }
+  f.commit();
+}
+
+void write_quantities_csv(const std::string& path, const std::vector<study::QuantityRow>& rows,
+                          const std::vector<study::Variant>& variants) {
+  const VariantColumns vc(variants);
+  AtomicFile f(path);
+  vc.header(f.get());
+  std::fprintf(f.get(), ",train,speed_kmh,quantity,max,min,max_abs,quasi_static_max,quasi_static_min,phi_dyn\n");
+  for (const auto& r : rows) {
+    vc.row(f.get(), r.variant, "load_effects.csv");
+    std::fprintf(f.get(), ",%s,%.10g,%s,%.10g,%.10g,%.10g,%.10g,%.10g,%s\n", csv_text(r.train).c_str(), r.speed * 3.6,
+                 csv_text(r.quantity).c_str(), r.dynamic.max, r.dynamic.min, r.dynamic.max_abs(), r.quasi_static.max,
+                 r.quasi_static.min, table_cell(r.phi_dyn()).c_str());
   }
   f.commit();
 }

@@ -224,6 +224,31 @@ std::vector<KeySpec> sweep_keys() {  // sweep
   };
 }
 
+std::vector<KeySpec> assess_keys() {  // assess (viaduct assess; docs/assess.md)
+  return {
+      {"assess.line_speed_kmh", T::number, "", "km/h", "> 0", "Maximum line speed: speeds are assessed up to 1.2 times it (EN 1991-2 6.4.6.2); viaduct assess needs it."},
+      {"assess.deck_type", T::string, "", "", "steel|composite|prestressed|reinforced|filler-beam", "Deck type of the damping lower bound, EN 1991-2 Table 6.6; viaduct assess needs it."},
+      {"assess.track", T::string, "\"ballasted\"", "", "ballasted|direct", "ballasted: deck acceleration limit 3.5 m/s2; direct: direct fastening, 5 m/s2 (EN 1990 A2.4.4.2.1(4))."},
+      {"assess.acceleration_limit_mps2", T::number, "", "m/s²", "> 0", "Deck acceleration limit (default: from assess.track)."},
+      {"assess.speed_min_kmh", T::number, "", "km/h", "> 0", "Lowest speed assessed (default: the smaller of 100 km/h and half the line speed)."},
+      {"assess.speed_step_kmh", T::number, "5.0", "km/h", "> 0", "Speed step between the lowest and the highest speed."},
+      {"assess.refine_step_kmh", T::number, "1.0", "km/h", "> 0", "Finer step around each resonance speed f d / j of each train."},
+      {"assess.refine_band", T::number, "0.03", "-", "[0, 1)", "Half-width of the refined band, as a fraction of the resonance speed."},
+      {"assess.harmonics", T::integer, "4", "-", ">= 1", "Resonances f d / j refined for j = 1 .. harmonics, f every deck bending frequency below the cut-off."},
+      {"assess.damping_ratio", T::number, "", "-", "[0, 1)", "Structural damping ratio instead of EN 1991-2 Table 6.6 (and instead of the additional damping)."},
+      {"assess.interaction_damping", T::boolean, "true", "", "", "Add the damping of Fig. 6.8 / Eq. 6.13 for spans under 30 m (the vehicle-bridge interaction is not modelled)."},
+      {"assess.ballast_mass_per_m", T::number, "", "kg/m", ">= 0", "Nominal ballast mass per metre of deck, included in bridge.mass_per_m (default: the modelled track's ballast, or 0: one mass case)."},
+      {"assess.ballast_lower_factor", T::number, "1.0", "-", "> 0", "Lower-bound mass: the ballast times this (EN 1991-2 6.4.6.3.2: minimum density, minimum depth)."},
+      {"assess.ballast_upper_factor", T::number, "1.3", "-", "> 0", "Upper-bound mass: the ballast times this (saturated density and the +30 % depth allowance, 6.4.6.3.2)."},
+      {"assess.lm71_alpha", T::number, "1.0", "-", "> 0", "Classification factor alpha of Load Model 71 (EN 1991-2 6.3.2(3))."},
+      {"assess.track_maintenance", T::string, "\"careful\"", "", "careful|standard", "Dynamic factor of LM71: careful maintenance Phi2, standard Phi3 (EN 1991-2 6.4.5.2)."},
+      {"assess.deflection_limit_ratio", T::number, "600.0", "-", "> 0", "Vertical deflection limit as span / ratio (EN 1990 A2.4.4.2.3, to confirm)."},
+      {"assess.end_rotation_limit_rad", T::number, "0.0065", "rad", "> 0", "Deck end rotation limit (ballasted track at an abutment, EN 1990 A2.4.4.2.3, to confirm)."},
+      {"assess.hslm_b_n", T::integer, "", "-", ">= 1", "HSLM-B (spans under 7 m): number N of 170 kN forces, read from EN 1991-2 Fig. E.4 for the span."},
+      {"assess.hslm_b_spacing_m", T::number, "", "m", "> 0", "HSLM-B: spacing d of the forces, read from EN 1991-2 Fig. E.4."},
+  };
+}
+
 std::vector<KeySpec> fit_keys() {  // fit (viaduct fit; docs/fitting.md)
   return {
       {"fit.params[].key", T::string, "", "", "", "Numeric scenario key to fit, e.g. track.pad.k; its value in this scenario is the start (required)."},
@@ -257,7 +282,7 @@ std::vector<KeySpec> fit_keys() {  // fit (viaduct fit; docs/fitting.md)
 const std::vector<KeySpec>& scenario_schema() {
   static const std::vector<KeySpec> schema = [] {
     std::vector<KeySpec> all;
-    for (auto part : {general_keys(), bridge_keys(), track_keys(), train_keys(), analysis_keys(), filter_keys(), station_keys(), run_keys(), sweep_keys(), fit_keys()})
+    for (auto part : {general_keys(), bridge_keys(), track_keys(), train_keys(), analysis_keys(), filter_keys(), station_keys(), run_keys(), sweep_keys(), assess_keys(), fit_keys()})
       all.insert(all.end(), part.begin(), part.end());
     return all;
   }();

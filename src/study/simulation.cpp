@@ -334,6 +334,16 @@ void take_histories(const solve::CaseResult& c, const OutputMap& map, RunResult&
   r.n_modes = c.summary.n_modes;
 }
 
+// Axles on a rigid bearing's own element load its fixed DOF directly: added to the bearing
+// forces recorded in `r` (a run of `train` at r.speed).
+void add_bearing_loads(const model::Structure& s, const std::vector<LoadEffect>& effects, const load::Train& train,
+                       double load_factor, RunResult& r) {
+  for (std::size_t j = 0; j < effects.size() && j < r.effects.size(); ++j)
+    if (effects[j].bearing >= 0)
+      for (Index k = 0; k < r.t.size(); ++k)
+        r.effects[j].value[k] += bearing_load(s, effects[j], train, load_factor, s.path_start() + r.speed * r.t[k]);
+}
+
 // Integrates the loads of `sys` for t in [0, t_end] into histories (unfiltered), with the
 // integrator the settings choose.
 // The outputs of a case: the stations (with their rails, unless a modal model left them out) and
@@ -380,11 +390,7 @@ RunResult simulate_impl(const model::Structure& s, const CaseOutputs& out,
   const double t_end = std::max(loads.t_exit() + settings.free_vibration_s, t_end_min);
   RunResult r = integrate(out, modal, path, sys, train, speed, t_end, settings);
   r.speed = speed;
-  // Axles on a rigid bearing's own element load its fixed DOF directly.
-  for (std::size_t j = 0; j < out.effects.size() && j < r.effects.size(); ++j)
-    if (out.effects[j].bearing >= 0)
-      for (Index k = 0; k < r.t.size(); ++k)
-        r.effects[j].value[k] += bearing_load(s, out.effects[j], train, settings.load_factor, s.path_start() + speed * r.t[k]);
+  add_bearing_loads(s, out.effects, train, settings.load_factor, r);
   return r;
 }
 
@@ -468,7 +474,7 @@ std::vector<RunResult> simulate_batch(const PreparedModel& m, const load::Train&
   }
   require_non_negative(settings.free_vibration_s, "free_vibration_s [s]");
   require_positive(settings.dt, "analysis.dt [s]");
-  const OutputMap map = output_map(m.stations, true, {});
+  const OutputMap map = output_map(m.stations, true, m.effects);
   const auto integrator = solve::make_integrator(settings.integration(), map.outputs);
   const std::size_t width = integrator->batch_width();
   solve::Recording rec;
@@ -488,7 +494,8 @@ std::vector<RunResult> simulate_batch(const PreparedModel& m, const load::Train&
       c.system = systems.back().get();
       c.t_end = loads.back()->t_exit() + settings.free_vibration_s;
       cases.push_back(c);
-      runs.push_back(allocate_histories(m.stations, c.t_end, settings.dt));  // refuses oversized runs
+      // refuses oversized runs
+      runs.push_back(allocate_histories(m.stations, c.t_end, settings.dt, map.outputs.size() - m.stations.size()));
     }
     const std::vector<solve::CaseResult> h = integrator->run_batch(cases, rec);
     for (std::size_t l = 0; l < n; ++l) {
@@ -496,6 +503,7 @@ std::vector<RunResult> simulate_batch(const PreparedModel& m, const load::Train&
       r.method = Method::newmark;
       r.speed = speeds[first + l];
       take_histories(h[l], map, r);
+      add_bearing_loads(m.structure, m.effects, train, settings.load_factor, r);
       apply_filter(r, settings);
       out.push_back(std::move(r));
     }
@@ -577,6 +585,25 @@ std::vector<StationPeaks> peaks(const RunResult& r) {
     p.max_abs_disp = disp.size() ? disp.cwiseAbs().maxCoeff() : 0.0;
     out.push_back(p);
   }
+  return out;
+}
+
+std::vector<std::string> quantity_names(const PreparedModel& m) {
+  std::vector<std::string> out;
+  for (const auto& st : m.stations)
+    if (st.has_deck) out.push_back(st.name + "_disp_m");
+  for (const auto& e : m.effects) out.push_back(e.name);
+  return out;
+}
+
+std::vector<EffectPeak> quantity_peaks(const PreparedModel& m, const RunResult& r) {
+  auto extremes = [](const Vector& y) {
+    return y.size() ? EffectPeak{y.maxCoeff(), y.minCoeff()} : EffectPeak{};
+  };
+  std::vector<EffectPeak> out;
+  for (std::size_t i = 0; i < m.stations.size() && i < r.stations.size(); ++i)
+    if (m.stations[i].has_deck) out.push_back(extremes(r.stations[i].disp));
+  for (const auto& e : r.effects) out.push_back(extremes(e.value));
   return out;
 }
 
@@ -677,8 +704,11 @@ std::vector<CasePeaks> simulate_peaks(const PreparedModel& m, const load::Train&
                                       const RunSettings& settings, const solve::MovingChannels* folded) {
   std::vector<CasePeaks> out;
   if (!folded) {
-    for (const RunResult& r : simulate_batch(m, train, speeds, settings))
-      out.push_back({peaks(r), r.summary.n_steps, r.summary.wall_s});
+    for (const RunResult& r : simulate_batch(m, train, speeds, settings)) {
+      CasePeaks p{peaks(r), {}, r.summary.n_steps, r.summary.wall_s};
+      if (!m.effects.empty()) p.quantities = quantity_peaks(m, r);
+      out.push_back(std::move(p));
+    }
     return out;
   }
   if (!folds_trains(m, settings)) throw InputError("the peaks kernel needs the modal method with direct superposition");

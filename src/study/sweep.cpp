@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <optional>
 
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/thread_pool.hpp"
+#include "viaduct/study/influence.hpp"
 
 namespace viaduct::study {
 
@@ -16,6 +18,7 @@ struct Prepared {
   std::optional<PreparedModel> model;
   std::string error;  // non-empty when the model could not be built
   bool input_error = false;  // ... because the input is wrong (InputError)
+  std::vector<std::vector<EffectPeak>> quasi_static;  // with load effects: per train, per quantity
 };
 // One job: a (variant, train, speed) case, or with unit-response superposition a (variant,
 // speed) pair covering every train (train = kAllTrains).
@@ -46,6 +49,7 @@ void describe_failure(std::string& error, bool& input_error) {
 
 struct CaseOutcome {
   std::vector<StationPeaks> peaks;
+  std::vector<EffectPeak> quantities;  // with load effects
   std::string error;
   bool input_error = false;  // the error is the input's (InputError), not the computation's
   Index n_steps = 0;
@@ -82,7 +86,12 @@ class Sweep {
         return;
       }
       try {
-        prepared_[v].model = prepare_model(variants_[v].scenario, /*rail_outputs=*/false);
+        const Scenario& sc = variants_[v].scenario;
+        prepared_[v].model = prepare_model(sc, /*rail_outputs=*/false, options_.load_effects);
+        if (options_.load_effects) {
+          const InfluenceLines il = influence_lines(*prepared_[v].model);
+          for (const auto& t : sc.trains) prepared_[v].quasi_static.push_back(static_extremes(il, t, sc.settings.load_factor));
+        }
       } catch (...) {
         describe_failure(prepared_[v].error, prepared_[v].input_error);
         prepared_[v].error = "model: " + prepared_[v].error;
@@ -91,7 +100,8 @@ class Sweep {
     std::vector<std::pair<std::size_t, std::size_t>> to_fold;
     for (std::size_t v = 0; v < variants_.size(); ++v) {
       folded_[v].resize(variants_[v].scenario.trains.size());
-      if (!options_.runner && prepared_[v].model && folds_trains(*prepared_[v].model, variants_[v].scenario.settings))
+      if (!options_.runner && !options_.load_effects && prepared_[v].model &&
+          folds_trains(*prepared_[v].model, variants_[v].scenario.settings))
         for (std::size_t t = 0; t < folded_[v].size(); ++t) to_fold.emplace_back(v, t);
     }
     parallel_for(to_fold.size(), options_.threads, [&](std::size_t i, int) {
@@ -112,19 +122,25 @@ class Sweep {
       const Scenario& sc = variants_[v].scenario;
       summary_.n_dofs.push_back(prepared_[v].model ? prepared_[v].model->structure.n_dofs : 0);
       summary_.n_modes.push_back(prepared_[v].model && prepared_[v].model->modal ? prepared_[v].model->modal->n_modes() : 0);
-      const bool unit = sc.settings.superposition == Superposition::unit_response;
+      // Unit-response runs record no load effects: a sweep that keeps them runs every case.
+      // Nor does it take a speed list per train.
+      const bool unit = sc.settings.superposition == Superposition::unit_response && !options_.load_effects &&
+                        variants_[v].train_speeds.empty();
       // Newmark cases of one train run in batches of speeds (a custom runner opts out).
       const bool newmark_batched = !options_.runner && !unit && sc.settings.method == Method::newmark;
-      for (std::size_t s = 0; s < sc.sweep_speeds.size(); ++s) {
-        if (unit) jobs_.push_back({v, kAllTrains, s});
-        else
-          for (std::size_t t = 0; t < sc.trains.size(); ++t) {
-            if (!folded_[v][t] && !newmark_batched) jobs_.push_back({v, t, s});
-            else if (s % kSpeedBlock == 0)
-              jobs_.push_back({v, t, s, std::min(kSpeedBlock, sc.sweep_speeds.size() - s), true});
-          }
+      if (unit) {
+        for (std::size_t s = 0; s < sc.sweep_speeds.size(); ++s) jobs_.push_back({v, kAllTrains, s});
+        n_cases_ += sc.trains.size() * sc.sweep_speeds.size();
+        continue;
       }
-      n_cases_ += sc.trains.size() * sc.sweep_speeds.size();
+      for (std::size_t t = 0; t < sc.trains.size(); ++t) {
+        const std::size_t n = speeds(v, t).size();
+        for (std::size_t s = 0; s < n; ++s) {
+          if (!folded_[v][t] && !newmark_batched) jobs_.push_back({v, t, s});
+          else if (s % kSpeedBlock == 0) jobs_.push_back({v, t, s, std::min(kSpeedBlock, n - s), true});
+        }
+        n_cases_ += n;
+      }
     }
   }
 
@@ -156,9 +172,9 @@ class Sweep {
       if (retry_alone)
         for (std::size_t k = 0; k < c.n_speeds; ++k) {
           try {
-            const RunResult r = runner_(pm, sc.trains[c.train], sc.sweep_speeds[c.speed + k], sc.settings);
+            const RunResult r = runner_(pm, sc.trains[c.train], speeds(c.variant, c.train)[c.speed + k], sc.settings);
             o[k].error.clear();
-            take(o[k], peaks(r), r.summary.n_steps);
+            take(o[k], pm, r);
           } catch (...) {
             describe_failure(o[k].error, o[k].input_error);
           }
@@ -173,21 +189,35 @@ class Sweep {
   // The cases of one job through the engine (study/simulation.hpp).
   void run_cases(const Job& c, const PreparedModel& pm, std::vector<CaseOutcome>& o) const {
     const Scenario& sc = variants_[c.variant].scenario;
-    const double speed = sc.sweep_speeds[c.speed];
+    const double speed = c.train == kAllTrains ? sc.sweep_speeds[c.speed] : speeds(c.variant, c.train)[c.speed];
     if (c.batched) {
-      const auto first = sc.sweep_speeds.begin() + static_cast<std::ptrdiff_t>(c.speed);
+      const auto first = speeds(c.variant, c.train).begin() + static_cast<std::ptrdiff_t>(c.speed);
       const std::vector<double> speeds(first, first + static_cast<std::ptrdiff_t>(c.n_speeds));
       const std::vector<CasePeaks> pr =
           simulate_peaks(pm, sc.trains[c.train], speeds, sc.settings, folded_[c.variant][c.train].get());
-      for (std::size_t k = 0; k < pr.size(); ++k) take(o[k], pr[k].peaks, pr[k].n_steps);
+      for (std::size_t k = 0; k < pr.size(); ++k) {
+        take(o[k], pr[k].peaks, pr[k].n_steps);
+        o[k].quantities = pr[k].quantities;
+      }
     } else if (c.train == kAllTrains) {
       const std::vector<RunResult> runs = simulate_by_unit_response(pm, sc.trains, speed, sc.settings);
       // A composed run shares one unit run: count its steps once.
       for (std::size_t k = 0; k < runs.size(); ++k) take(o[k], peaks(runs[k]), k > 0 ? 0 : runs[k].summary.n_steps);
     } else {
-      const RunResult r = runner_(pm, sc.trains[c.train], speed, sc.settings);
-      take(o[0], peaks(r), r.summary.n_steps);
+      take(o[0], pm, runner_(pm, sc.trains[c.train], speed, sc.settings));
     }
+  }
+
+  // A case run with histories: its peaks, and its quantities' extremes when the model has load effects.
+  static void take(CaseOutcome& o, const PreparedModel& pm, const RunResult& r) {
+    take(o, peaks(r), r.summary.n_steps);
+    if (!pm.effects.empty()) o.quantities = quantity_peaks(pm, r);
+  }
+
+  // The speeds of train t of variant v: its own list, or the scenario's.
+  const std::vector<double>& speeds(std::size_t v, std::size_t t) const {
+    const Variant& x = variants_[v];
+    return x.train_speeds.empty() ? x.scenario.sweep_speeds : x.train_speeds[t];
   }
 
   static void take(CaseOutcome& o, const std::vector<StationPeaks>& p, Index n_steps) {
@@ -202,8 +232,8 @@ class Sweep {
     out.summary = summary_;
     std::vector<std::vector<std::vector<const CaseOutcome*>>> at(variants_.size());
     for (std::size_t v = 0; v < variants_.size(); ++v)
-      at[v].assign(variants_[v].scenario.trains.size(),
-                   std::vector<const CaseOutcome*>(variants_[v].scenario.sweep_speeds.size(), nullptr));
+      for (std::size_t t = 0; t < variants_[v].scenario.trains.size(); ++t)
+        at[v].emplace_back(speeds(v, t).size(), nullptr);
     for (std::size_t i = 0; i < jobs_.size(); ++i) {
       const Job& c = jobs_[i];
       if (c.train == kAllTrains)
@@ -214,11 +244,13 @@ class Sweep {
     for (std::size_t v = 0; v < variants_.size(); ++v) {
       const Scenario& sc = variants_[v].scenario;
       const std::string& vname = variants_[v].label;
+      const Prepared& p = prepared_[v];
+      const std::vector<std::string> names = p.quasi_static.empty() ? std::vector<std::string>{} : quantity_names(*p.model);
       for (std::size_t t = 0; t < sc.trains.size(); ++t)
-        for (std::size_t s = 0; s < sc.sweep_speeds.size(); ++s) {
+        for (std::size_t s = 0; s < speeds(v, t).size(); ++s) {
           const CaseOutcome& o = *at[v][t][s];
           const std::string& tname = sc.trains[t].name;
-          const double speed = sc.sweep_speeds[s];
+          const double speed = speeds(v, t)[s];
           if (!o.done) {
             out.failures.push_back({vname, tname, speed, o.error, o.input_error});
             continue;
@@ -226,6 +258,8 @@ class Sweep {
           out.summary.n_steps_total += o.n_steps;
           for (std::size_t k = 0; k < o.peaks.size(); ++k)
             out.rows.push_back({vname, tname, sc.stations[k].name, speed, o.peaks[k].max_abs_acc, o.peaks[k].max_abs_disp});
+          for (std::size_t q = 0; q < o.quantities.size() && q < names.size(); ++q)
+            out.quantities.push_back({vname, tname, names[q], speed, o.quantities[q], p.quasi_static[t][q]});
         }
     }
     out.summary.n_cases = n_cases_;
@@ -250,9 +284,18 @@ class Sweep {
 SweepResult run_sweep(const std::vector<Variant>& variants, const SweepOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   if (options.threads < 1) throw InputError("threads must be >= 1");
+  for (const auto& v : variants)
+    if (!v.train_speeds.empty() && v.train_speeds.size() != v.scenario.trains.size())
+      throw InputError("variant '" + v.label + "': " + std::to_string(v.train_speeds.size()) + " speed lists for " +
+                       std::to_string(v.scenario.trains.size()) + " trains");
   SweepResult out = Sweep(variants, options).run();
   out.summary.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
+}
+
+double QuantityRow::phi_dyn() const {
+  const double st = quasi_static.max_abs();
+  return st > 0.0 ? dynamic.max_abs() / st - 1.0 : std::numeric_limits<double>::quiet_NaN();
 }
 
 std::vector<GoverningRow> governing(const std::vector<EnvelopeRow>& rows) {

@@ -131,5 +131,6 @@ Command shaker_command();
 Command modal_fit_command();
 Command decay_command();
 Command fit_command();
+Command assess_command();
 
 }  // namespace viaduct::cli

@@ -21,6 +21,18 @@ void print_governing(const std::vector<study::GoverningRow>& gov, bool with_vari
                 g.acc.speed * 3.6, with_variant ? ("  " + g.acc.variant).c_str() : "", g.disp.value * 1e3,
                 g.disp.train.c_str(), g.disp.speed * 3.6, with_variant ? ("  " + g.disp.variant).c_str() : "");
 }
+
+struct SweepOpts {
+  bool load_effects = false;
+};
+
+void declare_sweep(po::options_description& d, SweepOpts& s) {
+  d.add_options()("load-effects", po::bool_switch(&s.load_effects),
+                  "also the extremes of every deck deflection and load effect with phi'dyn (load_effects.csv); "
+                  "cases then run with histories, not the modal peaks kernel");
+}
+
+int run_sweep_command(const Common& o, const SweepOpts& opts);
 }  // namespace
 
 Command sweep_command() {
@@ -31,14 +43,20 @@ Command sweep_command() {
       "Writes OUT/envelope.csv (variant,train,speed_kmh,station,max_abs_acc_mps2,max_abs_disp_m;\n"
       "accelerations filtered as the scenario says; with sweep.variants, a column KEY_factor per\n"
       "varied key after variant), OUT/governing.csv (the largest value per station and where it\n"
-      "occurs), OUT/failures.csv and OUT/manifest.toml.\n"
+      "occurs), OUT/failures.csv and OUT/manifest.toml; with --load-effects OUT/load_effects.csv\n"
+      "(per case and quantity: max, min, the quasi-static extremes of the train crawling, phi_dyn).\n"
       "Results are identical for any --threads. A case that fails is listed in failures.csv,\n"
       "the others complete, and the exit code is 1 (2 when every case failed on its input, as\n"
       "`run` exits with the same value). Plot with scripts/plot/plot_envelope.py OUT.\n\n"
       "Sample runs:\n"
       "  viaduct sweep scenarios/hslm-simply-supported.toml --set 'train.files=[\"data/trains/hslm/A1.toml\"]' --set sweep.speed_step_kmh=20 --out out/hslm\n"
       "  viaduct sweep scenarios/old-guadiana-sensitivity.toml --set sweep.speed_min_mps=90 --set sweep.n_speeds=1 --threads 0 --out out/og\n";
-  c.run = [](const Common& o) {
+  bind(c, declare_sweep, run_sweep_command);
+  return c;
+}
+
+namespace {
+int run_sweep_command(const Common& o, const SweepOpts& opts) {
     const auto t0 = std::chrono::steady_clock::now();
     const io::FlatScenario flat = load_scenario(o);
     auto variants = io::sweep_variants(flat, /*isolate_failures=*/true);
@@ -50,8 +68,10 @@ Command sweep_command() {
     study::SweepOptions so;
     so.threads = o.threads;
     so.progress = progress_printer("sweep", o.quiet);
+    so.load_effects = opts.load_effects;
     const study::SweepResult r = study::run_sweep(variants, so);
     io::write_envelope_csv(o.out + "/envelope.csv", r.rows, variants);
+    if (opts.load_effects) io::write_quantities_csv(o.out + "/load_effects.csv", r.quantities, variants);
     io::write_failures_csv(o.out + "/failures.csv", r.failures);
     const std::vector<study::GoverningRow> gov = study::governing(r.rows);
     io::write_governing_csv(o.out + "/governing.csv", gov);
@@ -94,8 +114,7 @@ Command sweep_command() {
       std::fprintf(stderr, "viaduct sweep: error: %s: every case failed on its input (failures.csv): %s\n", o.scenario.c_str(),
                    r.failures.front().message.c_str());
     return all_input ? usage_error : runtime_failure;
-  };
-  return c;
 }
+}  // namespace
 
 }  // namespace viaduct::cli

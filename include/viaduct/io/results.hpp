@@ -24,6 +24,11 @@ void write_history_csv(const std::string& path, const study::RunResult& r);
 /// factor of that row's variant on KEY, 1 where it leaves KEY alone).
 void write_envelope_csv(const std::string& path, const std::vector<study::EnvelopeRow>& rows,
                         const std::vector<study::Variant>& variants = {});
+/// load_effects.csv of a sweep with load effects: variant (KEY_factor columns as envelope.csv),
+/// train, speed_kmh, quantity (its unit in its name), max, min, max_abs over the run,
+/// quasi_static_max/min (the train crawling), phi_dyn (empty when the quasi-static is 0).
+void write_quantities_csv(const std::string& path, const std::vector<study::QuantityRow>& rows,
+                          const std::vector<study::Variant>& variants);
 /// failures.csv: variant,train,speed_kmh,error (header only when nothing failed)
 void write_failures_csv(const std::string& path, const std::vector<study::CaseFailure>& failures);
 
@@ -86,6 +91,9 @@ std::string sha256_hex(const std::string& bytes);
 /// The git commit viaduct was built from ("unknown" outside a checkout; "-dirty" appended when
 /// tracked files had uncommitted changes at build time).
 std::string git_commit();
+
+/// `text` as the whole content of `path`, written atomically (report.md); SolverError on failure.
+void write_text_file(const std::string& path, const std::string& text);
 
 /// "viaduct x.y.z" version string.
 std::string version();

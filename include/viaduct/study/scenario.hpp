@@ -90,6 +90,9 @@ struct Variant {
   /// The factor on each varied key of the sweep, in the order of sweep.variants (1 for keys this
   /// variant leaves alone); empty for a sweep without variants. One envelope column per key.
   std::vector<std::pair<std::string, double>> factors{};
+  /// Optional: the speeds [m/s] of each train (one list per scenario.trains entry), instead of
+  /// scenario.sweep_speeds for all (an assessment refines each train around its own resonances).
+  std::vector<std::vector<double>> train_speeds{};
 };
 
 }  // namespace viaduct::study

@@ -4,6 +4,7 @@
 /// histories or only their peaks. Workflows (sweep, trade-off, compare, fit, forced tests) call
 /// these and never a kernel.
 
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <vector>
@@ -174,6 +175,18 @@ struct StationPeaks {
 };
 std::vector<StationPeaks> peaks(const RunResult& r);
 
+/// Signed extremes of one quantity over a case.
+struct EffectPeak {
+  double max = 0.0, min = 0.0;  ///< largest and smallest value (sagging moment, compression positive)
+  double max_abs() const { return std::max(max, -min); }
+};
+
+/// The quantities whose extremes a sweep with load effects keeps, in order: each deck station's
+/// deflection (<station>_disp_m), then the load effects `m` was prepared with (LoadEffect::name).
+std::vector<std::string> quantity_names(const PreparedModel& m);
+/// Their extremes over a run of `m` (simulate()'s result), in quantity_names' order.
+std::vector<EffectPeak> quantity_peaks(const PreparedModel& m, const RunResult& r);
+
 /// True when the cases of `m` under `s` can run on a folded train (fold_train, simulate_peaks):
 /// modal method (the model prepared for it) and direct superposition.
 bool folds_trains(const PreparedModel& m, const RunSettings& s);
@@ -188,6 +201,8 @@ std::shared_ptr<const solve::MovingChannels> fold_train(const PreparedModel& m, 
 /// Peaks of one case, as peaks(simulate(...)) gives them.
 struct CasePeaks {
   std::vector<StationPeaks> peaks;  ///< per station
+  /// quantity_peaks() when the model was prepared with load effects (never from the peaks kernel)
+  std::vector<EffectPeak> quantities;
   Index n_steps = 0;
   double wall_s = 0.0;  ///< [s]
 };

@@ -19,6 +19,17 @@ struct EnvelopeRow {
   double max_abs_disp = 0.0;  ///< [m]
 };
 
+/// The extremes of one quantity (deck deflection or load effect, its unit in its name) in one
+/// case, with the same train's quasi-static extremes (crawling, any speed: static_extremes()).
+struct QuantityRow {
+  std::string variant, train, quantity;
+  double speed = 0.0;     ///< [m/s]
+  EffectPeak dynamic;     ///< over the run
+  EffectPeak quasi_static;
+  /// φ′dyn = max|dynamic| / max|quasi-static| − 1 (EN 1991-2 6.4.6.5); NaN when the static is 0.
+  double phi_dyn() const;
+};
+
 /// A case that did not complete; the sweep carries on without it.
 struct CaseFailure {
   std::string variant, train;
@@ -37,6 +48,8 @@ struct SweepSummary {
 
 struct SweepResult {
   std::vector<EnvelopeRow> rows;  ///< ordered variant, train, speed, station (thread-independent)
+  /// With SweepOptions::load_effects: ordered variant, train, speed, quantity.
+  std::vector<QuantityRow> quantities;
   std::vector<CaseFailure> failures;
   SweepSummary summary;
 };
@@ -67,6 +80,10 @@ struct SweepOptions {
   int threads = 1;           ///< >= 1; results are identical for any count
   ProgressSink progress;     ///< optional; called after each case
   CaseRunner runner;         ///< optional; default simulate()
+  /// Also keep the signed extremes of every deck deflection and load effect (load_effects()) and
+  /// their quasi-static extremes (SweepResult::quantities). The cases then run with histories
+  /// (simulate(), batched Newmark), not the modal peaks kernel, and direct superposition.
+  bool load_effects = false;
 };
 
 /// Prepares each variant's model once, in parallel (structure, stations, modes for the modal

@@ -1,0 +1,49 @@
+#pragma once
+/// \file The numbers of the EN 1991-2 dynamic check (2003 edition numbering; docs/assess.md and
+/// REFERENCE.md §9): damping lower bounds, the additional damping standing for the vehicle–bridge
+/// interaction, dynamic factors, the frequency cut-off, and the speeds to run. `viaduct assess`
+/// puts them together; each function names its clause.
+
+#include <string>
+#include <vector>
+
+namespace viaduct::study {
+
+/// Deck types of EN 1991-2 Table 6.6 (steel and composite share a row; so do reinforced and
+/// filler-beam concrete).
+enum class DeckType { steel, composite, prestressed, reinforced, filler_beam };
+/// "steel" | "composite" | "prestressed" | "reinforced" | "filler-beam"; InputError otherwise.
+DeckType deck_type_of(const std::string& name);
+const char* deck_type_name(DeckType t);
+
+/// Lower bound of the damping ratio [-] for span L [m], Table 6.6: steel/composite 0.5 + 0.125
+/// (20 − L) %, prestressed 1.0 + 0.07 (20 − L) %, reinforced/filler-beam 1.5 + 0.07 (20 − L) % for
+/// L < 20 m; 0.5, 1.0, 1.5 % from 20 m on.
+double damping_lower_bound(DeckType t, double span_m);
+
+/// Additional damping Δζ [-] for L < 30 m when the vehicle–bridge interaction is not modelled
+/// (Fig. 6.8, Eq. 6.13): (0.0187 L − 0.00064 L²) / (1 − 0.0441 L − 0.0044 L² + 0.000255 L³) %;
+/// 0 from 30 m on.
+double additional_damping(double span_m);
+
+/// Dynamic factors of 6.4.5.2 for the determinant length Lφ [m]: Φ2 = 1.44 / (√Lφ − 0.2) + 0.82
+/// within [1.00, 1.67] (carefully maintained track), Φ3 = 2.16 / (√Lφ − 0.2) + 0.73 within
+/// [1.00, 2.00] (standard maintenance).
+double phi2(double length_m);
+double phi3(double length_m);
+
+/// φ″ of Annex C (track irregularities, to confirm against the text): α/100 [56 e^{−(Lφ/10)²} +
+/// 50 (Lφ n0/80 − 1) e^{−(Lφ/20)²}], α = v/22 for v ≤ 22 m/s and 1 above, never below 0. v in
+/// m/s, n0 [Hz] the first natural frequency.
+double phi_irregularities(double length_m, double speed_mps, double n0_hz);
+
+/// The frequencies to consider (A2.4.4.2.1(4)): max(30 Hz, 1.5 f1, f3) [Hz].
+double cutoff_frequency(double f1_hz, double f3_hz);
+
+/// Speeds [m/s] of an assessment: v_min, v_min + step, ... up to v_max (v_max included), plus
+/// every fine_step within ±band (a fraction) of each resonance speed, sorted, without duplicates
+/// closer than fine_step/100. InputError for non-positive or inconsistent values.
+std::vector<double> assessment_speeds(double v_min, double v_max, double step, double fine_step,
+                                      const std::vector<double>& resonances, double band);
+
+}  // namespace viaduct::study

@@ -1,0 +1,99 @@
+#include "viaduct/study/assess.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "viaduct/core/error.hpp"
+
+namespace viaduct::study {
+
+DeckType deck_type_of(const std::string& name) {
+  if (name == "steel") return DeckType::steel;
+  if (name == "composite") return DeckType::composite;
+  if (name == "prestressed") return DeckType::prestressed;
+  if (name == "reinforced") return DeckType::reinforced;
+  if (name == "filler-beam") return DeckType::filler_beam;
+  throw InputError("deck type '" + name +
+                   "' is not in EN 1991-2 Table 6.6: steel, composite, prestressed, reinforced or filler-beam");
+}
+
+const char* deck_type_name(DeckType t) {
+  switch (t) {
+    case DeckType::steel: return "steel";
+    case DeckType::composite: return "composite";
+    case DeckType::prestressed: return "prestressed";
+    case DeckType::reinforced: return "reinforced";
+    case DeckType::filler_beam: return "filler-beam";
+  }
+  return "?";
+}
+
+double damping_lower_bound(DeckType t, double L) {
+  require_positive(L, "span length [m]");
+  const double short_by = std::max(0.0, 20.0 - L);
+  double pct = 0.0;
+  switch (t) {
+    case DeckType::steel:
+    case DeckType::composite: pct = 0.5 + 0.125 * short_by; break;
+    case DeckType::prestressed: pct = 1.0 + 0.07 * short_by; break;
+    case DeckType::reinforced:
+    case DeckType::filler_beam: pct = 1.5 + 0.07 * short_by; break;
+  }
+  return pct / 100.0;
+}
+
+double additional_damping(double L) {
+  require_positive(L, "span length [m]");
+  if (L >= 30.0) return 0.0;
+  const double pct = (0.0187 * L - 0.00064 * L * L) / (1.0 - 0.0441 * L - 0.0044 * L * L + 0.000255 * L * L * L);
+  return pct / 100.0;
+}
+
+double phi2(double L) {
+  require_positive(L, "determinant length [m]");
+  return std::clamp(1.44 / (std::sqrt(L) - 0.2) + 0.82, 1.0, 1.67);
+}
+
+double phi3(double L) {
+  require_positive(L, "determinant length [m]");
+  return std::clamp(2.16 / (std::sqrt(L) - 0.2) + 0.73, 1.0, 2.0);
+}
+
+double phi_irregularities(double L, double v, double n0) {
+  require_positive(L, "determinant length [m]");
+  require_positive(v, "speed [m/s]");
+  require_positive(n0, "first natural frequency [Hz]");
+  const double alpha = v <= 22.0 ? v / 22.0 : 1.0;
+  const double a = L / 10.0, b = L / 20.0;
+  const double phi = alpha / 100.0 * (56.0 * std::exp(-a * a) + 50.0 * (L * n0 / 80.0 - 1.0) * std::exp(-b * b));
+  return std::max(phi, 0.0);
+}
+
+double cutoff_frequency(double f1, double f3) { return std::max({30.0, 1.5 * f1, f3}); }
+
+std::vector<double> assessment_speeds(double v_min, double v_max, double step, double fine_step,
+                                      const std::vector<double>& resonances, double band) {
+  require_positive(v_min, "lowest speed [m/s]");
+  require_positive(step, "speed step [m/s]");
+  require_positive(fine_step, "refined speed step [m/s]");
+  require_non_negative(band, "refinement band [-]");
+  if (!(v_max >= v_min)) throw InputError("the highest speed is below the lowest");
+  if ((v_max - v_min) / std::min(step, fine_step) > 1e6) throw InputError("more than a million speeds: raise the steps");
+  std::vector<double> v;
+  for (double x = v_min; x <= v_max * (1 + 1e-12); x = v_min + step * static_cast<double>(v.size())) v.push_back(x);
+  if (v.back() < v_max * (1 - 1e-12)) v.push_back(v_max);
+  for (double r : resonances) {
+    const double lo = std::max(v_min, r * (1.0 - band)), hi = std::min(v_max, r * (1.0 + band));
+    if (!(r > 0.0) || lo > hi) continue;
+    // On the fine grid through the resonance itself, so that the peak is hit.
+    const double first = r - fine_step * std::floor((r - lo) / fine_step);
+    for (double x = first; x <= hi * (1 + 1e-12); x += fine_step) v.push_back(x);
+  }
+  std::sort(v.begin(), v.end());
+  std::vector<double> out;
+  for (double x : v)
+    if (out.empty() || x - out.back() > fine_step / 100.0) out.push_back(x);
+  return out;
+}
+
+}  // namespace viaduct::study

@@ -1,0 +1,134 @@
+#include "viaduct/study/influence.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/SparseCholesky>
+
+#include "viaduct/core/error.hpp"
+#include "viaduct/load/moving_loads.hpp"
+
+namespace viaduct::study {
+
+double InfluenceLines::at(std::size_t q, double x) const {
+  const Vector& y = value[q];
+  const double u = (x - x0) / h;
+  if (!(u >= 0.0) || y.size() == 0) return 0.0;
+  const auto i = static_cast<Index>(std::floor(u));
+  if (i >= y.size() - 1) return i == y.size() - 1 && u == static_cast<double>(i) ? y[i] : 0.0;
+  const double w = u - static_cast<double>(i);
+  return (1.0 - w) * y[i] + w * y[i + 1];
+}
+
+InfluenceLines influence_lines(const PreparedModel& m, double h) {
+  const model::Structure& s = m.structure;
+  std::vector<solve::Functional> funcs;
+  std::vector<const LoadEffect*> bearing;
+  for (const auto& st : m.stations)
+    if (st.has_deck) {
+      funcs.push_back(functional_of(st.deck));
+      bearing.push_back(nullptr);
+    }
+  for (const auto& e : m.effects) {
+    funcs.push_back(e.functional);
+    bearing.push_back(e.bearing >= 0 ? &e : nullptr);
+  }
+  InfluenceLines il;
+  il.names = quantity_names(m);
+  if (h <= 0.0) {
+    double shortest = s.path_end() - s.path_start();
+    for (const auto& e : s.load_path()) shortest = std::min(shortest, e.h);
+    h = shortest / 8.0;
+  }
+  require_positive(h, "influence line spacing [m]");
+  il.x0 = s.path_start();
+  il.h = h;
+  const auto n = static_cast<Index>(std::floor((s.path_end() - s.path_start()) / h + 1e-9)) + 1;
+  Eigen::SimplicialLDLT<SparseMatrix> K(s.K);
+  if (K.info() != Eigen::Success) throw SolverError("influence lines: the stiffness matrix cannot be factorised");
+  std::vector<Vector> z;
+  for (const auto& f : funcs) {
+    Vector c = Vector::Zero(s.n_dofs);
+    for (std::size_t k = 0; k < f.dof.size(); ++k) c[f.dof[k]] += f.weight[k];
+    z.push_back(K.solve(c));
+    if (!z.back().allFinite())
+      throw SolverError("influence lines: the stiffness matrix is singular (a part of the model is not supported)");
+  }
+  // One 1 N axle moving at 1 m/s: at time t it stands at path_start + t.
+  load::Train unit;
+  unit.name = "unit axle";
+  unit.offset = {0.0};
+  unit.load = {1.0};
+  const load::MovingLoads loads(s, unit, 1.0, 1.0);
+  il.value.assign(funcs.size(), Vector::Zero(n));
+  SparseForce f;
+  for (Index i = 0; i < n; ++i) {
+    const double x = std::min(il.x0 + static_cast<double>(i) * h, s.path_end());
+    loads.entries(x - il.x0, f);
+    for (std::size_t q = 0; q < z.size(); ++q) {
+      double y = 0.0;
+      for (std::size_t e = 0; e < f.dof.size(); ++e) y += z[q][f.dof[e]] * f.value[e];
+      if (bearing[q]) y += bearing_load(s, *bearing[q], unit, 1.0, x);
+      il.value[q][i] = y;
+    }
+  }
+  return il;
+}
+
+std::vector<EffectPeak> static_extremes(const InfluenceLines& il, const load::Train& train, double load_factor) {
+  require_positive(load_factor, "train.load_factor");
+  train.validate();
+  std::vector<EffectPeak> out(il.value.size());
+  if (il.value.empty()) return out;
+  const double x_end = il.x0 + il.h * static_cast<double>(il.value.front().size() - 1);
+  const auto n_pos = static_cast<Index>(std::ceil((x_end - il.x0 + train.length()) / il.h)) + 1;
+  for (std::size_t q = 0; q < il.value.size(); ++q)
+    for (Index i = 0; i < n_pos; ++i) {
+      const double head = il.x0 + static_cast<double>(i) * il.h;
+      double y = 0.0;
+      for (std::size_t k = 0; k < train.n_axles(); ++k) y += train.load[k] * il.at(q, head - train.offset[k]);
+      y *= load_factor;
+      out[q].max = std::max(out[q].max, y);
+      out[q].min = std::min(out[q].min, y);
+    }
+  return out;
+}
+
+std::vector<EffectPeak> lm71_extremes(const InfluenceLines& il, double alpha, double load_factor) {
+  require_positive(alpha, "LM71 classification factor alpha");
+  require_positive(load_factor, "train.load_factor");
+  constexpr double P = 250e3, q = 80e3, a = 1.6, gap = 0.8;  // [N], [N/m], [m], [m] (EN 1991-2 Fig. 6.1)
+  std::vector<EffectPeak> out(il.value.size());
+  for (std::size_t k = 0; k < il.value.size(); ++k) {
+    const Vector& y = il.value[k];
+    const Index n = y.size();
+    // Running integrals of the positive and negative parts (trapezoids): the UDL's share over
+    // [x_a, x_b] is a difference of two of them.
+    Vector pos = Vector::Zero(n), neg = Vector::Zero(n);
+    for (Index i = 1; i < n; ++i) {
+      pos[i] = pos[i - 1] + 0.5 * il.h * (std::max(y[i - 1], 0.0) + std::max(y[i], 0.0));
+      neg[i] = neg[i - 1] + 0.5 * il.h * (std::min(y[i - 1], 0.0) + std::min(y[i], 0.0));
+    }
+    auto integral_to = [&](const Vector& cum, double x) {
+      const double u = std::clamp((x - il.x0) / il.h, 0.0, static_cast<double>(n - 1));
+      const auto i = std::min(static_cast<Index>(std::floor(u)), n - 1);
+      if (i == n - 1) return cum[i];
+      return cum[i] + (u - static_cast<double>(i)) * (cum[i + 1] - cum[i]);  // linear between samples
+    };
+    // The first axle at every sample position from 3a + gap before the path to gap after it.
+    const Index lo = -static_cast<Index>(std::ceil((3.0 * a + gap) / il.h)), hi = n + static_cast<Index>(std::ceil(gap / il.h));
+    for (Index i = lo; i <= hi; ++i) {
+      const double x1 = il.x0 + static_cast<double>(i) * il.h;  // the leading axle; the others behind it
+      double axles = 0.0;
+      for (int j = 0; j < 4; ++j) axles += P * il.at(k, x1 - a * j);
+      const double gap_lo = x1 - 3.0 * a - gap, gap_hi = x1 + gap;  // no UDL within
+      const double up = pos[n - 1] - (integral_to(pos, gap_hi) - integral_to(pos, gap_lo));
+      const double down = neg[n - 1] - (integral_to(neg, gap_hi) - integral_to(neg, gap_lo));
+      out[k].max = std::max(out[k].max, alpha * load_factor * (axles + q * up));
+      out[k].min = std::min(out[k].min, alpha * load_factor * (axles + q * down));
+    }
+  }
+  return out;
+}
+
+}  // namespace viaduct::study
