@@ -82,15 +82,33 @@ std::vector<EffectPeak> static_extremes(const InfluenceLines& il, const load::Tr
   if (il.value.empty()) return out;
   const double x_end = il.x0 + il.h * static_cast<double>(il.value.front().size() - 1);
   const auto n_pos = static_cast<Index>(std::ceil((x_end - il.x0 + train.length()) / il.h)) + 1;
-  for (std::size_t q = 0; q < il.value.size(); ++q)
-    for (Index i = 0; i < n_pos; ++i) {
-      const double head = il.x0 + static_cast<double>(i) * il.h;
+  for (std::size_t q = 0; q < il.value.size(); ++q) {
+    auto at_head = [&](double head) {
       double y = 0.0;
       for (std::size_t k = 0; k < train.n_axles(); ++k) y += train.load[k] * il.at(q, head - train.offset[k]);
-      y *= load_factor;
-      out[q].max = std::max(out[q].max, y);
-      out[q].min = std::min(out[q].min, y);
+      return y * load_factor;
+    };
+    // Every h, then around the largest and the smallest: the response is piecewise linear in
+    // the head position between the positions that put an axle on a sample, so its extremes
+    // within ±h are at those (an axle on a support or on the station).
+    double x_max = il.x0, x_min = il.x0;
+    for (Index i = 0; i < n_pos; ++i) {
+      const double head = il.x0 + static_cast<double>(i) * il.h, y = at_head(head);
+      if (y > out[q].max) out[q].max = y, x_max = head;
+      if (y < out[q].min) out[q].min = y, x_min = head;
     }
+    for (const double around : {x_max, x_min})
+      for (std::size_t k = 0; k < train.n_axles(); ++k)
+        for (const double side : {-1.0, 0.0, 1.0}) {
+          // the sample nearest to axle k, and its neighbours: the head that puts the axle there
+          const double u = std::round((around - train.offset[k] - il.x0) / il.h) + side;
+          const double head = il.x0 + u * il.h + train.offset[k];
+          if (std::abs(head - around) > il.h) continue;
+          const double y = at_head(head);
+          out[q].max = std::max(out[q].max, y);
+          out[q].min = std::min(out[q].min, y);
+        }
+  }
   return out;
 }
 
@@ -115,18 +133,20 @@ std::vector<EffectPeak> lm71_extremes(const InfluenceLines& il, double alpha, do
       if (i == n - 1) return cum[i];
       return cum[i] + (u - static_cast<double>(i)) * (cum[i + 1] - cum[i]);  // linear between samples
     };
-    // The first axle at every sample position from 3a + gap before the path to gap after it.
+    // Each axle on every sample (the extremes put one on a kink of the line: a support, the
+    // station), from the group wholly before the path to wholly after it.
     const Index lo = -static_cast<Index>(std::ceil((3.0 * a + gap) / il.h)), hi = n + static_cast<Index>(std::ceil(gap / il.h));
-    for (Index i = lo; i <= hi; ++i) {
-      const double x1 = il.x0 + static_cast<double>(i) * il.h;  // the leading axle; the others behind it
-      double axles = 0.0;
-      for (int j = 0; j < 4; ++j) axles += P * il.at(k, x1 - a * j);
-      const double gap_lo = x1 - 3.0 * a - gap, gap_hi = x1 + gap;  // no UDL within
-      const double up = pos[n - 1] - (integral_to(pos, gap_hi) - integral_to(pos, gap_lo));
-      const double down = neg[n - 1] - (integral_to(neg, gap_hi) - integral_to(neg, gap_lo));
-      out[k].max = std::max(out[k].max, alpha * load_factor * (axles + q * up));
-      out[k].min = std::min(out[k].min, alpha * load_factor * (axles + q * down));
-    }
+    for (Index i = lo; i <= hi; ++i)
+      for (int on = 0; on < 4; ++on) {
+        const double x1 = il.x0 + static_cast<double>(i) * il.h + a * on;  // the leading axle; the others behind it
+        double axles = 0.0;
+        for (int j = 0; j < 4; ++j) axles += P * il.at(k, x1 - a * j);
+        const double gap_lo = x1 - 3.0 * a - gap, gap_hi = x1 + gap;  // no UDL within
+        const double up = pos[n - 1] - (integral_to(pos, gap_hi) - integral_to(pos, gap_lo));
+        const double down = neg[n - 1] - (integral_to(neg, gap_hi) - integral_to(neg, gap_lo));
+        out[k].max = std::max(out[k].max, alpha * load_factor * (axles + q * up));
+        out[k].min = std::min(out[k].min, alpha * load_factor * (axles + q * down));
+      }
   }
   return out;
 }
