@@ -73,6 +73,8 @@ void allocate(CaseResult& r, const TimeGrid& g, std::size_t n_outputs, const Rec
   if (rec.disp_history) r.disp.resize(rows, cols);
   if (rec.acc_history) r.acc.resize(rows, cols);
   r.max_abs_disp = Vector::Zero(cols);
+  r.max_disp = Vector::Zero(cols);
+  r.min_disp = Vector::Zero(cols);
   r.max_abs_acc = Vector::Zero(cols);
 }
 
@@ -83,6 +85,8 @@ struct Sampler {
     if (r->disp.size()) r->disp(k, j) = d;
     if (r->acc.size()) r->acc(k, j) = a;
     r->max_abs_disp[j] = std::max(r->max_abs_disp[j], std::abs(d));
+    r->max_disp[j] = std::max(r->max_disp[j], d);
+    r->min_disp[j] = std::min(r->min_disp[j], d);
     r->max_abs_acc[j] = std::max(r->max_abs_acc[j], std::abs(a));
   }
 };
@@ -157,6 +161,8 @@ class NewmarkIntegrator : public Integrator {
       for (std::size_t l = 0; l < n; ++l) {
         CaseResult r;
         r.max_abs_disp = h[l].disp.cwiseAbs().colwise().maxCoeff().transpose();
+        r.max_disp = h[l].disp.colwise().maxCoeff().transpose().cwiseMax(0.0);
+        r.min_disp = h[l].disp.colwise().minCoeff().transpose().cwiseMin(0.0);
         r.max_abs_acc = h[l].acc.cwiseAbs().colwise().maxCoeff().transpose();
         if (rec.disp_history) r.disp = std::move(h[l].disp);
         if (rec.acc_history) r.acc = std::move(h[l].acc);
@@ -228,6 +234,8 @@ class ModalIntegrator : public Integrator {
     std::vector<CaseResult> out(pr.size());
     for (std::size_t i = 0; i < pr.size(); ++i) {
       out[i].max_abs_disp = std::move(pr[i].max_abs_disp);
+      out[i].max_disp = std::move(pr[i].max_disp);
+      out[i].min_disp = std::move(pr[i].min_disp);
       out[i].max_abs_acc = std::move(pr[i].max_abs_acc);
       out[i].acc = std::move(pr[i].acc);
       out[i].summary = std::move(pr[i].summary);

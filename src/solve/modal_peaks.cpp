@@ -106,18 +106,22 @@ struct LoadCursor {
 
 // Station outputs of step k: the coordinates' share dj, aj plus the static correction's
 // residuals (deflection f_res, acceleration c) when flex; recorded when hist is set; running
-// maxima in md, ma (a lane past its own last step, live = 0, keeps its maxima).
+// maxima of the deflection md and of its negative mn (signed extremes: a bearing's uplift, a
+// hogging moment) and of |acceleration| ma (a lane past its own last step, live = 0, keeps them).
 VIADUCT_ALWAYS_INLINE void emit_stations(std::size_t no, bool flex, const lanes* dj, const lanes* aj,
-                                         const lanes* f_res, const lanes* c, lanes* md, lanes* ma, double* hist,
-                                         std::size_t stride, const Index* n_steps, Index k, const lanes& live) {
+                                         const lanes* f_res, const lanes* c, lanes* md, lanes* mn, lanes* ma,
+                                         double* hist, std::size_t stride, const Index* n_steps, Index k,
+                                         const lanes& live) {
   const lanes zero = {0.0, 0.0, 0.0, 0.0};
   for (std::size_t j = 0; j < no; ++j) {
     lanes dv = dj[j], av = aj[j];
     if (flex) dv += f_res[j], av += c[j];
     if (hist) store_history(hist, stride, no, j, n_steps, k, av);
-    dv = live * (dv < zero ? -dv : dv);
+    dv = live * dv;
+    const lanes nv = -dv;
     av = live * (av < zero ? -av : av);
     md[j] = dv > md[j] ? dv : md[j];
+    mn[j] = nv > mn[j] ? nv : mn[j];
     ma[j] = av > ma[j] ? av : ma[j];
   }
 }
@@ -130,7 +134,8 @@ VIADUCT_ALWAYS_INLINE void emit_stations(std::size_t no, bool flex, const lanes*
 // common small bases); 0 reads them from `in`. Only the residual channels' curvature is needed
 // (the modes' accelerations come from their equations), so only those carry it.
 template <std::size_t NM, std::size_t NC, std::size_t NO>
-VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, double* qd_out, double* ma_out, double* md_out) {
+VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, double* qd_out, double* ma_out, double* md_out,
+                                       double* mn_out) {
   constexpr bool fixed = NM && NC && NO;
   const std::size_t nm = NM ? NM : in.nm, nc = NC ? NC : in.nc, no = NO ? NO : in.no;
   const bool flex = NC ? (NC > NM) : in.flex;
@@ -138,20 +143,20 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
   constexpr std::size_t cm = NM ? NM : 1, cc = NC ? NC : 1, co = NO ? NO : 1;
   const lanes zero = {0.0, 0.0, 0.0, 0.0}, one = zero + 1.0;
   lanes q_f[cm], qd_f[cm], pp_f[cm], f_f[cc], d1_f[cc], d2_f[cc], d3_f[cc], c_f[co], dc_f[co], ma_f[co], md_f[co],
-      dj_f[co], aj_f[co];
+      mn_f[co], dj_f[co], aj_f[co];
   lanes *q = q_f, *qd = qd_f, *pp = pp_f, *f = f_f, *d1 = d1_f, *d2 = d2_f, *d3 = d3_f, *c = c_f, *dc = dc_f,
-        *ma = ma_f, *md = md_f, *dj = dj_f, *aj = aj_f;
+        *ma = ma_f, *md = md_f, *mn = mn_f, *dj = dj_f, *aj = aj_f;
   std::vector<double> dyn;
   if constexpr (!fixed) {
-    dyn.assign((3 * nm + 4 * nc + 6 * no + 1) * W, 0.0);
+    dyn.assign((3 * nm + 4 * nc + 7 * no + 1) * W, 0.0);
     lanes* at = align_lanes(dyn.data());  // one spare group at the end
     for (lanes** a : {&q, &qd, &pp}) *a = at, at += nm;
     for (lanes** a : {&f, &d1, &d2, &d3}) *a = at, at += nc;
-    for (lanes** a : {&c, &dc, &ma, &md, &dj, &aj}) *a = at, at += no;
+    for (lanes** a : {&c, &dc, &ma, &md, &mn, &dj, &aj}) *a = at, at += no;
   }
   for (std::size_t i = 0; i < nm; ++i) q[i] = qd[i] = pp[i] = zero;
   for (std::size_t ch = 0; ch < nc; ++ch) f[ch] = d1[ch] = d2[ch] = d3[ch] = zero;
-  for (std::size_t j = 0; j < no; ++j) c[j] = dc[j] = ma[j] = md[j] = zero;
+  for (std::size_t j = 0; j < no; ++j) c[j] = dc[j] = ma[j] = md[j] = mn[j] = zero;
 
   lanes v = zero, n_steps = zero;
   for (std::size_t l = 0; l < W; ++l) {
@@ -167,7 +172,7 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
   cur.nr = nr;
   cur.f = f, cur.d1 = d1, cur.d2 = d2, cur.d3 = d3, cur.c = c, cur.dc = dc;
   auto emit = [&](Index k) {
-    emit_stations(no, flex, dj, aj, f + nm, c, md, ma, in.hist, in.stride, in.n_steps, k,
+    emit_stations(no, flex, dj, aj, f + nm, c, md, mn, ma, in.hist, in.stride, in.n_steps, k,
                   static_cast<double>(k) <= n_steps ? one : zero);
   };
   cur.start(in.v, in.dt, in.x_start);
@@ -199,7 +204,8 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
   }
   for (std::size_t l = 0; l < W; ++l) {
     for (std::size_t i = 0; i < nm; ++i) q_out[i * W + l] = q[i][l], qd_out[i * W + l] = qd[i][l];
-    for (std::size_t j = 0; j < no; ++j) ma_out[j * W + l] = ma[j][l], md_out[j * W + l] = md[j][l];
+    for (std::size_t j = 0; j < no; ++j)
+      ma_out[j * W + l] = ma[j][l], md_out[j * W + l] = md[j][l], mn_out[j * W + l] = mn[j][l];
   }
 }
 
@@ -207,36 +213,37 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
 // four-lane operation instead of two), chosen at run time by what the processor supports.
 #ifdef VIADUCT_HAVE_AVX2_VARIANT
 template <std::size_t NM, std::size_t NC, std::size_t NO>
-VIADUCT_TARGET_AVX2 void kernel_avx2(const KernelInput& in, double* q, double* qd, double* ma, double* md) {
-  kernel_body<NM, NC, NO>(in, q, qd, ma, md);
+VIADUCT_TARGET_AVX2 void kernel_avx2(const KernelInput& in, double* q, double* qd, double* ma, double* md, double* mn) {
+  kernel_body<NM, NC, NO>(in, q, qd, ma, md, mn);
 }
 #endif
 
 template <std::size_t NM, std::size_t NC, std::size_t NO>
-void kernel(const KernelInput& in, double* q, double* qd, double* ma, double* md) {
+void kernel(const KernelInput& in, double* q, double* qd, double* ma, double* md, double* mn) {
 #ifdef VIADUCT_HAVE_AVX2_VARIANT
-  if (cpu_has_avx2()) return kernel_avx2<NM, NC, NO>(in, q, qd, ma, md);
+  if (cpu_has_avx2()) return kernel_avx2<NM, NC, NO>(in, q, qd, ma, md, mn);
 #endif
-  kernel_body<NM, NC, NO>(in, q, qd, ma, md);
+  kernel_body<NM, NC, NO>(in, q, qd, ma, md, mn);
 }
 
 template <std::size_t NM, std::size_t NO>
-bool dispatch_fixed(const KernelInput& in, double* q, double* qd, double* ma, double* md) {
+bool dispatch_fixed(const KernelInput& in, double* q, double* qd, double* ma, double* md, double* mn) {
   if (in.nm != NM || in.no != NO) return false;
-  if (in.flex && in.nc == NM + NO) kernel<NM, NM + NO, NO>(in, q, qd, ma, md);
-  else if (!in.flex && in.nc == NM) kernel<NM, NM, NO>(in, q, qd, ma, md);
+  if (in.flex && in.nc == NM + NO) kernel<NM, NM + NO, NO>(in, q, qd, ma, md, mn);
+  else if (!in.flex && in.nc == NM) kernel<NM, NM, NO>(in, q, qd, ma, md, mn);
   else return false;
   return true;
 }
 
 template <std::size_t... I>
-bool dispatch_modes(std::index_sequence<I...>, const KernelInput& in, double* q, double* qd, double* ma, double* md) {
-  return ((dispatch_fixed<I + 1, 1>(in, q, qd, ma, md) || dispatch_fixed<I + 1, 2>(in, q, qd, ma, md)) || ...);
+bool dispatch_modes(std::index_sequence<I...>, const KernelInput& in, double* q, double* qd, double* ma, double* md,
+                    double* mn) {
+  return ((dispatch_fixed<I + 1, 1>(in, q, qd, ma, md, mn) || dispatch_fixed<I + 1, 2>(in, q, qd, ma, md, mn)) || ...);
 }
 
 // Bases of up to 6 modes with 1–2 stations get the unrolled loops; others the general one.
-void dispatch(const KernelInput& in, double* q, double* qd, double* ma, double* md) {
-  if (!dispatch_modes(std::make_index_sequence<6>{}, in, q, qd, ma, md)) kernel<0, 0, 0>(in, q, qd, ma, md);
+void dispatch(const KernelInput& in, double* q, double* qd, double* ma, double* md, double* mn) {
+  if (!dispatch_modes(std::make_index_sequence<6>{}, in, q, qd, ma, md, mn)) kernel<0, 0, 0>(in, q, qd, ma, md, mn);
 }
 
 // Complex modes (damping that couples the modes): per coordinate k, y ← E y + α u₀ + β u₁ with
@@ -259,13 +266,14 @@ struct ComplexInput {
   std::size_t stride = 0;
 };
 
-VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_out, double* ma_out, double* md_out) {
+VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_out, double* ma_out, double* md_out,
+                                        double* mn_out) {
   const std::size_t nk = in.nk, nch = in.nch, nc = in.nc, no = in.no, nr = in.flex ? no : 0;
   const lanes zero = {0.0, 0.0, 0.0, 0.0}, one = zero + 1.0;
-  std::vector<double> buf((2 * nk + nch + 4 * nc + 6 * no + 1) * W, 0.0);
+  std::vector<double> buf((2 * nk + nch + 4 * nc + 7 * no + 1) * W, 0.0);
   lanes* at = align_lanes(buf.data());
   lanes *yr = at, *yi = yr + nk, *pp = yi + nk, *f = pp + nch, *d1 = f + nc, *d2 = d1 + nc, *d3 = d2 + nc,
-        *c = d3 + nc, *dc = c + no, *ma = dc + no, *md = ma + no, *dj = md + no, *aj = dj + no;
+        *c = d3 + nc, *dc = c + no, *ma = dc + no, *md = ma + no, *mn = md + no, *dj = mn + no, *aj = dj + no;
   lanes v = zero, n_steps = zero;
   for (std::size_t l = 0; l < W; ++l) {
     v[l] = in.v[l];
@@ -280,7 +288,7 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
   cur.nr = nr;
   cur.f = f, cur.d1 = d1, cur.d2 = d2, cur.d3 = d3, cur.c = c, cur.dc = dc;
   auto emit = [&](Index k) {
-    emit_stations(no, in.flex, dj, aj, f + nch, c, md, ma, in.hist, in.stride, in.n_steps, k,
+    emit_stations(no, in.flex, dj, aj, f + nch, c, md, mn, ma, in.hist, in.stride, in.n_steps, k,
                   static_cast<double>(k) <= n_steps ? one : zero);
   };
   // The coordinates' outputs for the current y and the load channels u = f.
@@ -326,21 +334,22 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
     double st = 0.0;
     for (std::size_t k = 0; k < nk; ++k) st += yr[k][l] + yi[k][l];
     state_out[l] = st;
-    for (std::size_t j = 0; j < no; ++j) ma_out[j * W + l] = ma[j][l], md_out[j * W + l] = md[j][l];
+    for (std::size_t j = 0; j < no; ++j)
+      ma_out[j * W + l] = ma[j][l], md_out[j * W + l] = md[j][l], mn_out[j * W + l] = mn[j][l];
   }
 }
 
 #ifdef VIADUCT_HAVE_AVX2_VARIANT
-VIADUCT_TARGET_AVX2 void complex_avx2(const ComplexInput& in, double* st, double* ma, double* md) {
-  complex_body(in, st, ma, md);
+VIADUCT_TARGET_AVX2 void complex_avx2(const ComplexInput& in, double* st, double* ma, double* md, double* mn) {
+  complex_body(in, st, ma, md, mn);
 }
 #endif
 
-void complex_kernel(const ComplexInput& in, double* st, double* ma, double* md) {
+void complex_kernel(const ComplexInput& in, double* st, double* ma, double* md, double* mn) {
 #ifdef VIADUCT_HAVE_AVX2_VARIANT
-  if (cpu_has_avx2()) return complex_avx2(in, st, ma, md);
+  if (cpu_has_avx2()) return complex_avx2(in, st, ma, md, mn);
 #endif
-  complex_body(in, st, ma, md);
+  complex_body(in, st, ma, md, mn);
 }
 
 }  // namespace
@@ -428,18 +437,23 @@ void prepare_complex(const ModalReduction& r, const MovingChannels& L, double dt
 // Peaks (and the acceleration histories when recorded) of lane l after a kernel run; SolverError
 // when the lane's state or outputs are not finite.
 PeaksCaseResult lane_result(std::size_t l, std::size_t no, const std::vector<double>& ma, const std::vector<double>& md,
-                            double state, const std::vector<double>* hist, std::size_t stride, Index n_steps, double speed) {
+                            const std::vector<double>& mn, double state, const std::vector<double>* hist,
+                            std::size_t stride, Index n_steps, double speed) {
   // A non-finite state stays so (the recurrence is linear), and std::max would skip a NaN.
   PeaksCaseResult res;
   res.max_abs_disp.resize(static_cast<Index>(no));
+  res.max_disp.resize(static_cast<Index>(no));
+  res.min_disp.resize(static_cast<Index>(no));
   res.max_abs_acc.resize(static_cast<Index>(no));
   if (hist) res.acc.resize(n_steps + 1, static_cast<Index>(no));
   bool finite = std::isfinite(state);
   for (std::size_t j = 0; j < no; ++j) {
     const auto jj = static_cast<Index>(j);
-    res.max_abs_disp[jj] = md[j * W + l];
+    res.max_disp[jj] = md[j * W + l];
+    res.min_disp[jj] = -mn[j * W + l];
+    res.max_abs_disp[jj] = std::max(md[j * W + l], mn[j * W + l]);
     res.max_abs_acc[jj] = ma[j * W + l];
-    finite = finite && std::isfinite(md[j * W + l]);
+    finite = finite && std::isfinite(md[j * W + l]) && std::isfinite(mn[j * W + l]);
     if (hist) {
       res.acc.col(jj) = Eigen::Map<const Vector>(hist->data() + (l * no + j) * stride, n_steps + 1);
       finite = finite && res.acc.col(jj).allFinite();
@@ -482,7 +496,7 @@ std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingCh
   else prepare_complex(r, L, dt, no, k);
   std::vector<double> hist;
   std::vector<PeaksCaseResult> out;
-  std::vector<double> q(nm * W), qd(nm * W), ma(no * W), md(no * W), state(W);
+  std::vector<double> q(nm * W), qd(nm * W), ma(no * W), md(no * W), mn(no * W), state(W);
   for (std::size_t first = 0; first < cases.size(); first += W) {
     const auto wall0 = std::chrono::steady_clock::now();
     const std::size_t n_lanes = std::min(W, cases.size() - first);
@@ -508,7 +522,7 @@ std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingCh
       in.n_max = n_max;
       in.hist = record_acc ? hist.data() : nullptr;
       in.stride = stride;
-      dispatch(in, q.data(), qd.data(), ma.data(), md.data());
+      dispatch(in, q.data(), qd.data(), ma.data(), md.data(), mn.data());
       for (std::size_t l = 0; l < W; ++l) {
         state[l] = 0.0;
         for (std::size_t i = 0; i < nm; ++i) state[l] += q[i * W + l] + qd[i * W + l];
@@ -520,11 +534,12 @@ std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingCh
       ci.n_max = n_max;
       ci.hist = record_acc ? hist.data() : nullptr;
       ci.stride = stride;
-      complex_kernel(ci, state.data(), ma.data(), md.data());
+      complex_kernel(ci, state.data(), ma.data(), md.data(), mn.data());
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     for (std::size_t l = 0; l < n_lanes; ++l) {
-      PeaksCaseResult res = lane_result(l, no, ma, md, state[l], record_acc ? &hist : nullptr, stride, n_steps[l], v[l]);
+      PeaksCaseResult res =
+          lane_result(l, no, ma, md, mn, state[l], record_acc ? &hist : nullptr, stride, n_steps[l], v[l]);
       Summary& s = res.summary;
       s.kernel = "modal-peaks";
       s.n_steps = n_steps[l];

@@ -15,6 +15,7 @@ struct PeaksCase {
 
 struct PeaksCaseResult {
   Vector max_abs_disp, max_abs_acc;  ///< per recorded output
+  Vector max_disp, min_disp;         ///< signed extremes of the deflection per output (max >= 0 >= min: from rest)
   Matrix acc;                        ///< n_samples × n_outputs when record_acc
   Summary summary;
 };

@@ -616,6 +616,13 @@ solve::IntegrationSettings RunSettings::integration() const {
   return s;
 }
 
+bool effects_in_kernel(const PreparedModel& m) {
+  return std::all_of(m.effects.begin(), m.effects.end(), [&](const LoadEffect& e) {
+    const bool direct_load = e.bearing >= 0 && !m.structure.has_track && m.structure.bearings[static_cast<std::size_t>(e.bearing)].rigid;
+    return e.inertia.dof.empty() && e.damping.dof.empty() && !direct_load;
+  });
+}
+
 bool folds_trains(const PreparedModel& m, const RunSettings& s) {
   return s.method == Method::modal && s.superposition == Superposition::direct && m.modal && m.modal_path;
 }
@@ -716,9 +723,14 @@ std::vector<CasePeaks> simulate_peaks(const PreparedModel& m, const load::Train&
     throw InputError("the folded train belongs to another model");
   require_non_negative(settings.free_vibration_s, "free_vibration_s [s]");
   require_positive(settings.dt, "analysis.dt [s]");
-  // Only the stations' peaks: no history but the accelerations the filter takes.
-  const auto integrator =
-      solve::make_integrator(settings.integration(), station_functionals(m.stations, false), m.modal);
+  // Only the stations' peaks (and the load effects' signed extremes): no history but the
+  // accelerations the filter takes.
+  std::vector<solve::Functional> outputs = station_functionals(m.stations, false);
+  const std::size_t n_st = outputs.size();
+  if (!m.effects.empty() && !effects_in_kernel(m))
+    throw InputError("the peaks kernel cannot take bearing forces with inertia or damping parts: run the cases with histories");
+  for (const auto& e : m.effects) outputs.push_back(e.functional);  // the model's outputs in this order (make_modal)
+  const auto integrator = solve::make_integrator(settings.integration(), outputs, m.modal);
   std::vector<solve::LoadCase> cases;
   for (double v : speeds) {
     require_positive(v, "speed [m/s]");
@@ -738,7 +750,7 @@ std::vector<CasePeaks> simulate_peaks(const PreparedModel& m, const load::Train&
   if (settings.filter.enabled) sos = signal::cheby1(settings.filter.cheby, 1.0 / settings.dt);
   for (const solve::CaseResult& r : res) {
     CasePeaks p;
-    for (Index j = 0; j < r.max_abs_disp.size(); ++j) {
+    for (Index j = 0; j < static_cast<Index>(n_st); ++j) {
       StationPeaks sp;
       sp.max_abs_disp = r.max_abs_disp[j];
       // With a filter the maxima are taken after it, on the recorded accelerations.
@@ -746,6 +758,14 @@ std::vector<CasePeaks> simulate_peaks(const PreparedModel& m, const load::Train&
                            ? signal::max_abs_between_samples(signal::filtfilt_from_rest(sos, Vector(r.acc.col(j))))
                            : r.max_abs_acc[j];
       p.peaks.push_back(sp);
+    }
+    if (!m.effects.empty()) {  // quantity_peaks' order: deck stations' deflections, then the effects
+      for (std::size_t j = 0; j < n_st; ++j)
+        if (m.stations[j].has_deck) p.quantities.push_back({r.max_disp[static_cast<Index>(j)], r.min_disp[static_cast<Index>(j)]});
+      for (std::size_t e = 0; e < m.effects.size(); ++e) {
+        const auto k = static_cast<Index>(n_st + e);
+        p.quantities.push_back({r.max_disp[k], r.min_disp[k]});
+      }
     }
     p.n_steps = r.summary.n_steps;
     p.wall_s = r.summary.wall_s;

@@ -100,8 +100,9 @@ class Sweep {
     std::vector<std::pair<std::size_t, std::size_t>> to_fold;
     for (std::size_t v = 0; v < variants_.size(); ++v) {
       folded_[v].resize(variants_[v].scenario.trains.size());
-      if (!options_.runner && !options_.load_effects && prepared_[v].model &&
-          folds_trains(*prepared_[v].model, variants_[v].scenario.settings))
+      // With load effects, only when the kernel can keep them all.
+      if (!options_.runner && prepared_[v].model && folds_trains(*prepared_[v].model, variants_[v].scenario.settings) &&
+          (!options_.load_effects || effects_in_kernel(*prepared_[v].model)))
         for (std::size_t t = 0; t < folded_[v].size(); ++t) to_fold.emplace_back(v, t);
     }
     parallel_for(to_fold.size(), options_.threads, [&](std::size_t i, int) {

@@ -71,6 +71,8 @@ struct CaseResult {
   Matrix disp;  ///< n_samples × n_outputs when recorded (Recording::disp_history), else empty
   Matrix acc;   ///< n_samples × n_outputs when recorded, else empty
   Vector max_abs_disp;  ///< running maximum of |deflection| per output (always)
+  /// Signed extremes of the deflection per output (always; max >= 0 >= min: every case starts at rest).
+  Vector max_disp, min_disp;
   Vector max_abs_acc;   ///< running maximum of |acceleration| per output, unfiltered (always)
   Summary summary;
 };

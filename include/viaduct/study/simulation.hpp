@@ -191,6 +191,11 @@ std::vector<EffectPeak> quantity_peaks(const PreparedModel& m, const RunResult& 
 /// modal method (the model prepared for it) and direct superposition.
 bool folds_trains(const PreparedModel& m, const RunSettings& s);
 
+/// True when the peaks kernel can keep the signed extremes of every load effect of `m`: each is a
+/// functional of the deflections alone (moments, strains, rotations, elastic bearings without
+/// dashpots), none with inertia, damping or axle loads of its own (rigid bearings, dashpots).
+bool effects_in_kernel(const PreparedModel& m);
+
 /// `train` (loads × load_factor, > 0) folded over the unit-axle table of `m` (prepared for the
 /// modal method): its modal loads as one piecewise cubic of the head position, exact and
 /// speed-independent, built once per (model, train). InputError for an invalid train or a model
@@ -207,7 +212,8 @@ struct CasePeaks {
   double wall_s = 0.0;  ///< [s]
 };
 
-/// The peaks of `train` at each of `speeds` [m/s], in order, the cheapest way the settings allow:
+/// The peaks of `train` at each of `speeds` [m/s], in order, the cheapest way the settings allow
+/// (with CasePeaks::quantities when `m` has load effects; the kernel then needs effects_in_kernel()):
 /// with a folded train (`folded` from fold_train, folds_trains(m, settings)) the modal peaks kernel
 /// (no history but the accelerations a filter needs, four speeds per SIMD pass); otherwise
 /// simulate_batch(). Same values as peaks(simulate()) up to rounding.

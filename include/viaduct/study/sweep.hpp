@@ -81,8 +81,9 @@ struct SweepOptions {
   ProgressSink progress;     ///< optional; called after each case
   CaseRunner runner;         ///< optional; default simulate()
   /// Also keep the signed extremes of every deck deflection and load effect (load_effects()) and
-  /// their quasi-static extremes (SweepResult::quantities). The cases then run with histories
-  /// (simulate(), batched Newmark), not the modal peaks kernel, and direct superposition.
+  /// their quasi-static extremes (SweepResult::quantities), with direct superposition. Modal
+  /// variants keep the peaks kernel when it can take every effect (effects_in_kernel()); other
+  /// cases run with histories (simulate(), batched Newmark).
   bool load_effects = false;
 };
 
