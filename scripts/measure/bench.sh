@@ -216,7 +216,8 @@ is shared and noisy: 2-thread wall times are medians of $repeats runs, 1-thread 
 (model FRF, shaker test, modal fit, decay): [benchmarks-identification.md](benchmarks-identification.md)
 (\`scripts/measure/bench_ident.sh\`). Model updating: the 3-parameter fit of the Old Guadiana model to one
 record takes $(sed -n 's/^| Newmark, dt = 1 ms (default) | 2 | \([0-9.]*\) .*/\1/p' docs/benchmarks-fitting.md) s on 2 threads (target < 60 s), [benchmarks-fitting.md](benchmarks-fitting.md)
-(\`scripts/measure/bench_fit.sh\`).
+(\`scripts/measure/bench_fit.sh\`). The EN 1991-2 assessment (\`viaduct assess\`): [benchmarks-assess.md](benchmarks-assess.md)
+(\`scripts/measure/bench_assess.sh\`).
 
 ## Studies
 

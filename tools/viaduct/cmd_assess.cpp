@@ -378,6 +378,17 @@ void write_increments_csv(const std::string& path, const std::vector<Increment>&
 }
 
 
+// mass_cases.csv: what each mass case sets, so that any of its cases can be run again alone
+// (viaduct run --set bridge.mass_per_m=... --set bridge.damping.ratio=... --set filter.high_hz=...).
+void write_mass_cases_csv(const std::string& path, const Plan& p) {
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& v : p.variants)
+    for (std::size_t k = 0; k < v.scenario.bridge.spans.size(); ++k)
+      rows.push_back({v.label, std::to_string(k + 1), io::table_cell(v.scenario.bridge.spans[k].mass_per_m),
+                      io::table_cell(p.zeta), io::table_cell(p.f_cut)});
+  io::write_table_csv(path, {"variant", "span", "mass_per_m_kgpm", "damping_ratio", "cutoff_hz"}, rows);
+}
+
 std::string fmt(double x, int sig = 4) { return std::isfinite(x) ? format_number(x, sig) : "—"; }
 
 // A value in the unit a reader expects (mm, kN, kN·m, mrad, m/s², µε), from the quantity's suffix.
@@ -480,7 +491,7 @@ void report_details(std::ostringstream& o, const ReportInput& in) {
        "limits (given by assess.deflection_limit_ratio and assess.end_rotation_limit_rad).\n";
   if (!in.r.failures.empty()) o << "- **" << in.r.failures.size() << " case(s) failed** (failures.csv): the checks above leave them out.\n";
   o << "\n## Provenance\n\nScenario `" << in.flat.path << "`; " << io::version() << " (commit " << io::git_commit() << "); command `"
-    << in.command_line << "`. Tables: checks.csv, envelope.csv, load_effects.csv, phi_dyn.csv, governing.csv, failures.csv; "
+    << in.command_line << "`. Tables: checks.csv, envelope.csv, load_effects.csv, phi_dyn.csv, mass_cases.csv, governing.csv, failures.csv; "
        "manifest.toml holds the resolved scenario and the checksums of its files.\n";
 }
 
@@ -510,9 +521,9 @@ bool make_figures(const std::string& out, bool quiet) {
 }
 
 void print_checks(const std::vector<Check>& checks) {
-  std::printf("\n  %-34s %-26s %14s %14s %7s  %s\n", "check", "quantity", "value", "limit", "util.", "result");
+  std::printf("\n  %-38s %-24s %14s %14s %7s  %s\n", "check", "quantity", "value", "limit", "util.", "result");
   for (const auto& k : checks)
-    std::printf("  %-34s %-26s %14s %14s %7s  %s\n", k.check.c_str(), k.quantity.c_str(), shown(k.quantity, k.value).c_str(),
+    std::printf("  %-38s %-24s %14s %14s %7s  %s\n", k.check.c_str(), k.quantity.c_str(), shown(k.quantity, k.value).c_str(),
                 shown(k.quantity, k.limit).c_str(), fmt(k.utilisation(), 3).c_str(), k.verdict.c_str());
 }
 
@@ -545,6 +556,7 @@ int run_assess(const Common& o, const AssessOptions& opts) {
   io::write_failures_csv(o.out + "/failures.csv", r.failures);
   write_checks_csv(o.out + "/checks.csv", checks);
   write_increments_csv(o.out + "/phi_dyn.csv", inc);
+  write_mass_cases_csv(o.out + "/mass_cases.csv", p);
   io::Manifest m = start_manifest(o, "assess");
   m.as_run = io::settings_as_run(nominal.settings);
   m.extra = {{"acceleration_limit_mps2", format_number(c.acc_limit)}, {"cutoff_hz", format_number(p.f_cut)},
@@ -584,7 +596,8 @@ Command assess_command() {
       "around every resonance, damping from Table 6.6 (+ Eq. 6.13), lower and upper mass bounds, the\n"
       "frequency cut-off max(30 Hz, 1.5 f1, f3). Writes OUT/report.md (with PNGs by\n"
       "scripts/plot/plot_assess.py), checks.csv (value, limit, utilisation, governing case, clause),\n"
-      "envelope.csv, load_effects.csv, phi_dyn.csv, governing.csv, failures.csv and manifest.toml.\n"
+      "envelope.csv, load_effects.csv, phi_dyn.csv, mass_cases.csv (what each mass case sets), governing.csv,\n"
+      "failures.csv and manifest.toml.\n"
       "The scenario's damping, filter and sweep keys are replaced by the assessment's.\n\n"
       "Sample runs:\n"
       "  viaduct assess scenarios/hslm-simply-supported.toml --set assess.speed_step_kmh=20 --set assess.refine_band=0 --no-plots --out out/assess-hslm\n";
