@@ -32,4 +32,6 @@ std::array<double, 4> hermite_curvature(double xi, double h) {
   return {(12.0 * xi - 6.0) / (h * h), (6.0 * xi - 4.0) / h, (6.0 - 12.0 * xi) / (h * h), (6.0 * xi - 2.0) / h};
 }
 
+std::array<double, 4> hermite_third(double h) { return {12.0 / (h * h * h), 6.0 / (h * h), -12.0 / (h * h * h), 6.0 / (h * h)}; }
+
 }  // namespace viaduct::model

@@ -206,7 +206,7 @@ void add_weight(DofWeights& f, Index dof, double w) {
 }
 }  // namespace
 
-DofWeights Structure::deck_moment(std::size_t span, double x_local) const {
+DofWeights Structure::deck_derivative(std::size_t span, double x_local, int order) const {
   const auto [first, last] = span_elements(span);
   const double L = span_length[span];
   const double tol = 1e-9 * std::max(1.0, L);
@@ -224,11 +224,15 @@ DofWeights Structure::deck_moment(std::size_t span, double x_local) const {
   const double share = -span_EI[span] / static_cast<double>(at.size());
   for (const auto& [e, xi] : at) {
     const PathElement& el = deck_elements[e];
-    const auto d2 = hermite_curvature(xi, el.h);
-    for (std::size_t i = 0; i < 4; ++i) add_weight(f, el.dofs[i], share * d2[i]);
+    const auto d = order == 2 ? hermite_curvature(xi, el.h) : hermite_third(el.h);
+    for (std::size_t i = 0; i < 4; ++i) add_weight(f, el.dofs[i], share * d[i]);
   }
   return f;
 }
+
+DofWeights Structure::deck_moment(std::size_t span, double x_local) const { return deck_derivative(span, x_local, 2); }
+
+DofWeights Structure::deck_shear(std::size_t span, double x_local) const { return deck_derivative(span, x_local, 3); }
 
 DofWeights Structure::deck_end_rotation(std::size_t span, bool end) const {
   const auto [first, last] = span_elements(span);

@@ -66,6 +66,7 @@ std::vector<LoadEffect> load_effects(const model::Structure& s, const std::vecto
     out.push_back({st.name + "_moment_Nm", functional(m, 1.0)});
     // ε = M·y/EI exactly: the same functional scaled (to microstrain).
     if (st.fibre_m != 0.0) out.push_back({st.name + "_strain_ue", functional(m, 1e6 * st.fibre_m / s.span_EI[st.span])});
+    out.push_back({st.name + "_shear_N", functional(s.deck_shear(st.span, st.x_local), 1.0)});
   }
   for (std::size_t k = 0; k < s.span_start.size(); ++k) {
     const std::string span = "span" + std::to_string(k + 1);

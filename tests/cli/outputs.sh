@@ -37,9 +37,9 @@ expect 0 "HSLM-A1              d =  18.00 m: 324.0 (j=1), 162.0 (j=2) km/h" -- "
 expect 0 "HSLM-A9              d =  26.00 m: 234.0 (j=2), 156.0 (j=3) km/h" -- "$VIADUCT" sweep "$HS" "${SET[@]}" --out "$WORK/s3"
 # run writes the load effects (#20): moment and strain at deck stations, end rotations of each span.
 expect 0 "wrote" -- "$VIADUCT" run "$HS" --set 'stations[0].fibre_m=0.6' --out "$WORK/le"
-expect 0 "t_s,mid_disp_m,mid_acc_mps2,mid_acc_filt_mps2,mid_moment_Nm,mid_strain_ue,span1_start_rot_rad,span1_end_rot_rad" -- head -1 "$WORK/le/history.csv"
+expect 0 "t_s,mid_disp_m,mid_acc_mps2,mid_acc_filt_mps2,mid_moment_Nm,mid_strain_ue,mid_shear_N,span1_start_rot_rad,span1_end_rot_rad" -- head -1 "$WORK/le/history.csv"
 # ... the same train crawling, and phi'dyn per quantity (#20).
-expect 0 "t_s,mid_disp_m,mid_moment_Nm,mid_strain_ue,span1_start_rot_rad,span1_end_rot_rad" -- head -1 "$WORK/le/quasi_static.csv"
+expect 0 "t_s,mid_disp_m,mid_moment_Nm,mid_strain_ue,mid_shear_N,span1_start_rot_rad,span1_end_rot_rad" -- head -1 "$WORK/le/quasi_static.csv"
 expect 0 "quantity,max_dynamic,max_static,phi_dyn" -- head -1 "$WORK/le/dynamic_increments.csv"
 expect 0 "mid_moment_Nm," -- cat "$WORK/le/dynamic_increments.csv"
 expect 0 "dynamic increments phi'dyn" -- "$VIADUCT" run "$HS" --out "$WORK/le2"

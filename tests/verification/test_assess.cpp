@@ -182,8 +182,11 @@ TEST_CASE("a sweep with load effects keeps each case's extremes and quasi-static
     // apart (about (h/L)² of a curved line's peak, measured 5e-5: 1e-4), and above by at most
     // what 9 cm of travel changes on lines whose slope is at most 2/L of their peak (the end
     // reactions' 1 − x/L; the moment's 2x/L).
+    // A shear line jumps by P at its station, which the elements next to it smear over 2h: linear
+    // interpolation there is further off (measured 8.5e-4): 2e-3.
     const double sampled = qs.value[k].cwiseAbs().maxCoeff();
-    CHECK(q.quasi_static.max_abs() >= sampled * (1 - 1e-4));
+    const bool shear = q.quantity.find("_shear_N") != std::string::npos;
+    CHECK(q.quasi_static.max_abs() >= sampled * (1 - (shear ? 2e-3 : 1e-4)));
     CHECK(q.quasi_static.max_abs() <= sampled * (1 + 2 * q.speed * sc.settings.dt / L));
     CHECK(q.phi_dyn() == Approx(q.dynamic.max_abs() / q.quasi_static.max_abs() - 1.0));
   }
@@ -221,7 +224,7 @@ TEST_CASE("the modal peaks kernel keeps the signed extremes of load effects as t
   };
   const study::SweepResult a = study::run_sweep({v}, fast), b = study::run_sweep({v}, slow);
   REQUIRE(a.quantities.size() == b.quantities.size());
-  REQUIRE(a.quantities.size() == 5 * 13);  // per speed: 2 deflections, 2 moments, 1 strain, 4 rotations, 4 bearings
+  REQUIRE(a.quantities.size() == 5 * 15);  // per speed: 2 deflections, 2 moments, 1 strain, 2 shears, 4 rotations, 4 bearings
   for (std::size_t i = 0; i < a.quantities.size(); ++i) {
     const auto &x = a.quantities[i], &y = b.quantities[i];
     INFO(x.quantity << " at " << x.speed);

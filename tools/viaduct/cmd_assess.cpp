@@ -395,7 +395,7 @@ std::string fmt(double x, int sig = 4) { return std::isfinite(x) ? format_number
 std::string shown(const std::string& quantity, double x) {
   static const std::vector<std::tuple<std::string, double, std::string>> units = {
       {"_acc_mps2", 1.0, " m/s²"}, {"_disp_m", 1e3, " mm"}, {"_moment_Nm", 1e-3, " kN·m"},
-      {"_reaction_N", 1e-3, " kN"}, {"_rot_rad", 1e3, " mrad"}, {"_strain_ue", 1.0, " µε"}};
+      {"_reaction_N", 1e-3, " kN"}, {"_shear_N", 1e-3, " kN"}, {"_rot_rad", 1e3, " mrad"}, {"_strain_ue", 1.0, " µε"}};
   for (const auto& [suffix, factor, unit] : units)
     if (ends_with(quantity, suffix)) return fmt(x * factor) + unit;
   return fmt(x);

@@ -61,7 +61,8 @@ Command run_command() {
   c.usage_and_samples =
       "Writes OUT/history.csv (t_s and, per station, deflection, raw and filtered acceleration,\n"
       "rail deflection with track; then the load effects: bending moment <station>_moment_Nm,\n"
-      "strain <station>_strain_ue at stations[].fibre_m, span<k>_start/end_rot_rad),\n"
+      "strain <station>_strain_ue at stations[].fibre_m, shear force <station>_shear_N,\n"
+      "span<k>_start/end_rot_rad, bearing forces span<k>_start/end_reaction_N),\n"
       "OUT/quasi_static.csv (the same train crawling: deck deflections and load effects),\n"
       "OUT/dynamic_increments.csv (phi'dyn = max|dynamic| / max|quasi-static| - 1 per quantity)\n"
       "and OUT/manifest.toml. Plot with scripts/plot/plot_history.py OUT.\n\n"

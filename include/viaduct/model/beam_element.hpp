@@ -19,5 +19,7 @@ Matrix4 beam_mass(double m, double h);
 std::array<double, 4> hermite_shape(double xi, double h);
 /// Their second derivatives d²N/dx² [1/m², 1/m] at xi: w''(x) = N'' · (w0, θ0, w1, θ1).
 std::array<double, 4> hermite_curvature(double xi, double h);
+/// Their third derivatives d³N/dx³ [1/m³, 1/m²], constant along the element: w‴ = N‴ · (w0, θ0, w1, θ1).
+std::array<double, 4> hermite_third(double h);
 
 }  // namespace viaduct::model

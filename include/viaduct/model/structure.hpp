@@ -161,11 +161,19 @@ struct Structure {
   /// the mean of both (exact when neither carries a point force, half the error of one
   /// otherwise). InputError outside the span.
   DofWeights deck_moment(std::size_t span, double x_local) const;
+  /// Shear force [N] at x_local: V = dM/dx = −EI·w‴(x) (so V = R_A − the loads left of x on a
+  /// simply supported span), constant along each Hermite element; at a node the mean of both
+  /// elements (exact when neither carries a point force). InputError outside the span.
+  DofWeights deck_shear(std::size_t span, double x_local) const;
   /// Rotation θ = dw/dx [rad] of the deck at the start (end = false) or end of span `span`:
   /// positive where the deck falls towards +x (a sagging span: > 0 at its start, < 0 at its end).
   DofWeights deck_end_rotation(std::size_t span, bool end) const;
   /// Deflection interpolation on the rail at x; throws InputError without track or outside it.
   PointCoupling rail_point(double x) const;
+
+ private:
+  // −EI × the mean, over the elements holding x_local, of w'' (order 2) or w‴ (order 3).
+  DofWeights deck_derivative(std::size_t span, double x_local, int order) const;
 };
 
 /// Size limits that keep a mistyped element size from exhausting memory: per span (its dense

@@ -76,7 +76,7 @@ solve::Functional functional_of(const model::PointCoupling& c);
 
 /// The load effects of a model: at each deck station its bending moment (sagging positive) and,
 /// with a fibre distance, the strain M·y/EI there [µε, tension positive; y positive below the
-/// neutral axis]; at each span's start and end the deck rotation dw/dx [rad] and the bearing
+/// neutral axis], then its shear force V = dM/dx [N]; at each span's start and end the deck rotation dw/dx [rad] and the bearing
 /// force [N, compression positive] (model::BearingForce; traffic only, without the permanent
 /// load).
 std::vector<LoadEffect> load_effects(const model::Structure& s, const std::vector<StationSpec>& stations);
