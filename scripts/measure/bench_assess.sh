@@ -90,7 +90,7 @@ for k, (q, train, speed, variant, value) in enumerate(cases):
         refs.append(peak_between_samples(y) if q.endswith("_acc_mps2") else max(abs(v) for v in y))
     err = value / refs[1] - 1
     conv = refs[0] / refs[1] - 1
-    print("| %s | %s | %s | %s | %.5g | %.5g | %+.3f %% | %+.3f %% |" % (q, train, speed, variant, value, refs[1], 100 * err, 100 * conv))
+    print("| %s | %s | %.2f | %s | %.5g | %.5g | %+.3f %% | %+.3f %% |" % (q, train, float(speed), variant, value, refs[1], 100 * err, 100 * conv))
 PY
 )
 cat > docs/benchmarks-assess.md <<MD
