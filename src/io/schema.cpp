@@ -96,6 +96,8 @@ std::vector<KeySpec> track_keys() {  // track
        [](S& sc, const V& v) { sc.track->exit_length = v.x; }},
       {"track.sleeper_spacing", T::number, "0.6", "m", "> 0", "Distance between sleepers (rail seats).",
        [](S& sc, const V& v) { sc.track->sleeper_spacing = v.x; }},
+      {"track.first_sleeper_offset", T::number, "", "m", ">= 0", "Where the sleepers sit: the first sleeper on the bridge this far from its start (< sleeper_spacing); the approach track then begins at the first sleeper at or before approach_length. Unset: the track starts at -approach_length with a sleeper. Identical spans coupled by the track are sensitive to it (docs/model.md).",
+       [](S& sc, const V& v) { sc.track->first_sleeper_offset = v.x; }},
       {"track.rail_elements_per_bay", T::integer, "1", "-", ">= 1", "Rail beam elements between two sleepers.",
        [](S& sc, const V& v) { sc.track->rail_elements_per_bay = static_cast<int>(v.x); }},
       {"track.rail.E", T::number, "", "Pa", "> 0", "Rail Young's modulus (required)."},

@@ -143,7 +143,16 @@ bool TrackParams::is_valid(std::string* why) const {
     return fail(why, "exit_length must be >= 0 [m], got " + str(exit_length));
   if (rail_elements_per_bay < 1)
     return fail(why, "rail_elements_per_bay must be >= 1, got " + std::to_string(rail_elements_per_bay));
+  if (first_sleeper_offset >= 0.0 && !(first_sleeper_offset < sleeper_spacing))
+    return fail(why, "first_sleeper_offset must be in [0, sleeper_spacing = " + str(sleeper_spacing) + ") [m], got " +
+                         str(first_sleeper_offset));
   return true;
+}
+
+double TrackParams::start_x() const {
+  if (!(first_sleeper_offset >= 0.0)) return -approach_length;
+  // The sleeper grid through first_sleeper_offset, from its first node at or before −approach_length.
+  return first_sleeper_offset - sleeper_spacing * std::ceil((approach_length + first_sleeper_offset) / sleeper_spacing - 1e-9);
 }
 
 double PointCoupling::value(const Vector& u) const {
@@ -381,8 +390,8 @@ void add_span(Assembly& as, const BridgeParams& bridge, std::size_t si, double x
 void add_track(Assembly& as, const TrackParams& tp, double L_bridge) {
   auto& [s, tm, tk, tc, next] = as;
   const double d = tp.sleeper_spacing;
-  const double x_start = -tp.approach_length;
-  const double L_track = tp.approach_length + L_bridge + tp.exit_length;
+  const double x_start = tp.start_x();
+  const double L_track = L_bridge + tp.exit_length - x_start;
   const double n_bays_real = std::floor(L_track / d + 1e-9);
   const int n_bays = static_cast<int>(n_bays_real);
   const int n_sub = tp.rail_elements_per_bay;
@@ -478,7 +487,7 @@ void check_model_size(const BridgeParams& bridge, const std::optional<TrackParam
   }
   if (!track) return;
   const TrackParams& tp = *track;
-  const double L_track = tp.approach_length + bridge.total_length() + tp.exit_length;
+  const double L_track = bridge.total_length() + tp.exit_length - tp.start_x();
   const double n_bays_real = std::floor(L_track / tp.sleeper_spacing + 1e-9);
   if (!(n_bays_real >= 1))
     throw InputError("track.sleeper_spacing " + str(tp.sleeper_spacing) + " m is longer than the track (" + str(L_track) + " m)");

@@ -82,10 +82,15 @@ struct TrackParams {
   SpringDashpot subgrade;           ///< ballast mass to ground, off the bridge
   SpringDashpot subgrade_on_bridge; ///< ballast mass to deck, on the bridge
   double approach_length = 20.0;    ///< [m] track before the bridge, >= 0
+  /// [m] where the sleepers sit: the first on the bridge at this distance from its start, in
+  /// [0, sleeper_spacing), the track then starting at the first sleeper at or before
+  /// −approach_length; < 0 (unset): the track starts at −approach_length with a sleeper.
+  double first_sleeper_offset = -1.0;
   double exit_length = 20.0;        ///< [m] track after the bridge, >= 0
   int rail_elements_per_bay = 1;    ///< rail elements between two sleepers, >= 1
 
   double mass_per_m() const;  ///< [kg/m] rail + (sleeper + ballast) / spacing
+  double start_x() const;     ///< [m] x of the track's first sleeper (<= −approach_length)
   bool is_valid(std::string* why) const;
 };
 

@@ -421,6 +421,7 @@ TEST_CASE("each scenario key is declared once: its schema entry sets its field, 
            a.bridge.damping.f1_hz != ref.bridge.damping.f1_hz || a.bridge.damping.ratio1 != ref.bridge.damping.ratio1 ||
            a.bridge.damping.f2_hz != ref.bridge.damping.f2_hz || a.bridge.damping.ratio2 != ref.bridge.damping.ratio2 ||
            t.approach_length != u.approach_length || t.exit_length != u.exit_length ||
+           t.first_sleeper_offset != u.first_sleeper_offset ||
            t.sleeper_spacing != u.sleeper_spacing || t.rail_elements_per_bay != u.rail_elements_per_bay ||
            t.sleeper_mass != u.sleeper_mass || t.ballast_mass != u.ballast_mass || t.pad.k != u.pad.k ||
            t.pad.c != u.pad.c || t.ballast.k != u.ballast.k || t.ballast.c != u.ballast.c || t.shear.k != u.shear.k ||
@@ -441,6 +442,7 @@ TEST_CASE("each scenario key is declared once: its schema entry sets its field, 
     else if (k.key == "analysis.alpha") value = "-0.1";
     else if (k.key == "filter.low_hz") value = "2.0";
     else if (k.key == "analysis.gamma") value = "0.6";
+    else if (k.key == "track.first_sleeper_offset") value = "0.25";  // below the spacing
     else value = format_number(cur == 0.0 ? 0.01 : cur * (cur < 1.0 ? 0.5 : 1.5), 12);
     const study::Scenario changed = to_scenario(load_flat(path, {k.key + "=" + value}));
     REQUIRE(differs(changed));

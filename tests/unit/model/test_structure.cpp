@@ -1,5 +1,7 @@
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
+#include <set>
 
 #include <Eigen/SparseCholesky>
 
@@ -329,4 +331,50 @@ TEST_CASE("bearing forces: the static reactions of a simply supported span, rigi
   CHECK(R0 + R1 + ground == Approx(P).epsilon(1e-9));
   CHECK(R0 > R1);
   CHECK(R1 > 0.0);
+}
+
+TEST_CASE("track.first_sleeper_offset places the sleepers relative to the bridge start") {
+  BridgeParams b = two_spans();
+  TrackParams t = table1_track();
+  t.approach_length = 5.0;
+  t.exit_length = 5.0;
+  const Structure unset = build_structure(b, t);
+  CHECK(unset.sleeper_x.front() == Approx(-5.0));  // unset: the track starts at −approach with a sleeper
+  for (const double offset : {0.0, 0.25, 0.59}) {
+    t.first_sleeper_offset = offset;
+    const Structure s = build_structure(b, t);
+    INFO("offset " << offset);
+    // The first sleeper on the bridge at the offset, the track starting at or before −approach
+    // (less than a bay before it), the grid regular.
+    const auto on = std::find_if(s.sleeper_x.begin(), s.sleeper_x.end(), [](double x) { return x >= -1e-12; });
+    REQUIRE(on != s.sleeper_x.end());
+    CHECK(*on == Approx(offset).margin(1e-12));
+    CHECK(s.sleeper_x.front() <= -5.0 + 1e-9);
+    CHECK(s.sleeper_x.front() > -5.6);
+    for (std::size_t i = 1; i < s.sleeper_x.size(); ++i) CHECK(s.sleeper_x[i] - s.sleeper_x[i - 1] == Approx(0.6));
+    CHECK(s.sleeper_x.back() <= b.total_length() + 5.0 + 1e-9);
+  }
+  t.first_sleeper_offset = 0.6;  // must be below the spacing
+  CHECK_THROWS_WITH(build_structure(b, t), Catch::Contains("first_sleeper_offset must be in [0, sleeper_spacing = 0.6)"));
+}
+
+TEST_CASE("two identical spans coupled by the track: which span the lower mode bends flips with the sleeper layout") {
+  // The first bending modes of the two spans are 0.5 % apart (the track couples them); the span
+  // that dominates the lower one follows where the sleepers sit at the joint (docs/model.md);
+  // for every layout the two stay first bending modes of different spans within 1 %.
+  const BridgeParams b = two_spans();
+  TrackParams t = table1_track();
+  std::set<int> lower_span;
+  for (const double offset : {0.0, 0.15, 0.3, 0.45}) {
+    t.first_sleeper_offset = offset;
+    const auto modes = deck_bending_modes(build_structure(b, t), 2);
+    REQUIRE(modes.size() == 2);
+    INFO("offset " << offset);
+    CHECK(modes[0].bending.order == 1);
+    CHECK(modes[1].bending.order == 1);
+    CHECK(modes[0].bending.span != modes[1].bending.span);
+    CHECK(modes[1].frequency_hz / modes[0].frequency_hz - 1 < 0.01);
+    lower_span.insert(modes[0].bending.span);
+  }
+  CHECK(lower_span.size() == 2);  // each span is the lower one for some layout
 }
