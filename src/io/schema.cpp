@@ -68,6 +68,8 @@ std::vector<KeySpec> bridge_keys() {  // bridge
        [](S& sc, const V& v) { sc.bridge.bearings.k = v.x; }},
       {"bridge.bearings.c", T::number, "0.0", "N·s/m", ">= 0", "Vertical damping of each bearing when not rigid.",
        [](S& sc, const V& v) { sc.bridge.bearings.c = v.x; }},
+      {"bridge.bearings.rotational_k", T::number, "0.0", "N·m/rad", ">= 0", "Rotational spring at each span end (integral or frame abutments): 0 free (simply supported), very large (1e15) clamped.",
+       [](S& sc, const V& v) { sc.bridge.bearings.rotational_k = v.x; }},
       {"bridge.damping.kind", T::string, "\"modal\"", "", "none|modal|rayleigh", "Structural damping of the bridge: one ratio for every span mode, or Rayleigh through two (frequency, ratio) pairs.",
        [](S& sc, const V& v) { sc.bridge.damping.kind = damping_kind(v.s); }},
       {"bridge.damping.ratio", T::number, "0.0", "-", "[0, 1)", "modal: ratio of critical damping for every span mode (0.01565 = 1.565 %).",

@@ -90,6 +90,8 @@ bool BridgeParams::is_valid(std::string* why) const {
     return fail(why, "bridge element_size must be > 0 [m], got " + str(element_size));
   if (!finite_ge(added_mass_per_m, 0.0))
     return fail(why, "added_mass_per_m must be >= 0 [kg/m], got " + str(added_mass_per_m));
+  if (!finite_ge(bearings.rotational_k, 0.0))
+    return fail(why, "rotational stiffness rotational_k must be >= 0 [N·m/rad], got " + str(bearings.rotational_k));
   if (!bearings.rigid) {
     if (!finite_gt(bearings.k, 0.0))
       return fail(why, "elastic bearing stiffness k must be > 0 [N/m], got " + str(bearings.k));
@@ -350,6 +352,13 @@ void add_span(Assembly& as, const BridgeParams& bridge, std::size_t si, double x
     add_element(lk, e, ke);
     add_element(lm, e, me);
   }
+  // Rotational restraint of the span ends: a spring on each end's rotation (part of the span's
+  // stiffness, so modal damping sees it).
+  if (bridge.bearings.rotational_k > 0.0)
+    for (int j : {0, n_el}) {
+      const Index d = node[static_cast<std::size_t>(j)][1];
+      lk.emplace_back(d, d, bridge.bearings.rotational_k);
+    }
   if (!bridge.bearings.rigid) {
     for (int j : {0, n_el}) {
       const Index d = node[static_cast<std::size_t>(j)][0];

@@ -28,6 +28,9 @@ struct BearingParams {
   bool rigid = true;  ///< true: deflection fixed at the bearing; false: spring k and dashpot c
   double k = 0.0;     ///< [N/m] vertical stiffness when not rigid, > 0
   double c = 0.0;     ///< [N·s/m] vertical damping when not rigid, >= 0
+  /// [N·m/rad] rotational spring at each span end (integral or frame abutments, restrained
+  /// ends), >= 0; 0: free to rotate (simply supported). A very large value clamps the end.
+  double rotational_k = 0.0;
 };
 
 enum class DampingKind {

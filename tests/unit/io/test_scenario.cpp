@@ -417,7 +417,7 @@ TEST_CASE("each scenario key is declared once: its schema entry sets its field, 
            x.filter.cheby.ripple_db != y.filter.cheby.ripple_db || x.filter.cheby.low_hz != y.filter.cheby.low_hz ||
            x.filter.cheby.high_hz != y.filter.cheby.high_hz || a.bridge.element_size != ref.bridge.element_size ||
            a.bridge.added_mass_per_m != ref.bridge.added_mass_per_m || a.bridge.bearings.k != ref.bridge.bearings.k ||
-           a.bridge.bearings.c != ref.bridge.bearings.c || a.bridge.damping.ratio != ref.bridge.damping.ratio ||
+           a.bridge.bearings.c != ref.bridge.bearings.c || a.bridge.bearings.rotational_k != ref.bridge.bearings.rotational_k || a.bridge.damping.ratio != ref.bridge.damping.ratio ||
            a.bridge.damping.f1_hz != ref.bridge.damping.f1_hz || a.bridge.damping.ratio1 != ref.bridge.damping.ratio1 ||
            a.bridge.damping.f2_hz != ref.bridge.damping.f2_hz || a.bridge.damping.ratio2 != ref.bridge.damping.ratio2 ||
            t.approach_length != u.approach_length || t.exit_length != u.exit_length ||
