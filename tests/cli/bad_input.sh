@@ -214,4 +214,7 @@ expect 2 "key 'assess.deck_type': viaduct assess needs this key" -- "$VIADUCT" a
 expect 2 "--set: key 'assess.deflection_limit_ratio': must be > 0, got -600" -- "$VIADUCT" assess "$(scen dneg "$AS")" --set assess.deflection_limit_ratio=-600 --no-plots --out "$WORK/o"
 expect 2 "asks for HSLM-B; give assess.hslm_b_n and assess.hslm_b_spacing_m" -- "$VIADUCT" assess "$(scen short "$AS")" --set "bridge.span_lengths=[5.0]" --no-plots --out "$WORK/o"
 expect 2 "key 'assess.ballast_lower_factor': the lower-bound factor is above the upper-bound one" -- "$VIADUCT" assess "$(scen lohi "${AS}ballast_lower_factor = 1.5\n")" --no-plots --out "$WORK/o"
+# Every case failing on its input: exit 2, as run and sweep; the report says no check was made.
+expect 2 "every case failed on its input" -- "$VIADUCT" assess "$(scen allbad "$AS")" --set analysis.free_vibration_s=1e300 --no-plots --out "$WORK/allbad"
+expect 0 "No check could be made" -- cat "$WORK/allbad/report.md"
 finish

@@ -220,6 +220,22 @@ std::string describe_f1(const model::Structure& s, std::vector<model::DeckMode>*
   }
 }
 
+int sweep_exit_code(const std::string& command, const std::string& scenario, const study::SweepResult& r) {
+  for (const auto& f : r.failures)
+    std::fprintf(stderr, "viaduct %s: case failed: %s / %s / %.1f km/h: %s\n", command.c_str(), f.variant.c_str(),
+                 f.train.c_str(), f.speed * 3.6, f.message.c_str());
+  // One exit code per kind of error (docs/reliability.md): a sweep in which every case failed on
+  // its input is an input error (2), as the same value is for `run`; otherwise failed cases
+  // are a partial result (1, failures.csv).
+  if (r.failures.empty()) return ok;
+  const bool all_input =
+      r.rows.empty() && std::all_of(r.failures.begin(), r.failures.end(), [](const auto& f) { return f.input_error; });
+  if (all_input)
+    std::fprintf(stderr, "viaduct %s: error: %s: every case failed on its input (failures.csv): %s\n", command.c_str(),
+                 scenario.c_str(), r.failures.front().message.c_str());
+  return all_input ? usage_error : runtime_failure;
+}
+
 void print_resonance_speeds(double f1_hz, const std::vector<load::Train>& trains, double v_min, double v_max) {
   if (!(f1_hz > 0.0) || trains.empty()) return;
   std::printf("\nresonance speeds expected from f1 = %.3f Hz, v = f1·d/j, in the speeds swept:\n", f1_hz);

@@ -15,6 +15,7 @@
 #include "viaduct/io/results.hpp"
 #include "viaduct/load/train.hpp"
 #include "viaduct/model/modes.hpp"
+#include "viaduct/study/sweep.hpp"
 
 namespace viaduct::cli {
 
@@ -109,6 +110,11 @@ std::string describe_f1(const model::Structure& s, std::vector<model::DeckMode>*
 /// The resonance speeds v = f1·d/j (j = 1, 2, ...) of each train within [v_min, v_max] [m/s],
 /// one line per train with its characteristic distance d (load::characteristic_distance).
 void print_resonance_speeds(double f1_hz, const std::vector<load::Train>& trains, double v_min, double v_max);
+
+/// After a sweep (viaduct sweep, assess): prints each failed case on stderr and returns the exit
+/// code — 0 without failures, 2 when every case failed on its input (as `run` exits with the
+/// same value), 1 otherwise (a partial result, failures.csv).
+int sweep_exit_code(const std::string& command, const std::string& scenario, const study::SweepResult& r);
 
 /// Message printer for the library's log sink (stderr, "viaduct: warning: ...").
 LogSink log_printer(bool quiet);

@@ -29,7 +29,7 @@ struct SweepOpts {
 void declare_sweep(po::options_description& d, SweepOpts& s) {
   d.add_options()("load-effects", po::bool_switch(&s.load_effects),
                   "also the extremes of every deck deflection and load effect with phi'dyn (load_effects.csv); "
-                  "cases then run with histories, not the modal peaks kernel");
+                  "modal sweeps keep the peaks kernel when every effect is a functional of the deflections");
 }
 
 int run_sweep_command(const Common& o, const SweepOpts& opts);
@@ -102,18 +102,7 @@ int run_sweep_command(const Common& o, const SweepOpts& opts) {
         print_resonance_speeds(deck.front().frequency_hz, ref.trains, *lo, *hi);
       }
     }
-    for (const auto& f : r.failures)
-      std::fprintf(stderr, "viaduct sweep: case failed: %s / %s / %.1f km/h: %s\n", f.variant.c_str(), f.train.c_str(),
-                   f.speed * 3.6, f.message.c_str());
-    // One exit code per kind of error (docs/reliability.md): a sweep in which every case failed on
-    // its input is an input error (2), as the same value is for `run`; otherwise failed cases
-    // are a partial result (1, failures.csv).
-    if (r.failures.empty()) return ok;
-    const bool all_input = r.rows.empty() && std::all_of(r.failures.begin(), r.failures.end(), [](const auto& f) { return f.input_error; });
-    if (all_input)
-      std::fprintf(stderr, "viaduct sweep: error: %s: every case failed on its input (failures.csv): %s\n", o.scenario.c_str(),
-                   r.failures.front().message.c_str());
-    return all_input ? usage_error : runtime_failure;
+    return sweep_exit_code("sweep", o.scenario, r);
 }
 }  // namespace
 
