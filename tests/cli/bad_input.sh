@@ -210,7 +210,7 @@ AS='[assess]\nline_speed_kmh = 200.0\ndeck_type = "prestressed"\n'
 expect 2 "aneg.toml:12: key 'assess.acceleration_limit_mps2': must be > 0 [m/s²], got -3.5" -- "$VIADUCT" assess "$(scen aneg "${AS}acceleration_limit_mps2 = -3.5\n")" --no-plots --out "$WORK/o"
 expect 2 "v0.toml:10: key 'assess.line_speed_kmh': must be > 0 [km/h], got 0" -- "$VIADUCT" assess "$(scen v0 '[assess]\nline_speed_kmh = 0.0\ndeck_type = "steel"\n')" --no-plots --out "$WORK/o"
 expect 2 "timber.toml:11: key 'assess.deck_type': must be one of steel|composite|prestressed|reinforced|filler-beam" -- "$VIADUCT" assess "$(scen timber '[assess]\nline_speed_kmh = 200.0\ndeck_type = "timber"\n')" --no-plots --out "$WORK/o"
-expect 2 "key 'assess.deck_type': viaduct assess needs this key" -- "$VIADUCT" assess "$(scen nodeck '[assess]\nline_speed_kmh = 200.0\n')" --no-plots --out "$WORK/o"
+expect 2 "nodeck.toml:10: key 'assess.deck_type': viaduct assess needs this key" -- "$VIADUCT" assess "$(scen nodeck '[assess]\nline_speed_kmh = 200.0\n')" --no-plots --out "$WORK/o"
 expect 2 "--set: key 'assess.deflection_limit_ratio': must be > 0, got -600" -- "$VIADUCT" assess "$(scen dneg "$AS")" --set assess.deflection_limit_ratio=-600 --no-plots --out "$WORK/o"
 expect 2 "asks for HSLM-B; give assess.hslm_b_n and assess.hslm_b_spacing_m" -- "$VIADUCT" assess "$(scen short "$AS")" --set "bridge.span_lengths=[5.0]" --no-plots --out "$WORK/o"
 expect 2 "key 'assess.ballast_lower_factor': the lower-bound factor is above the upper-bound one" -- "$VIADUCT" assess "$(scen lohi "${AS}ballast_lower_factor = 1.5\n")" --no-plots --out "$WORK/o"

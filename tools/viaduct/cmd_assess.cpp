@@ -68,11 +68,19 @@ double number_or(const io::FlatScenario& f, const std::string& key, double fallb
   return f.has(key) ? f.at(key).x : fallback;
 }
 
+// Where a key that is not set belongs: the line of another [assess] key given in the scenario, else
+// the scenario itself.
+SourceLocation assess_location(const io::FlatScenario& flat, const std::string& scenario, const std::string& key) {
+  for (const auto& [k, v] : flat.values)
+    if (io::key_is_under(k, "assess") && !flat.defaulted.count(k) && v.where.line > 0) return {v.where.file, v.where.line, key};
+  return {scenario, 0, key};
+}
+
 Config read_config(const io::FlatScenario& flat, const std::string& scenario) {
   Config c;
   for (const char* key : {"assess.line_speed_kmh", "assess.deck_type"})
     if (!flat.has(key))
-      throw InputError(SourceLocation{scenario, 0, key},
+      throw InputError(assess_location(flat, scenario, key),
                        "viaduct assess needs this key (the line's maximum speed and the deck type of EN 1991-2 Table 6.6)");
   c.line_speed = flat.at("assess.line_speed_kmh").x / 3.6;
   c.deck = study::deck_type_of(flat.at("assess.deck_type").s);
@@ -121,7 +129,8 @@ void add_mass(io::FlatScenario& flat, double delta) {
   const std::vector<double> ms = v.type == io::ValueType::number_list ? v.xs : std::vector<double>{v.x};
   for (double m : ms)
     if (!(m > 0.0))
-      throw InputError(flat.at("assess.ballast_mass_per_m").where,
+      throw InputError(flat.has("assess.ballast_mass_per_m") ? flat.at("assess.ballast_mass_per_m").where
+                                                              : assess_location(flat, flat.path, "assess.ballast_lower_factor"),
                        "the lower-bound mass of a span would not be positive: the ballast is more than the deck's mass");
   flat.values["bridge.mass_per_m"] = v;
 }
@@ -162,7 +171,7 @@ std::vector<load::Train> assessment_trains(const io::FlatScenario& flat, const s
   for (const auto& s : sc.bridge.spans) shortest = std::min(shortest, s.length);
   if (shortest < 7.0) {
     if (!flat.has("assess.hslm_b_n") || !flat.has("assess.hslm_b_spacing_m"))
-      throw InputError(SourceLocation{flat.path, 0, "assess.hslm_b_n"},
+      throw InputError(assess_location(flat, flat.path, "assess.hslm_b_n"),
                        "a span of " + format_number(shortest, 4) +
                            " m is under 7 m: EN 1991-2 6.4.6.1.1 asks for HSLM-B; give assess.hslm_b_n and "
                            "assess.hslm_b_spacing_m read from Fig. E.4 for this span (viaduct does not carry the figure)");
