@@ -41,9 +41,15 @@ InfluenceLines influence_lines(const PreparedModel& m, double h) {
     h = shortest / 8.0;
   }
   require_positive(h, "influence line spacing [m]");
+  // A whole number of samples over the path, so that its end (a bearing at the bridge's end,
+  // without track) is a sample.
+  const double length = s.path_end() - s.path_start();
+  const double n_real = std::ceil(length / h - 1e-9);
+  if (!(n_real <= 1e7)) throw InputError("influence lines: more than 1e7 samples (spacing " + format_number(h, 6) + " m)");
+  h = length / std::max(1.0, n_real);
   il.x0 = s.path_start();
   il.h = h;
-  const auto n = static_cast<Index>(std::floor((s.path_end() - s.path_start()) / h + 1e-9)) + 1;
+  const auto n = static_cast<Index>(std::max(1.0, n_real)) + 1;
   Eigen::SimplicialLDLT<SparseMatrix> K(s.K);
   if (K.info() != Eigen::Success) throw SolverError("influence lines: the stiffness matrix cannot be factorised");
   std::vector<Vector> z;
@@ -63,7 +69,7 @@ InfluenceLines influence_lines(const PreparedModel& m, double h) {
   il.value.assign(funcs.size(), Vector::Zero(n));
   SparseForce f;
   for (Index i = 0; i < n; ++i) {
-    const double x = std::min(il.x0 + static_cast<double>(i) * h, s.path_end());
+    const double x = i + 1 == n ? s.path_end() : il.x0 + static_cast<double>(i) * h;
     loads.entries(x - il.x0, f);
     for (std::size_t q = 0; q < z.size(); ++q) {
       double y = 0.0;

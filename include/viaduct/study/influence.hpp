@@ -24,9 +24,10 @@ struct InfluenceLines {
   double at(std::size_t q, double x) const;
 };
 
-/// Samples every `h` [m] (0: an eighth of the shortest path element, so that linear
-/// interpolation of the cubic lines is within about 1e-3 of their range). SolverError when K
-/// cannot be factorised (an unsupported part).
+/// Samples about every `h` [m] (0: an eighth of the shortest path element, so that linear
+/// interpolation of the cubic lines is within about 1e-3 of their range), shortened so that the
+/// path holds a whole number of them (its end is a sample). SolverError when K cannot be
+/// factorised (an unsupported part).
 InfluenceLines influence_lines(const PreparedModel& m, double h = 0.0);
 
 /// The extremes over every head position of `train` × load_factor crawling along the path
