@@ -53,7 +53,7 @@ std::vector<KeySpec> bridge_keys() {  // bridge
   return {
       {"bridge.file", T::string, "", "", "", "Bridge component file; its keys are read under bridge. (path relative to the referencing file)."},
       {"bridge.notes", T::string, "\"\"", "", "", "Free text: sources and readings of the parameters."},
-      {"bridge.span_lengths", T::number_list, "", "m", "> 0", "Length of each simply supported span, in order along the line (required)."},
+      {"bridge.span_lengths", T::number_list, "", "m", "> 0", "Length of each span (simply supported, or of the continuous deck: bridge.continuous), in order along the line (required)."},
       {"bridge.EI", T::number_or_list, "", "N·m²", "> 0", "Bending stiffness: one value for all spans or one per span (required)."},
       {"bridge.mass_per_m", T::number_or_list, "", "kg/m", "> 0", "Mass per metre: one value or one per span (required)."},
       {"bridge.mass_includes_track", T::boolean, "false", "", "", "true: mass_per_m includes the track on the deck; a modelled track's mass per metre is then taken off the deck.",
@@ -62,6 +62,8 @@ std::vector<KeySpec> bridge_keys() {  // bridge
        [](S& sc, const V& v) { sc.bridge.added_mass_per_m = v.x; }},
       {"bridge.element_size", T::number, "0.5", "m", "> 0", "Target deck element length (each span gets a whole number of equal elements).",
        [](S& sc, const V& v) { sc.bridge.element_size = v.x; }},
+      {"bridge.continuous", T::boolean, "false", "", "", "true: the spans form one continuous deck over intermediate supports (one bearing per support, nodes shared); false: a chain of simply supported spans.",
+       [](S& sc, const V& v) { sc.bridge.continuous = v.b; }},
       {"bridge.bearings.rigid", T::boolean, "true", "", "", "true: span ends fixed vertically; false: springs k and dashpots c.",
        [](S& sc, const V& v) { sc.bridge.bearings.rigid = v.b; }},
       {"bridge.bearings.k", T::number, "0.0", "N/m", ">= 0", "Vertical stiffness of each bearing (span end) when not rigid; must then be > 0.",
@@ -248,6 +250,7 @@ std::vector<KeySpec> assess_keys() {  // assess (viaduct assess; docs/assess.md)
       {"assess.track_maintenance", T::string, "\"careful\"", "", "careful|standard", "Dynamic factor of LM71: careful maintenance Phi2, standard Phi3 (EN 1991-2 6.4.5.2)."},
       {"assess.deflection_limit_ratio", T::number, "600.0", "-", "> 0", "Vertical deflection limit as span / ratio (EN 1990 A2.4.4.2.3, to confirm)."},
       {"assess.end_rotation_limit_rad", T::number, "0.0065", "rad", "> 0", "Deck end rotation limit (ballasted track at an abutment, EN 1990 A2.4.4.2.3, to confirm)."},
+      {"assess.determinant_length_m", T::number, "", "m", "> 0", "Determinant length L_phi of Phi2/Phi3 and phi'' for every quantity (EN 1991-2 6.4.5.3, Table 6.2); unset: the quantity's span, or Table 6.2 for girders continuous over n spans on a continuous deck (to confirm)."},
       {"assess.hslm_b_n", T::integer, "", "-", ">= 1", "HSLM-B (spans under 7 m): number N of 170 kN forces, read from EN 1991-2 Fig. E.4 for the span."},
       {"assess.hslm_b_spacing_m", T::number, "", "m", "> 0", "HSLM-B: spacing d of the forces, read from EN 1991-2 Fig. E.4."},
   };

@@ -218,12 +218,17 @@ void add_weight(DofWeights& f, Index dof, double w) {
 }  // namespace
 
 DofWeights Structure::deck_derivative(std::size_t span, double x_local, int order) const {
-  const auto [first, last] = span_elements(span);
+  auto [first, last] = span_elements(span);
   const double L = span_length[span];
   const double tol = 1e-9 * std::max(1.0, L);
   if (!(x_local >= -tol && x_local <= L + tol))
     throw InputError("x = " + str(x_local) + " m lies outside span " + std::to_string(span + 1) + " [0, " + str(L) + "] m");
   const double x = span_start[span] + std::clamp(x_local, 0.0, L);
+  // A continuous deck's moment is continuous over a support: both sides' elements there.
+  if (continuous && order == 2) {
+    if (first > 0) --first;
+    if (last < deck_elements.size()) ++last;
+  }
   // The elements that hold x: one inside an element, both at a node between two.
   std::vector<std::pair<std::size_t, double>> at;  // element, xi
   for (std::size_t e = first; e < last; ++e) {
@@ -232,8 +237,10 @@ DofWeights Structure::deck_derivative(std::size_t span, double x_local, int orde
     if (xi >= -1e-9 && xi <= 1.0 + 1e-9) at.emplace_back(e, std::clamp(xi, 0.0, 1.0));
   }
   DofWeights f;
-  const double share = -span_EI[span] / static_cast<double>(at.size());
   for (const auto& [e, xi] : at) {
+    // The element's own span (the neighbouring one's over a support) gives its EI.
+    const auto owner = std::upper_bound(span_first_element.begin(), span_first_element.end(), e) - span_first_element.begin() - 1;
+    const double share = -span_EI[static_cast<std::size_t>(owner)] / static_cast<double>(at.size());
     const PathElement& el = deck_elements[e];
     const auto d = order == 2 ? hermite_curvature(xi, el.h) : hermite_third(el.h);
     for (std::size_t i = 0; i < 4; ++i) add_weight(f, el.dofs[i], share * d[i]);
@@ -276,106 +283,129 @@ struct Assembly {
   Index next = 0;
 };
 
-// The forces of span si's rigid bearings (its last deck elements just added): minus the fixed DOF's
-// row of the element stiffness and mass, and of the structural damping. Modal damping has no
-// row for a fixed DOF: its damping force field is M Φ diag(2ζω) Φᵀ M v, whose fixed-DOF entry is
-// M_Af M_ff⁻¹ C_ff v; Rayleigh's is a0 M_Af + a1 K_Af.
-void add_rigid_bearings(Structure& s, std::size_t si, const BridgeDamping& damping, const Matrix4& ke, const Matrix4& me,
-                        const SparseMatrix& Ms, const Matrix& Cs, Index first_dof) {
-  const auto [first, end_of_span] = s.span_elements(si);
-  const std::size_t last = end_of_span - 1;
-  const Index n_span = Ms.rows();
-  std::optional<Eigen::SimplicialLDLT<SparseMatrix>> Mff;  // modal damping only
-  if (damping.kind == DampingKind::modal) Mff.emplace(Ms);
-  for (const bool end : {false, true}) {
-    BearingForce b;
-    b.span = si;
-    b.end = end;
-    b.rigid = true;
-    b.element = s.deck_elements[end ? last : first];
-    b.fixed_local = end ? 2 : 0;
-    Vector mrow = Vector::Zero(n_span), krow = Vector::Zero(n_span);  // over the span's free DOFs
+// A deck element meeting at a support, with the element matrices of its span.
+struct SupportElement {
+  BearingForce::Element at;
+  const Matrix4* ke = nullptr;
+  const Matrix4* me = nullptr;
+};
+
+// The force of a rigid bearing whose deck elements are `els`: minus the fixed DOF's row of the
+// element stiffness and mass, and of the structural damping. Modal damping has no row for a fixed
+// DOF: its damping force field is M Φ diag(2ζω) Φᵀ M v, whose fixed-DOF entry is M_Af M_ff⁻¹ C_ff v;
+// Rayleigh's is a0 M_Af + a1 K_Af. Ms, Cs: the deck's matrices over its free DOFs from first_dof.
+void rigid_bearing_weights(BearingForce& b, const std::vector<SupportElement>& els, const BridgeDamping& damping,
+                           const Eigen::SimplicialLDLT<SparseMatrix>* Mff, const Matrix& Cs, Index first_dof) {
+  const Index n_deck = Cs.rows();
+  Vector mrow = Vector::Zero(n_deck), krow = Vector::Zero(n_deck);  // over the deck's free DOFs
+  for (const auto& se : els) {
+    b.elements.push_back(se.at);
     for (int q = 0; q < 4; ++q) {
-      const Index d = b.element.dofs[static_cast<std::size_t>(q)];
+      const Index d = se.at.element.dofs[static_cast<std::size_t>(q)];
       if (d < 0) continue;
-      add_weight(b.k, d, -ke(b.fixed_local, q));
-      add_weight(b.m, d, -me(b.fixed_local, q));
-      mrow[d - first_dof] += me(b.fixed_local, q);
-      krow[d - first_dof] += ke(b.fixed_local, q);
+      add_weight(b.k, d, -(*se.ke)(se.at.fixed_local, q));
+      add_weight(b.m, d, -(*se.me)(se.at.fixed_local, q));
+      mrow[d - first_dof] += (*se.me)(se.at.fixed_local, q);
+      krow[d - first_dof] += (*se.ke)(se.at.fixed_local, q);
     }
-    Vector crow = Vector::Zero(n_span);
-    if (damping.kind == DampingKind::modal) {
-      crow = Cs * Mff->solve(mrow);  // (M_Af M_ff⁻¹ C_ff)ᵀ, C symmetric
-    } else if (damping.kind == DampingKind::rayleigh) {
-      const auto [a0, a1] = rayleigh_coefficients(damping.f1_hz, damping.ratio1, damping.f2_hz, damping.ratio2);
-      crow = a0 * mrow + a1 * krow;
-    }
-    for (Index i = 0; i < n_span; ++i)
-      if (crow[i] != 0.0) add_weight(b.c, first_dof + i, -crow[i]);
-    s.bearings.push_back(b);
   }
+  Vector crow = Vector::Zero(n_deck);
+  if (damping.kind == DampingKind::modal) {
+    crow = Cs * Mff->solve(mrow);  // (M_Af M_ff⁻¹ C_ff)ᵀ, C symmetric
+  } else if (damping.kind == DampingKind::rayleigh) {
+    const auto [a0, a1] = rayleigh_coefficients(damping.f1_hz, damping.ratio1, damping.f2_hz, damping.ratio2);
+    crow = a0 * mrow + a1 * krow;
+  }
+  for (Index i = 0; i < n_deck; ++i)
+    if (crow[i] != 0.0) add_weight(b.c, first_dof + i, -crow[i]);
 }
 
-// Span `si` starting at x [m]: its nodes (bearing DOFs fixed when rigid), beam elements, bearing
-// springs and dashpots, and its structural damping from its own M and K.
-void add_span(Assembly& as, const BridgeParams& bridge, std::size_t si, double x, double deck_mass_reduction) {
-  auto& [s, tm, tk, tc, next] = as;
-  const SpanParams& sp = bridge.spans[si];
-  const double m = sp.mass_per_m + bridge.added_mass_per_m - deck_mass_reduction;
-  if (si == 0) s.deck_mass_per_m_used = m;
-  const double n_el_real = std::ceil(sp.length / bridge.element_size - 1e-9);
-  const int n_el = std::max(1, static_cast<int>(n_el_real));
-  const double h = sp.length / n_el;
-  s.span_start.push_back(x);
-  s.span_length.push_back(sp.length);
-  s.span_EI.push_back(sp.EI);
-  s.span_first_element.push_back(s.deck_elements.size());
+// One support of a deck: its node (w, θ) and the deck elements meeting there.
+struct Support {
+  std::array<Index, 2> node{{-1, -1}};
+  double x = 0.0;
+  std::size_t span = 0;
+  bool end = false;
+  std::vector<SupportElement> elements;
+};
 
+// The spans [s0, s1) as one deck from x: a single simply supported span, or all the spans of a
+// continuous deck (nodes shared over the intermediate supports). Nodes (a support's deflection
+// fixed when rigid), beam elements, rotational restraint at the deck's two ends, one bearing per
+// support, and the structural damping from the deck's own M and K.
+void add_deck(Assembly& as, const BridgeParams& bridge, std::size_t s0, std::size_t s1, double x, double deck_mass_reduction) {
+  auto& [s, tm, tk, tc, next] = as;
   const Index first_dof = next;
-  std::vector<std::array<Index, 2>> node(static_cast<std::size_t>(n_el + 1));
-  for (int j = 0; j <= n_el; ++j) {
-    const bool end = (j == 0 || j == n_el);
-    node[static_cast<std::size_t>(j)][0] = (end && bridge.bearings.rigid) ? -1 : next++;
-    node[static_cast<std::size_t>(j)][1] = next++;
-  }
-  const Index n_span = next - first_dof;
-  // Span-local matrices (for damping) and global triplets.
-  std::vector<Triplet> lm, lk;
-  const Matrix4 ke = beam_stiffness(sp.EI, h), me = beam_mass(m, h);
-  for (int j = 0; j < n_el; ++j) {
-    PathElement e;
-    e.x0 = x + j * h;
-    e.h = h;
-    e.dofs = {node[static_cast<std::size_t>(j)][0], node[static_cast<std::size_t>(j)][1],
-              node[static_cast<std::size_t>(j + 1)][0], node[static_cast<std::size_t>(j + 1)][1]};
-    s.deck_elements.push_back(e);
-    add_element(lk, e, ke);
-    add_element(lm, e, me);
-  }
-  // Rotational restraint of the span ends: a spring on each end's rotation (part of the span's
-  // stiffness, so modal damping sees it).
-  if (bridge.bearings.rotational_k > 0.0)
-    for (int j : {0, n_el}) {
-      const Index d = node[static_cast<std::size_t>(j)][1];
-      lk.emplace_back(d, d, bridge.bearings.rotational_k);
+  std::vector<Triplet> lm, lk;  // the deck's own matrices (for damping), global DOF numbers
+  std::vector<Support> supports;
+  std::vector<Matrix4> ke(s1 - s0), me(s1 - s0);
+  for (std::size_t si = s0; si < s1; ++si) {
+    const SpanParams& sp = bridge.spans[si];
+    const double m = sp.mass_per_m + bridge.added_mass_per_m - deck_mass_reduction;
+    if (si == 0) s.deck_mass_per_m_used = m;
+    const double n_el_real = std::ceil(sp.length / bridge.element_size - 1e-9);
+    const int n_el = std::max(1, static_cast<int>(n_el_real));
+    const double h = sp.length / n_el;
+    s.span_start.push_back(x);
+    s.span_length.push_back(sp.length);
+    s.span_EI.push_back(sp.EI);
+    s.span_first_element.push_back(s.deck_elements.size());
+    std::vector<std::array<Index, 2>> node(static_cast<std::size_t>(n_el + 1));
+    for (int j = 0; j <= n_el; ++j) {
+      if (j == 0 && si > s0) {  // the support shared with the previous span
+        node[0] = supports.back().node;
+        continue;
+      }
+      const bool support = (j == 0 || j == n_el);
+      node[static_cast<std::size_t>(j)][0] = (support && bridge.bearings.rigid) ? -1 : next++;
+      node[static_cast<std::size_t>(j)][1] = next++;
     }
-  if (!bridge.bearings.rigid) {
-    for (int j : {0, n_el}) {
-      const Index d = node[static_cast<std::size_t>(j)][0];
+    const Matrix4& k_el = ke[si - s0] = beam_stiffness(sp.EI, h);
+    const Matrix4& m_el = me[si - s0] = beam_mass(m, h);
+    for (int j = 0; j < n_el; ++j) {
+      PathElement e;
+      e.x0 = x + j * h;
+      e.h = h;
+      e.dofs = {node[static_cast<std::size_t>(j)][0], node[static_cast<std::size_t>(j)][1],
+                node[static_cast<std::size_t>(j + 1)][0], node[static_cast<std::size_t>(j + 1)][1]};
+      s.deck_elements.push_back(e);
+      add_element(lk, e, k_el);
+      add_element(lm, e, m_el);
+    }
+    if (si == s0) supports.push_back({node.front(), x, si, false, {}});
+    supports.back().elements.push_back({{s.deck_elements[s.span_first_element.back()], 0}, &k_el, &m_el});
+    supports.push_back({node.back(), x + sp.length, si, true, {{{s.deck_elements.back(), 2}, &k_el, &m_el}}});
+    x += sp.length;
+  }
+  // Rotational restraint of the deck's ends: a spring on each end's rotation (part of the
+  // deck's stiffness, so modal damping sees it).
+  if (bridge.bearings.rotational_k > 0.0)
+    for (const Support* sup : {&supports.front(), &supports.back()}) lk.emplace_back(sup->node[1], sup->node[1], bridge.bearings.rotational_k);
+  const std::size_t first_bearing = s.bearings.size();
+  auto bearing_at = [&](const Support& sup) {
+    BearingForce b;
+    b.name = bridge.continuous ? "support" + std::to_string(s.bearings.size() + 1)
+                               : "span" + std::to_string(sup.span + 1) + (sup.end ? "_end" : "_start");
+    b.span = sup.span;
+    b.end = sup.end;
+    b.rigid = bridge.bearings.rigid;
+    b.x = sup.x;
+    return b;
+  };
+  if (!bridge.bearings.rigid)
+    for (const Support& sup : supports) {
+      const Index d = sup.node[0];
       lk.emplace_back(d, d, bridge.bearings.k);
       tc.emplace_back(d, d, bridge.bearings.c);
-      BearingForce b;
-      b.span = si;
-      b.end = j == n_el;
-      b.rigid = false;
+      BearingForce b = bearing_at(sup);
       add_weight(b.k, d, bridge.bearings.k);
       add_weight(b.c, d, bridge.bearings.c);
-      b.element = s.deck_elements[j == n_el ? s.deck_elements.size() - 1 : s.span_first_element.back()];
+      for (const auto& se : sup.elements) b.elements.push_back(se.at);
       s.bearings.push_back(b);
     }
-  }
-  // Structural damping from the span's own M and K (bearing springs included).
-  SparseMatrix Ms(n_span, n_span), Ks(n_span, n_span);
+  // Structural damping from the deck's own M and K (bearing springs included).
+  const Index n_deck = next - first_dof;
+  SparseMatrix Ms(n_deck, n_deck), Ks(n_deck, n_deck);
   auto shift = [&](const std::vector<Triplet>& in) {
     std::vector<Triplet> out;
     out.reserve(in.size());
@@ -386,12 +416,55 @@ void add_span(Assembly& as, const BridgeParams& bridge, std::size_t si, double x
   Ms.setFromTriplets(lms.begin(), lms.end());
   Ks.setFromTriplets(lks.begin(), lks.end());
   const Matrix Cs = structural_damping(Ms, Ks, bridge.damping);
-  for (Index i = 0; i < n_span; ++i)
-    for (Index j = 0; j < n_span; ++j)
+  for (Index i = 0; i < n_deck; ++i)
+    for (Index j = 0; j < n_deck; ++j)
       if (Cs(i, j) != 0.0) tc.emplace_back(first_dof + i, first_dof + j, Cs(i, j));
-  if (bridge.bearings.rigid) add_rigid_bearings(s, si, bridge.damping, ke, me, Ms, Cs, first_dof);
+  if (bridge.bearings.rigid) {
+    std::optional<Eigen::SimplicialLDLT<SparseMatrix>> Mff;  // modal damping only
+    if (bridge.damping.kind == DampingKind::modal) Mff.emplace(Ms);
+    for (const Support& sup : supports) {
+      BearingForce b = bearing_at(sup);
+      rigid_bearing_weights(b, sup.elements, bridge.damping, Mff ? &*Mff : nullptr, Cs, first_dof);
+      s.bearings.push_back(b);
+    }
+  }
+  for (std::size_t si = s0; si < s1; ++si) {  // support k carries spans k − 1 and k
+    const std::size_t k = first_bearing + (si - s0);
+    s.span_bearings.push_back({k, k + 1});
+  }
   tm.insert(tm.end(), lm.begin(), lm.end());
   tk.insert(tk.end(), lk.begin(), lk.end());
+}
+
+// The permanent load of every bearing of a continuous deck: the deck under its weight and the
+// track's (q = g·m per span, consistent nodal loads), solved on the bridge's own stiffness, then
+// each bearing's force R = k·u + the consistent load at its fixed DOF.
+void continuous_permanent_loads(Structure& s, const std::vector<Triplet>& bridge_k, const std::vector<double>& q_span) {
+  SparseMatrix K(s.n_bridge_dofs, s.n_bridge_dofs);
+  K.setFromTriplets(bridge_k.begin(), bridge_k.end());
+  Vector f = Vector::Zero(s.n_bridge_dofs);
+  auto consistent = [](double q, double h) { return std::array<double, 4>{{q * h / 2, q * h * h / 12, q * h / 2, -q * h * h / 12}}; };
+  for (std::size_t si = 0; si < s.span_start.size(); ++si) {
+    const auto [e0, e1] = s.span_elements(si);
+    for (std::size_t e = e0; e < e1; ++e) {
+      const PathElement& el = s.deck_elements[e];
+      const auto fe = consistent(q_span[si], el.h);
+      for (std::size_t i = 0; i < 4; ++i)
+        if (el.dofs[i] >= 0) f[el.dofs[i]] += fe[i];
+    }
+  }
+  Eigen::SimplicialLDLT<SparseMatrix> ldlt(K);
+  if (ldlt.info() != Eigen::Success) throw InputError("bridge: the continuous deck's stiffness is singular (a mechanism)");
+  const Vector u = ldlt.solve(f);
+  for (BearingForce& b : s.bearings) {
+    b.permanent = b.k.value(u);
+    if (!b.rigid) continue;
+    for (const auto& be : b.elements) {  // the span holding the element's middle gives its load
+      const double xm = be.element.x0 + be.element.h / 2;
+      const auto si = std::upper_bound(s.span_start.begin(), s.span_start.end(), xm) - s.span_start.begin() - 1;
+      b.permanent += consistent(q_span[static_cast<std::size_t>(si)], be.element.h)[static_cast<std::size_t>(be.fixed_local)];
+    }
+  }
 }
 
 // The track over [−approach, L_bridge + exit]: rail elements, and per sleeper the sleeper and
@@ -463,7 +536,7 @@ void add_track(Assembly& as, const TrackParams& tp, double L_bridge) {
         // assembly leaves out: minus k·c_A·(link elongation), into that bearing's force.
         for (std::size_t q : {0u, 2u})
           if (pc.dofs[q] < 0 && pc.N[q] != 0.0) {
-            BearingForce& bf = s.bearings[2 * si + (q == 2 ? 1 : 0)];
+            BearingForce& bf = s.bearings[s.span_bearings[si][q == 2 ? 1 : 0]];
             const double cA = -pc.N[q];
             for (int l = 0; l < sub.n; ++l) {
               add_weight(bf.k, sub.dofs[static_cast<std::size_t>(l)], -sd->k * cA * sub.coef[static_cast<std::size_t>(l)]);
@@ -481,6 +554,7 @@ void add_track(Assembly& as, const TrackParams& tp, double L_bridge) {
 
 void check_model_size(const BridgeParams& bridge, const std::optional<TrackParams>& track) {
   const double deck_mass_reduction = track && bridge.mass_includes_track ? track->mass_per_m() : 0.0;
+  double deck_elements = 0.0;
   for (std::size_t si = 0; si < bridge.spans.size(); ++si) {
     const SpanParams& sp = bridge.spans[si];
     const double m = sp.mass_per_m + bridge.added_mass_per_m - deck_mass_reduction;
@@ -493,7 +567,11 @@ void check_model_size(const BridgeParams& bridge, const std::optional<TrackParam
       throw InputError("bridge.element_size " + str(bridge.element_size) + " m gives " + str(n_el_real) + " elements on span " +
                        std::to_string(si + 1) + "; at most " + std::to_string(kMaxSpanElements) +
                        " per span (raise bridge.element_size)");
+    deck_elements += n_el_real;
   }
+  if (bridge.continuous && !(deck_elements <= kMaxDeckElements))
+    throw InputError("bridge.element_size " + str(bridge.element_size) + " m gives " + str(deck_elements) +
+                     " elements on the continuous deck; at most " + std::to_string(kMaxDeckElements) + " (raise bridge.element_size)");
   if (!track) return;
   const TrackParams& tp = *track;
   const double L_track = bridge.total_length() + tp.exit_length - tp.start_x();
@@ -519,22 +597,31 @@ Structure build_structure(const BridgeParams& bridge, const std::optional<TrackP
   if (track && bridge.mass_includes_track) deck_mass_reduction = track->mass_per_m();
 
   Assembly a{s, {}, {}, {}, 0};
-  // --- bridge: spans with their own nodes; spans are independent (simply supported) ---
+  // --- bridge: one continuous deck, or spans with their own nodes (simply supported) ---
+  s.continuous = bridge.continuous;
   double x = 0.0;
-  for (std::size_t si = 0; si < bridge.spans.size(); ++si) {
-    add_span(a, bridge, si, x, deck_mass_reduction);
-    x += bridge.spans[si].length;
+  if (bridge.continuous) {
+    add_deck(a, bridge, 0, bridge.spans.size(), x, deck_mass_reduction);
+    x = bridge.total_length();
+  } else {
+    for (std::size_t si = 0; si < bridge.spans.size(); ++si) {
+      add_deck(a, bridge, si, si + 1, x, deck_mass_reduction);
+      x += bridge.spans[si].length;
+    }
   }
   s.n_bridge_dofs = a.next;
+  // The self-weight each bearing carries, deck and track (with mass_includes_track the deck's
+  // mass holds the track already): half the span's, g·m·L/2, on simply supported spans.
+  std::vector<double> q_span;
+  for (const SpanParams& sp : bridge.spans)
+    q_span.push_back(9.80665 * (sp.mass_per_m + bridge.added_mass_per_m +
+                                (track && !bridge.mass_includes_track ? track->mass_per_m() : 0.0)));
+  if (bridge.continuous)
+    continuous_permanent_loads(s, a.tk, q_span);
+  else
+    for (auto& b : s.bearings) b.permanent = q_span[b.span] * bridge.spans[b.span].length / 2.0;
   // --- track ---
   if (track) add_track(a, *track, x);
-  // The self-weight each bearing carries: half the span's deck and track, g·m·L/2 (a uniform
-  // simply supported span); with mass_includes_track the deck's mass holds the track already.
-  for (auto& b : s.bearings) {
-    const SpanParams& sp = bridge.spans[b.span];
-    const double m = sp.mass_per_m + bridge.added_mass_per_m + (track && !bridge.mass_includes_track ? track->mass_per_m() : 0.0);
-    b.permanent = 9.80665 * m * sp.length / 2.0;
-  }
   const Index next = a.next;
   s.n_dofs = next;
   s.n_track_dofs = next - s.n_bridge_dofs;

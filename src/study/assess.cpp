@@ -59,6 +59,20 @@ double phi3(double L) {
   return std::clamp(2.16 / (std::sqrt(L) - 0.2) + 0.73, 1.0, 2.0);
 }
 
+double continuous_determinant_length(const std::vector<double>& spans) {
+  if (spans.empty()) throw InputError("a continuous deck needs at least one span");
+  double sum = 0.0, longest = 0.0;
+  for (double L : spans) {
+    require_positive(L, "span length [m]");
+    sum += L;
+    longest = std::max(longest, L);
+  }
+  const std::size_t n = spans.size();
+  if (n == 1) return longest;
+  const double k = n == 2 ? 1.2 : n == 3 ? 1.3 : n == 4 ? 1.4 : 1.5;
+  return std::max(k * sum / static_cast<double>(n), longest);
+}
+
 double phi_irregularities(double L, double v, double n0) {
   require_positive(L, "determinant length [m]");
   require_positive(v, "speed [m/s]");

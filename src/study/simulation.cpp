@@ -68,15 +68,19 @@ std::vector<LoadEffect> load_effects(const model::Structure& s, const std::vecto
     if (st.fibre_m != 0.0) out.push_back({st.name + "_strain_ue", functional(m, 1e6 * st.fibre_m / s.span_EI[st.span])});
     out.push_back({st.name + "_shear_N", functional(s.deck_shear(st.span, st.x_local), 1.0)});
   }
-  for (std::size_t k = 0; k < s.span_start.size(); ++k) {
-    const std::string span = "span" + std::to_string(k + 1);
-    out.push_back({span + "_start_rot_rad", functional(s.deck_end_rotation(k, false), 1.0)});
-    out.push_back({span + "_end_rot_rad", functional(s.deck_end_rotation(k, true), 1.0)});
+  if (s.continuous) {  // the deck's rotation over every support (a span's end is the next one's start)
+    for (const model::BearingForce& bf : s.bearings)
+      out.push_back({bf.name + "_rot_rad", functional(s.deck_end_rotation(bf.span, bf.end), 1.0)});
+  } else {
+    for (std::size_t k = 0; k < s.span_start.size(); ++k) {
+      const std::string span = "span" + std::to_string(k + 1);
+      out.push_back({span + "_start_rot_rad", functional(s.deck_end_rotation(k, false), 1.0)});
+      out.push_back({span + "_end_rot_rad", functional(s.deck_end_rotation(k, true), 1.0)});
+    }
   }
   for (std::size_t b = 0; b < s.bearings.size(); ++b) {
     const model::BearingForce& bf = s.bearings[b];
-    out.push_back({"span" + std::to_string(bf.span + 1) + (bf.end ? "_end" : "_start") + "_reaction_N", functional(bf.k, 1.0),
-                   functional(bf.m, 1.0), functional(bf.c, 1.0), static_cast<int>(b)});
+    out.push_back({bf.name + "_reaction_N", functional(bf.k, 1.0), functional(bf.m, 1.0), functional(bf.c, 1.0), static_cast<int>(b)});
   }
   return out;
 }
@@ -88,13 +92,15 @@ double bearing_load(const model::Structure& s, const LoadEffect& e, const load::
   double f = 0.0;
   for (std::size_t k = 0; k < train.n_axles(); ++k) {
     const double x = x_head - train.offset[k];
-    // The element holds [x0, x0 + h), the path's last one its end too: load::MovingLoads' rule,
+    // An element holds [x0, x0 + h), the path's last one its end too: load::MovingLoads' rule,
     // so that an axle exactly on the joint of two spans loads the next span's start bearing and
-    // one at the bridge's end (no track) its end bearing.
-    const double x0 = bf.element.x0, x1 = x0 + bf.element.h;
-    if (x < x0 || x > x1 || (x == x1 && x1 < s.path_end())) continue;
-    const double xi = (x - x0) / bf.element.h;
-    f += load_factor * train.load[k] * model::hermite_shape(xi, bf.element.h)[static_cast<std::size_t>(bf.fixed_local)];
+    // one at the bridge's end (no track) its end bearing; over a continuous deck's support, once.
+    for (const auto& be : bf.elements) {
+      const double x0 = be.element.x0, x1 = x0 + be.element.h;
+      if (x < x0 || x > x1 || (x == x1 && x1 < s.path_end())) continue;
+      const double xi = (x - x0) / be.element.h;
+      f += load_factor * train.load[k] * model::hermite_shape(xi, be.element.h)[static_cast<std::size_t>(be.fixed_local)];
+    }
   }
   return f;
 }

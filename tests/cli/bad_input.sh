@@ -213,6 +213,8 @@ expect 2 "timber.toml:11: key 'assess.deck_type': must be one of steel|composite
 expect 2 "nodeck.toml:10: key 'assess.deck_type': viaduct assess needs this key" -- "$VIADUCT" assess "$(scen nodeck '[assess]\nline_speed_kmh = 200.0\n')" --no-plots --out "$WORK/o"
 expect 2 "--set: key 'assess.deflection_limit_ratio': must be > 0, got -600" -- "$VIADUCT" assess "$(scen dneg "$AS")" --set assess.deflection_limit_ratio=-600 --no-plots --out "$WORK/o"
 expect 2 "asks for HSLM-B; give assess.hslm_b_n and assess.hslm_b_spacing_m" -- "$VIADUCT" assess "$(scen short "$AS")" --set "bridge.span_lengths=[5.0]" --no-plots --out "$WORK/o"
+expect 2 "lneg.toml:12: key 'assess.determinant_length_m': must be > 0 [m], got -24" -- "$VIADUCT" assess "$(scen lneg "${AS}determinant_length_m = -24.0\n")" --no-plots --out "$WORK/o"
+expect 2 "--set: key 'bridge.continuous': must be a boolean, got 3" -- "$VIADUCT" check "$OG" --set bridge.continuous=3
 expect 2 "key 'assess.ballast_lower_factor': the lower-bound factor is above the upper-bound one" -- "$VIADUCT" assess "$(scen lohi "${AS}ballast_lower_factor = 1.5\n")" --no-plots --out "$WORK/o"
 # Every case failing on its input: exit 2, as run and sweep; the report says no check was made.
 expect 2 "every case failed on its input" -- "$VIADUCT" assess "$(scen allbad "$AS")" --set analysis.free_vibration_s=1e300 --no-plots --out "$WORK/allbad"

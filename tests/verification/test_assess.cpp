@@ -129,6 +129,16 @@ TEST_CASE("EN 1991-2 numbers: Table 6.6, Eq. 6.13, Phi2, Phi3, phi'' and the cut
   CHECK(study::cutoff_frequency(5.0, 20.0) == 30.0);
   CHECK_THROWS_AS(study::deck_type_of("timber"), InputError);
   CHECK(study::deck_type_of("filler-beam") == DeckType::filler_beam);
+  // Lφ of continuous decks (Table 6.2, continuous over n spans): 1.2 × 20 = 24 m; 1.3 × mean(10, 30, 10) =
+  // 21.67 m but not below the longest, 30 m; 1.5 × 12 = 18 m for six spans; one span: itself.
+  CHECK(study::continuous_determinant_length({20.0, 20.0}) == Approx(24.0).epsilon(1e-12));
+  CHECK(study::continuous_determinant_length({10.0, 30.0, 10.0}) == 30.0);
+  CHECK(study::continuous_determinant_length({12.0, 14.0, 12.0}) == Approx(1.3 * 38.0 / 3).epsilon(1e-12));
+  CHECK(study::continuous_determinant_length({10.0, 10.0, 10.0, 10.0}) == Approx(14.0).epsilon(1e-12));
+  CHECK(study::continuous_determinant_length(std::vector<double>(6, 12.0)) == Approx(18.0).epsilon(1e-12));
+  CHECK(study::continuous_determinant_length({17.0}) == 17.0);
+  CHECK_THROWS_AS(study::continuous_determinant_length({}), InputError);
+  CHECK_THROWS_AS(study::continuous_determinant_length({10.0, -1.0}), InputError);
 }
 
 TEST_CASE("assessment speeds: the grid, refined through each resonance speed") {

@@ -51,6 +51,7 @@ struct Config {
   double alpha = 1.0;
   bool careful = true;
   double deflection_ratio = 600.0, rotation_limit = 6.5e-3;
+  std::optional<double> determinant_length;  // [m] assess.determinant_length_m: Lφ of every quantity
 };
 
 // What the assessment decided before running: damping, cut-off, trains, masses (for the report).
@@ -106,6 +107,7 @@ Config read_config(const io::FlatScenario& flat, const std::string& scenario) {
   c.careful = flat.at("assess.track_maintenance").s == "careful";
   c.deflection_ratio = flat.at("assess.deflection_limit_ratio").x;
   c.rotation_limit = flat.at("assess.end_rotation_limit_rad").x;
+  if (flat.has("assess.determinant_length_m")) c.determinant_length = flat.at("assess.determinant_length_m").x;
   return c;
 }
 
@@ -169,7 +171,10 @@ std::vector<load::Train> assessment_trains(const io::FlatScenario& flat, const s
   for (int i = 1; i <= 10; ++i) out.push_back(load::hslm_a("HSLM-A" + std::to_string(i), load::hslm_a_row(i)));
   double shortest = std::numeric_limits<double>::infinity();
   for (const auto& s : sc.bridge.spans) shortest = std::min(shortest, s.length);
-  if (shortest < 7.0) {
+  if (sc.bridge.continuous && shortest < 7.0)
+    p.notes.push_back("HSLM-B not run: EN 1991-2 6.4.6.1.1 asks for it on simply supported spans under 7 m; this deck is continuous "
+                      "(HSLM-A1…A10 cover it)");
+  if (!sc.bridge.continuous && shortest < 7.0) {
     if (!flat.has("assess.hslm_b_n") || !flat.has("assess.hslm_b_spacing_m"))
       throw InputError(assess_location(flat, flat.path, "assess.hslm_b_n"),
                        "a span of " + format_number(shortest, 4) +
@@ -282,6 +287,38 @@ std::size_t span_of(const std::string& quantity, const study::Scenario& sc) {
   return 0;
 }
 
+// Lφ of a quantity (6.4.5.3, Table 6.2): assess.determinant_length_m when given; on a continuous
+// deck Table 6.2 for girders continuous over n spans (k × the mean span, not below the longest;
+// to confirm); else its span's length.
+double determinant_length(const std::string& quantity, const study::Scenario& sc, const Config& c) {
+  if (c.determinant_length) return *c.determinant_length;
+  if (sc.bridge.continuous) {
+    std::vector<double> spans;
+    for (const auto& s : sc.bridge.spans) spans.push_back(s.length);
+    return study::continuous_determinant_length(spans);
+  }
+  return sc.bridge.spans[std::min(span_of(quantity, sc), sc.bridge.spans.size() - 1)].length;
+}
+
+// A rotation the end-rotation limit applies to (A2.4.4.2.3: at the deck's ends): every span end
+// of simply supported spans; the first and last supports of a continuous deck.
+bool deck_end_rotation(const std::string& quantity, const study::Scenario& sc) {
+  if (!sc.bridge.continuous) return true;
+  return quantity == "support1_rot_rad" || quantity == "support" + std::to_string(sc.bridge.spans.size() + 1) + "_rot_rad";
+}
+
+// A deck station over a rigid bearing (a span's end): its deflection and acceleration are zero by
+// construction, so they get no check rows (the report says so).
+bool on_rigid_support(const std::string& station, const study::Scenario& sc) {
+  if (!sc.bridge.bearings.rigid) return false;
+  for (const auto& st : sc.stations)
+    if (st.on_deck && st.name == station) {
+      const double L = sc.bridge.spans[st.span].length;
+      return std::abs(st.x_local) <= 1e-9 * L || std::abs(st.x_local - L) <= 1e-9 * L;
+    }
+  return false;
+}
+
 bool ends_with(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
@@ -316,8 +353,9 @@ void quantity_checks(std::size_t q, const Statics& st, const std::vector<Increme
                      const Plan& p, std::vector<Check>& out) {
   const std::string& name = st.il.names[q];
   const double L = sc.bridge.spans[std::min(span_of(name, sc), sc.bridge.spans.size() - 1)].length;
-  const double Phi = c.careful ? study::phi2(L) : study::phi3(L);
-  const double phi2nd = study::phi_irregularities(L, c.v_max, p.f1);
+  const double L_phi = determinant_length(name, sc, c);
+  const double Phi = c.careful ? study::phi2(L_phi) : study::phi3(L_phi);
+  const double phi2nd = study::phi_irregularities(L_phi, c.v_max, p.f1);
   const double lm = Phi * st.lm71[q].max_abs();
   // (1 + φ′dyn + φ″/2) × the train's static effect, the worst train and mass (6.4.6.5(3)).
   Check d{"dynamic design effect vs LM71", name, 0.0, lm, "", "", "", std::numeric_limits<double>::quiet_NaN(),
@@ -334,7 +372,8 @@ void quantity_checks(std::size_t q, const Statics& st, const std::vector<Increme
     d.verdict = d.value > lm ? "dynamic governs" : "LM71 governs";
     out.push_back(d);
   }
-  const bool disp = ends_with(name, "_disp_m"), rot = ends_with(name, "_rot_rad");
+  const bool disp = ends_with(name, "_disp_m") && !on_rigid_support(name.substr(0, name.size() - 7), sc);
+  const bool rot = ends_with(name, "_rot_rad") && deck_end_rotation(name, sc);
   if (disp || rot) {
     const double limit = disp ? L / c.deflection_ratio : c.rotation_limit;
     const std::string what = disp ? "vertical deflection" : "deck end rotation";
@@ -348,7 +387,8 @@ void quantity_checks(std::size_t q, const Statics& st, const std::vector<Increme
   }
   if (st.permanent[q] > 0.0) {  // a bearing: the traffic's largest pull against the permanent load
     Check u{"bearing uplift", name, 0.0, st.permanent[q], "", "", "", std::numeric_limits<double>::quiet_NaN(),
-            "permanent load g m L / 2 vs the traffic's negative force"};
+            sc.bridge.continuous ? "permanent load (static solve of the deck's weight) vs the traffic's negative force"
+                                 : "permanent load g m L / 2 vs the traffic's negative force"};
     for (const auto& r : rows)
       if (r.quantity == name && -r.dynamic.min > u.value)
         u.value = -r.dynamic.min, u.variant = r.variant, u.train = r.train, u.speed = r.speed;
@@ -361,6 +401,7 @@ std::vector<Check> all_checks(const study::SweepResult& r, const Statics& st, co
                               const study::Scenario& sc, const Config& c, const Plan& p) {
   std::vector<Check> out;
   for (const auto& g : study::governing(r.rows)) {
+    if (on_rigid_support(g.station, sc)) continue;  // no motion there: no row
     Check a{"deck acceleration", g.station + "_acc_mps2", g.acc.value, c.acc_limit, "", g.acc.variant, g.acc.train,
             g.acc.speed, "EN 1990 A2.4.4.2.1(4)"};
     a.verdict = a.value <= a.limit ? "pass" : "FAIL";
@@ -469,8 +510,13 @@ void report_inputs(std::ostringstream& o, const ReportInput& in) {
     << fmt(p.f_cut) << " Hz**, applied as a Chebyshev I low-pass to accelerations.\n";
   o << "- **Limits**: deck acceleration " << fmt(c.acc_limit) << " m/s² (" << c.track << " track); deflection span/"
     << fmt(c.deflection_ratio) << "; end rotation " << fmt(c.rotation_limit * 1e3) << " mrad; LM71 α = " << fmt(c.alpha) << ", "
-    << (c.careful ? "Φ2 (careful maintenance)" : "Φ3 (standard maintenance)") << ".\n";
-  o << "- **Model and method**: " << in.nominal.bridge.spans.size() << " span(s), " << (in.nominal.track ? "with" : "without")
+    << (c.careful ? "Φ2 (careful maintenance)" : "Φ3 (standard maintenance)") << " with Lφ = "
+    << (c.determinant_length ? fmt(*c.determinant_length) + " m (assess.determinant_length_m)"
+        : in.nominal.bridge.continuous ? fmt(determinant_length("", in.nominal, c)) + " m (Table 6.2, continuous over n spans: to confirm)"
+                                       : std::string("each quantity's span length (Table 6.2)"))
+    << ".\n";
+  o << "- **Model and method**: " << in.nominal.bridge.spans.size() << (in.nominal.bridge.continuous ? " span(s) of one continuous deck, " : " span(s), ")
+    << (in.nominal.track ? "with" : "without")
     << " track; " << (in.nominal.settings.method == study::Method::modal ? "modal superposition" : "direct integration") << ", dt = "
     << fmt(in.nominal.settings.dt * 1e3) << " ms.\n";
 }
@@ -641,6 +687,10 @@ int run_assess(const Common& o, const AssessOptions& opts) {
   const study::SweepResult r = study::run_sweep(p.variants, so);
   const study::Scenario& nominal = p.variants.front().scenario;
   const Statics st = statics_of(nominal, c);
+  for (const auto& s : nominal.stations)
+    if (on_rigid_support(s.name, nominal))
+      p.notes.push_back("station " + s.name + " sits on a rigid bearing: its deflection and acceleration are zero by construction "
+                        "and get no check rows (its moment, shear and strain do)");
   const std::vector<Increment> inc = increments(r.quantities);
   const std::vector<Check> checks = all_checks(r, st, inc, nominal, c, p);
   io::write_envelope_csv(o.out + "/envelope.csv", r.rows, p.variants);

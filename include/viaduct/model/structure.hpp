@@ -2,7 +2,8 @@
 /// \file Bridge spans, ballasted track and their assembly into M a + C v + K u = f.
 ///
 /// Coordinates: x [m] along the line, x = 0 at the start of the first span; spans follow each
-/// other without gaps. Deflections are positive downwards (the direction of axle loads).
+/// other without gaps, as a chain of simply supported spans (each on its own two bearings) or as
+/// one continuous deck over intermediate supports (BridgeParams::continuous). Deflections are positive downwards (the direction of axle loads).
 /// A scenario builds only what it names: without TrackParams there are no track DOFs and loads
 /// act on the deck directly.
 
@@ -16,26 +17,28 @@
 
 namespace viaduct::model {
 
-/// One simply supported Bernoulli–Euler span.
+/// One Bernoulli–Euler span: simply supported, or one span of a continuous deck.
 struct SpanParams {
   double length = 0.0;      ///< [m] > 0
   double EI = 0.0;          ///< [N·m²] bending stiffness, > 0
   double mass_per_m = 0.0;  ///< [kg/m] mass per length, > 0 (see BridgeParams::mass_includes_track)
 };
 
-/// Vertical bearing under each span end (the same for all span ends).
+/// Vertical bearing under each span end (the same for all span ends); on a continuous deck one
+/// bearing per support, the intermediate ones shared by the two spans they carry.
 struct BearingParams {
   bool rigid = true;  ///< true: deflection fixed at the bearing; false: spring k and dashpot c
   double k = 0.0;     ///< [N/m] vertical stiffness when not rigid, > 0
   double c = 0.0;     ///< [N·s/m] vertical damping when not rigid, >= 0
   /// [N·m/rad] rotational spring at each span end (integral or frame abutments, restrained
   /// ends), >= 0; 0: free to rotate (simply supported). A very large value clamps the end.
+  /// On a continuous deck: at the deck's two ends only (the intermediate supports let it rotate).
   double rotational_k = 0.0;
 };
 
 enum class DampingKind {
   none,      ///< no structural damping of the bridge (track dashpots still act)
-  modal,     ///< the same ratio for every mode of each span (span on its bearings)
+  modal,     ///< the same ratio for every mode of each span on its bearings (of the whole deck when continuous)
   rayleigh,  ///< C = a0 M + a1 K of the bridge, fitted to two (frequency, ratio) pairs
 };
 
@@ -57,6 +60,9 @@ struct BridgeParams {
   /// its mass per metre (rail + (sleeper + ballast)/spacing) is taken off the deck so that it is
   /// not counted twice. Ignored without track.
   bool mass_includes_track = false;
+  /// true: the spans form one continuous deck over intermediate supports (nodes shared at the
+  /// supports, one bearing per support); false: a chain of simply supported spans.
+  bool continuous = false;
   BearingParams bearings;
   BridgeDamping damping;
 
@@ -126,13 +132,24 @@ struct PathElement {
 /// that assembly leaves out (the deck element at the bearing, its structural damping, the track
 /// links to the deck near it); an axle on `element` adds P·N of that DOF (loads on the deck).
 struct BearingForce {
-  std::size_t span = 0;
-  bool end = false;   ///< false: at the span's start
+  /// "span<k>_start" / "span<k>_end" on a chain of simply supported spans; "support<k>" on a
+  /// continuous deck (k from 1 at x = 0), the output names' stem.
+  std::string name;
+  std::size_t span = 0;  ///< the span it carries (0-based; an intermediate support: the span it ends)
+  bool end = false;      ///< false: at the span's start
   bool rigid = true;
+  double x = 0.0;        ///< [m] its position along the line
   DofWeights k, m, c;
-  PathElement element;  ///< the deck element at the bearing
-  int fixed_local = 0;  ///< rigid: its local DOF that is fixed (0: w0, 2: w1)
-  double permanent = 0.0;  ///< [N] the self-weight it carries, g·m·L/2 (deck and the track it carries)
+  /// A deck element meeting at the bearing and its local DOF there (0: w0, 2: w1; fixed when
+  /// rigid): one at a deck end, two over an intermediate support of a continuous deck.
+  struct Element {
+    PathElement element;
+    int fixed_local = 0;
+  };
+  std::vector<Element> elements;
+  /// [N] the self-weight it carries (deck and the track on it): g·m·L/2 on a simply supported
+  /// span, from a static solve of the deck under its weight on a continuous one.
+  double permanent = 0.0;
 };
 
 /// Assembled model. Matrices are symmetric, stored in full, n_dofs × n_dofs.
@@ -157,7 +174,11 @@ struct Structure {
   double path_start() const;  ///< [m]
   double path_end() const;    ///< [m]
   std::vector<std::size_t> span_first_element;  ///< index into deck_elements, per span
-  std::vector<BearingForce> bearings;  ///< per span, its start then its end bearing
+  /// Per span its start then its end bearing; continuous deck: one per support, in x order.
+  std::vector<BearingForce> bearings;
+  /// Per span: the index into bearings of its start and its end bearing.
+  std::vector<std::array<std::size_t, 2>> span_bearings;
+  bool continuous = false;  ///< the spans form one continuous deck (BridgeParams::continuous)
   /// The deck elements of span `span` (0-based): [first, last) into deck_elements; InputError
   /// when there is no such span.
   std::pair<std::size_t, std::size_t> span_elements(std::size_t span) const;
@@ -167,14 +188,17 @@ struct Structure {
   /// Bending moment [N·m] at x_local on span `span` (0-based): M = −EI·w''(x), sagging positive
   /// (w is positive down), from the Hermite elements' curvature; at a node between two elements
   /// the mean of both (exact when neither carries a point force, half the error of one
-  /// otherwise). InputError outside the span.
+  /// otherwise), over an intermediate support of a continuous deck too (the moment is continuous
+  /// there). InputError outside the span.
   DofWeights deck_moment(std::size_t span, double x_local) const;
   /// Shear force [N] at x_local: V = dM/dx = −EI·w‴(x) (so V = R_A − the loads left of x on a
   /// simply supported span), constant along each Hermite element; at a node the mean of both
-  /// elements (exact when neither carries a point force). InputError outside the span.
+  /// elements (exact when neither carries a point force). At a span's ends the span's own side
+  /// (the shear jumps by the reaction over a support). InputError outside the span.
   DofWeights deck_shear(std::size_t span, double x_local) const;
   /// Rotation θ = dw/dx [rad] of the deck at the start (end = false) or end of span `span`:
   /// positive where the deck falls towards +x (a sagging span: > 0 at its start, < 0 at its end).
+  /// On a continuous deck a span's end and the next one's start are the same node.
   DofWeights deck_end_rotation(std::size_t span, bool end) const;
   /// Deflection interpolation on the rail at x; throws InputError without track or outside it.
   PointCoupling rail_point(double x) const;
@@ -184,9 +208,11 @@ struct Structure {
   DofWeights deck_derivative(std::size_t span, double x_local, int order) const;
 };
 
-/// Size limits that keep a mistyped element size from exhausting memory: per span (its dense
-/// modal-damping eigenproblem grows with the cube), and for the whole rail.
+/// Size limits that keep a mistyped element size from exhausting memory: per span and per
+/// continuous deck (its dense modal-damping eigenproblem grows with the cube), and for the whole
+/// rail.
 constexpr int kMaxSpanElements = 1000;
+constexpr int kMaxDeckElements = 2000;
 constexpr int kMaxRailElements = 100000;
 
 /// Assembles bridge (and track when given). Throws InputError on invalid parameters or sizes

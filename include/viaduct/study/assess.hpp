@@ -32,6 +32,11 @@ double additional_damping(double span_m);
 double phi2(double length_m);
 double phi3(double length_m);
 
+/// Determinant length Lφ [m] of a continuous deck of n ≥ 2 spans (Table 6.2, girders continuous over n spans; to confirm):
+/// k × the mean span, k = 1.2, 1.3, 1.4, 1.5 for n = 2, 3, 4, ≥ 5, and not less than the longest
+/// span. One span: its length. InputError for no span or a non-positive length.
+double continuous_determinant_length(const std::vector<double>& spans_m);
+
 /// φ″ of Annex C (track irregularities, to confirm against the text): α/100 [56 e^{−(Lφ/10)²} +
 /// 50 (Lφ n0/80 − 1) e^{−(Lφ/20)²}], α = v/22 for v ≤ 22 m/s and 1 above, never below 0. v in
 /// m/s, n0 [Hz] the first natural frequency.

@@ -158,6 +158,43 @@ TEST_CASE("modal damping gives the same ratio in every span mode") {
   REQUIRE((Cm - Matrix(Cm.diagonal().asDiagonal())).cwiseAbs().maxCoeff() < 1e-8 * Cm.diagonal().maxCoeff());
 }
 
+TEST_CASE("a continuous deck: shared nodes over the supports, one bearing per support, modal damping of the whole deck") {
+  BridgeParams b = two_spans();
+  b.bearings = {true, 0.0, 0.0};
+  BridgeParams chain_b = b;
+  b.continuous = true;
+  const Structure s = build_structure(b, std::nullopt);
+  // The joint's node is shared: one rotation fewer than two simply supported spans (rigid
+  // bearings fix both deflections there), and one deflection fewer too on elastic bearings.
+  CHECK(s.n_bridge_dofs == build_structure(chain_b, std::nullopt).n_bridge_dofs - 1);
+  BridgeParams elastic = b;
+  chain_b.bearings = elastic.bearings = two_spans().bearings;
+  CHECK(build_structure(elastic, std::nullopt).n_bridge_dofs == build_structure(chain_b, std::nullopt).n_bridge_dofs - 2);
+  REQUIRE(s.bearings.size() == 3);
+  CHECK(s.bearings[0].name == "support1");
+  CHECK(s.bearings[2].name == "support3");
+  CHECK(s.bearings[1].elements.size() == 2);
+  CHECK(s.bearings[1].x == Approx(b.spans[0].length));
+  CHECK(s.span_bearings[0] == std::array<std::size_t, 2>{{0, 1}});
+  CHECK(s.span_bearings[1] == std::array<std::size_t, 2>{{1, 2}});
+  CHECK(s.deck_elements[s.span_first_element[1] - 1].dofs[3] == s.deck_elements[s.span_first_element[1]].dofs[1]);
+  // The permanent loads add up to the deck's weight.
+  double total = 0.0;
+  for (const auto& br : s.bearings) total += br.permanent;
+  CHECK(total == Approx(9.80665 * (b.spans[0].mass_per_m * b.spans[0].length + b.spans[1].mass_per_m * b.spans[1].length)).epsilon(1e-12));
+  // Modal damping of the whole deck: the deck's modes are uncoupled and damped at the ratio.
+  const Modes m = compute_modes(s, 0);
+  const Matrix Cm = m.shape.transpose() * Matrix(s.C) * m.shape;
+  for (Index j = 0; j < m.frequency_hz.size(); ++j)
+    REQUIRE(Cm(j, j) / (4 * M_PI * m.frequency_hz[j]) == Approx(b.damping.ratio).epsilon(1e-8));
+  REQUIRE((Cm - Matrix(Cm.diagonal().asDiagonal())).cwiseAbs().maxCoeff() < 1e-8 * Cm.diagonal().maxCoeff());
+  // Too many elements for one deck's dense damping eigenproblem: an error naming the key.
+  BridgeParams big = b;
+  big.spans = std::vector<SpanParams>(3, {400.0, 1e10, 1e4});
+  big.element_size = 0.5;
+  CHECK_THROWS_WITH(build_structure(big, std::nullopt), Catch::Contains("bridge.element_size 0.5 m gives 2400 elements on the continuous deck"));
+}
+
 TEST_CASE("points on deck and rail interpolate with the element's shape functions") {
   const Structure s = build_structure(two_spans(), table1_track());
   REQUIRE_THROWS_AS(s.deck_point(2, 1.0), InputError);          // no third span
@@ -304,8 +341,10 @@ TEST_CASE("bearing forces: the static reactions of a simply supported span, rigi
       for (const auto& br : s.bearings) {
         // A force on the bearing's own element loads its fixed DOF directly: P·N there.
         double direct = 0.0;
-        if (br.rigid && a >= br.element.x0 && a <= br.element.x0 + br.element.h)
-          direct = P * hermite_shape((a - br.element.x0) / br.element.h, br.element.h)[static_cast<std::size_t>(br.fixed_local)];
+        REQUIRE(br.elements.size() == 1);
+        const PathElement& el = br.elements[0].element;
+        if (br.rigid && a >= el.x0 && a <= el.x0 + el.h)
+          direct = P * hermite_shape((a - el.x0) / el.h, el.h)[static_cast<std::size_t>(br.elements[0].fixed_local)];
         const double R = br.k.value(u) + direct;
         // Statics: R_start = P (L − a)/L, R_end = P a/L, exact (1e-9) either way.
         CHECK(R == Approx(br.end ? P * a / L : P * (L - a) / L).epsilon(1e-9));
