@@ -20,7 +20,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string num(double v) { return format_number(v, 12); }
+std::string conv_num(double v) { return format_number(v, 12); }
 
 [[noreturn]] void bad(const Value& v, const std::string& msg) { throw InputError(v.where, msg); }
 
@@ -71,7 +71,7 @@ void finish_bridge(const FlatScenario& f, model::BridgeParams& b) {
   const auto m = per_span(f, "bridge.mass_per_m", lens.xs.size());
   for (std::size_t i = 0; i < lens.xs.size(); ++i) b.spans.push_back({lens.xs[i], EI[i], m[i]});
   if (!b.bearings.rigid && !(b.bearings.k > 0.0))
-    bad(f.at("bridge.bearings.k"), "must be > 0 [N/m] when bridge.bearings.rigid = false, got " + num(b.bearings.k));
+    bad(f.at("bridge.bearings.k"), "must be > 0 [N/m] when bridge.bearings.rigid = false, got " + conv_num(b.bearings.k));
   if (b.damping.kind == model::DampingKind::rayleigh) {
     if (!(b.damping.f1_hz > 0.0)) bad(f.at("bridge.damping.f1_hz"), "must be > 0 Hz for Rayleigh damping");
     if (!(b.damping.f2_hz > b.damping.f1_hz))
@@ -147,7 +147,7 @@ std::vector<double> speeds_of(const FlatScenario& f) {
   }
   // Speeds near the largest double overflow in the arithmetic above: refused, never inf.
   for (double x : v)
-    if (!std::isfinite(x)) throw InputError(where_of(f, "sweep", ""), "the speeds are too large to compute (" + num(x) + " m/s)");
+    if (!std::isfinite(x)) throw InputError(where_of(f, "sweep", ""), "the speeds are too large to compute (" + conv_num(x) + " m/s)");
   return v;
 }
 
@@ -166,7 +166,7 @@ std::vector<study::StationSpec> stations_of(const FlatScenario& f, const model::
     if (f.has(pre + "span")) {
       const Value& span = f.at(pre + "span");
       if (span.x > static_cast<double>(bridge.spans.size()))
-        bad(span, "span " + num(span.x) + " does not exist (the bridge has " + std::to_string(bridge.spans.size()) + ")");
+        bad(span, "span " + conv_num(span.x) + " does not exist (the bridge has " + std::to_string(bridge.spans.size()) + ")");
       s.on_deck = true;
       s.span = static_cast<std::size_t>(span.x) - 1;
       const double L = bridge.spans[s.span].length;
@@ -175,13 +175,13 @@ std::vector<study::StationSpec> stations_of(const FlatScenario& f, const model::
       if (at) s.x_local = f.at(pre + "at").x * L;
       else {
         s.x_local = f.at(pre + "x").x;
-        if (s.x_local > L) bad(f.at(pre + "x"), "must be <= the span length " + num(L) + " m");
+        if (s.x_local > L) bad(f.at(pre + "x"), "must be <= the span length " + conv_num(L) + " m");
       }
       if (f.has(pre + "track_x")) bad(f.at(pre + "track_x"), "a station is on a span or on the track, not both");
       if (f.has(pre + "fibre_m")) {
         const Value& y = f.at(pre + "fibre_m");
         if (!(std::abs(y.x) <= 10.0) || y.x == 0.0)
-          bad(y, "the fibre's distance from the neutral axis must be non-zero and within 10 m of it (a deck is not deeper), got " + num(y.x));
+          bad(y, "the fibre's distance from the neutral axis must be non-zero and within 10 m of it (a deck is not deeper), got " + conv_num(y.x));
         s.fibre_m = y.x;
       }
     } else if (f.has(pre + "track_x")) {

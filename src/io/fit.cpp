@@ -24,7 +24,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string num(double v) { return format_number(v, 12); }
+std::string fit_num(double v) { return format_number(v, 12); }
 
 using detail::TextTable;
 
@@ -59,7 +59,7 @@ study::FitParameter fit_parameter(const FlatScenario& flat, const std::string& k
   else if (v.type == ValueType::number_list && v.xs.size() == 1) initial = v.xs[0];
   else fail("is a list of several values; only a single number can be fitted");
   if (!std::isfinite(lower) || !std::isfinite(upper) || !(lower < upper))
-    fail("bounds must be finite with lower < upper, got " + num(lower) + ":" + num(upper));
+    fail("bounds must be finite with lower < upper, got " + fit_num(lower) + ":" + fit_num(upper));
   study::FitParameter p;
   p.key = key;
   p.unit = spec->unit;
@@ -70,9 +70,9 @@ study::FitParameter fit_parameter(const FlatScenario& flat, const std::string& k
   else if (scale == "linear") p.scale = study::ParameterScale::linear;
   else if (scale == "auto" || scale.empty()) p.scale = lower > 0 ? study::ParameterScale::log : study::ParameterScale::linear;
   else fail("scale must be auto, log or linear, got '" + scale + "'");
-  if (p.scale == study::ParameterScale::log && !(lower > 0)) fail("a log scale needs lower > 0, got " + num(lower));
+  if (p.scale == study::ParameterScale::log && !(lower > 0)) fail("a log scale needs lower > 0, got " + fit_num(lower));
   if (!(initial >= lower && initial <= upper))
-    fail("its value " + num(initial) + " (the start) is outside the bounds [" + num(lower) + ", " + num(upper) + "]");
+    fail("its value " + fit_num(initial) + " (the start) is outside the bounds [" + fit_num(lower) + ", " + fit_num(upper) + "]");
   // The bounds must satisfy the key's own constraint.
   FlatScenario probe;
   probe.path = flat.path;
@@ -81,7 +81,7 @@ study::FitParameter fit_parameter(const FlatScenario& flat, const std::string& k
     try {
       set_number(probe, key, b);
     } catch (const InputError& e) {
-      fail(std::string("bound ") + num(b) + " violates the key's constraint " + spec->constraint);
+      fail(std::string("bound ") + fit_num(b) + " violates the key's constraint " + spec->constraint);
     }
   }
   return p;
@@ -154,7 +154,7 @@ FitDeclaration fit_declaration(const FlatScenario& flat) {
   if (const Value* v = get("fit.max_iterations")) o.max_iterations = static_cast<int>(v->x);
   if (const Value* v = get("fit.max_time_s")) o.max_time_s = v->x;
   if (const Value* v = get("fit.fd_step")) {
-    if (v->x > 0.1) throw InputError(v->where, "must be at most 0.1, got " + num(v->x));
+    if (v->x > 0.1) throw InputError(v->where, "must be at most 0.1, got " + fit_num(v->x));
     o.fd_step = v->x;
   }
   return d;
@@ -306,9 +306,9 @@ void write_scenario_toml(const std::string& path, const FlatScenario& flat, cons
 }
 
 namespace {
-std::string fmt(double v) { return table_cell(v, 10); }
+std::string fit_cell(double v) { return table_cell(v, 10); }
 // A standard error is infinite for a parameter the data do not determine ("determined" says so).
-std::string error_cell(double v) { return std::isfinite(v) ? fmt(v) : ""; }
+std::string error_cell(double v) { return std::isfinite(v) ? fit_cell(v) : ""; }
 
 std::pair<std::string, std::string> split_pair(const std::string& s, const std::string& option) {
   const auto eq = s.find('=');
@@ -362,7 +362,7 @@ std::pair<study::FitProblem, study::FitOptions> fit_setup(const FlatScenario& fl
   const std::vector<std::string>& maps = request.maps;
   const std::vector<double>& speeds = request.speeds_kmh;
   for (double v : speeds)
-    if (!(v > 0) || !std::isfinite(v)) throw InputError("--speed-kmh must be > 0, got " + fmt(v));
+    if (!(v > 0) || !std::isfinite(v)) throw InputError("--speed-kmh must be > 0, got " + fit_cell(v));
   const std::string& train = request.train;
   if (!request.records.empty()) {
     const auto& files = request.records;
@@ -451,10 +451,10 @@ void write_fit_tables(const std::string& dir, const study::FitProblem& problem, 
   for (std::size_t i = 0; i < np; ++i) {
     const auto& p = problem.params[i];
     const double ref = std::abs(r.estimate[i]) > 0 ? std::abs(r.estimate[i]) : p.upper - p.lower;
-    rows.push_back({p.key, p.unit, p.scale == study::ParameterScale::log ? "log" : "linear", fmt(p.lower), fmt(p.upper),
-                    fmt(p.initial), fmt(r.estimate.empty() ? p.initial : r.estimate[i]),
+    rows.push_back({p.key, p.unit, p.scale == study::ParameterScale::log ? "log" : "linear", fit_cell(p.lower), fit_cell(p.upper),
+                    fit_cell(p.initial), fit_cell(r.estimate.empty() ? p.initial : r.estimate[i]),
                     r.std_error.empty() ? "" : error_cell(r.std_error[i]), r.std_error.empty() ? "" : error_cell(r.std_error[i] / ref),
-                    r.sensitivity.empty() ? "" : fmt(r.sensitivity[i]), r.at_bound.empty() ? "" : (r.at_bound[i] ? "true" : "false"),
+                    r.sensitivity.empty() ? "" : fit_cell(r.sensitivity[i]), r.at_bound.empty() ? "" : (r.at_bound[i] ? "true" : "false"),
                     r.determined.empty() ? "" : (r.determined[i] ? "true" : "false")});
   }
   write_table_csv(dir + "/fit.csv",
@@ -468,7 +468,7 @@ void write_fit_tables(const std::string& dir, const study::FitProblem& problem, 
     for (std::size_t i = 0; i < np; ++i) {
       std::vector<std::string> row = {problem.params[i].key};
       for (std::size_t j = 0; j < np; ++j)
-        row.push_back(r.correlation.size() ? fmt(r.correlation(static_cast<Index>(i), static_cast<Index>(j))) : "");
+        row.push_back(r.correlation.size() ? fit_cell(r.correlation(static_cast<Index>(i), static_cast<Index>(j))) : "");
       cr.push_back(row);
     }
     write_table_csv(dir + "/fit_correlation.csv", head, cr);
@@ -478,31 +478,31 @@ void write_fit_tables(const std::string& dir, const study::FitProblem& problem, 
     for (const auto& p : problem.params) head.push_back(p.key);
     std::vector<std::vector<std::string>> tr;
     for (const auto& tp : r.trace) {
-      std::vector<std::string> row = {std::to_string(tp.start + 1), tp.stage == 1 ? "spectral" : "fit", std::to_string(tp.iteration), fmt(tp.cost)};
-      for (double v : tp.values) row.push_back(fmt(v));
+      std::vector<std::string> row = {std::to_string(tp.start + 1), tp.stage == 1 ? "spectral" : "fit", std::to_string(tp.iteration), fit_cell(tp.cost)};
+      for (double v : tp.values) row.push_back(fit_cell(v));
       tr.push_back(row);
     }
     write_table_csv(dir + "/fit_trace.csv", head, tr);
   }
   {
     std::vector<std::vector<std::string>> tr;
-    for (const auto& t : r.terms) tr.push_back({t.objective, t.record, t.channel, fmt(t.before), fmt(t.after)});
+    for (const auto& t : r.terms) tr.push_back({t.objective, t.record, t.channel, fit_cell(t.before), fit_cell(t.after)});
     write_table_csv(dir + "/fit_residuals.csv", {"objective", "record", "channel", "before", "after"}, tr);
   }
   {
     std::vector<std::vector<std::string>> tr;
     for (const auto& ov : r.overlays)
       for (Index i = 0; i < ov.t.size(); ++i)
-        tr.push_back({ov.record, ov.channel, fmt(ov.t[i]), fmt(ov.measured[i]), fmt(ov.initial[i]), fmt(ov.fitted[i])});
+        tr.push_back({ov.record, ov.channel, fit_cell(ov.t[i]), fit_cell(ov.measured[i]), fit_cell(ov.initial[i]), fit_cell(ov.fitted[i])});
     write_table_csv(dir + "/fit_time.csv", {"record", "channel", "t_s", "measured", "initial", "fitted"}, tr);
   }
   {
     std::vector<std::vector<std::string>> tr;
     for (std::size_t k = 0; k < r.modal_pairs.size(); ++k) {
       const auto& mp = r.modal_pairs[k];
-      tr.push_back({std::to_string(k + 1), fmt(mp.frequency_hz), fmt(mp.model_before_hz), fmt(mp.model_after_hz),
-                    fmt(mp.mac_before), fmt(mp.mac_after), fmt(mp.damping_ratio), fmt(mp.model_damping_before),
-                    fmt(mp.model_damping_after)});
+      tr.push_back({std::to_string(k + 1), fit_cell(mp.frequency_hz), fit_cell(mp.model_before_hz), fit_cell(mp.model_after_hz),
+                    fit_cell(mp.mac_before), fit_cell(mp.mac_after), fit_cell(mp.damping_ratio), fit_cell(mp.model_damping_before),
+                    fit_cell(mp.model_damping_after)});
     }
     write_table_csv(dir + "/fit_modes.csv",
                         {"mode", "identified_hz", "model_before_hz", "model_after_hz", "mac_before", "mac_after",
@@ -526,26 +526,26 @@ void write_fit_summary(const std::string& dir, const std::string& scenario_path,
     std::ostringstream t;
     t << "# viaduct fit: " << scenario_path << "\n[fit]\n";
     t << "status = " << q(study::to_string(r.status)) << "\nmessage = " << q(r.message) << "\n";
-    t << "cost_initial = " << fmt(r.cost_initial) << "\ncost_final = " << fmt(r.cost_final) << "\n";
+    t << "cost_initial = " << fit_cell(r.cost_initial) << "\ncost_final = " << fit_cell(r.cost_final) << "\n";
     t << "n_residuals = " << r.n_residuals << "\niterations = " << r.iterations << "\nevaluations = " << r.evaluations
       << "\nsimulations = " << r.simulations << "\nstarts = " << options.starts << "\nbest_start = " << r.best_start + 1 << "\n";
-    t << "wall_s = " << fmt(r.wall_s) << "\nthreads = " << options.threads << "\n";
-    t << "weights = { time = " << fmt(options.weights.time) << ", peak = " << fmt(options.weights.peak) << ", envelope = "
-      << fmt(options.weights.envelope) << ", spectrum = " << fmt(options.weights.spectrum) << ", modal = " << fmt(options.weights.modal)
-      << ", damping = " << fmt(options.weights.damping) << " }\n";
+    t << "wall_s = " << fit_cell(r.wall_s) << "\nthreads = " << options.threads << "\n";
+    t << "weights = { time = " << fit_cell(options.weights.time) << ", peak = " << fit_cell(options.weights.peak) << ", envelope = "
+      << fit_cell(options.weights.envelope) << ", spectrum = " << fit_cell(options.weights.spectrum) << ", modal = " << fit_cell(options.weights.modal)
+      << ", damping = " << fit_cell(options.weights.damping) << " }\n";
     t << "warnings = [";
     for (std::size_t i = 0; i < r.warnings.size(); ++i) t << (i ? ", " : "") << q(r.warnings[i]);
     t << "]\n";
     t << "start_costs = [";
-    for (std::size_t i = 0; i < r.start_costs.size(); ++i) t << (i ? ", " : "") << (std::isfinite(r.start_costs[i]) ? fmt(r.start_costs[i]) : "inf");
+    for (std::size_t i = 0; i < r.start_costs.size(); ++i) t << (i ? ", " : "") << (std::isfinite(r.start_costs[i]) ? fit_cell(r.start_costs[i]) : "inf");
     t << "]\n";
     t << "record_shifts_s = [";
-    for (std::size_t i = 0; i < r.shift_s.size(); ++i) t << (i ? ", " : "") << (std::isfinite(r.shift_s[i]) ? fmt(r.shift_s[i]) : "nan");
+    for (std::size_t i = 0; i < r.shift_s.size(); ++i) t << (i ? ", " : "") << (std::isfinite(r.shift_s[i]) ? fit_cell(r.shift_s[i]) : "nan");
     t << "]\n";
     for (std::size_t i = 0; i < np && !r.std_error.empty(); ++i) {
       t << "\n[[fit.params]]\nkey = " << q(problem.params[i].key) << "\nunit = " << q(problem.params[i].unit)
-        << "\ninitial = " << fmt(problem.params[i].initial) << "\nestimate = " << fmt(r.estimate[i])
-        << "\nstd_error = " << (std::isfinite(r.std_error[i]) ? fmt(r.std_error[i]) : "inf")
+        << "\ninitial = " << fit_cell(problem.params[i].initial) << "\nestimate = " << fit_cell(r.estimate[i])
+        << "\nstd_error = " << (std::isfinite(r.std_error[i]) ? fit_cell(r.std_error[i]) : "inf")
         << "\ndetermined = " << (r.determined[i] ? "true" : "false") << "\n";
     }
     detail::write_text_atomically(dir + "/fit.toml", t.str());

@@ -14,7 +14,7 @@ namespace viaduct::io {
 
 namespace {
 
-std::string trim(const std::string& s) {
+std::string trim_field(const std::string& s) {
   const auto a = s.find_first_not_of(" \t\r");
   if (a == std::string::npos) return "";
   return s.substr(a, s.find_last_not_of(" \t\r") - a + 1);
@@ -23,7 +23,7 @@ std::string trim(const std::string& s) {
 // Fixed-width field [pos, pos + w) of a line as a number (Fortran E or D exponents allowed).
 bool field(const std::string& line, std::size_t pos, std::size_t w, double& out) {
   if (pos >= line.size()) return false;
-  std::string f = trim(line.substr(pos, w));
+  std::string f = trim_field(line.substr(pos, w));
   if (f.empty()) return false;
   std::replace(f.begin(), f.end(), 'D', 'E');
   std::replace(f.begin(), f.end(), 'd', 'e');
@@ -64,21 +64,21 @@ Record read_uff58(const std::string& path) {
   double fs = 0, t0 = 0;
   std::size_t i = 0;
   while (i < lines.size()) {
-    if (trim(lines[i]) != "-1") {
+    if (trim_field(lines[i]) != "-1") {
       // Between datasets only blank lines: anything else means a "-1" went missing and a
       // dataset would be lost without a word.
-      if (!trim(lines[i]).empty())
-        throw err(static_cast<int>(i + 1), "'" + trim(lines[i]).substr(0, 40) +
+      if (!trim_field(lines[i]).empty())
+        throw err(static_cast<int>(i + 1), "'" + trim_field(lines[i]).substr(0, 40) +
                                                "' outside any dataset: a -1 delimiter is missing before or after it");
       ++i;
       continue;
     }
     // dataset start: "-1", then the type line
     if (i + 1 >= lines.size()) break;
-    const std::string type = trim(lines[i + 1]);
+    const std::string type = trim_field(lines[i + 1]);
     const int type_line = static_cast<int>(i + 2);
     std::size_t end = i + 2;
-    while (end < lines.size() && trim(lines[end]) != "-1") ++end;
+    while (end < lines.size() && trim_field(lines[end]) != "-1") ++end;
     if (type.rfind("58", 0) != 0) {  // other dataset: skip it
       i = end + 1;
       continue;
@@ -87,7 +87,7 @@ Record read_uff58(const std::string& path) {
       throw err(type_line, "binary dataset 58b is not supported yet: export ASCII");
     if (end - (i + 2) < 11) throw err(type_line, "dataset 58 shorter than its 11 header records");
     const std::size_t h = i + 2;  // first ID line
-    const std::string name_raw = trim(lines[h]);
+    const std::string name_raw = trim_field(lines[h]);
     const std::string& rec7 = lines[h + 6];
     double ord_type = 0, n_pts = 0, spacing = 0, xmin = 0, dx = 0;
     if (!field(rec7, 0, 10, ord_type) || !field(rec7, 10, 10, n_pts) || !field(rec7, 20, 10, spacing) ||
@@ -100,7 +100,7 @@ Record read_uff58(const std::string& path) {
     if (!(dx > 0) || !(n_pts >= 2)) throw err(static_cast<int>(h + 7), "need at least 2 points and a positive increment");
     // Ordinate record 9: 4 integers (25 columns), axis label and unit label of 21 columns each.
     const std::string& rec9 = lines[h + 8];
-    const std::string units_label = rec9.size() > 46 ? trim(rec9.substr(46, 21)) : "";
+    const std::string units_label = rec9.size() > 46 ? trim_field(rec9.substr(46, 21)) : "";
     const std::string unit = unit_suffix(units_label);
     if (unit.empty())
       throw err(static_cast<int>(h + 9), "ordinate unit '" + units_label + "' is not one of m/s^2, g, m, mm, m/s, N, kN, Pa, V");
@@ -109,7 +109,7 @@ Record read_uff58(const std::string& path) {
     for (std::size_t k = h + 11; k < end; ++k)
       for (std::size_t pos = 0; pos + 1 < lines[k].size(); pos += w) {
         double x = 0;
-        if (trim(lines[k].substr(pos, w)).empty()) continue;
+        if (trim_field(lines[k].substr(pos, w)).empty()) continue;
         if (!field(lines[k], pos, w, x))
           throw err(static_cast<int>(k + 1), "not a finite number in columns " + std::to_string(pos + 1) + "-" + std::to_string(pos + w));
         v.push_back(x);

@@ -21,7 +21,7 @@
 namespace viaduct::solve {
 
 namespace {
-std::string num(double v) { return format_number(v, 6); }
+std::string short_num(double v) { return format_number(v, 6); }
 
 // RAII for the C handles.
 struct ContextDeleter {
@@ -260,7 +260,7 @@ Summary ida(const SecondOrderSystem& sys, const TimeGrid& grid, const IdaOptions
   Vector u(n), v(n), a(n);
   auto emit = [&](Index k, double t) {
     u = y.head(n), v = y.tail(n), a = ydot.tail(n);
-    if (!u.allFinite()) throw SolverError("IDA: state became non-finite at t = " + num(t) + " s");
+    if (!u.allFinite()) throw SolverError("IDA: state became non-finite at t = " + short_num(t) + " s");
     if (observe) observe(k, t, u, v, a);
   };
   auto solve_to = [&](double tout, double tstop) {
@@ -269,7 +269,7 @@ Summary ida(const SecondOrderSystem& sys, const TimeGrid& grid, const IdaOptions
     const int flag = IDASolve(ida_mem, tout, &tret, yy.get(), yp.get(), IDA_NORMAL);
     if (P.error) std::rethrow_exception(P.error);
     if (flag < 0)
-      throw SolverError("IDA failed at t = " + num(tret) + " s (" + flag_name(flag) + ")" +
+      throw SolverError("IDA failed at t = " + short_num(tret) + " s (" + flag_name(flag) + ")" +
                         (P.last_message.empty() ? "" : ": " + P.last_message));
     return tret;
   };

@@ -16,7 +16,7 @@
 namespace viaduct::solve {
 
 namespace {
-std::string num(double v) { return format_number(v, 6); }
+std::string modal_num(double v) { return format_number(v, 6); }
 }  // namespace
 
 bool ModalOptions::is_valid(std::string* why) const {
@@ -244,8 +244,8 @@ void check_complex_basis(const Matrix& A, const Eigen::MatrixXcd& V, const Eigen
     r_inv = std::max(r_inv, (Vinv * Vx - x).norm() / x.norm());
   }
   if (!(r_eig < 1e-8 && r_inv < 1e-6))
-    throw SolverError("modal reduction: the complex modes are not accurate (eigen-residual " + num(r_eig) +
-                      ", inverse residual " + num(r_inv) + "): the damping makes the basis ill-conditioned; "
+    throw SolverError("modal reduction: the complex modes are not accurate (eigen-residual " + modal_num(r_eig) +
+                      ", inverse residual " + modal_num(r_inv) + "): the damping makes the basis ill-conditioned; "
                       "lower modal.max_frequency_hz or modal.n_modes");
 }
 }  // namespace
@@ -476,7 +476,7 @@ Summary ModalReduction::integrate(ModalForce& force, const TimeGrid& grid, const
       sum += q[i];
     }
     if (opt.check_finite && !std::isfinite(sum))
-      throw SolverError("modal superposition: state became non-finite at t = " + num(t) + " s");
+      throw SolverError("modal superposition: state became non-finite at t = " + modal_num(t) + " s");
     emit(k, t);
   }
   Summary s;
@@ -582,7 +582,7 @@ Summary ModalReduction::integrate_complex(ModalForce& force, const TimeGrid& gri
       sum += r;
     }
     if (opt.check_finite && !std::isfinite(sum))
-      throw SolverError("modal superposition: state became non-finite at t = " + num(t) + " s");
+      throw SolverError("modal superposition: state became non-finite at t = " + modal_num(t) + " s");
     emit(step, t);
   }
   Summary s;

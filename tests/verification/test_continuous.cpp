@@ -14,11 +14,11 @@
 using namespace viaduct;
 
 namespace {
-const double EI = 7.694e9, m = 15000.0;
+const double kEI = 7.694e9, kMass = 15000.0;  // the shipped HSLM deck's
 
-model::BridgeParams two_spans(double L1, double L2, double element_size) {
-  model::BridgeParams b = vt::span(L1, EI, m, element_size);
-  b.spans.push_back({L2, EI, m});
+model::BridgeParams continuous_spans(double L1, double L2, double element_size) {
+  model::BridgeParams b = vt::span(L1, kEI, kMass, element_size);
+  b.spans.push_back({L2, kEI, kMass});
   b.continuous = true;
   return b;
 }
@@ -32,7 +32,7 @@ model::BridgeParams two_spans(double L1, double L2, double element_size) {
 // and bisection, as frequencies [Hz].
 std::vector<double> two_span_frequencies(double L1, double L2, std::size_t n) {
   auto h = [&](double beta) {
-    auto part = [&](double L) { return std::sin(beta * L) / std::tanh(beta * L) - std::cos(beta * L); };
+    auto part = [&](double len) { return std::sin(beta * len) / std::tanh(beta * len) - std::cos(beta * len); };
     return part(L1) * std::sin(beta * L2) + part(L2) * std::sin(beta * L1);
   };
   std::vector<double> out;
@@ -45,12 +45,12 @@ std::vector<double> two_span_frequencies(double L1, double L2, std::size_t n) {
       (h(lo) * h(mid) <= 0.0 ? hi : lo) = mid;
     }
     const double beta = 0.5 * (lo + hi);
-    out.push_back(beta * beta / (2 * M_PI) * std::sqrt(EI / m));
+    out.push_back(beta * beta / (2 * M_PI) * std::sqrt(kEI / kMass));
   }
   return out;
 }
 
-std::size_t index_of(const std::vector<std::string>& names, const std::string& n) {
+std::size_t quantity_index(const std::vector<std::string>& names, const std::string& n) {
   const auto it = std::find(names.begin(), names.end(), n);
   if (it == names.end()) FAIL("no quantity " << n);
   return static_cast<std::size_t>(it - names.begin());
@@ -59,7 +59,7 @@ std::size_t index_of(const std::vector<std::string>& names, const std::string& n
 
 TEST_CASE("continuous deck: frequencies of two spans against the frequency equation") {
   for (const auto& [L1, L2] : std::vector<std::pair<double, double>>{{20.0, 20.0}, {20.0, 15.0}}) {
-    const model::Structure s = model::build_structure(two_spans(L1, L2, 0.25), std::nullopt);
+    const model::Structure s = model::build_structure(continuous_spans(L1, L2, 0.25), std::nullopt);
     REQUIRE(s.bearings.size() == 3);
     const auto modes = model::deck_bending_modes(s, 4);
     const auto ref = two_span_frequencies(L1, L2, 4);
@@ -71,7 +71,7 @@ TEST_CASE("continuous deck: frequencies of two spans against the frequency equat
       CHECK(modes[j].frequency_hz == Approx(ref[j]).epsilon(1e-6));
     }
     if (L1 == L2) {  // the antisymmetric first mode is a simply supported span's; the second βL = 3.9266
-      CHECK(modes[0].frequency_hz == Approx(vt::closed_form_f(1, L1, EI, m)).epsilon(1e-6));
+      CHECK(modes[0].frequency_hz == Approx(vt::closed_form_f(1, L1, kEI, kMass)).epsilon(1e-6));
       CHECK(modes[1].frequency_hz / modes[0].frequency_hz == Approx(3.926602 * 3.926602 / (M_PI * M_PI)).epsilon(1e-6));
     }
   }
@@ -83,12 +83,12 @@ TEST_CASE("continuous deck: the permanent reactions under the deck's weight by t
   // consistent nodal loads (the Hermite cubic is the exact deflection between nodes up to the
   // quartic's nodal values, which are exact): 1e-9.
   for (const bool rigid : {true, false}) {
-    model::BridgeParams b = two_spans(20.0, 15.0, 0.5);
+    model::BridgeParams b = continuous_spans(20.0, 15.0, 0.5);
     b.added_mass_per_m = 2000.0;
     if (!rigid) b.bearings = {false, 1e13, 0.0};  // k L³/EI = 1e7: nearly rigid
     const model::Structure s = model::build_structure(b, std::nullopt);
     REQUIRE(s.bearings.size() == 3);
-    const double q = 9.80665 * (m + 2000.0), L1 = 20.0, L2 = 15.0;
+    const double q = 9.80665 * (kMass + 2000.0), L1 = 20.0, L2 = 15.0;
     const double MB = -q * (L1 * L1 * L1 + L2 * L2 * L2) / (8 * (L1 + L2));
     const double RA = q * L1 / 2 + MB / L1, RC = q * L2 / 2 + MB / L2, RB = q * (L1 + L2) - RA - RC;
     std::printf("continuous 20 + 15 m %s: permanent %.6g %.6g %.6g N (three-moment %.6g %.6g %.6g)\n", rigid ? "rigid" : "elastic",
@@ -112,11 +112,11 @@ TEST_CASE("continuous deck: the static influence lines of support moment, span m
   const double L1 = 20.0, L2 = 15.0;
   study::RunSettings rs;
   const std::vector<study::StationSpec> st = {{"B", true, 0, L1, 0.0}, {"mid1", true, 0, L1 / 2, 0.0}, {"mid2", true, 1, L2 / 2, 0.0}};
-  const study::PreparedModel pm = study::prepare_model(model::build_structure(two_spans(L1, L2, 0.25), std::nullopt), st, rs, false, true);
+  const study::PreparedModel pm = study::prepare_model(model::build_structure(continuous_spans(L1, L2, 0.25), std::nullopt), st, rs, false, true);
   const study::InfluenceLines il = study::influence_lines(pm);
-  const std::size_t qB = index_of(il.names, "B_moment_Nm"), q1 = index_of(il.names, "mid1_moment_Nm"),
-                    q2 = index_of(il.names, "mid2_moment_Nm"), rA = index_of(il.names, "support1_reaction_N"),
-                    rB = index_of(il.names, "support2_reaction_N"), rC = index_of(il.names, "support3_reaction_N");
+  const std::size_t qB = quantity_index(il.names, "B_moment_Nm"), q1 = quantity_index(il.names, "mid1_moment_Nm"),
+                    q2 = quantity_index(il.names, "mid2_moment_Nm"), rA = quantity_index(il.names, "support1_reaction_N"),
+                    rB = quantity_index(il.names, "support2_reaction_N"), rC = quantity_index(il.names, "support3_reaction_N");
   double e_m = 0.0, e_r = 0.0;
   for (double x = 0.25; x < L1 + L2; x += 0.25) {  // the force on nodes: the lines are exact there
     if (std::abs(x - L1) < 1e-9) continue;        // on the support: the reaction takes it all (below)
@@ -183,7 +183,8 @@ TEST_CASE("continuous deck: modal superposition with static correction agrees wi
   }
 }
 
-TEST_CASE("continuous deck: rigid bearings' forces match very stiff elastic ones (k w), with and without track") {
+// 16 s under the sanitizers: [long], run in the optimised tier.
+TEST_CASE("continuous deck: rigid bearings' forces match very stiff elastic ones (k w), with and without track", "[long]") {
   // The middle support's force is recovered from both deck elements' rows, the whole deck's modal
   // damping and, with a track, the sleeper links near it; an elastic bearing's force is k·w
   // exactly. k = 1e12 N/m (1e5 times the deck's EI/L³): the same bridge.

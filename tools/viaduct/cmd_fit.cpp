@@ -14,7 +14,7 @@ namespace viaduct::cli {
 
 namespace {
 
-std::string fmt(double v) { return format_number(v, 10); }
+std::string fit_fmt(double v) { return format_number(v, 10); }
 
 }  // namespace
 
@@ -83,7 +83,7 @@ Command fit_command() {
     m.inputs = q.records;
     if (q.modes) m.inputs.push_back(*q.modes);
     m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    m.extra = {{"status", "\"" + std::string(study::to_string(r.status)) + "\""}, {"fit_wall_s", fmt(r.wall_s)}};
+    m.extra = {{"status", "\"" + std::string(study::to_string(r.status)) + "\""}, {"fit_wall_s", fit_fmt(r.wall_s)}};
     io::write_manifest(o.out + "/manifest.toml", m, flat);
     if (!o.quiet) {
       std::printf("\n%s after %d iterations, %d simulations, %.1f s: %s\ncost %.6e -> %.6e\n\n", study::to_string(r.status),

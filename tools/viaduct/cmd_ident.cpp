@@ -22,7 +22,7 @@ namespace viaduct::cli {
 namespace {
 
 // "" for NaN (not known; pandas reads it as NaN): write_table_csv refuses a written "nan".
-std::string fmt(double v, const char* f = "%.8g") {
+std::string ident_fmt(double v, const char* f = "%.8g") {
   if (std::isnan(v)) return "";
   char b[48];
   std::snprintf(b, sizeof b, f, v);
@@ -115,7 +115,7 @@ int frf_from_scenario(const Common& o, const FrfOptions& fo) {
   make_out_dir(o.out);
   io::write_frf_csv(o.out + "/frf.csv", frf);
   io::Manifest man = start_manifest(o, "frf");
-  man.extra = {{"force_at_m", fmt(setup.force_x_m)}, {"n_dofs", std::to_string(s.n_dofs)}};
+  man.extra = {{"force_at_m", ident_fmt(setup.force_x_m)}, {"n_dofs", std::to_string(s.n_dofs)}};
   io::write_manifest(o.out + "/manifest.toml", man, flat);
   if (!o.quiet)
     std::printf("model FRF: %ld DOFs, %ld frequencies %.4g-%.4g Hz, %zu responses; wrote %s/frf.csv\n",
@@ -129,9 +129,9 @@ void write_stepped_table(const std::string& path, const ident::FrfEstimate& e, c
   for (std::size_t j = 0; j < e.order.size(); ++j) {
     const auto& p = e.points[e.order[j]];
     for (Index c = 0; c < in.responses.cols(); ++c)
-      rows.push_back({std::to_string(e.order[j] + 1), fmt(p.frequency_hz), fmt(p.t_from_s), fmt(p.t_to_s), fmt(p.n_cycles, "%.1f"),
-                      in.response_channels[static_cast<std::size_t>(c)], fmt(std::abs(p.force)), fmt(p.force_distortion, "%.3e"),
-                      fmt(p.response_distortion[c], "%.3e"), fmt(p.settle_change[c], "%.3e")});
+      rows.push_back({std::to_string(e.order[j] + 1), ident_fmt(p.frequency_hz), ident_fmt(p.t_from_s), ident_fmt(p.t_to_s), ident_fmt(p.n_cycles, "%.1f"),
+                      in.response_channels[static_cast<std::size_t>(c)], ident_fmt(std::abs(p.force)), ident_fmt(p.force_distortion, "%.3e"),
+                      ident_fmt(p.response_distortion[c], "%.3e"), ident_fmt(p.settle_change[c], "%.3e")});
   }
   io::write_table_csv(path,
                       {"step", "frequency_hz", "t_from_s", "t_to_s", "n_cycles", "channel", "force_amplitude", "force_distortion",
@@ -231,11 +231,11 @@ std::vector<std::vector<std::string>> write_modal_fit(const std::string& out, co
   auto add = [&](const std::string& method, const std::vector<ident::IdentifiedMode>& modes) {
     for (std::size_t k = 0; k < modes.size(); ++k) {
       const ident::IdentifiedMode& m = modes[k];
-      mode_rows.push_back({method, std::to_string(k + 1), fmt(m.frequency_hz), fmt(m.damping_ratio),
+      mode_rows.push_back({method, std::to_string(k + 1), ident_fmt(m.frequency_hz), ident_fmt(m.damping_ratio),
                            m.response >= 0 ? frf.responses[static_cast<std::size_t>(m.response)] : "all", m.note});
       for (Index r = 0; r < m.shape.size(); ++r)
-        shape_rows.push_back({method, std::to_string(k + 1), frf.responses[static_cast<std::size_t>(r)], fmt(m.shape[r].real()),
-                              fmt(m.shape[r].imag())});
+        shape_rows.push_back({method, std::to_string(k + 1), frf.responses[static_cast<std::size_t>(r)], ident_fmt(m.shape[r].real()),
+                              ident_fmt(m.shape[r].imag())});
     }
   };
   add("peak-picking", fit.peak_picking);
@@ -247,7 +247,7 @@ std::vector<std::vector<std::string>> write_modal_fit(const std::string& out, co
   io::write_table_csv(out + "/shapes.csv", {"method", "mode", "response", "re", "im"}, shape_rows);
   std::vector<std::vector<std::string>> stab;
   for (const auto& p : fit.lscf.poles)
-    stab.push_back({std::to_string(p.order), fmt(p.frequency_hz), fmt(p.damping_ratio),
+    stab.push_back({std::to_string(p.order), ident_fmt(p.frequency_hz), ident_fmt(p.damping_ratio),
                     p.status == ident::PoleStatus::stable ? "stable" : p.status == ident::PoleStatus::stable_frequency ? "frequency" : "new"});
   io::write_table_csv(out + "/stabilization.csv", {"order", "frequency_hz", "damping_ratio", "status"}, stab);
   return mode_rows;
@@ -261,8 +261,8 @@ void write_mac(const std::string& out, const ident::LscfResult& ls, const study:
   std::vector<std::vector<std::string>> rows;
   for (Index i = 0; i < m.rows(); ++i)
     for (Index j = 0; j < m.cols(); ++j)
-      rows.push_back({std::to_string(i + 1), fmt(ls.modes[static_cast<std::size_t>(i)].frequency_hz), std::to_string(j + 1),
-                      fmt(md.frequency_hz[j]), fmt(m(i, j), "%.4f")});
+      rows.push_back({std::to_string(i + 1), ident_fmt(ls.modes[static_cast<std::size_t>(i)].frequency_hz), std::to_string(j + 1),
+                      ident_fmt(md.frequency_hz[j]), ident_fmt(m(i, j), "%.4f")});
   io::write_table_csv(out + "/mac.csv", {"mode", "frequency_hz", "model_mode", "model_frequency_hz", "mac"}, rows);
   if (quiet || m.cols() == 0) return;
   std::printf("\nLSCF modes against the model (best MAC):\n");
@@ -404,10 +404,10 @@ Command shaker_command() {
     io::Manifest man = start_manifest(o, "shaker");
     if (sh.steps) man.inputs.push_back(*sh.steps);
     man.wall_s = r.wall_s;
-    man.extra = {{"force_at_m", fmt(setup.force_x_m)},
+    man.extra = {{"force_at_m", ident_fmt(setup.force_x_m)},
                  {"newmark_steps", std::to_string(r.n_steps)},
-                 {"fs_hz", fmt(r.fs_hz)},
-                 {"snr_db", fmt(t.noise_snr_db)}};
+                 {"fs_hz", ident_fmt(r.fs_hz)},
+                 {"snr_db", ident_fmt(t.noise_snr_db)}};
     io::write_manifest(o.out + "/manifest.toml", man, flat);
     if (!o.quiet)
       std::printf("shaker: %.1f s of record at %.6g Hz (%ld Newmark steps, %.1f s); wrote %s/record.csv%s\n",
@@ -537,13 +537,13 @@ Command decay_command() {
         const io::Record rec = io::read_record(path);
         const std::size_t ch = rec.channel(*k.channel);
         const ident::DecayResult r = ident::analyse_decay(rec.data.col(static_cast<Index>(ch)), rec.fs_hz, rec.t0_s, d);
-        rows.push_back({path, rec.channels[ch], fmt(r.start_s), r.start_detected ? "detected" : "given", fmt(r.end_s),
-                        fmt(r.n_cycles, "%.1f"), fmt(r.frequency_hz), fmt(r.zeta_log_decrement), fmt(r.zeta_envelope_fit),
-                        fmt(r.envelope_residual, "%.4f"),
-                        fmt(r.zeta_hilbert), fmt(r.frequency_hilbert_hz), fmt(r.amplitude_start), fmt(r.amplitude_end),
-                        fmt(r.law_zeta0), fmt(r.law_zeta_slope), fmt(r.law_f0_hz), fmt(r.law_f_slope_hz)});
+        rows.push_back({path, rec.channels[ch], ident_fmt(r.start_s), r.start_detected ? "detected" : "given", ident_fmt(r.end_s),
+                        ident_fmt(r.n_cycles, "%.1f"), ident_fmt(r.frequency_hz), ident_fmt(r.zeta_log_decrement), ident_fmt(r.zeta_envelope_fit),
+                        ident_fmt(r.envelope_residual, "%.4f"),
+                        ident_fmt(r.zeta_hilbert), ident_fmt(r.frequency_hilbert_hz), ident_fmt(r.amplitude_start), ident_fmt(r.amplitude_end),
+                        ident_fmt(r.law_zeta0), ident_fmt(r.law_zeta_slope), ident_fmt(r.law_f0_hz), ident_fmt(r.law_f_slope_hz)});
         for (const auto& p : r.by_amplitude)
-          amp_rows.push_back({path, fmt(p.t_s), fmt(p.amplitude), fmt(p.frequency_hz), fmt(p.damping_ratio)});
+          amp_rows.push_back({path, ident_fmt(p.t_s), ident_fmt(p.amplitude), ident_fmt(p.frequency_hz), ident_fmt(p.damping_ratio)});
         f.push_back(r.frequency_hz);
         zl.push_back(r.zeta_log_decrement);
         ze.push_back(r.zeta_envelope_fit);
@@ -568,7 +568,7 @@ Command decay_command() {
              {"frequency_hz", &f}, {"zeta_log_decrement", &zl}, {"zeta_envelope_fit", &ze}, {"zeta_hilbert", &zh}}) {
       const ident::Statistic s = ident::statistic(*v);
       // The spread of one record is not known: an empty cell, not 0.
-      summary.push_back({name, fmt(s.mean), s.n >= 2 ? fmt(s.std) : "", std::to_string(s.n)});
+      summary.push_back({name, ident_fmt(s.mean), s.n >= 2 ? ident_fmt(s.std) : "", std::to_string(s.n)});
     }
     io::write_table_csv(o.out + "/decay_summary.csv", {"estimate", "mean", "std", "n"}, summary);
     std::vector<std::string> inputs = {o.scenario};

@@ -11,7 +11,7 @@ using namespace viaduct;
 using namespace viaduct::ident;
 
 namespace {
-double rel(double a, double b) { return std::abs(a - b) / std::abs(b); }
+double decay_rel(double a, double b) { return std::abs(a - b) / std::abs(b); }
 
 // A forced part (t < t_free: a sine at 0.93 f with growing amplitude, like a train's passage)
 // followed by a viscous free decay from amplitude A; noise at `snr_db` of the free decay's start.
@@ -45,11 +45,11 @@ TEST_CASE("Free decay: frequency and damping from 0.5 % to 5 % at 40 dB SNR, sta
     CHECK(r.start_detected);
     CHECK(std::abs(r.start_s - 10.0) < 2.0 / f);  // within two cycles of the true end of forcing
     CHECK(r.n_cycles >= 5);
-    CHECK(rel(r.frequency_hz, f) < 1e-3);
-    CHECK(rel(r.frequency_hilbert_hz, f) < 1e-3);
-    CHECK(rel(r.zeta_envelope_fit, zeta) < 0.05);
-    CHECK(rel(r.zeta_hilbert, zeta) < 0.05);
-    CHECK(rel(r.zeta_log_decrement, zeta) < 0.05);
+    CHECK(decay_rel(r.frequency_hz, f) < 1e-3);
+    CHECK(decay_rel(r.frequency_hilbert_hz, f) < 1e-3);
+    CHECK(decay_rel(r.zeta_envelope_fit, zeta) < 0.05);
+    CHECK(decay_rel(r.zeta_hilbert, zeta) < 0.05);
+    CHECK(decay_rel(r.zeta_log_decrement, zeta) < 0.05);
     CHECK(r.envelope_residual < 0.1);  // one viscous mode: an exponential to within the noise
     // Constant damping: the fitted law changes ζ by less than 20 % over the amplitude range
     // (its slope is the noisiest figure: local windows at the noise floor).

@@ -9,11 +9,11 @@ using namespace viaduct;
 using namespace viaduct::io;
 
 namespace {
-const std::string src = VIADUCT_SOURCE_DIR;
+const std::string fit_io_src = VIADUCT_SOURCE_DIR;
 }
 
 TEST_CASE("fit parameters: key, bounds, scale and start checked against the scenario") {
-  const FlatScenario f = load_flat(src + "/scenarios/old-guadiana-talgo.toml");
+  const FlatScenario f = load_flat(fit_io_src + "/scenarios/old-guadiana-talgo.toml");
   const study::FitParameter p = parse_fit_parameter(f, "track.pad.k=2e7:1e9");
   REQUIRE(p.key == "track.pad.k");
   REQUIRE(p.unit == "N/m");
@@ -27,7 +27,7 @@ TEST_CASE("fit parameters: key, bounds, scale and start checked against the scen
   };
   refused("track.pad.kk=1:2", "unknown scenario key");
   refused("bridge.span_lengths=1:20", "not a number");
-  const FlatScenario two = load_flat(src + "/scenarios/old-guadiana-talgo.toml", {"bridge.EI=[7e9, 7.1e9]"});
+  const FlatScenario two = load_flat(fit_io_src + "/scenarios/old-guadiana-talgo.toml", {"bridge.EI=[7e9, 7.1e9]"});
   REQUIRE_THROWS_WITH(parse_fit_parameter(two, "bridge.EI=5e9:1e10"), Catch::Contains("list of several values"));
   refused("filter.order=1:5", "not a number");
   refused("title=1:2", "not a number");
@@ -44,7 +44,7 @@ TEST_CASE("fit parameters: key, bounds, scale and start checked against the scen
 TEST_CASE("the [fit] section declares parameters, records and weights and errors name file and line") {
   vt::ScratchDir d("fitio");
   const std::string base = "[bridge]\nspan_lengths = [10.0]\nEI = 2e9\nmass_per_m = 5000.0\n"
-                           "[train]\nfiles = [\"" + src + "/data/trains/talgo-altaria.csv\"]\n"
+                           "[train]\nfiles = [\"" + fit_io_src + "/data/trains/talgo-altaria.csv\"]\n"
                            "[[stations]]\nname = \"mid\"\nspan = 1\nat = 0.5\n";
   const std::string ok = d.write("ok.toml", base +
                                             "[fit]\nstarts = 3\nmodes = \"modes\"\n[fit.weights]\ntime = 1.0\nspectrum = 0.5\n"
@@ -75,7 +75,7 @@ TEST_CASE("the [fit] section declares parameters, records and weights and errors
 
 TEST_CASE("a fitted scenario is written out and loads back with the same values") {
   vt::ScratchDir d("fitted");
-  FlatScenario f = load_flat(src + "/scenarios/old-guadiana-talgo.toml");
+  FlatScenario f = load_flat(fit_io_src + "/scenarios/old-guadiana-talgo.toml");
   set_number(f, "bridge.EI", 7.123456789e9);
   set_number(f, "track.pad.k", 1.5e8);
   REQUIRE_THROWS_WITH(set_number(f, "track.pad.k", -1.0), Catch::Contains("must be > 0"));

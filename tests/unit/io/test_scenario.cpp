@@ -11,7 +11,7 @@ using namespace viaduct::io;
 namespace fs = std::filesystem;
 
 namespace {
-const std::string src = VIADUCT_SOURCE_DIR;
+const std::string scenario_src = VIADUCT_SOURCE_DIR;
 
 // A scratch directory with a scenario and component files.
 struct Scratch {
@@ -41,12 +41,12 @@ struct Scratch {
 TEST_CASE("shipped scenarios load and resolve") {
   for (const char* s : {"old-guadiana-sensitivity", "old-guadiana-talgo", "hslm-simply-supported"}) {
     INFO(s);
-    const FlatScenario f = load_flat(src + "/scenarios/" + s + ".toml");
+    const FlatScenario f = load_flat(scenario_src + "/scenarios/" + s + ".toml");
     const study::Scenario sc = to_scenario(f);
     REQUIRE_FALSE(sc.stations.empty());
     REQUIRE_FALSE(sc.sweep_speeds.empty());
   }
-  const FlatScenario og = load_flat(src + "/scenarios/old-guadiana-sensitivity.toml");
+  const FlatScenario og = load_flat(scenario_src + "/scenarios/old-guadiana-sensitivity.toml");
   const study::Scenario sc = to_scenario(og);
   REQUIRE(sc.track.has_value());
   REQUIRE(sc.sweep_speeds.size() == 60);
@@ -62,8 +62,8 @@ TEST_CASE("shipped scenarios load and resolve") {
   REQUIRE(v[1].scenario.track->pad.k == Approx(0.5e8));
   REQUIRE(v[4].label == "Cp x0");
   REQUIRE(v[4].scenario.track->pad.c == 0.0);
-  REQUIRE(sweep_variants(load_flat(src + "/scenarios/old-guadiana-sensitivity.toml", {"sweep.mode=reference"})).size() == 1);
-  const study::Scenario hs = to_scenario(load_flat(src + "/scenarios/hslm-simply-supported.toml"));
+  REQUIRE(sweep_variants(load_flat(scenario_src + "/scenarios/old-guadiana-sensitivity.toml", {"sweep.mode=reference"})).size() == 1);
+  const study::Scenario hs = to_scenario(load_flat(scenario_src + "/scenarios/hslm-simply-supported.toml"));
   REQUIRE(hs.trains.size() == 10);
   REQUIRE(hs.sweep_speeds.size() == 281);
   REQUIRE_FALSE(hs.track.has_value());  // no track section: no track DOFs
@@ -146,13 +146,13 @@ TEST_CASE("bad scenarios give file, line and key") {
 }
 
 TEST_CASE("train files: CSV and TOML, with clear errors") {
-  const load::Train talgo = read_train_file(src + "/data/trains/talgo-altaria.csv");
+  const load::Train talgo = read_train_file(scenario_src + "/data/trains/talgo-altaria.csv");
   REQUIRE(talgo.n_axles() == 12);
   REQUIRE(talgo.total_load() == Approx(1880e3));
   REQUIRE(talgo.length() == Approx(109.02));
   // Shared Talgo axles are d = 13.14 m apart (Table 2).
   REQUIRE(talgo.offset[6] - talgo.offset[5] == Approx(13.14));
-  const load::Train a1 = read_train_file(src + "/data/trains/hslm/A1.toml");
+  const load::Train a1 = read_train_file(scenario_src + "/data/trains/hslm/A1.toml");
   REQUIRE(a1.name == "HSLM-A1");
   REQUIRE(a1.n_axles() == 50);
   Scratch s;
@@ -265,7 +265,7 @@ TEST_CASE("a scenario with a megabyte line reads in linear time, with its values
 }
 
 TEST_CASE("train.files entry hslm:A1-A10 gives the ten Eurocode trains the shipped files give") {
-  const std::string hs = src + "/scenarios/hslm-simply-supported.toml";
+  const std::string hs = scenario_src + "/scenarios/hslm-simply-supported.toml";
   const study::Scenario files = to_scenario(load_flat(hs));
   const study::Scenario named = to_scenario(load_flat(hs, {"train.files=[\"hslm:A1-A10\"]"}));
   REQUIRE(named.trains.size() == 10);
@@ -312,7 +312,7 @@ TEST_CASE("the number of sweep speeds is limited before any is made") {
 }
 
 TEST_CASE("docs/scenarios.md documents every key (regenerate with scripts/generate/gen_docs.sh)") {
-  std::ifstream in(src + "/docs/scenarios.md");
+  std::ifstream in(scenario_src + "/docs/scenarios.md");
   std::stringstream ss;
   ss << in.rdbuf();
   REQUIRE(ss.str().find(schema_markdown()) != std::string::npos);

@@ -43,10 +43,10 @@ std::string dataset(const std::string& id1, int ord_type, int n, double x0, doub
   }
   return s + "    -1\n";
 }
-struct Dir : vt::ScratchDir {
-  Dir() : vt::ScratchDir("uff") {}
+struct UffDir : vt::ScratchDir {
+  UffDir() : vt::ScratchDir("uff") {}
 };
-std::string error_of(const std::string& path) {
+std::string uff_error_of(const std::string& path) {
   try {
     read_record(path);
   } catch (const InputError& e) {
@@ -57,7 +57,7 @@ std::string error_of(const std::string& path) {
 }  // namespace
 
 TEST_CASE("UFF dataset 58 (ASCII): single and double precision channels") {
-  Dir d;
+  UffDir d;
   std::vector<double> a(11), b(11);
   for (int i = 0; i < 11; ++i) {
     a[static_cast<std::size_t>(i)] = std::sin(0.3 * i) * 1e-2;
@@ -78,23 +78,23 @@ TEST_CASE("UFF dataset 58 (ASCII): single and double precision channels") {
 }
 
 TEST_CASE("UFF dataset 58: what records cannot hold is refused with file and line") {
-  Dir d;
+  UffDir d;
   const std::vector<double> v = {1, 2, 3, 4};
-  REQUIRE(error_of(d.write("c.uff", dataset("x", 6, 2, 0, 0.1, "m/s^2", v))).find("complex ordinates") != std::string::npos);
-  REQUIRE(error_of(d.write("u.uff", dataset("x", 4, 2, 0, 0.1, "m/s^2", v, 0))).find("uneven abscissa") != std::string::npos);
-  REQUIRE(error_of(d.write("n.uff", dataset("x", 4, 5, 0, 0.1, "m/s^2", v))).find("declares 5 points but holds 4") != std::string::npos);
-  REQUIRE(error_of(d.write("k.uff", dataset("x", 4, 4, 0, 0.1, "furlong", v))).find("ordinate unit 'furlong'") != std::string::npos);
-  REQUIRE(error_of(d.write("r.uff", dataset("x", 4, 4, 0, 0.1, "m", v) + dataset("y", 4, 4, 0, 0.2, "m", v)))
+  REQUIRE(uff_error_of(d.write("c.uff", dataset("x", 6, 2, 0, 0.1, "m/s^2", v))).find("complex ordinates") != std::string::npos);
+  REQUIRE(uff_error_of(d.write("u.uff", dataset("x", 4, 2, 0, 0.1, "m/s^2", v, 0))).find("uneven abscissa") != std::string::npos);
+  REQUIRE(uff_error_of(d.write("n.uff", dataset("x", 4, 5, 0, 0.1, "m/s^2", v))).find("declares 5 points but holds 4") != std::string::npos);
+  REQUIRE(uff_error_of(d.write("k.uff", dataset("x", 4, 4, 0, 0.1, "furlong", v))).find("ordinate unit 'furlong'") != std::string::npos);
+  REQUIRE(uff_error_of(d.write("r.uff", dataset("x", 4, 4, 0, 0.1, "m", v) + dataset("y", 4, 4, 0, 0.2, "m", v)))
               .find("differs in rate, start or length") != std::string::npos);
-  REQUIRE(error_of(d.write("b.uff", "    -1\n    58b     1     2\n")).find("binary dataset 58b") != std::string::npos);
-  REQUIRE(error_of(d.write("e.uff", "    -1\n   151\nx\n    -1\n")).find("no dataset 58") != std::string::npos);
+  REQUIRE(uff_error_of(d.write("b.uff", "    -1\n    58b     1     2\n")).find("binary dataset 58b") != std::string::npos);
+  REQUIRE(uff_error_of(d.write("e.uff", "    -1\n   151\nx\n    -1\n")).find("no dataset 58") != std::string::npos);
   std::string bad = dataset("x", 4, 4, 0, 0.1, "m", v);
   bad.replace(bad.find("2.00000000000e+00"), 17, "   2.0000000000x0");
-  REQUIRE(error_of(d.write("t.uff", bad)).find("t.uff:14: not a finite number") != std::string::npos);
+  REQUIRE(uff_error_of(d.write("t.uff", bad)).find("t.uff:14: not a finite number") != std::string::npos);
 }
 
 TEST_CASE("UFF dataset 58: a byte-order mark is read through, a missing -1 is an error, not a lost channel") {
-  Dir d;
+  UffDir d;
   std::vector<double> a(11, 0.5), b(11, 1.5);
   const std::string one = dataset("S1", 2, 11, 0.0, 0.01, "m/s^2", a), two = dataset("S2", 2, 11, 0.0, 0.01, "m/s^2", b);
   // Windows editors put EF BB BF before the first "-1": both channels are still read.
@@ -104,6 +104,6 @@ TEST_CASE("UFF dataset 58: a byte-order mark is read through, a missing -1 is an
   // the second dataset be skipped; now the orphan "58" line is reported at its line.
   const std::string cut = one.substr(0, one.size() - std::string("    -1\n").size());
   const int line_58 = static_cast<int>(std::count(cut.begin(), cut.end(), '\n')) + 2;
-  CHECK(error_of(d.write("cut.uff", cut + two)) ==
+  CHECK(uff_error_of(d.write("cut.uff", cut + two)) ==
         (d.p / "cut.uff").string() + ":" + std::to_string(line_58) + ": '58' outside any dataset: a -1 delimiter is missing before or after it");
 }

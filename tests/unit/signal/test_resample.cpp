@@ -18,7 +18,7 @@ std::vector<double> numbers(const std::string& line) {
   while (std::getline(ss, c, ',')) v.push_back(c == "nan" ? NAN : std::stod(c));
   return v;
 }
-Vector vec(const std::vector<double>& v) { return Eigen::Map<const Vector>(v.data(), static_cast<Index>(v.size())); }
+Vector resample_vec(const std::vector<double>& v) { return Eigen::Map<const Vector>(v.data(), static_cast<Index>(v.size())); }
 double rel(const Vector& a, const Vector& b) { return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff(); }
 }  // namespace
 
@@ -42,13 +42,13 @@ TEST_CASE("decimate and the Hilbert envelope match SciPy") {
       d10 = v;
     }
   }
-  const Vector X = vec(x);
+  const Vector X = resample_vec(x);
   // Same filter pipeline as SciPy: agreement to round-off, bounded by the 1e-9 used for filters.
   REQUIRE(decimate(X, 4).size() == static_cast<Index>(d4.size()));
-  REQUIRE(rel(decimate(X, 4), vec(d4)) < 1e-9);
-  REQUIRE(rel(decimate(X, 10), vec(d10)) < 1e-9);
-  REQUIRE(rel(hilbert_envelope(X), vec(env)) < 1e-12);  // one FFT pair: round-off only
-  REQUIRE(rel(hilbert_envelope(X.head(X.size() - 1)), vec(env_even)) < 1e-12);
+  REQUIRE(rel(decimate(X, 4), resample_vec(d4)) < 1e-9);
+  REQUIRE(rel(decimate(X, 10), resample_vec(d10)) < 1e-9);
+  REQUIRE(rel(hilbert_envelope(X), resample_vec(env)) < 1e-12);  // one FFT pair: round-off only
+  REQUIRE(rel(hilbert_envelope(X.head(X.size() - 1)), resample_vec(env_even)) < 1e-12);
   REQUIRE_THROWS_AS(decimate(X, 1), InputError);
 }
 

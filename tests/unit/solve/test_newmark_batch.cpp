@@ -17,9 +17,9 @@ constexpr double kRel = 1e-10;
 
 // A chain of n masses on springs to ground and between neighbours, with dashpots that do not
 // follow the stiffness (non-proportional damping), shared by every load case.
-struct Chain {
+struct BatchChain {
   SparseMatrix M, C, K;
-  explicit Chain(int n) {
+  explicit BatchChain(int n) {
     std::vector<Triplet> tm, tc, tk;
     for (int i = 0; i < n; ++i) {
       tm.emplace_back(i, i, 1.0 + 0.1 * i);
@@ -44,7 +44,7 @@ struct Chain {
 // or, with dense = true, the same through force() only.
 class Case : public SecondOrderSystem {
  public:
-  Case(const Chain& c, double P, double Om, double hop, bool dense) : c_(c), P_(P), Om_(Om), hop_(hop), dense_(dense) {}
+  Case(const BatchChain& c, double P, double Om, double hop, bool dense) : c_(c), P_(P), Om_(Om), hop_(hop), dense_(dense) {}
   const SparseMatrix& mass() const override { return c_.M; }
   const SparseMatrix& damping() const override { return c_.C; }
   const SparseMatrix& stiffness() const override { return c_.K; }
@@ -64,7 +64,7 @@ class Case : public SecondOrderSystem {
  private:
   Index at(double t) const { return static_cast<Index>(std::floor(t / hop_)) % c_.M.rows(); }
   double value(double t) const { return P_ * (1.0 + std::sin(Om_ * t)); }
-  const Chain& c_;
+  const BatchChain& c_;
   double P_, Om_, hop_;
   bool dense_;
 };
@@ -104,7 +104,7 @@ void require_same(const std::vector<BatchCase>& cases, double dt, const NewmarkO
 }  // namespace
 
 TEST_CASE("Newmark batch: each case as newmark() gives it, sparse and dense loads, unequal durations") {
-  const Chain chain(12);
+  const BatchChain chain(12);
   const Case a(chain, 100.0, 7.0, 0.013, false), b(chain, -50.0, 31.0, 0.007, false), c(chain, 80.0, 3.0, 0.021, true);
   const NewmarkOptions opt;
   SECTION("three cases of different lengths (one lane spare)") {
@@ -115,7 +115,7 @@ TEST_CASE("Newmark batch: each case as newmark() gives it, sparse and dense load
 }
 
 TEST_CASE("Newmark batch: refused inputs") {
-  const Chain chain(12), other(12);
+  const BatchChain chain(12), other(12);
   const Case a(chain, 100.0, 7.0, 0.013, false), b(other, 100.0, 7.0, 0.013, false);
   const NewmarkOptions opt;
   const double dt = 1e-3;
