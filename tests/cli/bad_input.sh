@@ -126,8 +126,8 @@ expect 2 "--channel is required" -- "$VIADUCT" decay "$WORK/sh/record.csv" --fre
 expect 2 "too short a decay" -- "$VIADUCT" decay "$WORK/sh/record.csv" --channel mid_acc --frequency-hz 5 --start-s 35.5 --out "$WORK/o"
 # A window left empty says why (was "0 cycles between 3.75 s and 3.13 s"); --end-s bounds it (#19).
 SYN=$SRC/data/records/synthetic-deck.csv
-expect 2 "the decay given at 5.5 s, after the 4 cycles skipped for the filter's transient (to 5.9 s), leaves nothing before 5.5 s" -- "$VIADUCT" decay "$SYN" --channel deck_acc --frequency-hz 10 --start-s 5.5 --out "$WORK/o"
-expect 2 "3.98 cycles of 10 Hz from 4.4 s (the decay given at 4 s plus 4 cycles skipped) to 4.798 s above the noise, at least 50 needed (--min-cycles)" -- "$VIADUCT" decay "$SYN" --channel deck_acc --frequency-hz 10 --start-s 4 --min-cycles 50 --out "$WORK/o"
+expect 2 "the decay given at 5.5 s, after the 4 cycles skipped for the filter's transient (to 5.9 s), leaves nothing before 5.816 s" -- "$VIADUCT" decay "$SYN" --channel deck_acc --frequency-hz 10 --start-s 5.5 --out "$WORK/o"
+expect 2 "14.16 cycles of 10 Hz from 4.4 s (the decay given at 4 s plus 4 cycles skipped) to 5.816 s above the noise, at least 50 needed (--min-cycles)" -- "$VIADUCT" decay "$SYN" --channel deck_acc --frequency-hz 10 --start-s 4 --min-cycles 50 --out "$WORK/o"
 expect 2 "--end-s" -- "$VIADUCT" decay "$SYN" --channel deck_acc --frequency-hz 10 --start-s 4 --end-s 3 --out "$WORK/o"
 expect 0 "wrote" -- "$VIADUCT" decay "$SYN" --channel deck_acc --frequency-hz 10 --start-s 4 --end-s 5.4 --skip-cycles 2 --min-cycles 3 --out "$WORK/dend"
 expect 2 "go together" -- "$VIADUCT" decay "$WORK/sh/record.csv" --channel mid_acc --frequency-hz 5 --speed-kmh 100 --out "$WORK/o"
