@@ -64,6 +64,21 @@ void add_element(std::vector<Triplet>& t, const PathElement& e, const Matrix4& m
   }
 }
 
+// Beam elements of length h between consecutive nodes (w, θ) from x0 on: appended to `out`, their
+// stiffness and mass to the triplet lists.
+void add_beam_chain(const std::vector<std::array<Index, 2>>& node, double x0, double h, const Matrix4& ke, const Matrix4& me,
+                    std::vector<PathElement>& out, std::vector<Triplet>& tk, std::vector<Triplet>& tm) {
+  for (std::size_t j = 0; j + 1 < node.size(); ++j) {
+    PathElement e;
+    e.x0 = x0 + static_cast<double>(j) * h;
+    e.h = h;
+    e.dofs = {node[j][0], node[j][1], node[j + 1][0], node[j + 1][1]};
+    out.push_back(e);
+    add_element(tk, e, ke);
+    add_element(tm, e, me);
+  }
+}
+
 }  // namespace
 
 double BridgeParams::total_length() const {
@@ -362,16 +377,7 @@ void add_deck(Assembly& as, const BridgeParams& bridge, std::size_t s0, std::siz
     }
     const Matrix4& k_el = ke[si - s0] = beam_stiffness(sp.EI, h);
     const Matrix4& m_el = me[si - s0] = beam_mass(m, h);
-    for (int j = 0; j < n_el; ++j) {
-      PathElement e;
-      e.x0 = x + j * h;
-      e.h = h;
-      e.dofs = {node[static_cast<std::size_t>(j)][0], node[static_cast<std::size_t>(j)][1],
-                node[static_cast<std::size_t>(j + 1)][0], node[static_cast<std::size_t>(j + 1)][1]};
-      s.deck_elements.push_back(e);
-      add_element(lk, e, k_el);
-      add_element(lm, e, m_el);
-    }
+    add_beam_chain(node, x, h, k_el, m_el, s.deck_elements, lk, lm);
     if (si == s0) supports.push_back({node.front(), x, si, false, {}});
     supports.back().elements.push_back({{s.deck_elements[s.span_first_element.back()], 0}, &k_el, &m_el});
     supports.push_back({node.back(), x + sp.length, si, true, {{{s.deck_elements.back(), 2}, &k_el, &m_el}}});
@@ -485,16 +491,7 @@ void add_track(Assembly& as, const TrackParams& tp, double L_bridge) {
     r[1] = next++;
   }
   const Matrix4 ke = beam_stiffness(tp.rail_EI, h), me = beam_mass(tp.rail_mass_per_m, h);
-  for (int j = 0; j + 1 < n_nodes; ++j) {
-    PathElement e;
-    e.x0 = x_start + j * h;
-    e.h = h;
-    e.dofs = {rn[static_cast<std::size_t>(j)][0], rn[static_cast<std::size_t>(j)][1],
-              rn[static_cast<std::size_t>(j + 1)][0], rn[static_cast<std::size_t>(j + 1)][1]};
-    s.rail_elements.push_back(e);
-    add_element(tk, e, ke);
-    add_element(tm, e, me);
-  }
+  add_beam_chain(rn, x_start, h, ke, me, s.rail_elements, tk, tm);
   const double tol = 1e-9;
   for (int i = 0; i <= n_bays; ++i) {
     const double xs = x_start + i * d;

@@ -190,14 +190,7 @@ TEST_CASE("continuous deck: rigid bearings' forces match very stiff elastic ones
   // exactly. k = 1e12 N/m (1e5 times the deck's EI/L³): the same bridge.
   auto run = [](study::Scenario sc, bool rigid, double alpha, const load::Train& train, double v) {
     sc.bridge.continuous = true;
-    sc.settings.filter.enabled = false;
-    sc.settings.method = study::Method::newmark;
-    sc.settings.dt = 2e-4;
-    sc.settings.newmark.alpha = alpha;  // HHT: beta and gamma follow
-    sc.settings.newmark.beta = (1 - alpha) * (1 - alpha) / 4;
-    sc.settings.newmark.gamma = (1 - 2 * alpha) / 2;
-    sc.bridge.bearings = {rigid, rigid ? 0.0 : 1e12, 0.0};
-    return study::simulate(study::prepare_model(sc, true, true), train, v, sc.settings);
+    return vt::run_on_bearings(sc, rigid, alpha, train, v);
   };
   auto history = [](const study::RunResult& r, const std::string& name) -> const Vector& {
     for (const auto& e : r.effects)

@@ -223,16 +223,7 @@ TEST_CASE("bearing forces of rigid bearings match very stiff elastic ones (k w),
   // A rigid bearing's force is recovered from the fixed DOF's row (element stiffness, mass,
   // structural damping, track links, axles on its element); an elastic bearing's is k·w exactly.
   // With k = 1e12 N/m (1e5 times the deck's EI/L³) the two models are the same bridge.
-  auto run = [](study::Scenario sc, bool rigid, double alpha, const load::Train& train, double v) {
-    sc.settings.filter.enabled = false;
-    sc.settings.method = study::Method::newmark;
-    sc.settings.dt = 2e-4;
-    sc.settings.newmark.alpha = alpha;  // HHT: beta and gamma follow
-    sc.settings.newmark.beta = (1 - alpha) * (1 - alpha) / 4;
-    sc.settings.newmark.gamma = (1 - 2 * alpha) / 2;
-    sc.bridge.bearings = {rigid, rigid ? 0.0 : 1e12, 0.0};
-    return study::simulate(study::prepare_model(sc, true, true), train, v, sc.settings);
-  };
+  const auto run = vt::run_on_bearings;
   const char* names[] = {"span1_start_reaction_N", "span1_end_reaction_N"};
   // With the track the axles reach the deck through it: the histories agree (measured 6e-4 and
   // 7.5e-4 of the peak over the whole passage).
