@@ -140,19 +140,16 @@ double noise_floor(const DecaySignal& s, Index edge, const DecayOptions& o) {
   const Index from = static_cast<Index>(0.85 * static_cast<double>(n));
   if (stop - from >= 8) {
     const Index m = stop - from;
-    double st = 0.0, sl = 0.0, stt = 0.0, stl = 0.0;
+    std::vector<double> t, l;
     for (Index j = from; j < stop; ++j) {
-      const double t = static_cast<double>(j - from) / s.fs, l = std::log(std::max(s.env[j], 1e-300));
-      st += t, sl += l, stt += t * t, stl += t * l;
+      t.push_back(static_cast<double>(j - from) / s.fs);
+      l.push_back(std::log(std::max(s.env[j], 1e-300)));
     }
-    const double md = static_cast<double>(m), den = md * stt - st * st;
-    const double slope = den > 0.0 ? (md * stl - st * sl) / den : 0.0, icept = (sl - slope * st) / md;
+    const Line line = fit_line(t, l);
     double ss = 0.0;
-    for (Index j = from; j < stop; ++j) {
-      const double t = static_cast<double>(j - from) / s.fs, e = std::log(std::max(s.env[j], 1e-300)) - (icept + slope * t);
-      ss += e * e;
-    }
-    const double fall = -slope * static_cast<double>(m - 1) / s.fs, resid = std::sqrt(ss / md);
+    for (std::size_t i = 0; i < t.size(); ++i) ss += (l[i] - line.at(t[i])) * (l[i] - line.at(t[i]));
+    const double md = static_cast<double>(m);
+    const double fall = -line.slope * static_cast<double>(m - 1) / s.fs, resid = std::sqrt(ss / md);
     if (fall > 0.05 && fall > 10.0 * resid) {  // still ringing
       double ss_out = 0.0;
       for (Index j = from; j < stop; ++j) ss_out += (s.raw[j] - s.y[j]) * (s.raw[j] - s.y[j]);
