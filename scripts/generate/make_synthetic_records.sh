@@ -52,3 +52,51 @@ with open(dst, "w") as f:
         f.write("%.3f,%s\n" % (k / (fs / 2), ",".join("%.5e" % x[k] for x in out)))
 PY
 echo "wrote data/records/og-calibration.csv ($(wc -l < data/records/og-calibration.csv) lines)"
+
+# data/records/logger-semicolon.csv: the same kind of passage as a field logger writes it (issue
+# #19): a preamble, semicolons and decimal commas, units in brackets ([g], [m/s^2], [mm], [µε]),
+# 1651.2 Hz with time stamps rounded to 0.1 ms, 1 s of logging before the train, three NaN
+# acceleration samples, an empty strain cell and a 4-sample gap in the time column. Old Guadiana
+# under the Talgo at 154.8 km/h, Newmark at the logger's rate, strain at 0.8 m below the neutral
+# axis of S1_mid; white noise of 3 % of each channel's RMS (seed 19).
+"$V" run scenarios/old-guadiana-talgo.toml --set analysis.dt=0.000605620155038760 --set filter.enabled=false \
+  --set 'stations[0].fibre_m=0.8' --quiet --out "$tmp/logger"
+/usr/bin/python3 - "$tmp/logger/history.csv" data/records/logger-semicolon.csv <<'PY'
+import sys
+import numpy as np
+src, dst = sys.argv[1:3]
+d = np.genfromtxt(src, delimiter=",", names=True)
+fs = 1651.2
+lead = int(round(1.0 * fs))
+cols = [("Acc S1 mid [g]", d["S1_mid_acc_mps2"] / 9.80665, "%.6f"),
+        ("Acc S2 mid [m/s^2]", d["S2_mid_acc_mps2"], "%.5f"),
+        ("Disp S1 mid [mm]", 1e3 * d["S1_mid_disp_m"], "%.4f"),
+        ("Strain S1 mid [µε]", d["S1_mid_strain_ue"], "%.3f")]
+rng = np.random.default_rng(19)
+data = []
+for name, x, fmt in cols:
+    x = np.concatenate([np.zeros(lead), x])
+    data.append(x + rng.normal(0.0, 0.03 * np.sqrt(np.mean(x[lead:] ** 2)), x.size))
+n = data[0].size
+t = 125.0 + np.arange(n) / fs
+gap = set(range(lead + 1500, lead + 1504))   # the logger's buffer overran: 4 samples never written
+nan_acc = {lead + 400, lead + 401, lead + 2600}
+blank_strain = {lead + 900}
+with open(dst, "w", encoding="utf-8", newline="") as f:
+    f.write("DX-100 data logger export\r\nSite;Old Guadiana bridge (synthetic: scripts/generate/make_synthetic_records.sh)\r\n")
+    f.write("Start;2026-05-14 10:31:07\r\nSample rate;1651,2 Hz\r\n")
+    f.write("Time [s];" + ";".join(c[0] for c in cols) + "\r\n")
+    for k in range(n):
+        if k in gap:
+            continue
+        cells = ["%.4f" % (round(t[k] * 1e4) / 1e4)]
+        for j, (name, x, fmt) in enumerate(cols):
+            if j < 2 and k in nan_acc:
+                cells.append("NaN")
+            elif j == 3 and k in blank_strain:
+                cells.append("")
+            else:
+                cells.append(fmt % data[j][k])
+        f.write(";".join(c.replace(".", ",") for c in cells) + "\r\n")
+PY
+echo "wrote data/records/logger-semicolon.csv ($(wc -l < data/records/logger-semicolon.csv) lines)"

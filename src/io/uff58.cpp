@@ -36,17 +36,6 @@ bool field(const std::string& line, std::size_t pos, std::size_t w, double& out)
   }
 }
 
-std::string unit_suffix(const std::string& label) {
-  std::string l;
-  for (char c : label)
-    if (c != ' ') l += c;
-  if (l == "m/s^2" || l == "m/s2" || l == "m/s**2" || l == "ms^-2" || l == "m/s/s") return "mps2";
-  if (l == "g" || l == "G") return "g";
-  if (l == "m/s") return "mps";
-  if (l == "m" || l == "mm" || l == "N" || l == "kN" || l == "Pa" || l == "V") return l;
-  return "";
-}
-
 }  // namespace
 
 Record read_uff58(const std::string& path) {
@@ -101,9 +90,10 @@ Record read_uff58(const std::string& path) {
     // Ordinate record 9: 4 integers (25 columns), axis label and unit label of 21 columns each.
     const std::string& rec9 = lines[h + 8];
     const std::string units_label = rec9.size() > 46 ? trim_field(rec9.substr(46, 21)) : "";
-    const std::string unit = unit_suffix(units_label);
-    if (unit.empty())
-      throw err(static_cast<int>(h + 9), "ordinate unit '" + units_label + "' is not one of m/s^2, g, m, mm, m/s, N, kN, Pa, V");
+    const auto conv = parse_unit(units_label);
+    if (!conv)
+      throw err(static_cast<int>(h + 9), "ordinate unit '" + units_label + "' is not known (m/s^2, g, m, mm, m/s, N, kN, Pa, V, µε, ...)");
+    const std::string& unit = conv->unit;
     const std::size_t w = ord_type == 2 ? 13 : 20;
     std::vector<double> v;
     for (std::size_t k = h + 11; k < end; ++k)
@@ -112,7 +102,7 @@ Record read_uff58(const std::string& path) {
         if (trim_field(lines[k].substr(pos, w)).empty()) continue;
         if (!field(lines[k], pos, w, x))
           throw err(static_cast<int>(k + 1), "not a finite number in columns " + std::to_string(pos + 1) + "-" + std::to_string(pos + w));
-        v.push_back(x);
+        v.push_back(conv->factor * x);
       }
     if (v.size() != static_cast<std::size_t>(n_pts))
       throw err(type_line, "dataset '" + name_raw + "' declares " + std::to_string(static_cast<long>(n_pts)) +
@@ -143,10 +133,18 @@ Record read_uff58(const std::string& path) {
   return r;
 }
 
-Record read_record(const std::string& path) {
+Record read_record(const std::string& path, const ReadOptions& options, ImportReport* report) {
   const std::string ext = std::filesystem::path(path).extension().string();
-  if (ext == ".uff" || ext == ".unv" || ext == ".UFF" || ext == ".UNV") return read_uff58(path);
-  return read_record_csv(path);
+  if (ext == ".uff" || ext == ".unv" || ext == ".UFF" || ext == ".UNV") {
+    Record r = read_uff58(path);
+    if (report) {
+      *report = ImportReport{};
+      report->layout = "Universal File, datasets 58";
+      report->time = "abscissa of the datasets, " + format_number(r.fs_hz, 10) + " Hz";
+    }
+    return r;
+  }
+  return read_record_csv(path, options, report);
 }
 
 }  // namespace viaduct::io

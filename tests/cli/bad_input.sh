@@ -54,17 +54,25 @@ expect 2 "key 'stations[0].at': must be [0, 1], got 1.5" -- "$VIADUCT" run "$(sc
 expect 2 "a deck station needs exactly one of 'at' (fraction) or 'x' (metres)" -- "$VIADUCT" run "$(scen both '')" --set stations[0].x=3.0 --speed-kmh 100 --out "$WORK/o"
 # Records: bad files exit 2 with file, line and column.
 printf 't_s,a_mps2\n0,1\n0.01,NaN\n' > "$WORK/nan.csv"
-expect 2 "nan.csv:3: column 'a_mps2': not a finite number" -- "$VIADUCT" filter "$WORK/nan.csv"
+expect 2 "no 2 successive samples without a missing value" -- "$VIADUCT" filter "$WORK/nan.csv"
+printf 't_s,a_mps2\n0,1\n0.01,NaN\n0.02,1\n0.03,1\n' > "$WORK/nan-refused.csv"
+expect 2 "nan-refused.csv:3: missing samples too long to interpolate (--fill-max-s 0 s) or at an end: a_mps2, 1 samples from 0.01 to 0.01 s" -- "$VIADUCT" filter "$WORK/nan-refused.csv" --fill-max-s 0 --long-gaps refuse
+expect 2 "--long-gaps must be split or refuse" -- "$VIADUCT" filter "$WORK/nan-refused.csv" --long-gaps drop
+expect 2 "--fill-max-s must be" -- "$VIADUCT" filter "$WORK/nan-refused.csv" --fill-max-s -1
+expect 2 "--unit needs CHANNEL=UNIT" -- "$VIADUCT" filter "$WORK/nan-refused.csv" --unit a_mps2
+expect 2 "--unit b=g: no such column in the header" -- "$VIADUCT" filter "$WORK/nan-refused.csv" --unit b=g
+printf 't_s,a_mps2\nNaN,1\nNaN,1\n' > "$WORK/allnan.csv"
+expect 2 "allnan.csv:2: no time stamp in column 't_s'" -- "$VIADUCT" inspect "$WORK/allnan.csv"
 printf 't_s,a_mps2\n0,1\n0.01,2\n0.005,3\n' > "$WORK/back.csv"
-expect 2 "time does not increase at sample 3" -- "$VIADUCT" spectrum "$WORK/back.csv"
+expect 2 "back.csv:4: time does not increase (t = 0.005 s after 0.01 s on line 3)" -- "$VIADUCT" spectrum "$WORK/back.csv"
 printf '' > "$WORK/empty.csv"
 expect 2 "no header line" -- "$VIADUCT" spectrum "$WORK/empty.csv"
 printf 't_s,a_mps2,b_mps2\n0,1,2\n0.01,2\n' > "$WORK/cols.csv"
-expect 2 "cols.csv:3: expected 3 columns as in the header, got 2" -- "$VIADUCT" filter "$WORK/cols.csv"
+expect 2 "cols.csv:3: expected 3 columns as in the header (line 1), got 2" -- "$VIADUCT" filter "$WORK/cols.csv"
 printf 't_s,a_mps2\n0,1\n0.01,2\n0.02,3\n0.035,4\n0.045,5\n' > "$WORK/jitter.csv"
-expect 2 "irregular sampling at sample 4" -- "$VIADUCT" spectrum "$WORK/jitter.csv"
+expect 2 "jitter.csv:5: irregular sampling: a step of 0.015 s where the others are 0.01 s (1.5 samples)" -- "$VIADUCT" spectrum "$WORK/jitter.csv"
 printf 't_s,a_furlongs\n0,1\n0.01,2\n' > "$WORK/unit.csv"
-expect 2 "has no known unit suffix" -- "$VIADUCT" spectrum "$WORK/unit.csv"
+expect 2 "unit.csv:1: channel 'a_furlongs' has no unit: name it a_furlongs_<unit> or 'a_furlongs [unit]', or give --unit 'a_furlongs=UNIT'" -- "$VIADUCT" spectrum "$WORK/unit.csv"
 expect 2 "synthetic-deck.csv: Chebyshev filter: --high-hz = 300: violated constraint high_hz in (0, fs/2 = 250) Hz" -- "$VIADUCT" filter "$SRC/data/records/synthetic-deck.csv" --high-hz 300
 expect 2 "synthetic-deck.csv: Welch: --nperseg = 100000: violated constraint nperseg <= the record's 3009 samples" -- "$VIADUCT" spectrum "$SRC/data/records/synthetic-deck.csv" --welch --nperseg 100000
 expect 2 "no channel 'rail'" -- "$VIADUCT" spectrum "$SRC/data/records/synthetic-deck.csv" --channel rail
@@ -80,7 +88,7 @@ expect 2 "no station 'S9'" -- "$VIADUCT" compare "$TALGO" --record "$REC" --map 
 expect 2 "no channel 'strain'" -- "$VIADUCT" compare "$TALGO" --record "$REC" --map strain=S1_mid
 expect 2 "--map needs CHANNEL=STATION" -- "$VIADUCT" compare "$TALGO" --record "$REC" --map deck_acc
 printf '# sampling_rate_hz = 100\nv_V\n1\n2\n3\n' > "$WORK/volts.csv"
-expect 2 "only _mps2, _g, _m or _mm compare with the model" -- "$VIADUCT" compare "$TALGO" --record "$WORK/volts.csv" --map v=S1_mid
+expect 2 "channel 'v_V' is in V; only accelerations (_mps2, [g], ...) and deflections (_m, [mm], ...) compare with the model" -- "$VIADUCT" compare "$TALGO" --record "$WORK/volts.csv" --map v=S1_mid
 
 # Sizes that would exhaust memory or time are refused with the key to change.
 expect 2 "key 'bridge.element_size': 1e-06 m gives 11930000 elements on span 1; at most 1000 per span (raise bridge.element_size)" -- "$VIADUCT" check "$OG" --set bridge.element_size=1e-6
@@ -142,7 +150,7 @@ expect 2 "key 'bridge.damping.ratio': bound 2 violates the key's constraint [0, 
 expect 2 "cannot open" -- "$VIADUCT" fit "$FS" --record "$WORK/nothere.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --out "$WORK/o"
 expect 2 "no station 'nowhere'" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=nowhere --param bridge.EI=1e9:4e9 --out "$WORK/o"
 expect 2 "deck_acc" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map deck_acc=mid --param bridge.EI=1e9:4e9 --out "$WORK/o"
-expect 2 "channel 'force_N' is in N; only _mps2, _g, _m or _mm compare with the model" -- "$VIADUCT" fit "$FS" --record "$WORK/sh/record.csv" --map force_N=mid --param bridge.EI=1e9:4e9 --out "$WORK/o"
+expect 2 "channel 'force_N' is in N; only accelerations (_mps2, [g], ...) and deflections (_m, [mm], ...) compare with the model" -- "$VIADUCT" fit "$FS" --record "$WORK/sh/record.csv" --map force_N=mid --param bridge.EI=1e9:4e9 --out "$WORK/o"
 expect 2 "--weight: unknown objective 'phase'" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --weight phase=1 --out "$WORK/o"
 expect 2 "one speed for all records or one per --record" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --speed-kmh 100 --speed-kmh 110 --out "$WORK/o"
 expect 2 "nothing to fit against" -- "$VIADUCT" fit "$FS" --param bridge.EI=1e9:4e9 --out "$WORK/o"

@@ -144,4 +144,24 @@ expect 0 "wrote" -- "$VIADUCT" run "$WORK/fit1/fitted.toml" --out "$WORK/fitrun"
 expect 0 "fit_trace.png" -- /usr/bin/python3 "$SRC/scripts/plot/plot_fit.py" "$WORK/fit1"
 expect 0 "" -- test -s "$WORK/fit1/fit_time.png"
 expect 1 "not found" -- /usr/bin/python3 "$SRC/scripts/plot/plot_envelope.py" "$WORK/nothing"
+# Logger files (#19): the shipped logger layout goes through inspect, spectrum, filter and compare
+# in one try each, conversions and repairs reported; outputs are header-and-rows CSVs.
+LOG=$SRC/data/records/logger-semicolon.csv
+expect 0 "'Acc S1 mid [g]' -> Acc_S1_mid_mps2 (x 9.80665)" -- "$VIADUCT" filter "$LOG" --out "$WORK/lf"
+expect 0 "warning: $LOG: the time column skips 4 samples of the 1651.2 Hz grid" -- "$VIADUCT" filter "$LOG" --quiet --out "$WORK/lf"
+expect 0 "t_s,Acc_S1_mid_mps2,Acc_S2_mid_mps2,Disp_S1_mid_m,Strain_S1_mid_ue" -- head -1 "$WORK/lf/filtered.csv"
+expect 0 "semicolon-separated, decimal comma, header on line 5 under 4 preamble lines" -- "$VIADUCT" inspect "$LOG" --out "$WORK/li"
+expect 0 "time stamps within 0.083 samples of the grid" -- "$VIADUCT" inspect "$LOG" --out "$WORK/li"
+expect 0 "Disp_S1_mid_m,Disp S1 mid [mm],m,0.001,1651.2,125," -- cat "$WORK/li/inspect.csv"
+expect 0 "wrote" -- "$VIADUCT" spectrum "$LOG" --channel "Acc S1 mid [g]" --out "$WORK/ls"
+expect 0 "Strain_S1_mid_ue       S1_mid      125.9998     0.997" -- "$VIADUCT" compare "$SRC/scenarios/old-guadiana-talgo.toml" --record "$LOG" \
+  --map 'Acc S1 mid=S1_mid' --map 'Strain S1 mid=S1_mid' --set 'stations[0].fibre_m=0.8' --out "$WORK/lc"
+# inspect of several files: a bad one is reported, the others inspected, exit 1.
+printf 't_s,a_m\n0,1\n' > "$WORK/one.csv"
+expect 1 "one.csv:2: a record needs at least 2 samples, got 1" -- "$VIADUCT" inspect "$LOG" "$WORK/one.csv" --out "$WORK/li2"
+expect 0 "5" -- awk 'END { print NR }' "$WORK/li2/inspect.csv"
+# A clipped channel is flagged.
+awk 'BEGIN { print "t_s,a_g"; for (k = 0; k < 2000; k++) { x = 3 * sin(2 * 3.14159265 * 5 * k / 1000); if (x > 2) x = 2; if (x < -2) x = -2; printf "%.3f,%.6f\n", k / 1000, x } }' > "$WORK/clip.csv"
+expect 0 "warning: a_mps2: " -- "$VIADUCT" inspect "$WORK/clip.csv" --out "$WORK/lclip"
+expect 0 "clipped (over the sensor's or logger's range)?" -- "$VIADUCT" inspect "$WORK/clip.csv" --out "$WORK/lclip"
 finish

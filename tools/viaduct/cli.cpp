@@ -65,6 +65,20 @@ int dispatch(const Command& cmd, int argc, char** argv) {
       "threads", po::value<int>()->default_value(1), "worker threads (0: all cores)")(
       "quiet,q", po::bool_switch(), "print nothing but errors");
   if (cmd.add_options) cmd.add_options(opts);
+  // Reading logger files (docs/records.md): shared by every command that reads records.
+  std::vector<std::string> unit_overrides;
+  std::string long_gaps = "split";
+  io::ReadOptions read;
+  if (cmd.reads_records) {
+    po::options_description r("Reading record files (docs/records.md)");
+    r.add_options()("time-column", po::value<std::string>(&read.time_column),
+                    "the time column: header text, name or 1-based index, or 'none' (default: the column named t_s, time, Time [s], ...)")(
+        "rate-hz", optional_value(read.fs_hz), "[Hz] sampling rate when the file does not declare one (with a time column: checked against it)")(
+        "unit", list_value(unit_overrides), "CHANNEL=UNIT for a channel named without its unit, e.g. --unit strain_mid=ue (repeatable)")(
+        "fill-max-s", value(read.fill_max_s), "[s] missing samples (NaN, empty cells, time gaps) up to this long are interpolated linearly")(
+        "long-gaps", value(long_gaps), "longer ones: 'split' keeps the longest piece without them (reported), 'refuse' stops");
+    opts.add(r);
+  }
   po::options_description hidden;
   hidden.add_options()("scenario", po::value<std::string>(), "scenario file")(
       "more", po::value<std::vector<std::string>>(), "further positional arguments");
@@ -101,6 +115,7 @@ int dispatch(const Command& cmd, int argc, char** argv) {
   c.out = vm["out"].as<std::string>();
   c.threads = vm["threads"].as<int>();
   c.quiet = vm["quiet"].as<bool>();
+  c.command = cmd.name;
   c.command_line = "viaduct " + cmd.name;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -119,6 +134,18 @@ int dispatch(const Command& cmd, int argc, char** argv) {
   }
   if (c.threads == 0) c.threads = hardware_threads();
   try {
+    if (cmd.reads_records) {
+      for (const auto& u : unit_overrides) {
+        const auto eq = u.find('=');
+        if (eq == std::string::npos || eq == 0 || eq + 1 == u.size()) throw InputError("--unit needs CHANNEL=UNIT, got '" + u + "'");
+        read.units.emplace_back(u.substr(0, eq), u.substr(eq + 1));
+      }
+      if (long_gaps != "split" && long_gaps != "refuse") throw InputError("--long-gaps must be split or refuse, got '" + long_gaps + "'");
+      require_non_negative(read.fill_max_s, "--fill-max-s");
+      if (read.fs_hz) require_positive(*read.fs_hz, "--rate-hz");
+      read.split_long_gaps = long_gaps == "split";
+      c.read = read;
+    }
     return cmd.run(c);
   } catch (const InputError& e) {
     std::cerr << prefix << "error: " << in_option_terms(e.what(), opts, cmd, c.scenario) << "\n";
@@ -132,6 +159,22 @@ int dispatch(const Command& cmd, int argc, char** argv) {
   }
 }
 
+
+io::Record read_record(const std::string& path, const Common& o) {
+  io::ImportReport rep;
+  io::Record r = io::read_record(path, o.read, &rep);
+  if (!rep.plain) {
+    const std::string prefix = "viaduct " + o.command + ": ";
+    std::string text;
+    const auto lines = io::describe(rep);  // the repairs come last
+    const std::size_t n_notes = lines.size() - rep.repairs.size();
+    for (std::size_t i = 0; i < lines.size(); ++i)
+      if (i >= n_notes) text += prefix + "warning: " + path + ": " + lines[i] + "\n";
+      else if (!o.quiet) text += prefix + path + ": " + lines[i] + "\n";
+    std::cerr << text;
+  }
+  return r;
+}
 
 io::FlatScenario load_scenario(const Common& o) {
   for (const auto& s : o.set)

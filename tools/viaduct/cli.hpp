@@ -12,6 +12,7 @@
 
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/log.hpp"
+#include "viaduct/io/record.hpp"
 #include "viaduct/io/results.hpp"
 #include "viaduct/load/train.hpp"
 #include "viaduct/model/modes.hpp"
@@ -33,6 +34,8 @@ struct Common {
   int threads = 1;
   bool quiet = false;
   std::string command_line;  ///< the invocation, for manifests ("viaduct sweep ... --threads 2")
+  io::ReadOptions read;      ///< how to read record files (Command::reads_records)
+  std::string command;       ///< the subcommand's name
 };
 
 /// A subcommand: name, one-line summary, help text with sample runs, and its body.
@@ -45,6 +48,7 @@ struct Command {
   bool needs_scenario = true;
   std::string positional = "SCENARIO";  ///< what the positional argument is (Common::scenario holds it)
   bool many_positionals = false;        ///< accept more positionals (Common::more)
+  bool reads_records = false;           ///< takes the options of reading logger files (Common::read)
 };
 
 /// Binds a command's options to a struct of its own: `declare` adds each option writing into a
@@ -79,6 +83,11 @@ inline po::typed_value<std::vector<std::string>>* list_value(std::vector<std::st
 /// Parses argv for `cmd`, handles --help, and maps exceptions to exit codes (2 input/usage,
 /// 1 runtime). Prints errors on stderr as "viaduct <cmd>: error: ...".
 int dispatch(const Command& cmd, int argc, char** argv);
+
+/// The record at `path` read with the command's --time-column, --rate-hz, --unit, --fill-max-s
+/// and --long-gaps; what was converted or repaired is printed on stderr (notes unless --quiet,
+/// repairs always, as warnings).
+io::Record read_record(const std::string& path, const Common& o);
 
 /// The command's scenario with --set and --unset applied (io::load_flat).
 io::FlatScenario load_scenario(const Common& o);
@@ -131,6 +140,7 @@ Command compare_command();
 Command speed_command();
 Command resample_command();
 Command envelope_command();
+Command inspect_command();
 Command tradeoff_command();
 Command frf_command();
 Command shaker_command();

@@ -1,4 +1,5 @@
 // viaduct compare: a scenario's simulation against a measured record.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -40,9 +41,17 @@ std::vector<Mapping> mappings_of(const std::vector<std::string>& pairs, const io
       for (const auto& s : sc.stations) have += " " + s.name;
       throw InputError("--map: no station '" + st + "' in the scenario; it has:" + have);
     }
-    const io::ChannelQuantity q = io::channel_quantity(rec.units[mp.channel], rec.channels[mp.channel], "--map");
-    mp.quantity = q.acceleration ? "acc" : "disp";
-    mp.scale = q.scale;
+    if (rec.units[mp.channel] == "ue") {
+      // Strain against the model's <station>_strain_ue = 1e6 M y / EI at the gauge's fibre.
+      if (sc.stations[mp.station].fibre_m == 0.0)
+        throw InputError("--map: channel '" + rec.channels[mp.channel] + "' is a strain; station '" + st +
+                         "' has no stations[].fibre_m (the gauge's distance below the neutral axis) to give the model's strain");
+      mp.quantity = "strain";
+    } else {
+      const io::ChannelQuantity q = io::channel_quantity(rec.units[mp.channel], rec.channels[mp.channel], "--map");
+      mp.quantity = q.acceleration ? "acc" : "disp";
+      mp.scale = q.scale;
+    }
     maps.push_back(mp);
   }
   return maps;
@@ -70,7 +79,7 @@ int compare_body(const Common& o, const CompareOptions& k) {
   if (!k.record) throw InputError("--record FILE is required");
   if (k.maps.empty()) throw InputError("at least one --map CHANNEL=STATION is required");
   const std::string& record_path = *k.record;
-  const io::Record rec = io::read_record(record_path);
+  const io::Record rec = read_record(record_path, o);
   const io::FlatScenario flat = load_scenario(o);
   study::Scenario sc = io::to_scenario(flat);
   double speed = 0.0;
@@ -95,9 +104,15 @@ int compare_body(const Common& o, const CompareOptions& k) {
   // Simulate unfiltered: the comparison filters model and record alike.
   study::RunSettings rs = sc.settings;
   rs.filter.enabled = false;
-  const model::Structure s = model::build_structure(sc.bridge, sc.track);
-  const auto stations = study::resolve_stations(s, sc.stations);
-  const study::RunResult run = study::simulate(s, stations, *train, speed, rs);
+  const bool strain = std::any_of(maps.begin(), maps.end(), [](const Mapping& mp) { return mp.quantity == "strain"; });
+  study::RunResult run;
+  if (strain) {  // strain is a load effect: the prepared model records them
+    const study::PreparedModel pm = study::prepare_model(model::build_structure(sc.bridge, sc.track), sc.stations, rs, true, true);
+    run = study::simulate(pm, *train, speed, rs);
+  } else {
+    const model::Structure s = model::build_structure(sc.bridge, sc.track);
+    run = study::simulate(s, study::resolve_stations(s, sc.stations), *train, speed, rs);
+  }
   study::ComparisonOptions co;
   co.filter = sc.settings.filter;
   co.max_shift_s = k.max_shift_s;
@@ -114,7 +129,13 @@ int compare_body(const Common& o, const CompareOptions& k) {
                 "spec_corr", "f_rec_hz", "f_mod_hz");
   for (const auto& mp : maps) {
     const auto& h = run.stations[mp.station];
-    const Vector model = (mp.quantity == "acc" ? h.acc : h.disp) * mp.scale;
+    Vector model;
+    if (mp.quantity == "strain") {
+      for (const auto& e : run.effects)
+        if (e.name == sc.stations[mp.station].name + "_strain_ue") model = e.value;
+    } else {
+      model = (mp.quantity == "acc" ? h.acc : h.disp) * mp.scale;
+    }
     const study::ChannelComparison cc = study::compare_channel(rec.data.col(static_cast<Index>(mp.channel)), rec.fs_hz,
                                                                rec.t0_s, model, 1.0 / rs.dt, co);
     const std::string base = rec.channels[mp.channel].substr(0, rec.channels[mp.channel].size() - rec.units[mp.channel].size() - 1);
@@ -161,6 +182,7 @@ int compare_body(const Common& o, const CompareOptions& k) {
 Command compare_command() {
   Command c;
   c.name = "compare";
+  c.reads_records = true;
   c.summary = "simulation against a measured record: aligned overlays, spectra and metrics";
   const auto declare = [](po::options_description& d, CompareOptions& k) {
     d.add_options()("record", optional_value(k.record), "record CSV (docs/records.md)")(
@@ -177,13 +199,16 @@ Command compare_command() {
       "Runs the scenario at the train's speed, filters model and record with the scenario's\n"
       "[filter], aligns them by cross-correlation (the shift is reported) and writes OUT/\n"
       "compare_time.csv, compare_spectrum.csv, compare_metrics.csv and manifest.toml. The\n"
-      "channel's unit picks the model quantity: _mps2 or _g acceleration, _m or _mm deflection.\n"
+      "channel's unit picks the model quantity: acceleration (_mps2, [g], ...), deflection (_m,\n"
+      "[mm], ...) or strain (_ue, [µε], [microstrain], ...: the model's 1e6 M y/EI at the\n"
+      "station's stations[].fibre_m). Records are read as logger files are (docs/records.md).\n"
       "Plot with scripts/plot/plot_compare.py OUT.\n\n"
       "The speed is --speed-kmh, or identified from the record with --identify-speed-m d (the\n"
       "lines k·v/d of the first mapped channel, as viaduct speed does), or run.speed_kmh.\n\n"
       "Sample runs:\n"
       "  viaduct compare scenarios/old-guadiana-talgo.toml --record data/records/synthetic-deck.csv --map deck_acc=S1_mid --out out/compare\n"
-      "  viaduct compare scenarios/old-guadiana-talgo.toml --record data/records/synthetic-deck.csv --map deck_acc=S1_mid --identify-speed-m 13.14 --v-min-kmh 100 --v-max-kmh 250 --out out/compare-id\n";
+      "  viaduct compare scenarios/old-guadiana-talgo.toml --record data/records/synthetic-deck.csv --map deck_acc=S1_mid --identify-speed-m 13.14 --v-min-kmh 100 --v-max-kmh 250 --out out/compare-id\n"
+      "  viaduct compare scenarios/old-guadiana-talgo.toml --record data/records/logger-semicolon.csv --map 'Acc S1 mid=S1_mid' --map 'Strain S1 mid=S1_mid' --set 'stations[0].fibre_m=0.8' --out out/compare-logger\n";
   bind(c, +declare, +compare_body);
   return c;
 }

@@ -159,10 +159,10 @@ ident::FrfEstimateOptions estimate_options(const FrfOptions& fo) {
 
 int frf_from_record(const Common& o, const FrfOptions& fo) {
   if (!o.set.empty()) throw InputError("--set applies to scenarios; " + o.scenario + " is a record");
-  const io::Record rec = io::read_record(o.scenario);
+  const io::Record rec = read_record(o.scenario, o);
   if (!fo.force) throw InputError("missing force channel: name it with --force <channel> (e.g. force_N)");
   std::optional<io::Record> frec;
-  if (fo.force_record) frec = io::read_record(*fo.force_record);
+  if (fo.force_record) frec = read_record(*fo.force_record, o);
   const io::FrfInputs in = io::frf_inputs(rec, o.scenario, frec ? &*frec : nullptr, *fo.force, fo.responses);
   make_out_dir(o.out);
   ident::FrfEstimateOptions eo = estimate_options(fo);
@@ -280,6 +280,7 @@ void write_mac(const std::string& out, const ident::LscfResult& ls, const study:
 Command frf_command() {
   Command c;
   c.name = "frf";
+  c.reads_records = true;
   c.positional = "SCENARIO|RECORD";
   c.summary = "FRFs: the model's by a direct frequency solve, or estimated from force and response records (frf.csv)";
   const auto declare = [](po::options_description& d, FrfOptions& f) {
@@ -486,6 +487,7 @@ Command modal_fit_command() {
 Command decay_command() {
   Command c;
   c.name = "decay";
+  c.reads_records = true;
   c.positional = "RECORD...";
   c.many_positionals = true;
   c.summary = "frequency and damping from free decays after train passages, against amplitude";
@@ -534,7 +536,7 @@ Command decay_command() {
     std::vector<double> f, zl, ze, zh;
     for (const auto& path : files) {
       try {
-        const io::Record rec = io::read_record(path);
+        const io::Record rec = read_record(path, o);
         const std::size_t ch = rec.channel(*k.channel);
         const ident::DecayResult r = ident::analyse_decay(rec.data.col(static_cast<Index>(ch)), rec.fs_hz, rec.t0_s, d);
         rows.push_back({path, rec.channels[ch], ident_fmt(r.start_s), r.start_detected ? "detected" : "given", ident_fmt(r.end_s),

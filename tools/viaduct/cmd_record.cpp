@@ -135,6 +135,7 @@ struct EnvelopeOptions {
 Command filter_command() {
   Command c;
   c.name = "filter";
+  c.reads_records = true;
   c.positional = "RECORD";
   c.summary = "zero-phase Chebyshev I filtering of a record's channels (filtered.csv)";
   const auto declare = [](po::options_description& d, FilterOptions& f) {
@@ -153,7 +154,7 @@ Command filter_command() {
       "  viaduct filter data/records/synthetic-deck.csv --low-hz 1 --high-hz 30 --out out/filtered\n"
       "  viaduct filter data/records/synthetic-deck.csv --band lowpass --high-hz 15 --channel deck_acc --out out/lp\n";
   const auto body = [](const Common& o, const FilterOptions& f) {
-    const io::Record in = io::read_record(o.scenario);
+    const io::Record in = read_record(o.scenario, o);
     signal::Cheby1Spec spec;
     const std::string& band = f.band;
     if (band == "bandpass") spec.band = signal::BandType::bandpass;
@@ -182,6 +183,7 @@ Command filter_command() {
 Command spectrum_command() {
   Command c;
   c.name = "spectrum";
+  c.reads_records = true;
   c.positional = "RECORD";
   c.summary = "amplitude spectrum or Welch PSD of a record's channels (spectrum.csv)";
   const auto declare = [](po::options_description& d, SpectrumOptions& s) {
@@ -203,7 +205,7 @@ Command spectrum_command() {
       "  viaduct spectrum data/records/synthetic-deck.csv --out out/spectrum\n"
       "  viaduct spectrum data/records/synthetic-deck.csv --welch --nperseg 1024 --out out/psd\n";
   const auto body = [](const Common& o, const SpectrumOptions& s) {
-    const io::Record in = io::time_window(io::read_record(o.scenario), s.wb.start_s, s.wb.end_s, "--start-s/--end-s");
+    const io::Record in = io::time_window(read_record(o.scenario, o), s.wb.start_s, s.wb.end_s, "--start-s/--end-s");
     const auto chans = selected(in, s.channels);
     const signal::Window w = window_option(s.window);
     const bool welch = s.welch;
@@ -255,6 +257,7 @@ Command spectrum_command() {
 Command peaks_command() {
   Command c;
   c.name = "peaks";
+  c.reads_records = true;
   c.positional = "RECORD";
   c.summary = "peaks of a record's spectrum or time history, with interpolated positions (peaks.csv)";
   const auto declare = [](po::options_description& d, PeaksOptions& p) {
@@ -277,7 +280,7 @@ Command peaks_command() {
       "  viaduct peaks data/records/synthetic-deck.csv --channel deck_acc --start-s 4 --f-min 5 --f-max 20 --max-peaks 1 --out out/peaks-free\n"
       "  viaduct peaks data/records/synthetic-deck.csv --channel deck_disp --time --min-distance 0.2 --max-peaks 0 --out out/axles\n";
   const auto body = [](const Common& o, const PeaksOptions& p) {
-    const io::Record in = io::time_window(io::read_record(o.scenario), p.wb.start_s, p.wb.end_s, "--start-s/--end-s");
+    const io::Record in = io::time_window(read_record(o.scenario, o), p.wb.start_s, p.wb.end_s, "--start-s/--end-s");
     if (p.time && (p.wb.f_min || p.wb.f_max)) throw InputError("--f-min/--f-max choose spectrum peaks: not with --time");
     const bool time = p.time;
     const signal::Window window = window_option(p.window);
@@ -331,6 +334,7 @@ Command peaks_command() {
 Command speed_command() {
   Command c;
   c.name = "speed";
+  c.reads_records = true;
   c.positional = "RECORD";
   c.summary = "train speed from a record: spectral lines of a characteristic distance, or axle peaks (speed.csv)";
   const auto declare = [](po::options_description& d, SpeedOptions& s) {
@@ -351,7 +355,7 @@ Command speed_command() {
       "  viaduct speed data/records/synthetic-deck.csv --channel deck_acc --distance-m 13.14 --v-min-kmh 100 --v-max-kmh 250 --out out/speed\n"
       "  viaduct speed data/records/synthetic-deck.csv --channel deck_disp --distance-m 13.14 --peaks --min-interval-s 0.2 --out out/speed-peaks\n";
   const auto body = [](const Common& o, const SpeedOptions& s) {
-    const io::Record in = io::read_record(o.scenario);
+    const io::Record in = read_record(o.scenario, o);
     if (!s.distance_m) throw InputError("--distance-m is required (the train's characteristic distance)");
     const double d = *s.distance_m;
     const bool peaks = s.peaks;
@@ -381,6 +385,7 @@ Command speed_command() {
 Command resample_command() {
   Command c;
   c.name = "resample";
+  c.reads_records = true;
   c.positional = "RECORD";
   c.summary = "a record at another sampling rate: decimation or anti-aliased interpolation (resampled.csv)";
   const auto declare = [](po::options_description& d, ResampleOptions& r) {
@@ -396,7 +401,7 @@ Command resample_command() {
       "  viaduct resample data/records/synthetic-deck.csv --decimate 5 --out out/dec\n"
       "  viaduct resample data/records/synthetic-deck.csv --fs-hz 4096 --out out/up\n";
   const auto body = [](const Common& o, const ResampleOptions& r) {
-    const io::Record in = io::read_record(o.scenario);
+    const io::Record in = read_record(o.scenario, o);
     if (r.fs_hz.has_value() == r.decimate.has_value()) throw InputError("give exactly one of --fs-hz or --decimate");
     const auto chans = selected(in, r.channels);
     const bool dec = r.decimate.has_value();
@@ -419,6 +424,7 @@ Command resample_command() {
 Command envelope_command() {
   Command c;
   c.name = "envelope";
+  c.reads_records = true;
   c.positional = "RECORD";
   c.summary = "running RMS, max-abs or Hilbert envelope of a record's channels (envelope.csv)";
   const auto declare = [](po::options_description& d, EnvelopeOptions& e) {
@@ -434,7 +440,7 @@ Command envelope_command() {
       "  viaduct envelope data/records/synthetic-deck.csv --kind rms --window-s 0.5 --out out/rms\n"
       "  viaduct envelope data/records/synthetic-deck.csv --kind hilbert --channel deck_acc --out out/hilbert\n";
   const auto body = [](const Common& o, const EnvelopeOptions& e) {
-    const io::Record in = io::read_record(o.scenario);
+    const io::Record in = read_record(o.scenario, o);
     const std::string& kind = e.kind;
     if (kind != "rms" && kind != "maxabs" && kind != "hilbert") throw InputError("--kind must be rms, maxabs or hilbert");
     const double w_s = e.window_s;
@@ -449,6 +455,92 @@ Command envelope_command() {
     io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "envelope", {o.scenario}), nullptr);
     if (!o.quiet) std::printf("%s envelope of %zu channels; wrote %s/envelope.csv\n", kind.c_str(), chans.size(), o.out.c_str());
     return ok;
+  };
+  bind(c, +declare, +body);
+  return c;
+}
+
+namespace {
+
+struct InspectOptions {};
+
+// One record's block on stdout and its rows of inspect.csv.
+void inspect_one(const std::string& path, const Common& o, std::vector<std::vector<std::string>>& rows) {
+  io::ImportReport rep;
+  const io::Record r = io::read_record(path, o.read, &rep);
+  const Index n = r.n_samples();
+  const double duration = static_cast<double>(n - 1) / r.fs_hz;
+  std::printf("%s\n  %s\n  time: %s\n  %ld samples at %.10g Hz, %.10g to %.10g s (%.6g s)", path.c_str(), rep.layout.c_str(), rep.time.c_str(),
+              static_cast<long>(n), r.fs_hz, r.t0_s, r.t0_s + duration, duration);
+  if (rep.max_time_offset > 1e-6) std::printf("; time stamps within %.2g samples of the grid", rep.max_time_offset);
+  std::printf("\n");
+  if (rep.gap_samples > 0) std::printf("  gaps: %ld samples missing from the time column\n", static_cast<long>(rep.gap_samples));
+  for (const auto& l : rep.notes) std::printf("  note: %s\n", l.c_str());
+  for (const auto& l : rep.repairs) std::printf("  repaired: %s\n", l.c_str());
+  std::printf("  %-24s %-22s %10s %8s %8s %12s %12s %12s %12s %12s %7s %6s\n", "channel", "in the file", "x factor", "missing", "filled",
+              "min", "max", "mean", "rms-mean", "drift", "at-lim", "flat");
+  for (std::size_t c = 0; c < r.channels.size(); ++c) {
+    const io::ImportReport::Channel* rc = nullptr;
+    for (const auto& x : rep.channels)
+      if (x.channel == r.channels[c]) rc = &x;
+    const io::ChannelSummary s = io::summarise_channel(r.data.col(static_cast<Index>(c)));
+    const std::string header = rc ? rc->header : r.channels[c];
+    const double factor = rc ? rc->factor : 1.0;
+    const long missing = rc ? static_cast<long>(rc->missing) : 0, filled = rc ? static_cast<long>(rc->interpolated) : 0;
+    std::printf("  %-24s %-22s %10.6g %8ld %8ld %12.5g %12.5g %12.5g %12.5g %12.5g %7ld %6ld\n", r.channels[c].c_str(), header.c_str(), factor,
+                missing, filled, s.min, s.max, s.mean, s.rms_ac, s.drift, static_cast<long>(s.at_limits), static_cast<long>(s.longest_flat));
+    if (s.clipped)
+      std::printf("  warning: %s: %ld samples sit at its max or min in runs longer than any elsewhere: clipped (over the sensor's or "
+                  "logger's range)?\n", r.channels[c].c_str(), static_cast<long>(s.at_limits));
+    rows.push_back({path, r.channels[c], header, r.units[c], io::table_cell(factor), io::table_cell(r.fs_hz), io::table_cell(r.t0_s),
+                    io::table_cell(duration), std::to_string(n), std::to_string(missing), std::to_string(filled), io::table_cell(s.min),
+                    io::table_cell(s.max), io::table_cell(s.mean), io::table_cell(s.rms_ac), io::table_cell(s.drift),
+                    std::to_string(s.at_limits), std::to_string(s.longest_flat), s.clipped ? "yes" : "no"});
+  }
+}
+
+}  // namespace
+
+Command inspect_command() {
+  Command c;
+  c.name = "inspect";
+  c.reads_records = true;
+  c.many_positionals = true;
+  c.positional = "RECORD [RECORD ...]";
+  c.summary = "what a record file holds: layout, units, rate, gaps, NaNs, clipping, offsets (inspect.csv)";
+  const auto declare = [](po::options_description&, InspectOptions&) {};
+  c.usage_and_samples =
+      "Reads each record as every command does (docs/records.md) and prints what it understood and\n"
+      "repaired, and per channel: unit and factor, missing and interpolated samples, min, max,\n"
+      "mean (offset), RMS about the mean, drift (last tenth minus first), samples at the limits in\n"
+      "runs of 3 or more (clipping?) and the longest run of one value (a stuck sensor?). Writes\n"
+      "OUT/inspect.csv, a row per file and channel. A file that cannot be read is reported and the\n"
+      "others are inspected (exit 1; 2 when none could be read).\n\n"
+      "Sample runs:\n"
+      "  viaduct inspect data/records/synthetic-deck.csv --out out/inspect\n"
+      "  viaduct inspect data/records/logger-semicolon.csv --out out/inspect-logger\n";
+  const auto body = [](const Common& o, const InspectOptions&) {
+    std::vector<std::string> files{o.scenario};
+    files.insert(files.end(), o.more.begin(), o.more.end());
+    std::vector<std::vector<std::string>> rows;
+    std::size_t failed = 0;
+    for (const auto& f : files) {
+      try {
+        inspect_one(f, o, rows);
+      } catch (const InputError& e) {
+        if (files.size() == 1) throw;
+        ++failed;
+        std::fprintf(stderr, "viaduct inspect: error: %s\n", e.what());
+      }
+    }
+    make_out_dir(o.out);
+    io::write_table_csv(o.out + "/inspect.csv",
+                        {"file", "channel", "header", "unit", "factor", "fs_hz", "t0_s", "duration_s", "samples", "missing", "interpolated",
+                         "min", "max", "mean", "rms_ac", "drift", "at_limits", "longest_flat", "clipped"},
+                        rows);
+    io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "inspect", files), nullptr);
+    if (failed == files.size()) return static_cast<int>(usage_error);
+    return failed > 0 ? static_cast<int>(runtime_failure) : static_cast<int>(ok);
   };
   bind(c, +declare, +body);
   return c;

@@ -69,11 +69,12 @@ TEST_CASE("UFF dataset 58 (ASCII): single and double precision channels") {
   const Record r = read_record(d.write("test.uff", text));
   REQUIRE(r.fs_hz == Approx(4000.0).epsilon(1e-12));
   REQUIRE(r.t0_s == 0.5);
-  REQUIRE(r.channels == std::vector<std::string>{"S1_mid_mps2", "S2_mid_g"});
+  // Channels in viaduct's units: g read as m/s² (× 9.80665, the standard gravity).
+  REQUIRE(r.channels == std::vector<std::string>{"S1_mid_mps2", "S2_mid_mps2"});
   REQUIRE(r.n_samples() == 11);
   for (int i = 0; i < 11; ++i) {
     REQUIRE(r.data(i, 0) == Approx(a[static_cast<std::size_t>(i)]).epsilon(1e-11));  // 4E20.11
-    REQUIRE(r.data(i, 1) == Approx(b[static_cast<std::size_t>(i)]).epsilon(1e-5));   // 6E13.5
+    REQUIRE(r.data(i, 1) == Approx(9.80665 * b[static_cast<std::size_t>(i)]).epsilon(1e-5));   // 6E13.5
   }
 }
 
