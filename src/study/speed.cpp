@@ -2,11 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <limits>
+#include <tuple>
 #include <string>
 #include <vector>
 
 #include "viaduct/core/error.hpp"
+#include "viaduct/signal/iir.hpp"
 #include "viaduct/signal/peaks.hpp"
 #include "viaduct/signal/spectrum.hpp"
 
@@ -109,6 +112,251 @@ SpeedEstimate speed_from_peaks(const Vector& x, double fs_hz, double d, double m
   e.frequency_hz = 1.0 / mean;
   e.n_used = n;
   return e;
+}
+
+namespace {
+
+// x (sampled at fs from 0) linearly interpolated at t; 0 outside.
+double sample_of(const Vector& x, double fs, double t) {
+  const double s = t * fs;
+  if (!(s >= 0.0) || s > static_cast<double>(x.size() - 1)) return 0.0;
+  const auto i = static_cast<Index>(std::floor(s));
+  if (i + 1 >= x.size()) return x[x.size() - 1];
+  const double w = s - static_cast<double>(i);
+  return (1.0 - w) * x[i] + w * x[i + 1];
+}
+
+double centred_correlation(const Vector& a, const Vector& b) {
+  const Vector da = a.array() - a.mean(), db = b.array() - b.mean();
+  const double den = std::sqrt(da.squaredNorm() * db.squaredNorm());
+  return den > 0 ? da.dot(db) / den : 0.0;
+}
+
+// The record (filtered) against templates at trial speeds.
+class Signature {
+ public:
+  Signature(const Vector& record, double fs, const std::function<Vector(double)>& f, double fs_t, const SignatureOptions& o)
+      : fs_(fs), fs_t_(fs_t), f_(f), o_(o) {
+    y_ = o.filter.enabled ? signal::sosfiltfilt(signal::cheby1(o.filter.cheby, fs), record) : record;
+    yc_ = y_.array() - y_.mean();
+  }
+  const Vector& y() const { return y_; }
+  double shortest_s() const { return shortest_s_; }
+  double pad_s() const { return pad_s_; }
+  Index evaluations() const { return n_; }
+
+  // The filtered template at speed v, at the template's rate, from t = −pad (the quiet before the
+  // train, zeros: filtered as the record's quiet lead-in is, without the filter's edge effects).
+  Vector filtered(double v) {
+    ++n_;
+    const Vector m = f_(v);
+    shortest_s_ = std::min(shortest_s_, static_cast<double>(m.size() - 1) / fs_t_);
+    if (m.size() < 16 || !m.allFinite()) throw InputError("speed match: the template at " + format_number(v * 3.6, 6) + " km/h is not 16 finite samples");
+    return filter_padded(m);
+  }
+  Vector filter_padded(const Vector& m) const {
+    const auto n_pad = static_cast<Index>(std::llround(pad_s_ * fs_t_));
+    Vector p = Vector::Zero(m.size() + n_pad);
+    p.tail(m.size()) = m;
+    return o_.filter.enabled ? signal::sosfiltfilt(signal::cheby1(o_.filter.cheby, fs_t_), p) : p;
+  }
+  // The template aligned on the record's grid, its t = 0 at record sample `lag`.
+  Vector aligned(const Vector& m, double lag) const {
+    Vector a(y_.size());
+    const double pad = static_cast<double>(std::llround(pad_s_ * fs_t_)) / fs_t_;
+    for (Index j = 0; j < a.size(); ++j) a[j] = sample_of(m, fs_t_, (static_cast<double>(j) - lag) / fs_ + pad);
+    return a;
+  }
+  // Best lag (record sample of the template's t = 0) and the correlation there.
+  std::pair<double, double> best(const Vector& m) const {
+    const auto n_r = static_cast<Index>(std::floor(static_cast<double>(m.size() - 1) / fs_t_ * fs_)) + 1;
+    Vector m_r(n_r);
+    for (Index j = 0; j < n_r; ++j) m_r[j] = sample_of(m, fs_t_, static_cast<double>(j) / fs_);
+    const auto max_lag = static_cast<Index>(std::ceil(o_.max_shift_s * fs_));
+    const double pad = static_cast<double>(std::llround(pad_s_ * fs_t_)) / fs_t_;
+    const double lag = signal::best_lag(m_r, yc_, max_lag) + pad * fs_;
+    return {lag, centred_correlation(y_, aligned(m, lag))};
+  }
+  double score(double v) { return best(filtered(v)).second; }
+
+ private:
+  double fs_, fs_t_;
+  const std::function<Vector(double)>& f_;
+  const SignatureOptions& o_;
+  Vector y_, yc_;
+  Index n_ = 0;
+  double pad_s_ = 1.0;  // [s] longer than the filter's memory (a 1 Hz band edge: a few tenths of a second)
+  double shortest_s_ = std::numeric_limits<double>::infinity();  // [s] the shortest template so far
+};
+
+// Rows of the least-squares fit: record samples whose template time lies in [−pad/2, T − 0.25 s]
+// (T: the shortest template, at the highest speed searched; its end and the record's ends carry
+// the filter's edge effects, which differ between record and template), 0.25 s inside the record.
+std::vector<Index> fit_rows(Index n, double fs, double lag, double pad_s, double shortest_s) {
+  std::vector<Index> rows;
+  const auto edge = static_cast<Index>(0.25 * fs);
+  for (Index j = edge; j + edge < n; ++j) {
+    const double t = (static_cast<double>(j) - lag) / fs;
+    if (t >= -pad_s / 2 && t <= shortest_s - 0.25) rows.push_back(j);
+  }
+  return rows;
+}
+
+Matrix rows_of(const Matrix& X, const std::vector<Index>& rows) {
+  Matrix out(static_cast<Index>(rows.size()), X.cols());
+  for (std::size_t k = 0; k < rows.size(); ++k) out.row(static_cast<Index>(k)) = X.row(rows[k]);
+  return out;
+}
+
+// Golden-section search for the maximum of f on [a, b] to a width `width`.
+double golden_max(const std::function<double(double)>& f, double a, double b, double width) {
+  const double r = (std::sqrt(5.0) - 1) / 2;
+  double c = b - r * (b - a), d = a + r * (b - a);
+  double fc = f(c), fd = f(d);
+  for (int it = 0; it < 200 && b - a > width; ++it) {
+    if (fc >= fd) {
+      b = d, d = c, fd = fc;
+      c = b - r * (b - a), fc = f(c);
+    } else {
+      a = c, c = d, fc = fd;
+      d = a + r * (b - a), fd = f(d);
+    }
+  }
+  return fc >= fd ? c : d;
+}
+
+// Independent samples of a residual of `n` samples at fs after the filter (its band B: N × 2B/fs).
+double effective_samples(Index n, double fs, const FilterSpec& f) {
+  double band = fs / 2;
+  if (f.enabled) {
+    const auto& c = f.cheby;
+    band = c.band == signal::BandType::lowpass ? c.high_hz : c.band == signal::BandType::highpass ? fs / 2 - c.low_hz : c.high_hz - c.low_hz;
+  }
+  return static_cast<double>(n) * std::min(1.0, 2 * band / fs);
+}
+
+}  // namespace
+
+SignatureMatch match_signature(const Vector& record, double fs_hz, double t0_s, const std::function<Vector(double)>& template_at,
+                               double fs_template, const SignatureOptions& o) {
+  require_positive(fs_hz, "record sampling rate [Hz]");
+  require_positive(fs_template, "template sampling rate [Hz]");
+  require_positive(o.v_min, "lowest speed [m/s]");
+  require_positive(o.grid_step, "grid step");
+  require_positive(o.max_shift_s, "max_shift_s [s]");
+  require_finite(t0_s, "record start [s]");
+  if (!(o.v_max > o.v_min) || !std::isfinite(o.v_max)) throw InputError("speed range: need v_max > v_min");
+  if (record.size() < 16 || !record.allFinite()) throw InputError("speed match: need at least 16 finite samples");
+  Signature sig(record, fs_hz, template_at, fs_template, o);
+  // 1. log-spaced grid
+  std::vector<double> vs;
+  for (double v = o.v_min; v < o.v_max * (1 + 1e-9); v *= 1 + o.grid_step) vs.push_back(v);
+  if (vs.back() < o.v_max) vs.push_back(o.v_max);
+  std::vector<double> sc(vs.size());
+  for (std::size_t i = 0; i < vs.size(); ++i) sc[i] = sig.score(vs[i]);
+  const auto ib = static_cast<std::size_t>(std::max_element(sc.begin(), sc.end()) - sc.begin());
+  // 2. golden section between the neighbours of the best grid point
+  const double a = vs[ib > 0 ? ib - 1 : 0], b = vs[std::min(ib + 1, vs.size() - 1)];
+  const double v_best = a < b ? golden_max([&](double x) { return sig.score(x); }, a, b, 1e-6 * b) : vs[ib];
+  // 3. least squares: y ≈ c + A·m(t − τ; v), Gauss-Newton in (c, A, v, τ) from the correlation's
+  // optimum (whose lag, a parabola through the cross-correlation's peak, is biased by up to a
+  // fraction of a sample, which the speed would otherwise absorb); Jacobian by central differences.
+  const Vector& y = sig.y();
+  double v = v_best, lag = 0.0, corr = 0.0, A = 0.0;
+  Matrix X;
+  Vector e;
+  for (int it = 0; it < 8; ++it) {
+    const Vector m = sig.filtered(v);
+    if (it == 0) std::tie(lag, corr) = sig.best(m);
+    const std::vector<Index> rows = fit_rows(y.size(), fs_hz, lag, sig.pad_s(), sig.shortest_s());
+    if (rows.size() < 16) throw InputError("speed match: the record and the template overlap by fewer than 16 samples away from their ends");
+    const Vector a0 = sig.aligned(m, lag);
+    const double dv = 1e-4 * v;
+    Matrix Xf(y.size(), 5);
+    Xf.col(0).setOnes();
+    Xf.col(1) = a0;
+    Xf.col(2) = (sig.aligned(sig.filtered(v + dv), lag) - sig.aligned(sig.filtered(v - dv), lag)) / (2 * dv);
+    Xf.col(3) = (sig.aligned(m, lag + 1.0) - sig.aligned(m, lag - 1.0)) * (fs_hz / 2);
+    Xf.col(4) = y;
+    const Matrix W = rows_of(Xf, rows);
+    const Vector yw = W.col(4);
+    const Eigen::Vector2d ca = W.leftCols(2).colPivHouseholderQr().solve(yw);
+    A = ca[1];
+    X = W.leftCols(4);
+    X.col(2) *= A;
+    X.col(3) *= A;
+    e = yw - W.leftCols(2) * ca;
+    corr = centred_correlation(yw, W.col(1));
+    const Eigen::Vector4d step = X.colPivHouseholderQr().solve(e);
+    if (std::abs(step[2]) < 1e-7 * v && std::abs(step[3]) * fs_hz < 1e-4) break;
+    v += step[2];
+    lag += step[3] * fs_hz;
+  }
+  SignatureMatch r;
+  r.speed = v;
+  r.shift_s = t0_s + lag / fs_hz;
+  r.amplitude = A;
+  r.correlation = corr;
+  const auto n = X.rows();
+  r.n_effective = effective_samples(n, fs_hz, o.filter);
+  const double sigma2 = e.squaredNorm() / static_cast<double>(n - 4) * static_cast<double>(n) / r.n_effective;
+  const Eigen::Matrix4d XtX = X.transpose() * X;
+  const Eigen::Matrix4d cov = sigma2 * XtX.inverse();
+  r.speed_se = std::sqrt(std::max(0.0, cov(2, 2)));
+  r.shift_se = std::sqrt(std::max(0.0, cov(3, 3)));
+  r.n_evaluations = sig.evaluations();
+  return r;
+}
+
+Delay delay_between(const Vector& a, const Vector& b, double fs_hz, const FilterSpec& filter, double max_delay_s) {
+  require_positive(fs_hz, "sampling rate [Hz]");
+  require_positive(max_delay_s, "largest delay [s]");
+  if (a.size() != b.size() || a.size() < 16 || !a.allFinite() || !b.allFinite())
+    throw InputError("delay: need two channels of the same length, at least 16 finite samples");
+  const Vector fa = filter.enabled ? signal::sosfiltfilt(signal::cheby1(filter.cheby, fs_hz), a) : a;
+  const Vector y = filter.enabled ? signal::sosfiltfilt(signal::cheby1(filter.cheby, fs_hz), b) : b;
+  const Index n = y.size();
+  // Fractional delays by a phase shift (band-limited): a linear interpolation of the noisy first
+  // channel would average its noise by an amount that depends on the fraction and bias the lag
+  // towards half samples.
+  Index nfft = 1;
+  while (nfft < 4 * n) nfft *= 2;
+  Vector pa = Vector::Zero(nfft);
+  pa.head(n) = fa;
+  const signal::ComplexVector A = signal::rfft(pa);
+  auto shifted = [&](double lag) {
+    signal::ComplexVector S = A;
+    for (Index k = 0; k < S.size(); ++k)
+      S[k] *= std::polar(1.0, -2 * 3.14159265358979323846 * static_cast<double>(k) * lag / static_cast<double>(nfft));
+    return Vector(signal::irfft(S, nfft).head(n));
+  };
+  double lag = signal::best_lag(fa, Vector(y.array() - y.mean()), static_cast<Index>(std::ceil(max_delay_s * fs_hz)));
+  // The lag minimising the residual of b ≈ c + g·a(t − delay) (c, g fitted at each lag), over a
+  // window fixed from the first lag in which the delayed first channel is all its own samples (a
+  // window that moved with the lag would hold fewer of its noise samples the longer the delay).
+  // A search in one variable: the first channel's noise makes a Jacobian by differences useless.
+  const auto l0 = static_cast<Index>(std::llround(lag));
+  const Index j0 = std::max<Index>(0, l0) + 4, j1 = std::min<Index>(n, n + l0) - 4;
+  if (j1 - j0 < 16) throw InputError("delay: the two channels overlap by fewer than 16 samples at a delay of " + format_number(lag / fs_hz, 6) + " s");
+  const Index nw = j1 - j0;
+  const Vector yw = y.segment(j0, nw);
+  auto rss = [&](double l) {
+    Matrix X(nw, 2);
+    X.col(0).setOnes();
+    X.col(1) = shifted(l).segment(j0, nw);
+    const Eigen::Vector2d cg = X.colPivHouseholderQr().solve(yw);
+    return (yw - X * cg).squaredNorm();
+  };
+  lag = golden_max([&](double l) { return -rss(l); }, lag - 1.5, lag + 1.5, 1e-4);
+  const double h = 0.05;  // [samples]
+  const double r0 = rss(lag), curvature = (rss(lag + h) - 2 * r0 + rss(lag - h)) / (h * h);  // per sample²
+  const double n_eff = effective_samples(nw, fs_hz, filter);
+  const double sigma2 = r0 / static_cast<double>(nw - 3) * static_cast<double>(nw) / n_eff;
+  Delay d;
+  d.delay_s = lag / fs_hz;
+  d.delay_se = curvature > 0 ? std::sqrt(2 * sigma2 / curvature) / fs_hz : std::numeric_limits<double>::infinity();
+  d.correlation = centred_correlation(yw, shifted(lag).segment(j0, nw));
+  return d;
 }
 
 }  // namespace viaduct::study

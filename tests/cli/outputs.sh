@@ -164,4 +164,16 @@ expect 0 "5" -- awk 'END { print NR }' "$WORK/li2/inspect.csv"
 awk 'BEGIN { print "t_s,a_g"; for (k = 0; k < 2000; k++) { x = 3 * sin(2 * 3.14159265 * 5 * k / 1000); if (x > 2) x = 2; if (x < -2) x = -2; printf "%.3f,%.6f\n", k / 1000, x } }' > "$WORK/clip.csv"
 expect 0 "warning: a_mps2: " -- "$VIADUCT" inspect "$WORK/clip.csv" --out "$WORK/lclip"
 expect 0 "clipped (over the sensor's or logger's range)?" -- "$VIADUCT" inspect "$WORK/clip.csv" --out "$WORK/lclip"
+# Speed from the train (#19 part 3): the logger passage (made at 154.8 km/h) against the model.
+expect 0 "Disp_S1_mid_m          train-signature 154.80" -- "$VIADUCT" speed "$LOG" --channel 'Disp S1 mid' --model "$SRC/scenarios/old-guadiana-talgo.toml" \
+  --station S1_mid --v-min-kmh 150 --v-max-kmh 160 --out "$WORK/lsp"
+expect 0 "channel,method,speed_kmh,uncertainty_kmh,frequency_hz,n_used,first_axle_s,first_axle_uncertainty_s,correlation,amplitude" -- head -1 "$WORK/lsp/speed.csv"
+expect 2 "--station: no station 'S9' in" -- "$VIADUCT" speed "$LOG" --channel 'Disp S1 mid' --model "$SRC/scenarios/old-guadiana-talgo.toml" --station S9 --out "$WORK/lsp"
+expect 2 "a strain channel needs stations[].fibre_m" -- "$VIADUCT" speed "$LOG" --channel 'Strain S1 mid' --model "$SRC/scenarios/old-guadiana-talgo.toml" --station S1_mid --out "$WORK/lsp"
+# Two sensors 10 m apart, a pulse passing at 40 m/s (0.25 s): 144 km/h.
+awk 'BEGIN { print "t_s,s1_m,s2_m"; for (k = 0; k < 2000; k++) { t = k / 500; printf "%.4f,%.6e,%.6e\n", t, exp(-((t - 1.5) / 0.1)^2), exp(-((t - 1.75) / 0.1)^2) } }' > "$WORK/two.csv"
+expect 0 "s1_m -> s2_m: delay 0.25000 s" -- "$VIADUCT" speed "$WORK/two.csv" --channel s1 --second-channel s2 --sensor-distance-m 10 --out "$WORK/two"
+expect 0 "144.000 km/h" -- "$VIADUCT" speed "$WORK/two.csv" --channel s1 --second-channel s2 --sensor-distance-m 10 --out "$WORK/two"
+expect 2 "--second-channel s1_m leads s2_m (delay -0.25 s)" -- "$VIADUCT" speed "$WORK/two.csv" --channel s2 --second-channel s1 --sensor-distance-m 10 --out "$WORK/two"
+expect 2 "--sensor-distance-m and --second-channel go together" -- "$VIADUCT" speed "$WORK/two.csv" --channel s1 --sensor-distance-m 10 --out "$WORK/two"
 finish

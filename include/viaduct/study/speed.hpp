@@ -3,7 +3,10 @@
 /// bogie (shared-axle) distance: a train of regular spacing d passing at v excites lines at
 /// k·v/d. Two estimators: the spectral comb, and the spacing of axle-passage peaks.
 
+#include <functional>
+
 #include "viaduct/core/types.hpp"
+#include "viaduct/study/scenario.hpp"
 
 namespace viaduct::study {
 
@@ -26,5 +29,46 @@ SpeedEstimate speed_from_spectrum(const Vector& x, double fs_hz, double d, doubl
 /// largest prominence, v = d / interval, using only intervals within 15 % of the median.
 /// Needs at least 3 peaks.
 SpeedEstimate speed_from_peaks(const Vector& x, double fs_hz, double d, double min_interval_s);
+
+/// The speed and timing of a passage from the shape of its signal: the record against the
+/// signal expected at each trial speed (for a train on a bridge model, the station's simulated
+/// response; for two sensors, the other sensor's record).
+struct SignatureMatch {
+  double speed = 0.0;        ///< [m/s] (for the delay of two sensors: the delay [s])
+  double speed_se = 0.0;     ///< [m/s] standard error (least squares, residual noise band-limited)
+  double shift_s = 0.0;      ///< [s] record time of the template's t = 0
+  double shift_se = 0.0;     ///< [s] standard error
+  double amplitude = 0.0;    ///< record ≈ amplitude × template (1 for a model that matches)
+  double correlation = 0.0;  ///< of the filtered record and the aligned, scaled template
+  Index n_evaluations = 0;   ///< templates computed
+  double n_effective = 0.0;  ///< independent samples the standard errors assume (N × 2B/fs)
+};
+
+struct SignatureOptions {
+  double v_min = 40.0 / 3.6, v_max = 400.0 / 3.6;  ///< [m/s] range searched, 0 < v_min < v_max
+  double grid_step = 0.01;   ///< relative step of the first, coarse search (log-spaced speeds)
+  FilterSpec filter;         ///< applied to record and template alike (disabled: none)
+  double max_shift_s = 600.0;  ///< [s] alignment search range
+};
+
+/// Maximises over v the correlation of the filtered record with the filtered template_at(v)
+/// (sampled at fs_template from its t = 0) aligned by cross-correlation: a log-spaced grid
+/// (grid_step), then golden-section refinement around the best point to 1e-6 relative. The
+/// standard errors come from the least-squares fit of amplitude, speed and shift at the optimum
+/// (Jacobian by central differences), with the residual's variance and N × 2B/fs independent
+/// samples (B: the filter's band; fs/2 without a filter); the residual holds the noise and any
+/// mismatch of the template, so both widen them. InputError for bad ranges, too short or
+/// non-finite signals.
+SignatureMatch match_signature(const Vector& record, double fs_hz, double t0_s, const std::function<Vector(double)>& template_at,
+                               double fs_template, const SignatureOptions& o);
+
+/// The delay of sensor b behind sensor a (both sampled at fs from the same start) by
+/// cross-correlation of the filtered channels, refined by a parabola; standard error from the
+/// least-squares fit b ≈ c + g·a(t − delay) as in match_signature. For two sensors d metres apart
+/// along the track the speed is d / delay.
+struct Delay {
+  double delay_s = 0.0, delay_se = 0.0, correlation = 0.0;
+};
+Delay delay_between(const Vector& a, const Vector& b, double fs_hz, const FilterSpec& filter, double max_delay_s);
 
 }  // namespace viaduct::study

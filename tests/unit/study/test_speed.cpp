@@ -1,6 +1,8 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
+#include <functional>
+#include <random>
 
 #include "viaduct/core/error.hpp"
 #include "viaduct/study/simulation.hpp"
@@ -45,4 +47,66 @@ TEST_CASE("a simulated train's speed is recovered within 0.5 % (spectral lines a
   REQUIRE_THROWS_WITH(speed_from_spectrum(r.stations[0].acc, 500.0, d, 20.0, 900.0, 4), Catch::Contains("Nyquist"));
   REQUIRE_THROWS_AS(speed_from_spectrum(r.stations[0].acc, 500.0, 0.0, 20.0, 80.0), InputError);
   REQUIRE_THROWS_WITH(speed_from_peaks(Vector::Zero(100), 500.0, d, 0.2), Catch::Contains("fewer than 3 peaks"));
+}
+
+TEST_CASE("delay between two sensors: the lag of a noisy copy within its standard error") {
+  // b is a delayed by 0.12345 s (61.725 samples at 500 Hz: a fraction of a sample) with 5 %
+  // noise on both: the delay is found within 3 standard errors and the errors are of the noise.
+  const double fs = 500.0, delay = 0.12345;
+  const Index n = 3000;
+  auto pulse = [](double t) { return std::exp(-std::pow((t - 2.0) / 0.15, 2)) - 0.6 * std::exp(-std::pow((t - 3.1) / 0.2, 2)); };
+  Vector a(n), b(n);
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 0.05 * 0.3);
+  for (Index j = 0; j < n; ++j) {
+    const double t = static_cast<double>(j) / fs;
+    a[j] = pulse(t) + noise(rng);
+    b[j] = pulse(t - delay) + noise(rng);
+  }
+  // Low-passed at 20 Hz (the pulses' content is below 5 Hz): the noise of the first channel,
+  // which the fit delays, is then smooth.
+  FilterSpec lp;
+  lp.cheby.band = signal::BandType::lowpass;
+  lp.cheby.high_hz = 20.0;
+  const Delay d = delay_between(a, b, fs, lp, 1.0);
+  INFO("delay " << d.delay_s << " +- " << d.delay_se);
+  REQUIRE(std::abs(d.delay_s - delay) <= 3 * d.delay_se);
+  REQUIRE(d.delay_se < 5e-4);  // a quarter of a sample: pulses 75 samples wide, 5 % noise on both within 20 Hz
+  REQUIRE(d.correlation > 0.98);
+  REQUIRE_THROWS_AS(delay_between(a, b.head(100), fs, lp, 1.0), InputError);
+}
+
+TEST_CASE("signature match: a template of known speed and shift, and what is refused") {
+  // Template: two bumps 20 m apart passing at v (their times 20/v apart); the record is the
+  // template at 30 m/s, 1.5 s late, with 2 % noise.
+  const double fs = 400.0;
+  auto make = [&](double v) {
+    const Index n = static_cast<Index>((60.0 / v + 0.5) * fs);
+    Vector m(n);
+    for (Index j = 0; j < n; ++j) {
+      const double x = v * static_cast<double>(j) / fs;  // travelled [m]
+      m[j] = std::exp(-std::pow((x - 10.0) / 2.0, 2)) + 0.7 * std::exp(-std::pow((x - 30.0) / 2.0, 2));
+    }
+    return m;
+  };
+  const Vector truth = make(30.0);
+  Vector rec = Vector::Zero(truth.size() + 1000);
+  rec.segment(600, truth.size()) = truth;
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.02);
+  for (Index j = 0; j < rec.size(); ++j) rec[j] += noise(rng);
+  SignatureOptions o;
+  o.v_min = 20.0;
+  o.v_max = 45.0;
+  o.filter.enabled = false;
+  o.max_shift_s = 10.0;
+  const std::function<Vector(double)> at = make;
+  const SignatureMatch m = match_signature(rec, fs, 0.0, at, fs, o);
+  INFO("v " << m.speed << " +- " << m.speed_se << ", shift " << m.shift_s << " +- " << m.shift_se);
+  REQUIRE(std::abs(m.speed - 30.0) <= 3 * m.speed_se);
+  REQUIRE(std::abs(m.shift_s - 1.5) <= 3 * m.shift_se);
+  REQUIRE(m.amplitude == Approx(1.0).epsilon(0.02));
+  REQUIRE(m.n_evaluations > 40);
+  o.v_max = 10.0;
+  REQUIRE_THROWS_WITH(match_signature(rec, fs, 0.0, at, fs, o), Catch::Contains("need v_max > v_min"));
 }
