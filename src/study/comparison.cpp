@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "series.hpp"
 #include "viaduct/core/error.hpp"
 #include "viaduct/signal/iir.hpp"
 #include "viaduct/signal/peaks.hpp"
@@ -11,22 +12,6 @@
 namespace viaduct::study {
 
 namespace {
-
-// Linear interpolation of x (sampled at fs from 0) at time t; 0 outside.
-double sample_at(const Vector& x, double fs, double t) {
-  const double s = t * fs;
-  if (!(s >= 0.0) || s > static_cast<double>(x.size() - 1)) return 0.0;
-  const auto i = static_cast<Index>(std::floor(s));
-  if (i + 1 >= x.size()) return x[x.size() - 1];
-  const double w = s - static_cast<double>(i);
-  return (1.0 - w) * x[i] + w * x[i + 1];
-}
-
-double pearson(const Vector& a, const Vector& b) {
-  const Vector da = a.array() - a.mean(), db = b.array() - b.mean();
-  const double den = std::sqrt(da.squaredNorm() * db.squaredNorm());
-  return den > 0 ? da.dot(db) / den : 0.0;
-}
 
 double main_peak_hz(const Vector& f, const Vector& amp, double f_max) {
   Index n = 0;
@@ -59,7 +44,7 @@ ChannelComparison compare_channel(const Vector& record, double fs_record, double
   // 2. model onto the record's rate, then 3. align by cross-correlation
   const auto n_m = static_cast<Index>(std::floor(static_cast<double>(model.size() - 1) / fs_model * fs_record)) + 1;
   Vector mod_r(n_m);
-  for (Index j = 0; j < n_m; ++j) mod_r[j] = sample_at(mod, fs_model, static_cast<double>(j) / fs_record);
+  for (Index j = 0; j < n_m; ++j) mod_r[j] = detail::sample_at(mod, fs_model, static_cast<double>(j) / fs_record);
   const auto max_lag = static_cast<Index>(std::ceil(o.max_shift_s * fs_record));
   const double lag = signal::best_lag(mod_r, rec, max_lag);
   c.shift_s = t0_record + lag / fs_record;
@@ -73,7 +58,7 @@ ChannelComparison compare_channel(const Vector& record, double fs_record, double
   for (Index j = 0; j < n; ++j) {
     c.t[j] = t0_record + static_cast<double>(j) / fs_record;
     const double tm = (static_cast<double>(j) - lag) / fs_record;
-    c.model[j] = sample_at(mod, fs_model, tm);
+    c.model[j] = detail::sample_at(mod, fs_model, tm);
     if (tm >= 0.0 && tm <= t_model_end) overlap.push_back(j);
   }
   if (overlap.size() < 16) throw InputError("comparison: record and aligned model overlap by fewer than 16 samples");
@@ -88,7 +73,7 @@ ChannelComparison compare_channel(const Vector& record, double fs_record, double
   const double rms_r = std::sqrt(ro.squaredNorm() / static_cast<double>(ro.size()));
   const double rms_m = std::sqrt(mo.squaredNorm() / static_cast<double>(mo.size()));
   c.rms_ratio = rms_r > 0 ? rms_m / rms_r : 0.0;
-  c.correlation = pearson(ro, mo);
+  c.correlation = detail::pearson(ro, mo);
   // 5. spectra of the aligned signals over the record window
   const auto ar = signal::amplitude_spectrum(c.record, fs_record, signal::Window::hann);
   const auto am = signal::amplitude_spectrum(c.model, fs_record, signal::Window::hann);
@@ -102,7 +87,7 @@ ChannelComparison compare_channel(const Vector& record, double fs_record, double
   c.f_peak_model_hz = main_peak_hz(am.frequency_hz, am.amplitude, f_max);
   Index nf = 0;
   while (nf < ar.frequency_hz.size() && ar.frequency_hz[nf] <= f_max) ++nf;
-  c.spectral_correlation = pearson(ar.amplitude.head(nf), am.amplitude.head(nf));
+  c.spectral_correlation = detail::pearson(ar.amplitude.head(nf), am.amplitude.head(nf));
   return c;
 }
 

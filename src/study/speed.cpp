@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "series.hpp"
 #include "viaduct/core/error.hpp"
 #include "viaduct/signal/iir.hpp"
 #include "viaduct/signal/peaks.hpp"
@@ -116,22 +117,6 @@ SpeedEstimate speed_from_peaks(const Vector& x, double fs_hz, double d, double m
 
 namespace {
 
-// x (sampled at fs from 0) linearly interpolated at t; 0 outside.
-double sample_of(const Vector& x, double fs, double t) {
-  const double s = t * fs;
-  if (!(s >= 0.0) || s > static_cast<double>(x.size() - 1)) return 0.0;
-  const auto i = static_cast<Index>(std::floor(s));
-  if (i + 1 >= x.size()) return x[x.size() - 1];
-  const double w = s - static_cast<double>(i);
-  return (1.0 - w) * x[i] + w * x[i + 1];
-}
-
-double centred_correlation(const Vector& a, const Vector& b) {
-  const Vector da = a.array() - a.mean(), db = b.array() - b.mean();
-  const double den = std::sqrt(da.squaredNorm() * db.squaredNorm());
-  return den > 0 ? da.dot(db) / den : 0.0;
-}
-
 // The record (filtered) against templates at trial speeds.
 class Signature {
  public:
@@ -164,18 +149,18 @@ class Signature {
   Vector aligned(const Vector& m, double lag) const {
     Vector a(y_.size());
     const double pad = static_cast<double>(std::llround(pad_s_ * fs_t_)) / fs_t_;
-    for (Index j = 0; j < a.size(); ++j) a[j] = sample_of(m, fs_t_, (static_cast<double>(j) - lag) / fs_ + pad);
+    for (Index j = 0; j < a.size(); ++j) a[j] = detail::sample_at(m, fs_t_, (static_cast<double>(j) - lag) / fs_ + pad);
     return a;
   }
   // Best lag (record sample of the template's t = 0) and the correlation there.
   std::pair<double, double> best(const Vector& m) const {
     const auto n_r = static_cast<Index>(std::floor(static_cast<double>(m.size() - 1) / fs_t_ * fs_)) + 1;
     Vector m_r(n_r);
-    for (Index j = 0; j < n_r; ++j) m_r[j] = sample_of(m, fs_t_, static_cast<double>(j) / fs_);
+    for (Index j = 0; j < n_r; ++j) m_r[j] = detail::sample_at(m, fs_t_, static_cast<double>(j) / fs_);
     const auto max_lag = static_cast<Index>(std::ceil(o_.max_shift_s * fs_));
     const double pad = static_cast<double>(std::llround(pad_s_ * fs_t_)) / fs_t_;
     const double lag = signal::best_lag(m_r, yc_, max_lag) + pad * fs_;
-    return {lag, centred_correlation(y_, aligned(m, lag))};
+    return {lag, detail::pearson(y_, aligned(m, lag))};
   }
   double score(double v) { return best(filtered(v)).second; }
 
@@ -286,7 +271,7 @@ SignatureMatch match_signature(const Vector& record, double fs_hz, double t0_s, 
     X.col(2) *= A;
     X.col(3) *= A;
     e = yw - W.leftCols(2) * ca;
-    corr = centred_correlation(yw, W.col(1));
+    corr = detail::pearson(yw, W.col(1));
     const Eigen::Vector4d step = X.colPivHouseholderQr().solve(e);
     if (std::abs(step[2]) < 1e-7 * v && std::abs(step[3]) * fs_hz < 1e-4) break;
     v += step[2];
@@ -355,7 +340,7 @@ Delay delay_between(const Vector& a, const Vector& b, double fs_hz, const Filter
   Delay d;
   d.delay_s = lag / fs_hz;
   d.delay_se = curvature > 0 ? std::sqrt(2 * sigma2 / curvature) / fs_hz : std::numeric_limits<double>::infinity();
-  d.correlation = centred_correlation(yw, shifted(lag).segment(j0, nw));
+  d.correlation = detail::pearson(yw, shifted(lag).segment(j0, nw));
   return d;
 }
 
