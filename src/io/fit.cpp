@@ -319,9 +319,11 @@ std::pair<std::string, std::string> split_pair(const std::string& s, const std::
 
 // A record's mapped channels as the fit sees them.
 study::FitRecord load_fit_record(const std::string& file, const std::vector<std::string>& maps, double speed_kmh,
-                                 const std::string& train, const std::string& where) {
+                                 const std::string& train, const std::string& where, const FitRequest& request) {
   if (maps.empty()) throw InputError(where + ": record " + file + " maps no channel (--map CHANNEL=STATION)");
-  const Record rec = read_record(file);
+  ImportReport report;
+  const Record rec = read_record(file, request.read, &report);
+  if (request.on_read) request.on_read(file, report);
   study::FitRecord fr;
   fr.name = file;
   fr.fs_hz = rec.fs_hz;
@@ -334,9 +336,14 @@ study::FitRecord load_fit_record(const std::string& file, const std::vector<std:
     const std::size_t c = rec.channel(channel);
     ch.name = rec.channels[c];
     ch.station = station;
-    const ChannelQuantity q = channel_quantity(rec.units[c], ch.name, where);
-    ch.acceleration = q.acceleration;
-    ch.scale = q.scale;
+    if (rec.units[c] == "ue") {
+      ch.acceleration = false;
+      ch.strain = true;
+    } else {
+      const ChannelQuantity q = channel_quantity(rec.units[c], ch.name, where);
+      ch.acceleration = q.acceleration;
+      ch.scale = q.scale;
+    }
     ch.samples = rec.data.col(static_cast<Index>(c));
     fr.channels.push_back(std::move(ch));
   }
@@ -370,12 +377,12 @@ std::pair<study::FitProblem, study::FitOptions> fit_setup(const FlatScenario& fl
       throw InputError("--speed-kmh: give one speed for all records or one per --record (" + std::to_string(files.size()) + ")");
     for (std::size_t i = 0; i < files.size(); ++i)
       problem.records.push_back(load_fit_record(files[i], maps, speeds.empty() ? 0.0 : speeds[speeds.size() > 1 ? i : 0], train,
-                                                "--record " + files[i]));
+                                                "--record " + files[i], request));
   } else {
     if (!speeds.empty()) throw InputError("--speed-kmh needs --record (declared records carry their own speed_kmh)");
     for (const auto& r : decl.records)
       problem.records.push_back(load_fit_record(r.file, r.map, r.speed_kmh, r.train,
-                                                r.where.file + ":" + std::to_string(r.where.line)));
+                                                r.where.file + ":" + std::to_string(r.where.line), request));
   }
   // Identified modes.
   const std::string modes = request.modes ? *request.modes : decl.modes;

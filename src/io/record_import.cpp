@@ -173,12 +173,16 @@ double rate_in_line(const std::string& line) {
                          (key.find("rate") != std::string::npos || key.find("freq") != std::string::npos));
   if (!rate_key) return 0.0;
   std::string v = detail::trim(l.substr(sep + 1));
-  if (v.size() > 2 && v.compare(v.size() - 2, 2, "hz") == 0) v = detail::trim(v.substr(0, v.size() - 2));
   std::replace(v.begin(), v.end(), ',', '.');
   double fs = 0;
   const auto res = std::from_chars(v.data(), v.data() + v.size(), fs);
-  if (res.ec != std::errc() || res.ptr != v.data() + v.size() || !(fs > 0) || !std::isfinite(fs)) return -1.0;
-  return fs;
+  const std::string unit = detail::trim(v.substr(static_cast<std::size_t>(res.ptr - v.data())));
+  const bool unit_ok = unit.empty() || unit == "hz" || unit == "1/s" || unit == "s/s" || unit == "sps" || unit == "samples/s";
+  if (res.ec == std::errc() && unit_ok && fs > 0 && std::isfinite(fs)) return fs;
+  // A rate key with something else after it (a header cell named "fs", "Sampling rate: see
+  // below") is no declaration, unless it is viaduct's own comment or a number.
+  const bool meant_a_number = key == "sampling_rate_hz" || res.ec == std::errc();
+  return meant_a_number ? -1.0 : 0.0;
 }
 
 // Problems of one file, each with its line, listed together in one InputError.
@@ -589,11 +593,11 @@ void repair_missing(Record& r, Index fill_max, bool split, const std::vector<int
 }
 
 // The channels of the header (all columns but time): names, units and factors to viaduct's units.
-void take_channels(const RawTable& t, const ReadOptions& o, Record& r, ImportReport& rep, Problems& pb) {
+void take_channels(const RawTable& t, const ReadOptions& o, std::size_t skip, Record& r, ImportReport& rep, Problems& pb) {
   std::set<std::string> seen;
   std::vector<bool> used(o.units.size(), false);
   for (std::size_t c = 0; c < t.header.size(); ++c) {
-    if (c == t.time_col) continue;
+    if (c == t.time_col || c == skip) continue;
     const HeaderCell h = split_header(t.header[c]);
     const std::string name = clean_name(h.base);
     std::string unit_text = h.unit_text;
@@ -624,7 +628,7 @@ void take_channels(const RawTable& t, const ReadOptions& o, Record& r, ImportRep
   }
   for (std::size_t u = 0; u < o.units.size(); ++u)
     if (!used[u]) pb.add(t.header_line, "--unit " + o.units[u].first + "=" + o.units[u].second + ": no such column in the header");
-  if (t.header.size() == (t.time_col == std::string::npos ? 0u : 1u)) pb.add(t.header_line, "the header names no channel");
+  if (r.channels.empty() && rep.channels.empty()) pb.add(t.header_line, "the header names no channel");
 }
 
 }  // namespace
@@ -637,8 +641,16 @@ Record read_record_csv(const std::string& path, const ReadOptions& o, ImportRepo
   if (t.header.empty()) pb.throw_if_any();
   Record r;
   ImportReport rep;
-  take_channels(t, o, r, rep, pb);
   const std::size_t n_cols = t.header.size(), n_rows = t.lines.size();
+  // A separator at the end of every line (spreadsheet exports) makes a last column without a
+  // name or a value: not a channel.
+  std::size_t skip = std::string::npos;
+  if (n_cols > 1 && t.header.back().empty()) {
+    bool empty = true;
+    for (std::size_t i = 0; i < n_rows && empty; ++i) empty = std::isnan(t.cells[i * n_cols + n_cols - 1]);
+    if (empty) skip = n_cols - 1, rep.notes.push_back("every line ends with a separator: the empty last column is not a channel");
+  }
+  take_channels(t, o, skip, r, rep, pb);
   rep.layout = std::string(t.sep == ';' ? "semicolon" : t.sep == '\t' ? "tab" : "comma") + "-separated, decimal " +
                (t.decimal_comma ? "comma" : "point") + ", header on line " + std::to_string(t.header_line) +
                (t.preamble.empty() ? "" : " under " + std::to_string(t.preamble.size()) + " preamble lines");
@@ -684,7 +696,7 @@ Record read_record_csv(const std::string& path, const ReadOptions& o, ImportRepo
   for (std::size_t i = 0; i < n_rows; ++i) {
     Index col = 0;
     for (std::size_t c = 0; c < n_cols; ++c)
-      if (c != t.time_col) {
+      if (c != t.time_col && c != skip) {
         r.data(g.k[i], col) = rep.channels[static_cast<std::size_t>(col)].factor * t.cells[i * n_cols + c];
         ++col;
       }

@@ -81,6 +81,7 @@ struct Block {
 struct PreparedChannel {
   std::size_t station = 0;
   bool acceleration = true;
+  std::string effect;  // a load effect's history (strain) instead of the station's motion
   double scale = 1.0;
   Vector y;          // filtered (accelerations) record
   double y_norm = 0, y_peak = 0, y_rms = 0;
@@ -181,7 +182,7 @@ class Evaluator {
     const Scenario sc = p_.scenario_at(values);
     Simulated out;
     out.fs_model = 1.0 / sc.settings.dt;
-    const PreparedModel pm = prepare_model(sc, /*rail_outputs=*/false);
+    const PreparedModel pm = prepare_model(sc, /*rail_outputs=*/false, with_effects_);
     if (!records_.empty()) {
       RunSettings rs = sc.settings;
       rs.filter.enabled = false;
@@ -206,6 +207,11 @@ class Evaluator {
         for (const auto& ch : pr.channels) {
           const auto& h = run.stations[ch.station];
           Vector s = (ch.acceleration ? h.acc : h.disp) * ch.scale;
+          if (!ch.effect.empty()) {
+            const auto e = std::find_if(run.effects.begin(), run.effects.end(), [&](const EffectHistory& x) { return x.name == ch.effect; });
+            if (e == run.effects.end()) throw InputError("fit: the model has no " + ch.effect + " (stations[].fibre_m?)");
+            s = e->value;
+          }
           if (!s.allFinite()) throw SolverError("fit: the model's response is not finite at these values");
           Vector padded = Vector::Zero(lead + s.size());
           padded.tail(s.size()) = s;
@@ -387,7 +393,14 @@ class Evaluator {
         auto it = station_index.find(ch.station);
         if (it == station_index.end()) throw InputError("fit: record " + rec.name + " channel " + ch.name + ": no station '" + ch.station + "' in the scenario");
         pc.station = it->second;
-        pc.acceleration = ch.acceleration;
+        pc.acceleration = ch.acceleration && !ch.strain;
+        if (ch.strain) {
+          if (sc0.stations[pc.station].fibre_m == 0.0)
+            throw InputError("fit: record " + rec.name + " channel " + ch.name + " is a strain; station '" + ch.station +
+                             "' has no stations[].fibre_m (the gauge's distance below the neutral axis)");
+          pc.effect = ch.station + "_strain_ue";
+          with_effects_ = true;
+        }
         pc.scale = ch.scale;
         if (ch.samples.size() != n) throw InputError("fit: record " + rec.name + ": channels of different lengths");
         if (n < 64) throw InputError("fit: record " + rec.name + " has fewer than 64 samples");
@@ -512,6 +525,7 @@ class Evaluator {
   std::size_t n_params_ = 0;
   FilterSpec filter_;
   std::vector<PreparedRecord> records_;
+  bool with_effects_ = false;  // a strain channel: the runs record load effects
   const ModalTarget* modal_ = nullptr;
   std::vector<std::size_t> sensor_stations_;
   double f_max_target_ = 0.0;

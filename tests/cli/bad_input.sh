@@ -61,6 +61,9 @@ expect 2 "--long-gaps must be split or refuse" -- "$VIADUCT" filter "$WORK/nan-r
 expect 2 "--fill-max-s must be" -- "$VIADUCT" filter "$WORK/nan-refused.csv" --fill-max-s -1
 expect 2 "--unit needs CHANNEL=UNIT" -- "$VIADUCT" filter "$WORK/nan-refused.csv" --unit a_mps2
 expect 2 "--unit b=g: no such column in the header" -- "$VIADUCT" filter "$WORK/nan-refused.csv" --unit b=g
+# fit reads logger files as the record commands do, and says what it converted.
+expect 2 "viaduct fit: $SRC/data/records/logger-semicolon.csv: 'Acc S1 mid [g]' -> Acc_S1_mid_mps2 (x 9.80665)" -- "$VIADUCT" fit "$OG" \
+  --record "$SRC/data/records/logger-semicolon.csv" --map 'Nope=S1_mid' --param bridge.EI=5e9:1e10 --out "$WORK/o"
 printf 't_s,a_mps2\nNaN,1\nNaN,1\n' > "$WORK/allnan.csv"
 expect 2 "allnan.csv:2: no time stamp in column 't_s'" -- "$VIADUCT" inspect "$WORK/allnan.csv"
 printf 't_s,a_mps2\n0,1\n0.01,2\n0.005,3\n' > "$WORK/back.csv"

@@ -169,6 +169,7 @@ expect 0 "Disp_S1_mid_m          train-signature 154.80" -- "$VIADUCT" speed "$L
   --station S1_mid --v-min-kmh 150 --v-max-kmh 160 --out "$WORK/lsp"
 expect 0 "channel,method,speed_kmh,uncertainty_kmh,frequency_hz,n_used,first_axle_s,first_axle_uncertainty_s,correlation,amplitude" -- head -1 "$WORK/lsp/speed.csv"
 expect 2 "--station: no station 'S9' in" -- "$VIADUCT" speed "$LOG" --channel 'Disp S1 mid' --model "$SRC/scenarios/old-guadiana-talgo.toml" --station S9 --out "$WORK/lsp"
+expect 2 "--model: name the record's channels at --station with --channel" -- "$VIADUCT" speed "$LOG" --model "$SRC/scenarios/old-guadiana-talgo.toml" --station S1_mid --out "$WORK/lsp"
 expect 2 "a strain channel needs stations[].fibre_m" -- "$VIADUCT" speed "$LOG" --channel 'Strain S1 mid' --model "$SRC/scenarios/old-guadiana-talgo.toml" --station S1_mid --out "$WORK/lsp"
 # Two sensors 10 m apart, a pulse passing at 40 m/s (0.25 s): 144 km/h.
 awk 'BEGIN { print "t_s,s1_m,s2_m"; for (k = 0; k < 2000; k++) { t = k / 500; printf "%.4f,%.6e,%.6e\n", t, exp(-((t - 1.5) / 0.1)^2), exp(-((t - 1.75) / 0.1)^2) } }' > "$WORK/two.csv"

@@ -163,6 +163,11 @@ int dispatch(const Command& cmd, int argc, char** argv) {
 io::Record read_record(const std::string& path, const Common& o) {
   io::ImportReport rep;
   io::Record r = io::read_record(path, o.read, &rep);
+  print_import_report(path, rep, o);
+  return r;
+}
+
+void print_import_report(const std::string& path, const io::ImportReport& rep, const Common& o) {
   if (!rep.plain) {
     const std::string prefix = "viaduct " + o.command + ": ";
     std::string text;
@@ -173,7 +178,6 @@ io::Record read_record(const std::string& path, const Common& o) {
       else if (!o.quiet) text += prefix + path + ": " + lines[i] + "\n";
     std::cerr << text;
   }
-  return r;
 }
 
 io::FlatScenario load_scenario(const Common& o) {

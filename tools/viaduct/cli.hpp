@@ -88,6 +88,8 @@ int dispatch(const Command& cmd, int argc, char** argv);
 /// and --long-gaps; what was converted or repaired is printed on stderr (notes unless --quiet,
 /// repairs always, as warnings).
 io::Record read_record(const std::string& path, const Common& o);
+/// What reading `path` converted and repaired, printed as read_record prints it.
+void print_import_report(const std::string& path, const io::ImportReport& report, const Common& o);
 
 /// The command's scenario with --set and --unset applied (io::load_flat).
 io::FlatScenario load_scenario(const Common& o);

@@ -21,6 +21,7 @@ std::string fit_fmt(double v) { return format_number(v, 10); }
 Command fit_command() {
   Command c;
   c.name = "fit";
+  c.reads_records = true;
   c.summary = "model updating: fit scenario parameters to measured records and identified modes";
   const auto declare = [](po::options_description& d, io::FitRequest& q) {
     d.add_options()("param", list_value(q.params),
@@ -43,7 +44,7 @@ Command fit_command() {
   };
   c.usage_and_samples =
       "Fits numeric scenario keys so that the model reproduces measured accelerations (or\n"
-      "deflections) and identified modes: Levenberg-Marquardt with bounds (Ceres), logarithmic\n"
+      "deflections, or strains at stations[].fibre_m) and identified modes: Levenberg-Marquardt with bounds (Ceres), logarithmic\n"
       "coordinates for positive keys, forward-difference Jacobians in parallel (--threads), a\n"
       "time shift per record fitted with the parameters. Objectives (--weight): time = filtered,\n"
       "aligned time histories; peak = peak and RMS per channel; envelope = windowed RMS; spectrum =\n"
@@ -63,6 +64,8 @@ Command fit_command() {
     const io::FlatScenario flat = load_scenario(o);
     io::FitRequest q = request;
     q.threads = o.threads;
+    q.read = o.read;
+    q.on_read = [&o](const std::string& path, const io::ImportReport& rep) { print_import_report(path, rep, o); };
     auto [problem, opt] = io::fit_setup(flat, q);
     if (!o.quiet)
       opt.progress = [&problem = problem](const study::FitTracePoint& tp) {

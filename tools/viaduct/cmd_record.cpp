@@ -352,8 +352,10 @@ std::string quantity_of(const io::Record& in, std::size_t ch) {
 std::vector<std::vector<std::string>> speed_by_signature(const Common& o, const SpeedOptions& s, const io::Record& in) {
   const io::FlatScenario flat = io::load_flat(*s.model);
   study::Scenario sc = io::to_scenario(flat);
+  if (s.channels.empty()) throw InputError("--model: name the record's channels at --station with --channel");
   load::Train train;
   if (!s.train) {
+    if (sc.trains.empty()) throw InputError("--model: " + *s.model + " has no train: give --train FILE");
     train = sc.trains.front();
   } else if (std::filesystem::is_regular_file(*s.train)) {
     train = io::read_train_file(*s.train);

@@ -1,10 +1,12 @@
 #pragma once
 /// \file Model updating from files: fitted scenario keys, the scenario's [fit] section,
 /// identified modes (modal-fit's modes.csv / shapes.csv) and the fitted scenario written back.
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
+#include "viaduct/io/record.hpp"
 #include "viaduct/io/scenario.hpp"
 #include "viaduct/study/fit.hpp"
 
@@ -65,6 +67,9 @@ struct FitRequest {
   std::optional<double> max_time_s;     ///< [s]
   bool no_spectral_start = false;
   int threads = 1;
+  ReadOptions read;                     ///< how the record files are read (docs/records.md)
+  /// Told each record file and what reading it converted and repaired (the CLI prints it); may be empty.
+  std::function<void(const std::string&, const ImportReport&)> on_read;
 };
 
 /// The problem and options of a fit: the request merged with the scenario's [fit] section, the

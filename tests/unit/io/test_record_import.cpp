@@ -183,6 +183,26 @@ TEST_CASE("time columns by name, by index or none, clock times, units of time") 
   REQUIRE_THROWS_WITH(read_record(d.write("disagree.csv", "t_s,a_m\n0,1\n0.01,2\n"), o), Catch::Contains("disagree.csv:2: the rate declared (--rate-hz) is 200 Hz; the time column steps by 0.01 s (100 Hz): they disagree"));
 }
 
+TEST_CASE("preamble rates with units or none, and a separator at the end of every line") {
+  ImportDir d;
+  ImportReport rep;
+  Record r = read_record(d.write("sps.csv", "Sample rate: 200 samples/s\nacc_g\n1\n2\n3\n"), {}, &rep);
+  REQUIRE(r.fs_hz == 200.0);
+  // A rate line that says no number is not a declaration (the stamps give the rate) ...
+  r = read_record(d.write("na.csv", "Sampling rate: see the channel list\nt_s,a_m\n0,1\n0.01,2\n0.02,3\n"));
+  REQUIRE(r.fs_hz == 100.0);
+  // ... nor is a header cell named like one; a number that is no rate is an error.
+  REQUIRE_THROWS_WITH(read_record(d.write("fs.csv", "fs,a_m\n1,2\n3,4\n")), Catch::Contains("channel 'fs' has no unit"));
+  REQUIRE_THROWS_WITH(read_record(d.write("zero.csv", "Sample rate: 0 Hz\na_m\n1\n2\n")), Catch::Contains("zero.csv:1: the sampling rate declared here is not a number > 0"));
+  // Spreadsheet exports end every line with the separator: the empty last column is no channel.
+  r = read_record(d.write("trail.csv", "t_s,a_m,\n0,1,\n0.01,2,\n0.02,3,\n"), {}, &rep);
+  REQUIRE(r.channels == std::vector<std::string>{"a_m"});
+  REQUIRE(r.data(2, 0) == 3.0);
+  REQUIRE(rep.notes.front().find("ends with a separator") != std::string::npos);
+  // A value under that empty name is a column without a name.
+  REQUIRE_THROWS_WITH(read_record(d.write("trail2.csv", "t_s,a_m,\n0,1,\n0.01,2,5\n")), Catch::Contains("column 3 has no name"));
+}
+
 TEST_CASE("units: logger spellings to viaduct's units with their factors") {
   struct Case {
     const char* text;
