@@ -14,6 +14,7 @@ packages=(
   libboost-program-options-dev  # the CLI
   catch2                 # tests (v2)
   libtoml11-dev          # scenario files
+  libmatio-dev           # MATLAB .mat records (v4, v5, v7.3)
   python3 python3-numpy python3-matplotlib  # plot scripts
   python3-scipy          # regenerating the committed filter reference vectors only
 )

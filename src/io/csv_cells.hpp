@@ -60,6 +60,7 @@ struct TextTable {
   std::vector<std::string> header;
   std::vector<std::vector<std::string>> rows;
   std::vector<int> lines;
+  int header_line = 0;
 };
 
 // Drops a UTF-8 byte-order mark from the first line of a file (spreadsheets and Windows editors
@@ -80,6 +81,7 @@ inline TextTable read_text_table(const std::string& path, bool quoted) {
     auto cells = quoted ? split_quoted_csv(line) : split_csv(line);
     if (t.header.empty()) {
       t.header = std::move(cells);
+      t.header_line = ln;
       continue;
     }
     if (cells.size() != t.header.size())

@@ -336,14 +336,9 @@ study::FitRecord load_fit_record(const std::string& file, const std::vector<std:
     const std::size_t c = rec.channel(channel);
     ch.name = rec.channels[c];
     ch.station = station;
-    if (rec.units[c] == "ue") {
-      ch.acceleration = false;
-      ch.strain = true;
-    } else {
-      const ChannelQuantity q = channel_quantity(rec.units[c], ch.name, where);
-      ch.acceleration = q.acceleration;
-      ch.scale = q.scale;
-    }
+    const ChannelQuantity q = channel_quantity(rec.units[c], ch.name, where);
+    ch.acceleration = q == ChannelQuantity::acceleration;
+    ch.strain = q == ChannelQuantity::strain;
     ch.samples = rec.data.col(static_cast<Index>(c));
     fr.channels.push_back(std::move(ch));
   }

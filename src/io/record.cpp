@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cstdlib>
+#include <initializer_list>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -80,9 +82,47 @@ ChannelSummary summarise_channel(const Vector& x) {
 }
 
 ChannelQuantity channel_quantity(const std::string& unit, const std::string& channel, const std::string& who) {
-  if (unit == "mps2") return {true, 1.0};
-  if (unit == "m") return {false, 1.0};
-  throw InputError(who + ": channel '" + channel + "' is in " + unit + "; only accelerations (_mps2, [g], ...) and deflections (_m, [mm], ...) compare with the model");
+  if (unit == "mps2") return ChannelQuantity::acceleration;
+  if (unit == "m") return ChannelQuantity::deflection;
+  if (unit == "ue") return ChannelQuantity::strain;
+  throw InputError(who + ": channel '" + channel + "' is in " + unit +
+                   "; only accelerations (_mps2, [g], ...), deflections (_m, [mm], ...) and strains (_ue, [µε], ...) compare with the model");
+}
+
+std::vector<PassageEntry> read_passage_table(const std::string& path) {
+  const detail::TextTable t = detail::read_text_table(path, true);
+  auto column = [&](std::initializer_list<const char*> names) -> int {
+    for (std::size_t c = 0; c < t.header.size(); ++c)
+      for (const char* n : names)
+        if (t.header[c] == n) return static_cast<int>(c);
+    return -1;
+  };
+  const int file = column({"file", "record", "path"}), train = column({"train"}), speed = column({"speed_kmh"});
+  if (file < 0)
+    throw InputError(SourceLocation{path, t.header_line, "file"},
+                     "a table of passages needs a column 'file' (the record; optional: train, speed_kmh)");
+  std::vector<PassageEntry> out;
+  for (std::size_t r = 0; r < t.rows.size(); ++r) {
+    PassageEntry e;
+    e.line = t.lines[r];
+    e.file = t.rows[r][static_cast<std::size_t>(file)];
+    if (e.file.empty()) throw InputError(SourceLocation{path, e.line, "file"}, "empty file cell");
+    if (train >= 0) e.train = t.rows[r][static_cast<std::size_t>(train)];
+    if (speed >= 0 && !t.rows[r][static_cast<std::size_t>(speed)].empty()) {
+      const std::string& cell = t.rows[r][static_cast<std::size_t>(speed)];
+      char* end = nullptr;
+      e.speed_kmh = std::strtod(cell.c_str(), &end);
+      if (end != cell.c_str() + cell.size() || !(e.speed_kmh > 0) || !std::isfinite(e.speed_kmh))
+        throw InputError(SourceLocation{path, e.line, "speed_kmh"}, "'" + cell + "' is not a speed > 0 [km/h] (leave it empty to identify it)");
+    }
+    if (!e.file.empty() && e.file.front() != '/') {
+      const auto slash = path.find_last_of('/');
+      if (slash != std::string::npos) e.file = path.substr(0, slash + 1) + e.file;
+    }
+    out.push_back(std::move(e));
+  }
+  if (out.empty()) throw InputError(SourceLocation{path, t.header_line, "file"}, "no passages in the table");
+  return out;
 }
 
 }  // namespace viaduct::io

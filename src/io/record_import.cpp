@@ -1,6 +1,9 @@
 // Record CSV as loggers write it: layout detection, units, time grid, NaN and gap repair
 // (docs/records.md). One pass over the file collects every problem; the error lists them all.
 #include <algorithm>
+#include <cctype>
+#include <map>
+#include <memory>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -8,6 +11,8 @@
 #include <cstdint>
 #include <numeric>
 #include <set>
+
+#include <matio.h>
 
 #include "csv_cells.hpp"
 #include "viaduct/core/error.hpp"
@@ -217,6 +222,7 @@ struct RawTable {
   std::vector<std::string> preamble;
   double declared_fs = 0.0;
   int declared_line = 0;
+  std::string declared_where;  // where the rate was declared when not on a line ("variable 'fs'")
   std::vector<double> cells;   // row-major; NaN for missing cells
   std::vector<int> lines;      // line of each row
   std::size_t time_col = std::string::npos;
@@ -633,12 +639,31 @@ void take_channels(const RawTable& t, const ReadOptions& o, std::size_t skip, Re
 
 }  // namespace
 
+namespace {
+
+// The record of a table read from a file (CSV or MATLAB): its channels and units, the time grid
+// from the time column or the declared rate, missing samples repaired; every problem of the
+// file in one error. `layout` describes the file; `plain`: the file may be a record as viaduct
+// writes it (a CSV), whose reading needs no report.
+Record finish_table(const RawTable& t, const ReadOptions& o, Problems& pb, ImportReport* report, const std::string& layout, bool plain);
+
+}  // namespace
+
 Record read_record_csv(const std::string& path, const ReadOptions& o, ImportReport* report) {
   std::ifstream in(path);
   if (!in) throw InputError("cannot open record " + path);
   Problems pb{path, {}, 0};
   const RawTable t = read_table(in, o, pb);
   if (t.header.empty()) pb.throw_if_any();
+  const std::string layout = std::string(t.sep == ';' ? "semicolon" : t.sep == '\t' ? "tab" : "comma") + "-separated, decimal " +
+                             (t.decimal_comma ? "comma" : "point") + ", header on line " + std::to_string(t.header_line) +
+                             (t.preamble.empty() ? "" : " under " + std::to_string(t.preamble.size()) + " preamble lines");
+  return finish_table(t, o, pb, report, layout, t.sep == ',' && !t.decimal_comma && t.preamble.empty());
+}
+
+namespace {
+
+Record finish_table(const RawTable& t, const ReadOptions& o, Problems& pb, ImportReport* report, const std::string& layout, bool plain) {
   Record r;
   ImportReport rep;
   const std::size_t n_cols = t.header.size(), n_rows = t.lines.size();
@@ -651,15 +676,13 @@ Record read_record_csv(const std::string& path, const ReadOptions& o, ImportRepo
     if (empty) skip = n_cols - 1, rep.notes.push_back("every line ends with a separator: the empty last column is not a channel");
   }
   take_channels(t, o, skip, r, rep, pb);
-  rep.layout = std::string(t.sep == ';' ? "semicolon" : t.sep == '\t' ? "tab" : "comma") + "-separated, decimal " +
-               (t.decimal_comma ? "comma" : "point") + ", header on line " + std::to_string(t.header_line) +
-               (t.preamble.empty() ? "" : " under " + std::to_string(t.preamble.size()) + " preamble lines");
+  rep.layout = layout;
   if (n_rows < 2) pb.add(t.lines.empty() ? t.header_line : t.lines.front(), "a record needs at least 2 samples, got " + std::to_string(n_rows));
   double fs = o.fs_hz.value_or(t.declared_fs);
-  const std::string declared_by = o.fs_hz ? "--rate-hz" : "line " + std::to_string(t.declared_line);
+  const std::string declared_at = t.declared_where.empty() ? "line " + std::to_string(t.declared_line) : t.declared_where;
+  const std::string declared_by = o.fs_hz ? "--rate-hz" : declared_at;
   if (o.fs_hz && t.declared_fs > 0 && std::abs(*o.fs_hz - t.declared_fs) > 1e-9 * t.declared_fs)
-    rep.notes.push_back("--rate-hz " + format_number(*o.fs_hz) + " replaces the " + format_number(t.declared_fs) + " Hz declared on line " +
-                        std::to_string(t.declared_line));
+    rep.notes.push_back("--rate-hz " + format_number(*o.fs_hz) + " replaces the " + format_number(t.declared_fs) + " Hz declared (" + declared_at + ")");
   Grid g;
   if (t.time_col != std::string::npos && n_rows >= 2) {
     std::string note;
@@ -710,10 +733,207 @@ Record read_record_csv(const std::string& path, const ReadOptions& o, ImportRepo
   for (const auto& c : rep.channels)
     if (c.factor != 1.0 || c.channel != c.header)
       rep.plain = false;
-  rep.plain = rep.plain && t.sep == ',' && !t.decimal_comma && t.preamble.empty() && rep.repairs.empty() && rep.notes.empty() &&
+  rep.plain = rep.plain && plain && rep.repairs.empty() && rep.notes.empty() &&
               (t.time_col == std::string::npos || t.header[t.time_col] == "t_s") && rep.max_time_offset < 0.01;
   if (report) *report = std::move(rep);
   return r;
+}
+
+}  // namespace
+
+namespace {
+
+// A MATLAB variable as read: real numbers column-major (rows × cols), or text.
+struct MatVar {
+  std::string name;
+  std::size_t rows = 0, cols = 0;
+  std::vector<double> v;
+  std::vector<std::string> text;  // a char array (one entry) or a cell array of char arrays
+  bool numeric = false;
+};
+
+std::string mat_text(const matvar_t* m) {
+  std::string out;
+  if (!m || m->class_type != MAT_C_CHAR || !m->data) return out;
+  std::size_t n = 1;
+  for (int d = 0; d < m->rank; ++d) n *= m->dims[d];
+  if (m->data_size == 1 && m->data_type == MAT_T_UTF8) {
+    out.assign(static_cast<const char*>(m->data), m->nbytes);
+  } else if (m->data_size == 1) {  // Latin-1 to UTF-8
+    for (std::size_t k = 0; k < n; ++k) {
+      const auto c = static_cast<const unsigned char*>(m->data)[k];
+      if (c < 0x80) out += static_cast<char>(c);
+      else out += static_cast<char>(0xC0 | (c >> 6)), out += static_cast<char>(0x80 | (c & 0x3F));
+    }
+  } else if (m->data_size == 2) {  // UTF-16 (the basic plane) to UTF-8
+    for (std::size_t k = 0; k < n; ++k) {
+      const unsigned c = static_cast<const std::uint16_t*>(m->data)[k];
+      if (c < 0x80) {
+        out += static_cast<char>(c);
+      } else if (c < 0x800) {
+        out += static_cast<char>(0xC0 | (c >> 6));
+        out += static_cast<char>(0x80 | (c & 0x3F));
+      } else {
+        out += static_cast<char>(0xE0 | (c >> 12));
+        out += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
+        out += static_cast<char>(0x80 | (c & 0x3F));
+      }
+    }
+  }
+  return out;
+}
+
+template <class T>
+void mat_copy(const void* data, std::size_t n, std::vector<double>& v) {
+  const T* p = static_cast<const T*>(data);
+  v.assign(n, 0.0);
+  for (std::size_t k = 0; k < n; ++k) v[k] = static_cast<double>(p[k]);
+}
+
+// Every variable of the file; numeric ones real and two-dimensional, others as text or skipped
+// (named in `skipped`).
+std::vector<MatVar> read_mat_vars(mat_t* mat, std::vector<std::string>& skipped) {
+  std::vector<MatVar> out;
+  while (true) {
+    std::unique_ptr<matvar_t, void (*)(matvar_t*)> m(Mat_VarReadNext(mat), Mat_VarFree);
+    if (!m) break;
+    MatVar v;
+    v.name = m->name ? m->name : "";
+    if (m->rank != 2) {
+      skipped.push_back(v.name + " (" + std::to_string(m->rank) + "-dimensional)");
+      continue;
+    }
+    v.rows = m->dims[0];
+    v.cols = m->dims[1];
+    const std::size_t n = v.rows * v.cols;
+    if (m->class_type == MAT_C_CHAR) {
+      v.text.push_back(mat_text(m.get()));
+    } else if (m->class_type == MAT_C_CELL) {
+      for (std::size_t k = 0; k < n; ++k) v.text.push_back(mat_text(Mat_VarGetCell(m.get(), static_cast<int>(k))));
+    } else if (m->isComplex || m->isLogical || !m->data || n == 0) {
+      skipped.push_back(v.name + (m->isComplex ? " (complex)" : m->isLogical ? " (logical)" : " (empty)"));
+      continue;
+    } else {
+      switch (m->class_type) {
+        case MAT_C_DOUBLE: mat_copy<double>(m->data, n, v.v); break;
+        case MAT_C_SINGLE: mat_copy<float>(m->data, n, v.v); break;
+        case MAT_C_INT8: mat_copy<std::int8_t>(m->data, n, v.v); break;
+        case MAT_C_UINT8: mat_copy<std::uint8_t>(m->data, n, v.v); break;
+        case MAT_C_INT16: mat_copy<std::int16_t>(m->data, n, v.v); break;
+        case MAT_C_UINT16: mat_copy<std::uint16_t>(m->data, n, v.v); break;
+        case MAT_C_INT32: mat_copy<std::int32_t>(m->data, n, v.v); break;
+        case MAT_C_UINT32: mat_copy<std::uint32_t>(m->data, n, v.v); break;
+        case MAT_C_INT64: mat_copy<std::int64_t>(m->data, n, v.v); break;
+        case MAT_C_UINT64: mat_copy<std::uint64_t>(m->data, n, v.v); break;
+        default: skipped.push_back(v.name + " (a struct, object or sparse matrix: save its fields as variables)"); continue;
+      }
+      v.numeric = true;
+    }
+    out.push_back(std::move(v));
+  }
+  return out;
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// The text variable named one of `names` (or VAR_names for a matrix VAR) with k entries.
+const std::vector<std::string>* mat_labels(const std::vector<MatVar>& vars, const std::string& var, std::initializer_list<const char*> names,
+                                           std::size_t k) {
+  for (const auto& v : vars) {
+    if (v.text.size() != k || v.numeric) continue;
+    const std::string n = lower(v.name);
+    for (const char* x : names)
+      if (n == x || n == lower(var) + "_" + x) return &v.text;
+  }
+  return nullptr;
+}
+
+void silent_matio(int, char*) {}
+
+}  // namespace
+
+Record read_record_mat(const std::string& path, const ReadOptions& o, ImportReport* report) {
+  if (!std::ifstream(path)) throw InputError("cannot open record " + path);
+  Mat_LogInitFunc("viaduct", silent_matio);
+  std::unique_ptr<mat_t, int (*)(mat_t*)> mat(Mat_Open(path.c_str(), MAT_ACC_RDONLY), Mat_Close);
+  if (!mat) throw InputError(path + ": not a MATLAB .mat file (v4, v5 or v7.3) that can be read");
+  const enum mat_ft ver = Mat_GetVersion(mat.get());
+  Problems pb{path, {}, 0};
+  std::vector<std::string> skipped;
+  const std::vector<MatVar> vars = read_mat_vars(mat.get(), skipped);
+  // The record's length: the time vector's, else the most common length of the numeric
+  // variables (samples along a matrix's longer side; the longer of equally common lengths).
+  std::size_t n = 0;
+  std::map<std::size_t, int> count;
+  for (const auto& v : vars)
+    if (v.numeric && v.rows * v.cols >= 2) {
+      const std::size_t len = std::max(v.rows, v.cols);
+      ++count[len];
+      if (std::min(v.rows, v.cols) == 1 && is_time_name(lower(v.name)) && n == 0) n = len;
+    }
+  if (n == 0)
+    for (const auto& [len, c] : count)
+      if (c >= count[n]) n = len;
+  RawTable t;
+  std::vector<const std::vector<double>*> data;
+  std::vector<std::size_t> stride, offset;
+  for (const auto& v : vars) {
+    if (!v.numeric) continue;
+    const std::string lname = lower(v.name);
+    if (v.rows * v.cols == 1) {
+      static const char* rates[] = {"fs", "fs_hz", "sample_rate", "samplerate", "sampling_rate", "sampling_rate_hz", "rate_hz", "sr", "srate"};
+      static const char* steps[] = {"dt", "dt_s", "delta_t", "ts", "sampling_interval", "sample_interval"};
+      if (std::any_of(std::begin(rates), std::end(rates), [&](const char* r) { return lname == r; }))
+        t.declared_fs = v.v[0], t.declared_where = "variable '" + v.name + "'";
+      else if (std::any_of(std::begin(steps), std::end(steps), [&](const char* r) { return lname == r; }) && v.v[0] > 0)
+        t.declared_fs = 1.0 / v.v[0], t.declared_where = "variable '" + v.name + "' = " + format_number(v.v[0], 10) + " s";
+      else
+        skipped.push_back(v.name + " (a scalar)");
+      continue;
+    }
+    const bool column_major_samples = v.rows >= v.cols;  // samples down the rows (N×k) or along a row vector
+    const std::size_t len = column_major_samples ? v.rows : v.cols, k = column_major_samples ? v.cols : v.rows;
+    if (len != n) {
+      skipped.push_back(v.name + " (" + std::to_string(v.rows) + "×" + std::to_string(v.cols) + ", not " + std::to_string(n) + " samples)");
+      continue;
+    }
+    if (k == 1) {
+      t.header.push_back(v.name);
+      data.push_back(&v.v), stride.push_back(1), offset.push_back(0);
+      continue;
+    }
+    const auto* names = mat_labels(vars, v.name, {"names", "channels", "channel_names", "labels"}, k);
+    const auto* units = mat_labels(vars, v.name, {"units", "unit"}, k);
+    for (std::size_t j = 0; j < k; ++j) {
+      std::string h = names ? (*names)[j] : v.name + "_" + std::to_string(j + 1);
+      if (units && !(*units)[j].empty()) h += " [" + (*units)[j] + "]";
+      t.header.push_back(h);
+      data.push_back(&v.v);
+      // element (sample i, channel j): column-major N×k at j·N + i, k×N at i·k + j
+      stride.push_back(column_major_samples ? 1 : k), offset.push_back(column_major_samples ? j * n : j);
+    }
+  }
+  if (t.header.empty()) {
+    pb.add(0, "no numeric variable of 2 samples or more (a record's channels: vectors, or a matrix with a sample per row)");
+    pb.throw_if_any();
+  }
+  t.cells.resize(n * t.header.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t c = 0; c < t.header.size(); ++c) t.cells[i * t.header.size() + c] = (*data[c])[offset[c] + i * stride[c]];
+    t.lines.push_back(static_cast<int>(i + 1));
+  }
+  t.time_col = find_time_column(t.header, o, pb, 0);
+  std::string layout = std::string("MATLAB ") + (ver == MAT_FT_MAT73 ? "v7.3" : ver == MAT_FT_MAT4 ? "v4" : "v5") + " file, " +
+                       std::to_string(n) + " samples in " + std::to_string(t.header.size()) + (t.header.size() == 1 ? " column" : " columns") +
+                       " (errors name the sample's row)";
+  if (!skipped.empty()) {
+    layout += "; not read:";
+    for (std::size_t k = 0; k < skipped.size(); ++k) layout += (k ? ", " : " ") + skipped[k];
+  }
+  return finish_table(t, o, pb, report, layout, false);
 }
 
 std::vector<std::string> describe(const ImportReport& rep) {

@@ -595,6 +595,30 @@ std::vector<StationPeaks> peaks(const RunResult& r) {
   return out;
 }
 
+const char* response_name(ResponseKind k) {
+  return k == ResponseKind::acceleration ? "acc" : k == ResponseKind::deflection ? "disp" : "strain";
+}
+
+const char* response_unit(ResponseKind k) {
+  return k == ResponseKind::acceleration ? "mps2" : k == ResponseKind::deflection ? "m" : "ue";
+}
+
+Vector station_response(const RunResult& r, std::size_t station, ResponseKind k) {
+  VIADUCT_ASSERT(station < r.stations.size());
+  const StationHistory& h = r.stations[station];
+  if (k == ResponseKind::acceleration) return h.acc;
+  if (k == ResponseKind::deflection) return h.disp;
+  for (const auto& e : r.effects)
+    if (e.name == h.name + "_strain_ue") return e.value;
+  throw SolverError("no strain history for station " + h.name + " (it needs stations[].fibre_m and a model with load effects)");
+}
+
+FilterSpec filter_for(const FilterSpec& scenario_filter, ResponseKind k) {
+  FilterSpec f = scenario_filter;
+  if (k != ResponseKind::acceleration) f.cheby.band = signal::BandType::lowpass;
+  return f;
+}
+
 std::vector<std::string> quantity_names(const PreparedModel& m) {
   std::vector<std::string> out;
   for (const auto& st : m.stations)

@@ -91,7 +91,7 @@ expect 2 "no station 'S9'" -- "$VIADUCT" compare "$TALGO" --record "$REC" --map 
 expect 2 "no channel 'strain'" -- "$VIADUCT" compare "$TALGO" --record "$REC" --map strain=S1_mid
 expect 2 "--map needs CHANNEL=STATION" -- "$VIADUCT" compare "$TALGO" --record "$REC" --map deck_acc
 printf '# sampling_rate_hz = 100\nv_V\n1\n2\n3\n' > "$WORK/volts.csv"
-expect 2 "channel 'v_V' is in V; only accelerations (_mps2, [g], ...) and deflections (_m, [mm], ...) compare with the model" -- "$VIADUCT" compare "$TALGO" --record "$WORK/volts.csv" --map v=S1_mid
+expect 2 "channel 'v_V' is in V; only accelerations (_mps2, [g], ...), deflections (_m, [mm], ...) and strains (_ue, [µε], ...) compare with the model" -- "$VIADUCT" compare "$TALGO" --record "$WORK/volts.csv" --map v=S1_mid
 
 # Sizes that would exhaust memory or time are refused with the key to change.
 expect 2 "key 'bridge.element_size': 1e-06 m gives 11930000 elements on span 1; at most 1000 per span (raise bridge.element_size)" -- "$VIADUCT" check "$OG" --set bridge.element_size=1e-6
@@ -153,7 +153,7 @@ expect 2 "key 'bridge.damping.ratio': bound 2 violates the key's constraint [0, 
 expect 2 "cannot open" -- "$VIADUCT" fit "$FS" --record "$WORK/nothere.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --out "$WORK/o"
 expect 2 "no station 'nowhere'" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=nowhere --param bridge.EI=1e9:4e9 --out "$WORK/o"
 expect 2 "deck_acc" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map deck_acc=mid --param bridge.EI=1e9:4e9 --out "$WORK/o"
-expect 2 "channel 'force_N' is in N; only accelerations (_mps2, [g], ...) and deflections (_m, [mm], ...) compare with the model" -- "$VIADUCT" fit "$FS" --record "$WORK/sh/record.csv" --map force_N=mid --param bridge.EI=1e9:4e9 --out "$WORK/o"
+expect 2 "channel 'force_N' is in N; only accelerations (_mps2, [g], ...), deflections (_m, [mm], ...) and strains (_ue, [µε], ...) compare with the model" -- "$VIADUCT" fit "$FS" --record "$WORK/sh/record.csv" --map force_N=mid --param bridge.EI=1e9:4e9 --out "$WORK/o"
 expect 2 "--weight: unknown objective 'phase'" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --weight phase=1 --out "$WORK/o"
 expect 2 "one speed for all records or one per --record" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --speed-kmh 100 --speed-kmh 110 --out "$WORK/o"
 expect 2 "nothing to fit against" -- "$VIADUCT" fit "$FS" --param bridge.EI=1e9:4e9 --out "$WORK/o"
@@ -230,4 +230,25 @@ expect 2 "key 'assess.ballast_lower_factor': the lower-bound factor is above the
 # Every case failing on its input: exit 2, as run and sweep; the report says no check was made.
 expect 2 "every case failed on its input" -- "$VIADUCT" assess "$(scen allbad "$AS")" --set analysis.free_vibration_s=1e300 --no-plots --out "$WORK/allbad"
 expect 0 "No check could be made" -- cat "$WORK/allbad/report.md"
+# viaduct passages: tables and trains checked before any run, every problem named.
+PT=$SRC/data/records/passages/passages.csv
+expect 2 "--records FOLDER|TABLE is required" -- "$VIADUCT" passages "$HS" --map mid_acc=mid --out "$WORK/o"
+expect 2 "--records $WORK/nothere: no such folder or table" -- "$VIADUCT" passages "$HS" --records "$WORK/nothere" --map mid_acc=mid --out "$WORK/o"
+expect 2 "at least one --map CHANNEL=STATION is required" -- "$VIADUCT" passages "$HS" --records "$PT" --out "$WORK/o"
+expect 2 "--map: no station 'S9' in the scenario; it has: mid" -- "$VIADUCT" passages "$HS" --records "$PT" --map mid_acc=S9 --out "$WORK/o"
+printf 'record_file,train\na.csv,HSLM-A1\n' > "$WORK/pt1.csv"
+expect 2 "pt1.csv:1: key 'file': a table of passages needs a column 'file'" -- "$VIADUCT" passages "$HS" --records "$WORK/pt1.csv" --map mid_acc=mid --out "$WORK/o"
+printf '# campaign 2026\nfile,train,speed_kmh\na.csv,HSLM-A1,fast\n' > "$WORK/pt2.csv"
+expect 2 "pt2.csv:3: key 'speed_kmh': 'fast' is not a speed > 0 [km/h]" -- "$VIADUCT" passages "$HS" --records "$WORK/pt2.csv" --map mid_acc=mid --out "$WORK/o"
+printf 'file,train\na.csv,ICE-9\nb.csv,HSLM-A1\nc.csv,\n' > "$WORK/pt3.csv"
+expect 2 "pt3.csv:2: train 'ICE-9' is neither a train of the scenario" -- "$VIADUCT" passages "$HS" --records "$WORK/pt3.csv" --map mid_acc=mid --out "$WORK/o"
+expect 2 "pt3.csv:4: no train for $WORK/c.csv: give a train column, --train, or a scenario with one train" -- "$VIADUCT" passages "$HS" --records "$WORK/pt3.csv" --map mid_acc=mid --out "$WORK/o"
+printf 'file\n' > "$WORK/pt4.csv"
+expect 2 "no passages in the table" -- "$VIADUCT" passages "$HS" --records "$WORK/pt4.csv" --map mid_acc=mid --out "$WORK/o"
+# Every record unreadable: exit 2, each named.
+printf 'file,train\nnothere1.csv,HSLM-A1\nnothere2.csv,HSLM-A1\n' > "$WORK/pt5.csv"
+expect 2 "nothere2.csv: cannot open" -- "$VIADUCT" passages "$HS" --records "$WORK/pt5.csv" --map mid_acc=mid --set sweep.speed_step_kmh=140 --out "$WORK/o"
+expect 2 "a strain; station 'mid' has no stations[].fibre_m" -- "$VIADUCT" passages "$HS" --records "$PT" --map mid_strain=mid --set sweep.speed_step_kmh=140 --out "$WORK/o"
+expect 2 "key 'sweep': no speeds for the model's envelope" -- "$VIADUCT" passages "$HS" --records "$PT" --map mid_acc=mid --unset sweep --out "$WORK/o"
+expect 2 "passages: --noise-band = 0: violated constraint noise_band > 0" -- "$VIADUCT" passages "$HS" --records "$PT" --map mid_acc=mid --noise-band 0 --set sweep.speed_step_kmh=140 --out "$WORK/o"
 finish

@@ -67,4 +67,6 @@ done
 expect 0 "(with figures)" -- "$VIADUCT" assess "$HS" --set assess.speed_min_kmh=300 --set assess.speed_step_kmh=20 \
   --set assess.refine_band=0 --out "$WORK/assess2"
 expect 0 "![Peak deck acceleration against speed" -- cat "$WORK/assess2/report.md"
+"$VIADUCT" passages "$HS" --records "$SRC/data/records/passages/passages.csv" --map mid_acc=mid --map mid_disp=mid --set analysis.method=modal --set sweep.speed_step_kmh=20 --quiet --out "$WORK/passages"
+plotted passages "$WORK/passages/passages.png" -- $PY "$P/plot_passages.py" "$WORK/passages"
 finish

@@ -150,5 +150,6 @@ Command modal_fit_command();
 Command decay_command();
 Command fit_command();
 Command assess_command();
+Command passages_command();
 
 }  // namespace viaduct::cli

@@ -17,8 +17,7 @@ namespace {
 struct Mapping {
   std::size_t channel = 0;
   std::size_t station = 0;
-  std::string quantity;  // "acc" or "disp"
-  double scale = 1.0;    // model SI value -> channel unit
+  study::ResponseKind kind = study::ResponseKind::acceleration;
 };
 
 // --map CHANNEL=STATION pairs: the record channel, the station, and the model quantity its unit asks for.
@@ -41,17 +40,12 @@ std::vector<Mapping> mappings_of(const std::vector<std::string>& pairs, const io
       for (const auto& s : sc.stations) have += " " + s.name;
       throw InputError("--map: no station '" + st + "' in the scenario; it has:" + have);
     }
-    if (rec.units[mp.channel] == "ue") {
-      // Strain against the model's <station>_strain_ue = 1e6 M y / EI at the gauge's fibre.
-      if (sc.stations[mp.station].fibre_m == 0.0)
-        throw InputError("--map: channel '" + rec.channels[mp.channel] + "' is a strain; station '" + st +
-                         "' has no stations[].fibre_m (the gauge's distance below the neutral axis) to give the model's strain");
-      mp.quantity = "strain";
-    } else {
-      const io::ChannelQuantity q = io::channel_quantity(rec.units[mp.channel], rec.channels[mp.channel], "--map");
-      mp.quantity = q.acceleration ? "acc" : "disp";
-      mp.scale = q.scale;
-    }
+    const io::ChannelQuantity q = io::channel_quantity(rec.units[mp.channel], rec.channels[mp.channel], "--map");
+    // Strain against the model's <station>_strain_ue = 1e6 M y / EI at the gauge's fibre.
+    if (q == io::ChannelQuantity::strain && sc.stations[mp.station].fibre_m == 0.0)
+      throw InputError("--map: channel '" + rec.channels[mp.channel] + "' is a strain; station '" + st +
+                       "' has no stations[].fibre_m (the gauge's distance below the neutral axis) to give the model's strain");
+    mp.kind = q;
     maps.push_back(mp);
   }
   return maps;
@@ -104,7 +98,7 @@ int compare_body(const Common& o, const CompareOptions& k) {
   // Simulate unfiltered: the comparison filters model and record alike.
   study::RunSettings rs = sc.settings;
   rs.filter.enabled = false;
-  const bool strain = std::any_of(maps.begin(), maps.end(), [](const Mapping& mp) { return mp.quantity == "strain"; });
+  const bool strain = std::any_of(maps.begin(), maps.end(), [](const Mapping& mp) { return mp.kind == study::ResponseKind::strain; });
   study::RunResult run;
   if (strain) {  // strain is a load effect: the prepared model records them
     const study::PreparedModel pm = study::prepare_model(model::build_structure(sc.bridge, sc.track), sc.stations, rs, true, true);
@@ -128,14 +122,8 @@ int compare_body(const Common& o, const CompareOptions& k) {
                 static_cast<long>(rec.n_samples()), rec.fs_hz, "channel", "station", "shift_s", "peak_ratio", "rms", "corr",
                 "spec_corr", "f_rec_hz", "f_mod_hz");
   for (const auto& mp : maps) {
-    const auto& h = run.stations[mp.station];
-    Vector model;
-    if (mp.quantity == "strain") {
-      for (const auto& e : run.effects)
-        if (e.name == sc.stations[mp.station].name + "_strain_ue") model = e.value;
-    } else {
-      model = (mp.quantity == "acc" ? h.acc : h.disp) * mp.scale;
-    }
+    const Vector model = study::station_response(run, mp.station, mp.kind);
+    co.filter = study::filter_for(sc.settings.filter, mp.kind);
     const study::ChannelComparison cc = study::compare_channel(rec.data.col(static_cast<Index>(mp.channel)), rec.fs_hz,
                                                                rec.t0_s, model, 1.0 / rs.dt, co);
     const std::string base = rec.channels[mp.channel].substr(0, rec.channels[mp.channel].size() - rec.units[mp.channel].size() - 1);
@@ -151,7 +139,7 @@ int compare_body(const Common& o, const CompareOptions& k) {
     fnames.push_back(base + "_model_amp_" + u);
     fcols.push_back(cc.model_amplitude);
     auto num = [](double v) { return io::table_cell(v, 8); };
-    metrics.push_back({rec.channels[mp.channel], sc.stations[mp.station].name, mp.quantity, num(cc.shift_s),
+    metrics.push_back({rec.channels[mp.channel], sc.stations[mp.station].name, study::response_name(mp.kind), num(cc.shift_s),
                        num(cc.peak_record), num(cc.peak_model), num(cc.peak_ratio), num(cc.rms_ratio),
                        num(cc.correlation), num(cc.f_peak_record_hz), num(cc.f_peak_model_hz),
                        num(cc.spectral_correlation)});
@@ -198,7 +186,8 @@ Command compare_command() {
   c.usage_and_samples =
       "Runs the scenario at the train's speed, filters model and record with the scenario's\n"
       "[filter], aligns them by cross-correlation (the shift is reported) and writes OUT/\n"
-      "compare_time.csv, compare_spectrum.csv, compare_metrics.csv and manifest.toml. The\n"
+      "compare_time.csv, compare_spectrum.csv, compare_metrics.csv and manifest.toml (deflection\n"
+      "and strain only low-passed at the filter's upper edge: they carry the quasi-static load). The\n"
       "channel's unit picks the model quantity: acceleration (_mps2, [g], ...), deflection (_m,\n"
       "[mm], ...) or strain (_ue, [µε], [microstrain], ...: the model's 1e6 M y/EI at the\n"
       "station's stations[].fibre_m). Records are read as logger files are (docs/records.md).\n"

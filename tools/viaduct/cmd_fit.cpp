@@ -27,7 +27,7 @@ Command fit_command() {
     d.add_options()("param", list_value(q.params),
                     "KEY=LO:HI[:log|linear]: a numeric scenario key to fit within bounds, starting from its scenario value (repeatable; replaces [[fit.params]])")(
         "record", list_value(q.records),
-        "record CSV or UFF to fit (repeatable; replaces [[fit.records]]); every --map applies to every --record")(
+        "record (CSV, UFF or .mat) to fit (repeatable; replaces [[fit.records]]); every --map applies to every --record")(
         "map", list_value(q.maps),
         "CHANNEL=STATION: record channel fitted by a scenario station; also RESPONSE=STATION for identified shapes (repeatable)")(
         "speed-kmh", po::value<std::vector<double>>(&q.speeds_kmh)->composing(),

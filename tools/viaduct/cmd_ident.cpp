@@ -302,7 +302,7 @@ Command frf_command() {
   c.usage_and_samples =
       "With a SCENARIO (.toml): solves (K - w^2 M + i w C) x = F on the assembled structure (track\n"
       "included) for a unit force at --force-at, and writes the responses per newton.\n"
-      "With a RECORD (CSV or UFF): estimates the FRF of every response to --force: Welch H1 (or H2)\n"
+      "With a RECORD (CSV, UFF or .mat): estimates the FRF of every response to --force: Welch H1 (or H2)\n"
       "and coherence, stepped sine (one point per dwell of --steps, or of the dwells detected from the\n"
       "force, with settle and distortion checks in stepped.csv) or swept sine (ratio of transforms on\n"
       "--f-min..--f-max).\n"

@@ -342,11 +342,7 @@ Command peaks_command() {
 namespace {
 
 // What a record channel's unit compares with at a station: acceleration, deflection or strain.
-std::string quantity_of(const io::Record& in, std::size_t ch) {
-  const std::string& u = in.units[ch];
-  if (u == "ue") return "strain";
-  return io::channel_quantity(u, in.channels[ch], "--channel").acceleration ? "acc" : "disp";
-}
+study::ResponseKind kind_of(const io::Record& in, std::size_t ch) { return io::channel_quantity(in.units[ch], in.channels[ch], "--channel"); }
 
 // --model: the record's channels against the station's simulated response at trial speeds.
 std::vector<std::vector<std::string>> speed_by_signature(const Common& o, const SpeedOptions& s, const io::Record& in) {
@@ -374,7 +370,7 @@ std::vector<std::vector<std::string>> speed_by_signature(const Common& o, const 
   }
   const auto chans = selected(in, s.channels);
   bool strain = false;
-  for (std::size_t ch : chans) strain = strain || quantity_of(in, ch) == "strain";
+  for (std::size_t ch : chans) strain = strain || kind_of(in, ch) == study::ResponseKind::strain;
   if (strain && sc.stations[st].fibre_m == 0.0)
     throw InputError("--station " + sc.stations[st].name + ": a strain channel needs stations[].fibre_m in " + *s.model);
   study::RunSettings rs = sc.settings;
@@ -386,23 +382,14 @@ std::vector<std::vector<std::string>> speed_by_signature(const Common& o, const 
   std::vector<std::vector<std::string>> rows;
   auto num = [](double v) { return io::table_cell(v, 8); };
   for (std::size_t ch : chans) {
-    const std::string q = quantity_of(in, ch);
-    const std::function<Vector(double)> at = [&](double v) -> Vector {
-      const study::RunResult r = study::simulate(pm, train, v, rs);
-      if (q == "acc") return r.stations[st].acc;
-      if (q == "disp") return r.stations[st].disp;
-      for (const auto& e : r.effects)
-        if (e.name == spec.name + "_strain_ue") return e.value;
-      throw SolverError("no strain history for station " + spec.name);
-    };
+    const study::ResponseKind q = kind_of(in, ch);
+    const std::function<Vector(double)> at = [&](double v) { return study::station_response(study::simulate(pm, train, v, rs), st, q); };
     study::SignatureOptions so;
     so.v_min = s.v_min_kmh / 3.6;
     so.v_max = s.v_max_kmh / 3.6;
-    so.filter = sc.settings.filter;
-    if (q != "acc") {  // quasi-static channels: only the noise above the acceleration band goes
-      so.filter.cheby.band = signal::BandType::lowpass;
-      so.filter.enabled = true;
-    }
+    so.filter = study::filter_for(sc.settings.filter, q);
+    // quasi-static channels: only the noise above the acceleration band goes, even unfiltered scenarios
+    if (q != study::ResponseKind::acceleration) so.filter.enabled = true;
     so.max_shift_s = duration + 60.0;
     const study::SignatureMatch m = study::match_signature(in.data.col(static_cast<Index>(ch)), in.fs_hz, in.t0_s, at, 1.0 / rs.dt, so);
     const double dt_st = (x_station - pm.structure.path_start()) / m.speed;

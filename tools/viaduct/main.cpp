@@ -13,7 +13,8 @@ int main(int argc, char** argv) {
                                          schema_command(), filter_command(), spectrum_command(),
                                          peaks_command(), compare_command(), speed_command(),
                                          resample_command(), envelope_command(), inspect_command(), tradeoff_command(),
-                                         frf_command(), shaker_command(), modal_fit_command(), decay_command(), fit_command(), assess_command()};
+                                         frf_command(), shaker_command(), modal_fit_command(), decay_command(), fit_command(), assess_command(),
+                                         passages_command()};
   auto usage = [&](std::ostream& os) {
     os << "viaduct " << viaduct::io::version() << " — railway train–track–bridge dynamics\n\n"
        << "Usage: viaduct COMMAND SCENARIO|RECORD [options]    (viaduct COMMAND --help for each)\n\nCommands:\n";

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "viaduct/core/types.hpp"
+#include "viaduct/study/scenario.hpp"
 
 namespace viaduct::io {
 
@@ -83,6 +84,16 @@ Record time_window(const Record& r, std::optional<double> start_s, std::optional
 /// Reads a record CSV (streaming; every problem listed in one InputError with file:line).
 Record read_record_csv(const std::string& path, const ReadOptions& options = {}, ImportReport* report = nullptr);
 
+/// A MATLAB .mat file (v4, v5 or v7.3, read with libmatio) as a record: every real numeric
+/// vector of the record's length is a channel named by its variable (units as in CSV headers:
+/// `acc_mid_g`, or --unit), a matrix with a sample per row gives a channel per column (named by a
+/// cell array `names`/`channels` (or VAR_names) and `units`, else VAR_1, VAR_2, ...), a vector
+/// named t, time, t_s... is the time column, a scalar fs, sample_rate, sampling_rate_hz... (or dt)
+/// the rate. The record's length is the time vector's, else the most common length; other
+/// variables are listed as not read. Then as read_record_csv: time grid, conversions, repairs,
+/// every problem in one InputError (its line is the sample's row).
+Record read_record_mat(const std::string& path, const ReadOptions& options = {}, ImportReport* report = nullptr);
+
 /// Reads the real, evenly sampled datasets 58 (function at nodal DOF) of an ASCII Universal
 /// File, one channel each: name from ID line 1 (spaces and commas become '_') plus a unit
 /// suffix from the ordinate's unit label (m/s^2, g, m, mm, m/s, N, kN, Pa, V). All datasets
@@ -105,17 +116,28 @@ struct ChannelSummary {
 };
 ChannelSummary summarise_channel(const Vector& x);
 
-/// What a record channel's unit says it holds, for comparing with the model: deck acceleration
-/// (mps2, g) or deflection (m, mm), and the factor from the model's SI value to the unit.
-struct ChannelQuantity {
-  bool acceleration = true;
-  double scale = 1.0;
-};
+/// What a record channel's unit says it holds, for comparing with the model (channels are read
+/// in viaduct's units, so the model's values compare as they are): deck acceleration (mps2),
+/// deflection (m) or strain (ue: the model's <station>_strain_ue).
+using ChannelQuantity = study::ResponseKind;
 /// InputError naming `who` and the channel for other units.
 ChannelQuantity channel_quantity(const std::string& unit, const std::string& channel, const std::string& who);
 
-/// read_uff58 for .uff/.unv files, read_record_csv otherwise; channels in viaduct's units.
+/// read_uff58 for .uff/.unv files, read_record_mat for .mat, read_record_csv otherwise; channels in viaduct's units.
 Record read_record(const std::string& path, const ReadOptions& options = {}, ImportReport* report = nullptr);
+
+/// One row of a table of recorded passages (viaduct passages): a record file, its train and,
+/// when known, its speed.
+struct PassageEntry {
+  std::string file;       ///< as written, resolved against the table's folder when relative
+  std::string train;      ///< a train name or train file; empty: the command's default
+  double speed_kmh = 0;   ///< [km/h] > 0; 0 (empty cell): identify
+  int line = 0;           ///< the table's line
+};
+/// A CSV table with a header naming `file` (or `record`), optionally `train` and `speed_kmh`;
+/// other columns are ignored, '#' lines skipped. InputError naming file, line and column for a
+/// missing file column, an empty file cell or a speed that is not a number > 0.
+std::vector<PassageEntry> read_passage_table(const std::string& path);
 
 /// Writes `r` with a t_s column (t0 + k/fs) as header and rows only (pandas.read_csv reads it
 /// as is; the reader takes the rate from the time column), atomically. Throws SolverError on

@@ -40,7 +40,7 @@ struct FitChannel {
   std::string station;       ///< scenario station name
   bool acceleration = true;  ///< true: the station's acceleration (filtered); false: its deflection (unfiltered)
   bool strain = false;       ///< the station's strain in microstrain (<station>_strain_ue: stations[].fibre_m), unfiltered
-  double scale = 1.0;        ///< model SI value → channel unit (1/g for _g, 1e3 for _mm)
+  double scale = 1.0;        ///< model SI value → channel unit (1 for records read by io: they are in SI)
   Vector samples;            ///< as measured, in the channel unit, finite
 };
 

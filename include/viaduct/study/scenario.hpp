@@ -31,6 +31,21 @@ struct FilterSpec {
   signal::Cheby1Spec cheby;
 };
 
+/// What a sensor measures at a station, as records and comparisons name it.
+enum class ResponseKind {
+  acceleration,  ///< [m/s²] the deck's (rail's at a rail station)
+  deflection,    ///< [m] positive down
+  strain,        ///< [µε] the station's <station>_strain_ue (a model prepared with load effects)
+};
+/// "acc", "disp" or "strain" (report columns).
+const char* response_name(ResponseKind k);
+/// The unit of a response as viaduct's columns write it: "mps2", "m" or "ue".
+const char* response_unit(ResponseKind k);
+/// The filter a response is compared under: accelerations the scenario's own; deflection and
+/// strain, which carry the quasi-static load, only its low-pass part (the same order and
+/// ripple, a low-pass at its upper edge), so that only the noise above the band goes.
+FilterSpec filter_for(const FilterSpec& scenario_filter, ResponseKind k);
+
 /// How the equations of motion are solved (chosen in one place: solve::make_integrator).
 using Method = solve::Method;
 

@@ -175,6 +175,10 @@ struct StationPeaks {
 };
 std::vector<StationPeaks> peaks(const RunResult& r);
 
+/// Station `station`'s history of `k` in `r` (unfiltered). SolverError when `r` has no strain
+/// history for it (the model was prepared without load effects or the station has no fibre).
+Vector station_response(const RunResult& r, std::size_t station, ResponseKind k);
+
 /// Signed extremes of one quantity over a case.
 struct EffectPeak {
   double max = 0.0, min = 0.0;  ///< largest and smallest value (sagging moment, compression positive)
