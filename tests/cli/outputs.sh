@@ -169,6 +169,9 @@ expect 0 "clipped (over the sensor's or logger's range)?" -- "$VIADUCT" inspect 
 expect 0 "Disp_S1_mid_m          train-signature 154.80" -- "$VIADUCT" speed "$LOG" --channel 'Disp S1 mid' --model "$SRC/scenarios/old-guadiana-talgo.toml" \
   --station S1_mid --v-min-kmh 150 --v-max-kmh 160 --out "$WORK/lsp"
 expect 0 "channel,method,speed_kmh,uncertainty_kmh,frequency_hz,n_used,first_axle_s,first_axle_uncertainty_s,correlation,amplitude" -- head -1 "$WORK/lsp/speed.csv"
+# The axles at the station: a 19 m span's mid-span deflection merges them (none claimed), each listed.
+expect 0 "channel,axle,offset_m,load_kN,t_s,t_uncertainty_s,seen,peak_t_s,peak_value,residual_s" -- head -1 "$WORK/lsp/axles.csv"
+expect 0 "13 0" -- awk -F, 'NR > 1 && $7 == "true" { seen++ } END { print NR, seen + 0 }' "$WORK/lsp/axles.csv"
 expect 2 "--station: no station 'S9' in" -- "$VIADUCT" speed "$LOG" --channel 'Disp S1 mid' --model "$SRC/scenarios/old-guadiana-talgo.toml" --station S9 --out "$WORK/lsp"
 expect 2 "--model: name the record's channels at --station with --channel" -- "$VIADUCT" speed "$LOG" --model "$SRC/scenarios/old-guadiana-talgo.toml" --station S1_mid --out "$WORK/lsp"
 expect 2 "a strain channel needs stations[].fibre_m" -- "$VIADUCT" speed "$LOG" --channel 'Strain S1 mid' --model "$SRC/scenarios/old-guadiana-talgo.toml" --station S1_mid --out "$WORK/lsp"

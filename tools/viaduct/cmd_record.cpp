@@ -345,7 +345,8 @@ namespace {
 study::ResponseKind kind_of(const io::Record& in, std::size_t ch) { return io::channel_quantity(in.units[ch], in.channels[ch], "--channel"); }
 
 // --model: the record's channels against the station's simulated response at trial speeds.
-std::vector<std::vector<std::string>> speed_by_signature(const Common& o, const SpeedOptions& s, const io::Record& in) {
+std::vector<std::vector<std::string>> speed_by_signature(const Common& o, const SpeedOptions& s, const io::Record& in,
+                                                         std::vector<std::vector<std::string>>& axle_rows) {
   const io::FlatScenario flat = io::load_flat(*s.model);
   study::Scenario sc = io::to_scenario(flat);
   if (s.channels.empty()) throw InputError("--model: name the record's channels at --station with --channel");
@@ -396,6 +397,17 @@ std::vector<std::vector<std::string>> speed_by_signature(const Common& o, const 
     const double entry = m.shift_s + dt_st, entry_se = std::hypot(m.shift_se, dt_st / m.speed * m.speed_se);
     rows.push_back({in.channels[ch], "train-signature", num(m.speed * 3.6), num(3 * m.speed_se * 3.6), "", std::to_string(m.n_evaluations),
                     num(entry), num(3 * entry_se), num(m.correlation), num(m.amplitude)});
+    if (q != study::ResponseKind::acceleration) {  // the axles, where the channel sees them one by one
+      const study::AxleMatch am = study::match_axles(in.data.col(static_cast<Index>(ch)), in.fs_hz, in.t0_s, train, m.speed, m.speed_se,
+                                                     entry, entry_se, so.filter);
+      for (const auto& a : am.axles)
+        axle_rows.push_back({in.channels[ch], std::to_string(a.axle + 1), num(a.offset_m), num(a.load_n * 1e-3), num(a.t_s), num(3 * a.t_se),
+                             a.seen ? "true" : "false", a.seen ? num(a.peak_t_s) : "", a.seen ? num(a.peak_value) : "",
+                             a.seen ? num(a.peak_t_s - a.t_s) : ""});
+      if (!o.quiet)
+        std::printf("%-22s axles seen one by one: %zu of %zu (within %.1f ms of their time; RMS %.2f ms)\n", in.channels[ch].c_str(),
+                    am.n_seen, am.axles.size(), am.tolerance_s * 1e3, am.rms_residual_s * 1e3);
+    }
     if (!o.quiet)
       std::printf("%-22s train-signature %.3f km/h +- %.3f (3 standard errors); first axle at %s at %.4f s +- %.4f; correlation %.4f, "
                   "amplitude %.4g x model; %ld templates\n",
@@ -465,7 +477,12 @@ Command speed_command() {
       "--second-channel B --sensor-distance-m D: v = D / delay of B behind --channel, both\n"
       "low-passed at --lowpass-hz, the delay fitted by least squares with its standard error.\n"
       "Writes OUT/speed.csv: channel,method,speed_kmh,uncertainty_kmh,frequency_hz,n_used,\n"
-      "first_axle_s,first_axle_uncertainty_s,correlation,amplitude.\n\n"
+      "first_axle_s,first_axle_uncertainty_s,correlation,amplitude. With --model also OUT/axles.csv\n"
+      "for deflection and strain channels: each axle's time at the station (entry + offset/v, with\n"
+      "3 standard errors) and the record's peak matched to it where the channel sees axles one by\n"
+      "one (short influence lines: short spans, rails, cross-girders; peaks of 10 % of the largest\n"
+      "prominence or more, within a tenth of the shortest time between axles; seen = false where\n"
+      "the channel merges them).\n\n"
       "Sample runs:\n"
       "  viaduct speed data/records/synthetic-deck.csv --channel deck_acc --distance-m 13.14 --v-min-kmh 100 --v-max-kmh 250 --out out/speed\n"
       "  viaduct speed data/records/synthetic-deck.csv --channel deck_disp --distance-m 13.14 --peaks --min-interval-s 0.2 --out out/speed-peaks\n"
@@ -477,9 +494,13 @@ Command speed_command() {
     if (s.model || s.sensor_distance_m) {
       if (s.model && s.sensor_distance_m) throw InputError("give --model or --sensor-distance-m, not both");
       if (s.sensor_distance_m.has_value() != s.second.has_value()) throw InputError("--sensor-distance-m and --second-channel go together");
-      const auto rows = s.model ? speed_by_signature(o, s, in) : std::vector<std::vector<std::string>>{speed_by_delay(o, s, in)};
+      std::vector<std::vector<std::string>> axle_rows;
+      const auto rows = s.model ? speed_by_signature(o, s, in, axle_rows) : std::vector<std::vector<std::string>>{speed_by_delay(o, s, in)};
       make_out_dir(o.out);
       io::write_table_csv(o.out + "/speed.csv", header, rows);
+      if (s.model)
+        io::write_table_csv(o.out + "/axles.csv", {"channel", "axle", "offset_m", "load_kN", "t_s", "t_uncertainty_s", "seen", "peak_t_s",
+                                                   "peak_value", "residual_s"}, axle_rows);
       std::vector<std::string> inputs{o.scenario};
       if (s.model) inputs.push_back(*s.model);
       io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "speed", inputs), nullptr);

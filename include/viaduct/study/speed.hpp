@@ -6,6 +6,7 @@
 #include <functional>
 
 #include "viaduct/core/types.hpp"
+#include "viaduct/load/train.hpp"
 #include "viaduct/study/scenario.hpp"
 
 namespace viaduct::study {
@@ -70,5 +71,36 @@ struct Delay {
   double delay_s = 0.0, delay_se = 0.0, correlation = 0.0;
 };
 Delay delay_between(const Vector& a, const Vector& b, double fs_hz, const FilterSpec& filter, double max_delay_s);
+
+/// One axle of a train at a station: when the identified speed and entry time say it passes,
+/// and the record's peak that matched it where the channel sees single axles (a deflection or
+/// strain whose influence line is shorter than the axle spacing: short spans, rails, cross-girders).
+struct AxlePassage {
+  std::size_t axle = 0;     ///< index in the train
+  double offset_m = 0.0;    ///< [m] behind the first axle
+  double load_n = 0.0;      ///< [N]
+  double t_s = 0.0;         ///< [s] record time it passes: entry + offset / v
+  double t_se = 0.0;        ///< [s] standard error, from the entry's and the speed's
+  bool seen = false;        ///< a peak of the record matched it
+  double peak_t_s = 0.0;    ///< [s] the matched peak's time (refined between samples)
+  double peak_value = 0.0;  ///< the matched peak's value (the channel's unit)
+};
+
+struct AxleMatch {
+  std::vector<AxlePassage> axles;  ///< in the train's order
+  std::size_t n_seen = 0;
+  double rms_residual_s = 0.0;     ///< [s] RMS of peak_t_s − t_s over the axles seen (0 if none)
+  double tolerance_s = 0.0;        ///< [s] largest |peak − axle| accepted
+};
+
+/// The axles' passing times at a station (entry_s: the first axle's, as match_signature gives it
+/// with the station's distance; speed [m/s] > 0) matched to the peaks of x (sampled at fs from
+/// t0, filtered with `filter` when enabled): peaks with at least min_prominence × the largest
+/// prominence, paired one to one with the axles, nearest pairs first, within a tenth of the
+/// shortest time between two axles that are apart (at least three samples). Axles closer than the
+/// channel resolves share one peak, so one of them goes unseen: the count says what the channel
+/// sees. InputError for invalid arguments.
+AxleMatch match_axles(const Vector& x, double fs_hz, double t0_s, const load::Train& train, double speed, double speed_se, double entry_s,
+                      double entry_se, const FilterSpec& filter, double min_prominence = 0.1);
 
 }  // namespace viaduct::study
