@@ -251,4 +251,10 @@ expect 2 "nothere2.csv: cannot open" -- "$VIADUCT" passages "$HS" --records "$WO
 expect 2 "a strain; station 'mid' has no stations[].fibre_m" -- "$VIADUCT" passages "$HS" --records "$PT" --map mid_strain=mid --set sweep.speed_step_kmh=140 --out "$WORK/o"
 expect 2 "key 'sweep': no speeds for the model's envelope" -- "$VIADUCT" passages "$HS" --records "$PT" --map mid_acc=mid --unset sweep --out "$WORK/o"
 expect 2 "passages: --noise-band = 0: violated constraint noise_band > 0" -- "$VIADUCT" passages "$HS" --records "$PT" --map mid_acc=mid --noise-band 0 --set sweep.speed_step_kmh=140 --out "$WORK/o"
+# viaduct irregularity: names and constraints.
+expect 2 "unknown irregularity spectrum 'fra7' (known: fra1 ... fra6" -- "$VIADUCT" irregularity --spectrum fra7 --out "$WORK/o"
+expect 2 "--spectrum is required" -- "$VIADUCT" irregularity --out "$WORK/o"
+expect 2 "--lambda-min = 1: violated constraint lambda_min >= 4 dx" -- "$VIADUCT" irregularity --spectrum fra6 --dx 1 --out "$WORK/o"
+expect 2 "--lambda-max = 80: violated constraint lambda_max <= length" -- "$VIADUCT" irregularity --spectrum fra6 --length 50 --out "$WORK/o"
+expect 2 "takes no scenario" -- "$VIADUCT" irregularity --spectrum fra6 --set a=1 --out "$WORK/o"
 finish

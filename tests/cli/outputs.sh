@@ -201,4 +201,11 @@ printf 'file,train\n%s,HSLM-A1\n%s,HSLM-A1\n' "$SRC/data/records/passages/passag
 expect 1 "synthetic-deck.csv: no channel 'mid_disp'" -- "$VIADUCT" passages "$HS" --records "$WORK/mixed.csv" --map mid_disp=mid "${PS[@]}" --out "$WORK/pas4"
 expect 0 "2" -- awk 'END { print NR }' "$WORK/pas4/failures.csv"
 expect 0 "2" -- awk 'END { print NR }' "$WORK/pas4/passages.csv"
+# Rail irregularity profiles (#21 part 3): FRA class 6, 1-80 m, over exactly one period of its
+# harmonics (32768 samples at 0.05 m): the RMS is the band's closed form (to the manifest's 8
+# digits; a part of a period scatters by a few per cent), and the PSD check's columns.
+expect 0 "wrote $WORK/irr/profile.csv" -- "$VIADUCT" irregularity --spectrum fra6 --length 1638.35 --seed 3 --out "$WORK/irr"
+expect 0 "ok" -- awk -F' = ' '$1 == "rms_m" { r = $2 } $1 == "rms_closed_form_m" { c = $2 } END { d = r / c - 1; if (d < 0) d = -d; print d < 1e-6 ? "ok" : "rms " r " against " c }' "$WORK/irr/manifest.toml"
+expect 0 "wavenumber_rad_per_m,wavelength_m,psd_target_m2_per_rad_per_m,psd_profile_m2_per_rad_per_m" -- head -1 "$WORK/irr/psd.csv"
+expect 0 "32768" -- awk 'END { print NR - 1 }' "$WORK/irr/profile.csv"
 finish

@@ -44,7 +44,7 @@ std::string in_option_terms(const std::string& msg, const po::options_descriptio
   // An error that names no file (a signal check deep in the library, a run too long for its
   // settings) is about the input the command was given; an option named in a record command's
   // error was checked against its record.
-  static const std::regex a_file(R"(\.(csv|uff|unv|toml|txt)\b)", std::regex::icase);
+  static const std::regex a_file(R"(\.(csv|uff|unv|toml|txt|mat)\b)", std::regex::icase);
   const bool record_command = cmd.positional.find("SCENARIO") == std::string::npos;
   const bool names_a_file = std::regex_search(out, a_file) || out.rfind("--", 0) == 0;
   if (!input.empty() && out.find(input) == std::string::npos && ((named && record_command) || !names_a_file))

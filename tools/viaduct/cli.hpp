@@ -151,5 +151,6 @@ Command decay_command();
 Command fit_command();
 Command assess_command();
 Command passages_command();
+Command irregularity_command();
 
 }  // namespace viaduct::cli

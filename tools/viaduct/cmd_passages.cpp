@@ -244,8 +244,7 @@ int passages_body(const Common& o, const PassagesOptions& k) {
       f.train = trains[train_of[i]].name;
       f.failure = e.what();
       f.input_error = true;
-      unread.push_back(f);
-      std::fprintf(stderr, "viaduct passages: %s: %s\n", entries[i].file.c_str(), e.what());
+      unread.push_back(f);  // reported with the others at the end
     }
   }
   study::RunSettings rs = sc.settings;

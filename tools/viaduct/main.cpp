@@ -14,11 +14,13 @@ int main(int argc, char** argv) {
                                          peaks_command(), compare_command(), speed_command(),
                                          resample_command(), envelope_command(), inspect_command(), tradeoff_command(),
                                          frf_command(), shaker_command(), modal_fit_command(), decay_command(), fit_command(), assess_command(),
-                                         passages_command()};
+                                         passages_command(), irregularity_command()};
   auto usage = [&](std::ostream& os) {
     os << "viaduct " << viaduct::io::version() << " — railway train–track–bridge dynamics\n\n"
        << "Usage: viaduct COMMAND SCENARIO|RECORD [options]    (viaduct COMMAND --help for each)\n\nCommands:\n";
-    for (const auto& c : commands) os << "  " << c.name << std::string(11 - c.name.size(), ' ') << c.summary << "\n";
+    std::size_t width = 0;
+    for (const auto& c : commands) width = std::max(width, c.name.size());
+    for (const auto& c : commands) os << "  " << c.name << std::string(width + 2 - c.name.size(), ' ') << c.summary << "\n";
   };
   if (argc < 2) {
     usage(std::cerr);
