@@ -208,4 +208,12 @@ expect 0 "wrote $WORK/irr/profile.csv" -- "$VIADUCT" irregularity --spectrum fra
 expect 0 "ok" -- awk -F' = ' '$1 == "rms_m" { r = $2 } $1 == "rms_closed_form_m" { c = $2 } END { d = r / c - 1; if (d < 0) d = -d; print d < 1e-6 ? "ok" : "rms " r " against " c }' "$WORK/irr/manifest.toml"
 expect 0 "wavenumber_rad_per_m,wavelength_m,psd_target_m2_per_rad_per_m,psd_profile_m2_per_rad_per_m" -- head -1 "$WORK/irr/psd.csv"
 expect 0 "32768" -- awk 'END { print NR - 1 }' "$WORK/irr/profile.csv"
+# A profile's spectrum named back: 2 km of fra4 and of german-high (x_m,z_m as written above).
+for sp in fra4 german-high; do
+  "$VIADUCT" irregularity --spectrum $sp --length 2000 --seed 5 --quiet --out "$WORK/irr-$sp"
+  expect 0 "nearest: $sp" -- "$VIADUCT" irregularity --profile "$WORK/irr-$sp/profile.csv" --out "$WORK/irr-$sp-check"
+done
+expect 0 "psd_fra1_m2_per_rad_per_m" -- head -1 "$WORK/irr-fra4-check/psd.csv"
+expect 2 "give --profile (analyse a measured profile) or --spectrum (make one), not both" -- "$VIADUCT" irregularity --profile "$WORK/irr-fra4/profile.csv" --spectrum fra4 --out "$WORK/o"
+expect 2 "--lambda-max = 800: violated constraint lambda_min < lambda_max <= 204.8 m" -- "$VIADUCT" irregularity --profile "$WORK/irr-fra4/profile.csv" --lambda-max 800 --out "$WORK/o"
 finish

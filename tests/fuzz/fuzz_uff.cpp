@@ -1,4 +1,4 @@
-// Universal File Format dataset 58 (ASCII): what it returns is a clean record.
+// Universal File Format dataset 58 (ASCII and binary 58b): what it returns is a clean record.
 #include "harness.hpp"
 #include "viaduct/io/record.hpp"
 #include "record_checks.hpp"
