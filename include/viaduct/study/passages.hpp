@@ -41,7 +41,8 @@ struct PassageOptions {
   double speed_band = 3.0;
   /// A passage is within the model when its peak lies in [predicted_low − noise_band·noise,
   /// predicted_high + noise_band·noise]: the peak of a signal with Gaussian noise of RMS σ over
-  /// the few samples near its maximum stays within 4σ of the noiseless peak but for 1 in 10⁴. > 0.
+  /// the few samples near its maximum stays within 4σ of the noiseless peak but for about 1 in
+  /// 10³ (P(|z| > 4) = 6e-5 a sample). > 0.
   double noise_band = 4.0;
   int threads = 1;         ///< >= 1; results do not depend on it
   ProgressSink progress;   ///< optional; called after each envelope case and each passage
