@@ -94,15 +94,8 @@ PassageResult run_passage(const PreparedModel& m, const RunSettings& rs, const F
   if (p.speed > 0.0) {
     res.speed = p.speed;
   } else {
-    SignatureOptions so;
-    so.v_min = o.v_min;
-    so.v_max = o.v_max;
-    so.grid_step = o.grid_step;
-    so.filter = filter_for(filter, first.kind);
-    if (first.kind != ResponseKind::acceleration) so.filter.enabled = true;  // only the noise above the band goes
-    so.max_shift_s = static_cast<double>(first.x.size()) / p.fs_hz + 60.0;
-    const std::function<Vector(double)> at = [&](double v) { return station_response(simulate(m, train, v, rs), first.station, first.kind); };
-    const SignatureMatch sm = match_signature(first.x, p.fs_hz, p.t0_s, at, fs_model, so);
+    const SignatureMatch sm = match_train_signature(m, rs, train, first.station, first.kind, first.x, p.fs_hz, p.t0_s, filter, o.v_min,
+                                                    o.v_max, o.grid_step);
     res.speed = sm.speed;
     res.speed_se = sm.speed_se;
     res.identified = true;

@@ -344,6 +344,29 @@ Delay delay_between(const Vector& a, const Vector& b, double fs_hz, const Filter
   return d;
 }
 
+FilterSpec signature_filter(const FilterSpec& scenario_filter, ResponseKind kind) {
+  FilterSpec f = filter_for(scenario_filter, kind);
+  if (kind != ResponseKind::acceleration) f.enabled = true;
+  return f;
+}
+
+SignatureMatch match_train_signature(const PreparedModel& m, const RunSettings& settings, const load::Train& train, std::size_t station,
+                                     ResponseKind kind, const Vector& record, double fs_hz, double t0_s, const FilterSpec& scenario_filter,
+                                     double v_min, double v_max, double grid_step) {
+  if (station >= m.stations.size()) throw InputError("match_train_signature: station index out of range");
+  require_positive(fs_hz, "sampling rate [Hz]");
+  RunSettings rs = settings;
+  rs.filter.enabled = false;  // the match filters record and template alike
+  SignatureOptions so;
+  so.v_min = v_min;
+  so.v_max = v_max;
+  so.grid_step = grid_step;
+  so.filter = signature_filter(scenario_filter, kind);
+  so.max_shift_s = static_cast<double>(record.size()) / fs_hz + 60.0;
+  const std::function<Vector(double)> at = [&](double v) { return station_response(simulate(m, train, v, rs), station, kind); };
+  return match_signature(record, fs_hz, t0_s, at, 1.0 / rs.dt, so);
+}
+
 AxleMatch match_axles(const Vector& x, double fs_hz, double t0_s, const load::Train& train, double speed, double speed_se, double entry_s,
                       double entry_se, const FilterSpec& filter, double min_prominence) {
   require_positive(fs_hz, "sampling rate [Hz]");

@@ -94,6 +94,15 @@ void print_import_report(const std::string& path, const io::ImportReport& report
 /// The command's scenario with --set and --unset applied (io::load_flat).
 io::FlatScenario load_scenario(const Common& o);
 
+/// The index of the scenario's station `name`; InputError "WHO: no station 'NAME' in the
+/// scenario; it has: ..." otherwise.
+std::size_t station_index(const study::Scenario& sc, const std::string& name, const std::string& who);
+
+/// A record channel of kind `k` mapped to station `station` (--map, --channel): a strain needs
+/// the station's stations[].fibre_m to give the model's strain; InputError naming both otherwise.
+void require_strain_fibre(const study::Scenario& sc, std::size_t station, const std::string& channel, study::ResponseKind k,
+                          const std::string& who);
+
 /// Creates the output directory (throws SolverError when it cannot).
 void make_out_dir(const std::string& dir);
 

@@ -28,23 +28,9 @@ std::vector<Mapping> mappings_of(const std::vector<std::string>& pairs, const io
     if (eq == std::string::npos) throw InputError("--map needs CHANNEL=STATION, got '" + m + "'");
     Mapping mp;
     mp.channel = rec.channel(m.substr(0, eq));
-    const std::string st = m.substr(eq + 1);
-    bool found = false;
-    for (std::size_t i = 0; i < sc.stations.size(); ++i)
-      if (sc.stations[i].name == st) {
-        mp.station = i;
-        found = true;
-      }
-    if (!found) {
-      std::string have;
-      for (const auto& s : sc.stations) have += " " + s.name;
-      throw InputError("--map: no station '" + st + "' in the scenario; it has:" + have);
-    }
+    mp.station = station_index(sc, m.substr(eq + 1), "--map");
     const io::ChannelQuantity q = io::channel_quantity(rec.units[mp.channel], rec.channels[mp.channel], "--map");
-    // Strain against the model's <station>_strain_ue = 1e6 M y / EI at the gauge's fibre.
-    if (q == io::ChannelQuantity::strain && sc.stations[mp.station].fibre_m == 0.0)
-      throw InputError("--map: channel '" + rec.channels[mp.channel] + "' is a strain; station '" + st +
-                       "' has no stations[].fibre_m (the gauge's distance below the neutral axis) to give the model's strain");
+    require_strain_fibre(sc, mp.station, rec.channels[mp.channel], q, "--map");
     mp.kind = q;
     maps.push_back(mp);
   }

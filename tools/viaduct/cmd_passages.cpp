@@ -114,15 +114,7 @@ std::vector<MapSpec> maps_of(const std::vector<std::string>& pairs, const study:
   for (const auto& m : pairs) {
     const auto eq = m.find('=');
     if (eq == std::string::npos) throw InputError("--map needs CHANNEL=STATION, got '" + m + "'");
-    MapSpec s{m.substr(0, eq), sc.stations.size()};
-    for (std::size_t i = 0; i < sc.stations.size(); ++i)
-      if (sc.stations[i].name == m.substr(eq + 1)) s.station = i;
-    if (s.station == sc.stations.size()) {
-      std::string have;
-      for (const auto& st : sc.stations) have += " " + st.name;
-      throw InputError("--map: no station '" + m.substr(eq + 1) + "' in the scenario; it has:" + have);
-    }
-    out.push_back(s);
+    out.push_back({m.substr(0, eq), station_index(sc, m.substr(eq + 1), "--map")});
   }
   return out;
 }
@@ -140,9 +132,7 @@ study::Passage passage_of(const Entry& e, std::size_t train, const std::vector<M
   for (const auto& m : maps) {
     const std::size_t c = rec.channel(m.channel);
     const study::ResponseKind k = io::channel_quantity(rec.units[c], rec.channels[c], "--map");
-    if (k == study::ResponseKind::strain && sc.stations[m.station].fibre_m == 0.0)
-      throw InputError("--map: channel '" + rec.channels[c] + "' is a strain; station '" + sc.stations[m.station].name +
-                       "' has no stations[].fibre_m (the gauge's distance below the neutral axis) to give the model's strain");
+    require_strain_fibre(sc, m.station, rec.channels[c], k, "--map");
     p.channels.push_back({rec.channels[c], m.station, k, rec.data.col(static_cast<Index>(c))});
   }
   return p;

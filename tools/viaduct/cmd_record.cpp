@@ -362,13 +362,7 @@ std::vector<std::vector<std::string>> speed_by_signature(const Common& o, const 
     train = *it;
   }
   if (!s.station && sc.stations.size() != 1) throw InputError("--station: name the station of " + *s.model + " where the sensor sits");
-  std::size_t st = 0;
-  if (s.station) {
-    st = sc.stations.size();
-    for (std::size_t i = 0; i < sc.stations.size(); ++i)
-      if (sc.stations[i].name == *s.station) st = i;
-    if (st == sc.stations.size()) throw InputError("--station: no station '" + *s.station + "' in " + *s.model);
-  }
+  const std::size_t st = s.station ? station_index(sc, *s.station, "--station") : 0;
   const auto chans = selected(in, s.channels);
   bool strain = false;
   for (std::size_t ch : chans) strain = strain || kind_of(in, ch) == study::ResponseKind::strain;
@@ -379,27 +373,19 @@ std::vector<std::vector<std::string>> speed_by_signature(const Common& o, const 
   const study::PreparedModel pm = study::prepare_model(model::build_structure(sc.bridge, sc.track), sc.stations, rs, true, strain);
   const auto& spec = sc.stations[st];
   const double x_station = spec.on_deck ? pm.structure.span_start[spec.span] + spec.x_local : spec.x_track;
-  const double duration = static_cast<double>(in.n_samples()) / in.fs_hz;
   std::vector<std::vector<std::string>> rows;
   auto num = [](double v) { return io::table_cell(v, 8); };
   for (std::size_t ch : chans) {
     const study::ResponseKind q = kind_of(in, ch);
-    const std::function<Vector(double)> at = [&](double v) { return study::station_response(study::simulate(pm, train, v, rs), st, q); };
-    study::SignatureOptions so;
-    so.v_min = s.v_min_kmh / 3.6;
-    so.v_max = s.v_max_kmh / 3.6;
-    so.filter = study::filter_for(sc.settings.filter, q);
-    // quasi-static channels: only the noise above the acceleration band goes, even unfiltered scenarios
-    if (q != study::ResponseKind::acceleration) so.filter.enabled = true;
-    so.max_shift_s = duration + 60.0;
-    const study::SignatureMatch m = study::match_signature(in.data.col(static_cast<Index>(ch)), in.fs_hz, in.t0_s, at, 1.0 / rs.dt, so);
+    const study::SignatureMatch m = study::match_train_signature(pm, rs, train, st, q, in.data.col(static_cast<Index>(ch)), in.fs_hz, in.t0_s,
+                                                                 sc.settings.filter, s.v_min_kmh / 3.6, s.v_max_kmh / 3.6);
     const double dt_st = (x_station - pm.structure.path_start()) / m.speed;
     const double entry = m.shift_s + dt_st, entry_se = std::hypot(m.shift_se, dt_st / m.speed * m.speed_se);
     rows.push_back({in.channels[ch], "train-signature", num(m.speed * 3.6), num(3 * m.speed_se * 3.6), "", std::to_string(m.n_evaluations),
                     num(entry), num(3 * entry_se), num(m.correlation), num(m.amplitude)});
     if (q != study::ResponseKind::acceleration) {  // the axles, where the channel sees them one by one
       const study::AxleMatch am = study::match_axles(in.data.col(static_cast<Index>(ch)), in.fs_hz, in.t0_s, train, m.speed, m.speed_se,
-                                                     entry, entry_se, so.filter);
+                                                     entry, entry_se, study::signature_filter(sc.settings.filter, q));
       for (const auto& a : am.axles)
         axle_rows.push_back({in.channels[ch], std::to_string(a.axle + 1), num(a.offset_m), num(a.load_n * 1e-3), num(a.t_s), num(3 * a.t_se),
                              a.seen ? "true" : "false", a.seen ? num(a.peak_t_s) : "", a.seen ? num(a.peak_value) : "",

@@ -8,6 +8,7 @@
 #include "viaduct/core/types.hpp"
 #include "viaduct/load/train.hpp"
 #include "viaduct/study/scenario.hpp"
+#include "viaduct/study/simulation.hpp"
 
 namespace viaduct::study {
 
@@ -62,6 +63,19 @@ struct SignatureOptions {
 /// non-finite signals.
 SignatureMatch match_signature(const Vector& record, double fs_hz, double t0_s, const std::function<Vector(double)>& template_at,
                                double fs_template, const SignatureOptions& o);
+
+/// The filter a train's signature is matched under: filter_for(scenario_filter, kind), with
+/// deflection and strain low-passed even when the scenario's filter is off (only the noise
+/// above the band goes; their axle peaks are looked for under it too).
+FilterSpec signature_filter(const FilterSpec& scenario_filter, ResponseKind kind);
+
+/// A record channel at a model's station matched to a train's signature: match_signature with
+/// the station's simulated response (`settings`, run unfiltered) as the template, record and
+/// template filtered with signature_filter(), alignment searched over the record's duration + 60 s. `m` holds the station (with load effects for a strain). What
+/// `viaduct speed --model` and `viaduct passages` identify speeds with.
+SignatureMatch match_train_signature(const PreparedModel& m, const RunSettings& settings, const load::Train& train, std::size_t station,
+                                     ResponseKind kind, const Vector& record, double fs_hz, double t0_s, const FilterSpec& scenario_filter,
+                                     double v_min, double v_max, double grid_step = 0.01);
 
 /// The delay of sensor b behind sensor a (both sampled at fs from the same start) by
 /// cross-correlation of the filtered channels, refined by a parabola; standard error from the
