@@ -11,6 +11,7 @@
 
 #include "toml_file.hpp"
 
+#include "viaduct/io/profile.hpp"
 #include "viaduct/io/scenario.hpp"
 #include "viaduct/study/tradeoff.hpp"
 
@@ -199,6 +200,48 @@ std::vector<study::StationSpec> stations_of(const FlatScenario& f, const model::
 
 }  // namespace
 
+// The vehicle keys that combine: the sprung spec (all or none), the irregularity's source, and the
+// trains each vehicle model needs.
+void vehicles_of(const FlatScenario& f, study::Scenario& sc) {
+  auto given = [&](const char* key) { return f.has(key) && !f.defaulted.count(key); };
+  study::VehicleSettings& vs = sc.settings.vehicle;
+  const bool has_mu = given("train.unsprung_mass_kg"), has_k = given("train.suspension_stiffness_N_m");
+  if (has_mu != has_k)
+    bad(f.at(has_mu ? "train.unsprung_mass_kg" : "train.suspension_stiffness_N_m"),
+        std::string("needs ") + (has_mu ? "train.suspension_stiffness_N_m" : "train.unsprung_mass_kg") + " too (a sprung mass per axle)");
+  if (has_mu)
+    vs.sprung = load::SprungSpec{f.at("train.unsprung_mass_kg").x, f.at("train.suspension_stiffness_N_m").x,
+                                 f.at("train.suspension_damping_Ns_m").x};
+  const Value& model = f.at("train.vehicle");
+  for (const auto& t : sc.trains) {
+    if (vs.model == study::VehicleModel::multibody && t.coaches.empty())
+      bad(model, "multibody needs trains of coaches (train files of kind \"coaches\"); '" + t.name + "' is a list of axles");
+    if (vs.model == study::VehicleModel::sprung && !vs.sprung && t.coaches.empty())
+      bad(model, "sprung: '" + t.name + "' is a list of axles: give train.unsprung_mass_kg and train.suspension_stiffness_N_m");
+  }
+  if (vs.model != study::VehicleModel::forces && f.at("analysis.superposition").s == "unit-response")
+    bad(f.at("analysis.superposition"), "unit-response composes constant axle loads: it cannot take train.vehicle = \"" +
+                                            model.s + "\" (use \"direct\")");
+  study::IrregularitySettings& irr = sc.settings.irregularity;
+  if (given("irregularity.profile") && !f.at("irregularity.profile").s.empty()) {
+    const Value& p = f.at("irregularity.profile");
+    if (!irr.spectrum.empty()) bad(p, "give a measured profile or irregularity.spectrum, not both");
+    try {
+      irr.measured = std::make_shared<const load::RailProfile>(read_rail_profile(p.s));
+    } catch (const InputError& e) {
+      bad(p, e.what());
+    }
+    irr.measured_file = p.s;
+  }
+  if (irr.taper > irr.run_in)
+    bad(f.at("irregularity.taper_m"), "must not exceed irregularity.run_in_m (" + conv_num(irr.run_in) + " m): the profile fades in on the run-in");
+  if (irr.lambda_min >= irr.lambda_max)
+    bad(f.at("irregularity.min_wavelength_m"), "must be below irregularity.max_wavelength_m (" + conv_num(irr.lambda_max) + " m)");
+  if (irr.enabled() && vs.model == study::VehicleModel::forces)
+    bad(f.at(irr.measured ? "irregularity.profile" : "irregularity.spectrum"),
+        "moving forces do not see the rail's profile: set train.vehicle = \"sprung\" or \"multibody\"");
+}
+
 study::Scenario to_scenario(const FlatScenario& f) {
   study::Scenario sc;
   bool has_track = false;
@@ -243,6 +286,8 @@ study::Scenario to_scenario(const FlatScenario& f) {
       throw InputError(files.where, e.what());
     }
   }
+
+  vehicles_of(f, sc);
 
   // Settings: the preset first, explicit keys on top of it.
   auto& st = sc.settings;
@@ -410,6 +455,64 @@ load::Train train_from_csv(const std::string& path) {
 
 }  // namespace
 
+load::CoachSpec read_coach_file(const std::string& path) {
+  if (!fs::exists(path)) throw InputError("vehicle file not found: " + path);
+  detail::TomlFile parsed;
+  try {
+    parsed = detail::parse_toml_file(path);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(path + ": TOML syntax error: " + e.what());
+  }
+  const toml::value& root = parsed.root;
+  auto where = [&](const std::string& key) {
+    return SourceLocation{path, root.contains(key) ? parsed.line_of(root.at(key)) : 1, key};
+  };
+  load::CoachSpec c;
+  // Key, field name in CoachSpec (as its validate() names it), field.
+  const std::vector<std::tuple<const char*, const char*, double*>> fields = {
+      {"body_mass_kg", "body_mass", &c.body_mass},
+      {"body_pitch_inertia_kgm2", "body_pitch_inertia", &c.body_pitch_inertia},
+      {"bogie_spacing_m", "bogie_spacing", &c.bogie_spacing},
+      {"bogie_mass_kg", "bogie_mass", &c.bogie_mass},
+      {"bogie_pitch_inertia_kgm2", "bogie_pitch_inertia", &c.bogie_pitch_inertia},
+      {"wheelbase_m", "wheelbase", &c.wheelbase},
+      {"wheelset_mass_kg", "wheelset_mass", &c.wheelset_mass},
+      {"primary_stiffness_N_m", "primary_k", &c.primary_k},
+      {"primary_damping_Ns_m", "primary_c", &c.primary_c},
+      {"secondary_stiffness_N_m", "secondary_k", &c.secondary_k},
+      {"secondary_damping_Ns_m", "secondary_c", &c.secondary_c},
+      {"length_m", "length", &c.length}};
+  for (const auto& kv : root.as_table()) {
+    const std::string& k = kv.first;
+    if (k == "name" || k == "kind" || k == "notes" || k == "source") continue;
+    if (std::none_of(fields.begin(), fields.end(), [&](const auto& t) { return k == std::get<0>(t); }))
+      throw InputError(where(k), "unknown vehicle key");
+  }
+  if (!root.contains("kind") || !root.at("kind").is_string() || root.at("kind").as_string().str != "coach")
+    throw InputError(where("kind"), "must be \"coach\" (a body on two bogies of two wheelsets)");
+  c.name = root.contains("name") && root.at("name").is_string() ? root.at("name").as_string().str : fs::path(path).stem().string();
+  for (const auto& [key, field, dst] : fields) {
+    if (!root.contains(key)) throw InputError(where(key), "required");
+    const auto& v = root.at(key);
+    if (v.is_integer()) *dst = static_cast<double>(v.as_integer());
+    else if (v.is_floating()) *dst = v.as_floating();
+    else throw InputError(where(key), "must be a number");
+  }
+  try {
+    c.validate();
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    const auto at = msg.find("': ");
+    const std::string rest = at == std::string::npos ? msg : msg.substr(at + 3);
+    for (const auto& [key, field, dst] : fields)
+      if (rest.rfind(std::string(field) + " = ", 0) == 0) throw InputError(where(key), rest.substr(std::string(field).size() + 3));
+    throw InputError(path + ": " + msg);
+  }
+  return c;
+}
+
 load::Train read_train_file(const std::string& path) {
   if (fs::path(path).extension() == ".csv") return train_from_csv(path);
   if (!fs::exists(path)) throw InputError("train file not found: " + path);
@@ -427,7 +530,8 @@ load::Train read_train_file(const std::string& path) {
   static const std::map<std::string, std::set<std::string>> keys_of = {
       {"hslm", {"hslm_number", "n_coaches", "coach_length", "bogie_spacing", "axle_load_kN"}},
       {"regular", {"n_axles", "spacing", "axle_load_kN"}},
-      {"axles", {"csv"}}};
+      {"axles", {"csv"}},
+      {"coaches", {"vehicle", "n_coaches"}}};
   auto where = [&](const std::string& key) {
     return SourceLocation{path, root.contains(key) ? parsed.line_of(root.at(key)) : 0, key};
   };
@@ -480,6 +584,16 @@ load::Train read_train_file(const std::string& path) {
     if (kind == "regular")
       return load::regular_train(name, whole("n_axles", 1, static_cast<double>(load::kMaxAxles)), number("spacing"),
                                  number("axle_load_kN") * 1e3);
+    if (kind == "coaches") {
+      const std::string vehicle = (fs::path(path).parent_path() / string("vehicle")).lexically_normal().string();
+      load::CoachSpec coach;
+      try {
+        coach = read_coach_file(vehicle);
+      } catch (const InputError& e) {
+        throw InputError(where("vehicle"), e.what());
+      }
+      return load::coach_train(name, coach, whole("n_coaches", 1, static_cast<double>(load::kMaxAxles / 4)));
+    }
     if (kind == "axles") {
       load::Train t = train_from_csv((fs::path(path).parent_path() / string("csv")).lexically_normal().string());
       t.name = name;
@@ -490,7 +604,7 @@ load::Train read_train_file(const std::string& path) {
     if (msg.compare(0, path.size(), path) == 0) throw;
     throw InputError(path + ": " + msg);
   }
-  throw InputError(where("kind"), "must be hslm, regular or axles, got '" + kind + "'");
+  throw InputError(where("kind"), "must be hslm, regular, axles or coaches, got '" + kind + "'");
 }
 
 }  // namespace viaduct::io

@@ -118,6 +118,22 @@ void write_envelope_csv(const std::string& path, const std::vector<study::Envelo
   f.commit();
 }
 
+void write_vehicle_envelope_csv(const std::string& path, const std::vector<study::VehicleRow>& rows,
+                                const std::vector<study::Variant>& variants) {
+  const VariantColumns vc(variants);
+  AtomicFile f(path);
+  vc.header(f.get());
+  std::fprintf(f.get(), ",train,speed_kmh,min_contact_N,max_contact_N,max_unloading_ratio,contact_lost,max_body_acc_mps2,body\n");
+  for (const auto& r : rows) {
+    vc.row(f.get(), r.variant, "vehicles.csv");
+    const study::VehiclePeaks& p = r.peaks;
+    std::fprintf(f.get(), ",%s,%.10g,%.10g,%.10g,%.10g,%s,%.10g,%s\n", csv_text(r.train).c_str(), r.speed * 3.6, p.min_contact,
+                 p.max_contact, p.max_unloading_ratio, p.min_contact < 0.0 ? "true" : "false", p.max_body_acc,
+                 csv_text(p.body).c_str());
+  }
+  f.commit();
+}
+
 void write_quantities_csv(const std::string& path, const std::vector<study::QuantityRow>& rows,
                           const std::vector<study::Variant>& variants) {
   const VariantColumns vc(variants);

@@ -351,7 +351,7 @@ FlatScenario load_flat(const std::string& path, const std::vector<std::string>& 
   // So are the fit's record and mode files.
   for (auto& [key, v] : fsn.values) {
     const bool record_file = key.rfind("fit.records[", 0) == 0 && key.size() > 5 && key.compare(key.size() - 5, 5, ".file") == 0;
-    if ((record_file || key == "fit.modes") && v.type == ValueType::string) v.s = resolve_relative(v.s, v.where);
+    if ((record_file || key == "fit.modes" || (key == "irregularity.profile" && !v.s.empty())) && v.type == ValueType::string) v.s = resolve_relative(v.s, v.where);
   }
   // Defaults for the sections the scenario names.
   std::set<std::string> array_items;  // e.g. "stations[0]"

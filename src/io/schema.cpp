@@ -29,6 +29,17 @@ study::Superposition superposition_of(const std::string& s) {
   if (s == "unit-response") return study::Superposition::unit_response;
   throw std::logic_error("analysis.superposition: unmapped value '" + s + "'");
 }
+study::VehicleModel vehicle_of(const std::string& s) {
+  if (s == "forces") return study::VehicleModel::forces;
+  if (s == "sprung") return study::VehicleModel::sprung;
+  if (s == "multibody") return study::VehicleModel::multibody;
+  throw std::logic_error("train.vehicle: unmapped value '" + s + "'");
+}
+study::ContactModel contact_of(const std::string& s) {
+  if (s == "hertz") return study::ContactModel::hertz;
+  if (s == "rigid") return study::ContactModel::rigid;
+  throw std::logic_error("train.contact: unmapped value '" + s + "'");
+}
 signal::BandType band_of(const std::string& s) {
   if (s == "lowpass") return signal::BandType::lowpass;
   if (s == "highpass") return signal::BandType::highpass;
@@ -140,6 +151,39 @@ std::vector<KeySpec> train_keys() {  // trains
       {"train.files", T::string_list, "", "", "", "Train files (.toml: hslm, regular or axles; .csv: position_m,load_kN), relative to the referencing file (required); \"hslm:A1-A10\" (or hslm:A4, hslm:A1,A5) names the Eurocode HSLM-A trains without files."},
       {"train.load_factor", T::number, "1.0", "-", "> 0", "Multiplies every axle load (0.5: one rail of a half-deck model carries half of each axle).",
        [](S& sc, const V& v) { sc.settings.load_factor = v.x; }},
+      {"train.vehicle", T::string, "\"forces\"", "", "forces|sprung|multibody", "How the trains act on the rail (docs/vehicles.md): forces, constant axle loads; sprung, one sprung mass on one unsprung mass per axle (train.unsprung_mass_kg and train.suspension_*, or each train's coaches); multibody, 2D coaches with bogies (trains of kind \"coaches\" only).",
+       [](S& sc, const V& v) { sc.settings.vehicle.model = vehicle_of(v.s); }},
+      {"train.contact", T::string, "\"hertz\"", "", "hertz|rigid", "Wheel-rail contact of sprung and multibody vehicles: a linearised Hertz spring per axle, or the wheel following the rail.",
+       [](S& sc, const V& v) { sc.settings.vehicle.contact = contact_of(v.s); }},
+      {"train.contact_stiffness_N_m", T::number, "", "N/m", "> 0", "Contact stiffness per axle, both rails (default: linearised Hertz at the static wheel load, 3 P^(1/3)/G with G = 4.57e-8 R^-0.149, Zhai's conical tread).",
+       [](S& sc, const V& v) { sc.settings.vehicle.contact_stiffness = v.x; }},
+      {"train.wheel_radius_m", T::number, "0.43", "m", "> 0", "Wheel radius R of the Hertz contact stiffness.",
+       [](S& sc, const V& v) { sc.settings.vehicle.wheel_radius = v.x; }},
+      {"train.end_transition_m", T::number, "10.0", "m", ">= 0", "Sprung and multibody vehicles on a track: within this length of either end of the load path a wheel's load passes gradually (a cosine) between rigid ground and the rail, the rail's level under it weighted alike: a free rail end, deflecting several times more than the track, would otherwise be a dip every wheel hits. Shorter than the approach and exit track.",
+       [](S& sc, const V& v) { sc.settings.vehicle.end_transition = v.x; }},
+      {"train.unsprung_mass_kg", T::number, "", "kg", ">= 0", "Sprung vehicles: unsprung mass per axle (with train.suspension_stiffness_N_m; the sprung mass is the axle load / g minus it). Not set: each train's coaches give the sprung masses.",},
+      {"train.suspension_stiffness_N_m", T::number, "", "N/m", "> 0", "Sprung vehicles: suspension stiffness per axle.",},
+      {"train.suspension_damping_Ns_m", T::number, "0.0", "N·s/m", ">= 0", "Sprung vehicles: suspension damping per axle."},
+  };
+}
+
+std::vector<KeySpec> irregularity_keys() {  // irregularity
+  return {
+      {"irregularity.spectrum", T::string, "\"\"", "", "|fra1|fra2|fra3|fra4|fra5|fra6|german-low|german-high", "Random vertical rail profile seen by sprung and multibody vehicles (viaduct irregularity draws it): an FRA class or a German spectrum; \"\" a smooth rail.",
+       [](S& sc, const V& v) { sc.settings.irregularity.spectrum = v.s; }},
+      {"irregularity.profile", T::string, "", "", "", "A measured profile instead (x_m,z_mm CSV, x along the load path, z up), relative to this file; it must cover the run-in, the load path and taper_m past its end."},
+      {"irregularity.seed", T::integer, "1", "-", ">= 0", "Seed of the random profile (same seed, same profile).",
+       [](S& sc, const V& v) { sc.settings.irregularity.seed = static_cast<std::uint64_t>(v.x); }},
+      {"irregularity.min_wavelength_m", T::number, "1.0", "m", "> 0", "Shortest wavelength of the random profile.",
+       [](S& sc, const V& v) { sc.settings.irregularity.lambda_min = v.x; }},
+      {"irregularity.max_wavelength_m", T::number, "80.0", "m", "> 0", "Longest wavelength of the random profile.",
+       [](S& sc, const V& v) { sc.settings.irregularity.lambda_max = v.x; }},
+      {"irregularity.step_m", T::number, "0.05", "m", "> 0", "Sampling step of the random profile.",
+       [](S& sc, const V& v) { sc.settings.irregularity.dx = v.x; }},
+      {"irregularity.run_in_m", T::number, "100.0", "m", ">= 0", "Rigid, irregular track rolled over before the first axle reaches the load path (the run starts run_in_m / v earlier; histories still start with the first axle at the path's start), so that the vehicles arrive moving; at least taper_m.",
+       [](S& sc, const V& v) { sc.settings.irregularity.run_in = v.x; }},
+      {"irregularity.taper_m", T::number, "20.0", "m", ">= 0", "The profile fades in over the first taper_m of the run-in and out over taper_m past the load path's end (the vehicles start on a smooth rail).",
+       [](S& sc, const V& v) { sc.settings.irregularity.taper = v.x; }},
   };
 }
 
@@ -289,7 +333,7 @@ std::vector<KeySpec> fit_keys() {  // fit (viaduct fit; docs/fitting.md)
 const std::vector<KeySpec>& scenario_schema() {
   static const std::vector<KeySpec> schema = [] {
     std::vector<KeySpec> all;
-    for (auto part : {general_keys(), bridge_keys(), track_keys(), train_keys(), analysis_keys(), filter_keys(), station_keys(), run_keys(), sweep_keys(), assess_keys(), fit_keys()})
+    for (auto part : {general_keys(), bridge_keys(), track_keys(), train_keys(), irregularity_keys(), analysis_keys(), filter_keys(), station_keys(), run_keys(), sweep_keys(), assess_keys(), fit_keys()})
       all.insert(all.end(), part.begin(), part.end());
     return all;
   }();

@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "viaduct/core/error.hpp"
+#include "viaduct/core/options.hpp"
 
 namespace viaduct::load {
 
@@ -26,6 +27,45 @@ void Train::validate() const {
     if (!(load[i] > 0.0))
       throw InputError(n + "axle " + std::to_string(i + 1) + " load must be > 0 [N]");
   }
+}
+
+void CoachSpec::validate() const {
+  auto need = [&](bool ok, const char* field, double v, const char* rule) {
+    if (!ok || std::isnan(v))
+      throw InputError("coach '" + name + "': " + field + " = " + format_number(v) + ": violated constraint " + rule);
+  };
+  need(std::isfinite(body_mass) && body_mass > 0.0, "body_mass", body_mass, "> 0 [kg]");
+  need(std::isfinite(body_pitch_inertia) && body_pitch_inertia > 0.0, "body_pitch_inertia", body_pitch_inertia, "> 0 [kg m2]");
+  need(std::isfinite(bogie_mass) && bogie_mass > 0.0, "bogie_mass", bogie_mass, "> 0 [kg]");
+  need(std::isfinite(bogie_pitch_inertia) && bogie_pitch_inertia > 0.0, "bogie_pitch_inertia", bogie_pitch_inertia, "> 0 [kg m2]");
+  need(std::isfinite(wheelset_mass) && wheelset_mass > 0.0, "wheelset_mass", wheelset_mass, "> 0 [kg]");
+  need(std::isfinite(wheelbase) && wheelbase > 0.0, "wheelbase", wheelbase, "> 0 [m]");
+  need(std::isfinite(bogie_spacing) && bogie_spacing > wheelbase, "bogie_spacing", bogie_spacing, "> wheelbase (the bogies would overlap)");
+  need(std::isfinite(primary_k) && primary_k > 0.0, "primary_k", primary_k, "> 0 [N/m]");
+  need(std::isfinite(primary_c) && primary_c >= 0.0, "primary_c", primary_c, ">= 0 [N s/m]");
+  need(std::isfinite(secondary_k) && secondary_k > 0.0, "secondary_k", secondary_k, "> 0 [N/m]");
+  need(std::isfinite(secondary_c) && secondary_c >= 0.0, "secondary_c", secondary_c, ">= 0 [N s/m]");
+  need(std::isfinite(length) && length > bogie_spacing + wheelbase, "length", length,
+       "> bogie_spacing + wheelbase (the coach's axles would reach into the next coach)");
+}
+
+Train coach_train(const std::string& name, const CoachSpec& coach, int n_coaches, double g) {
+  coach.validate();
+  if (n_coaches < 1 || static_cast<std::size_t>(n_coaches) * 4 > kMaxAxles)
+    throw InputError("train '" + name + "': n_coaches = " + std::to_string(n_coaches) + ": violated constraint 1 .. " +
+                     std::to_string(kMaxAxles / 4));
+  if (!(g > 0.0)) throw InputError("train '" + name + "': gravity must be > 0");
+  Train t;
+  t.name = name;
+  for (int k = 0; k < n_coaches; ++k) {
+    for (double o : coach.axle_offsets()) {
+      t.offset.push_back(k * coach.length + o);
+      t.load.push_back(coach.axle_load(g));
+    }
+    t.coaches.push_back(coach);
+  }
+  t.validate();
+  return t;
 }
 
 HslmRow hslm_a_row(int number) {

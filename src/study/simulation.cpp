@@ -8,6 +8,7 @@
 #include "viaduct/core/error.hpp"
 #include "viaduct/model/beam_element.hpp"
 #include "viaduct/model/modes.hpp"
+#include "viaduct/study/vehicles.hpp"
 #include "viaduct/signal/iir.hpp"
 #include "viaduct/signal/peaks.hpp"
 #include "modal_path_table.hpp"
@@ -439,7 +440,14 @@ PreparedModel prepare_model(model::Structure s, const std::vector<StationSpec>& 
   m.stations = resolve_stations(m.structure, stations);
   if (with_load_effects) m.effects = load_effects(m.structure, stations);
   m.modal_rails = rail_outputs;
-  if (settings.method == Method::modal) {
+  if (settings.vehicle.model != VehicleModel::forces) {
+    // Vehicles: the coupled kernel on every DOF or on the modes (the fast path), and the profile.
+    m.profile = rail_profile(m.structure, settings.irregularity);
+    if (settings.method == Method::modal) {
+      m.vehicle_modal = vehicle_modal_basis(m.structure, settings.modal);
+      m.modal_frequency_hz = m.vehicle_modal->frequency_hz;
+    }
+  } else if (settings.method == Method::modal) {
     m.modal = make_modal(m.structure, m.stations, settings.modal, rail_outputs, &m.modal_frequency_hz, settings.dt,
                          m.effects);
     m.modal_path = make_path_table(m.structure, *m.modal);
@@ -453,6 +461,11 @@ PreparedModel prepare_model(const Scenario& sc, bool rail_outputs, bool with_loa
 }
 
 RunResult simulate(const PreparedModel& m, const load::Train& train, double speed, const RunSettings& settings) {
+  if (settings.vehicle.model != VehicleModel::forces) {
+    RunResult r = simulate_vehicles(m, train, speed, settings);
+    apply_filter(r, settings);
+    return r;
+  }
   RunResult r = simulate_impl(m.structure, {m.stations, m.modal_rails, m.effects}, m.modal, m.modal_path.get(), train,
                               speed, settings);
   apply_filter(r, settings);
@@ -461,6 +474,13 @@ RunResult simulate(const PreparedModel& m, const load::Train& train, double spee
 
 RunResult simulate(const model::Structure& s, const std::vector<ResolvedStation>& stations,
                    const load::Train& train, double speed, const RunSettings& settings) {
+  if (settings.vehicle.model != VehicleModel::forces) {
+    PreparedModel m;
+    m.structure = s;
+    m.stations = stations;
+    m.profile = rail_profile(s, settings.irregularity);
+    return simulate(m, train, speed, settings);
+  }
   std::shared_ptr<const solve::ModalReduction> modal;
   std::shared_ptr<const ModalPathTable> path;
   if (settings.method == Method::modal) {
@@ -475,7 +495,7 @@ RunResult simulate(const model::Structure& s, const std::vector<ResolvedStation>
 std::vector<RunResult> simulate_batch(const PreparedModel& m, const load::Train& train,
                                       const std::vector<double>& speeds, const RunSettings& settings) {
   std::vector<RunResult> out;
-  if (settings.method != Method::newmark) {
+  if (settings.method != Method::newmark || settings.vehicle.model != VehicleModel::forces) {
     for (double v : speeds) out.push_back(simulate(m, train, v, settings));
     return out;
   }
@@ -523,6 +543,9 @@ std::vector<RunResult> simulate_by_unit_response(const PreparedModel& m, const s
   require_positive(speed, "speed [m/s]");
   require_positive(settings.load_factor, "train.load_factor");
   if (trains.empty()) throw InputError("unit-response superposition needs at least one train");
+  if (settings.vehicle.model != VehicleModel::forces)
+    throw InputError("analysis.superposition = \"unit-response\" composes constant axle loads: it cannot take train.vehicle = \"" +
+                     std::string(vehicle_model_name(settings.vehicle.model)) + "\" (use direct)");
   const auto wall0 = std::chrono::steady_clock::now();
   const double dt = settings.dt;
   // Every train's duration; the unit run covers the longest.
@@ -655,7 +678,8 @@ bool effects_in_kernel(const PreparedModel& m) {
 }
 
 bool folds_trains(const PreparedModel& m, const RunSettings& s) {
-  return s.method == Method::modal && s.superposition == Superposition::direct && m.modal && m.modal_path;
+  return s.method == Method::modal && s.superposition == Superposition::direct && s.vehicle.model == VehicleModel::forces &&
+         m.modal && m.modal_path;
 }
 
 std::shared_ptr<const solve::MovingChannels> fold_train(const PreparedModel& m, const load::Train& train,
@@ -743,7 +767,7 @@ std::vector<CasePeaks> simulate_peaks(const PreparedModel& m, const load::Train&
   std::vector<CasePeaks> out;
   if (!folded) {
     for (const RunResult& r : simulate_batch(m, train, speeds, settings)) {
-      CasePeaks p{peaks(r), {}, r.summary.n_steps, r.summary.wall_s};
+      CasePeaks p{peaks(r), {}, r.summary.n_steps, r.summary.wall_s, vehicle_peaks(r)};
       if (!m.effects.empty()) p.quantities = quantity_peaks(m, r);
       out.push_back(std::move(p));
     }

@@ -50,6 +50,7 @@ void describe_failure(std::string& error, bool& input_error) {
 struct CaseOutcome {
   std::vector<StationPeaks> peaks;
   std::vector<EffectPeak> quantities;  // with load effects
+  VehiclePeaks vehicle;                // with vehicle models
   std::string error;
   bool input_error = false;  // the error is the input's (InputError), not the computation's
   Index n_steps = 0;
@@ -199,6 +200,7 @@ class Sweep {
       for (std::size_t k = 0; k < pr.size(); ++k) {
         take(o[k], pr[k].peaks, pr[k].n_steps);
         o[k].quantities = pr[k].quantities;
+        o[k].vehicle = pr[k].vehicle;
       }
     } else if (c.train == kAllTrains) {
       const std::vector<RunResult> runs = simulate_by_unit_response(pm, sc.trains, speed, sc.settings);
@@ -213,6 +215,7 @@ class Sweep {
   static void take(CaseOutcome& o, const PreparedModel& pm, const RunResult& r) {
     take(o, peaks(r), r.summary.n_steps);
     if (!pm.effects.empty()) o.quantities = quantity_peaks(pm, r);
+    o.vehicle = vehicle_peaks(r);
   }
 
   // The speeds of train t of variant v: its own list, or the scenario's.
@@ -261,6 +264,7 @@ class Sweep {
             out.rows.push_back({vname, tname, sc.stations[k].name, speed, o.peaks[k].max_abs_acc, o.peaks[k].max_abs_disp});
           for (std::size_t q = 0; q < o.quantities.size() && q < names.size(); ++q)
             out.quantities.push_back({vname, tname, names[q], speed, o.quantities[q], p.quasi_static[t][q]});
+          if (o.vehicle.present) out.vehicles.push_back({vname, tname, speed, o.vehicle});
         }
     }
     out.summary.n_cases = n_cases_;

@@ -257,4 +257,20 @@ expect 2 "--spectrum is required" -- "$VIADUCT" irregularity --out "$WORK/o"
 expect 2 "--lambda-min = 1: violated constraint lambda_min >= 4 dx" -- "$VIADUCT" irregularity --spectrum fra6 --dx 1 --out "$WORK/o"
 expect 2 "--lambda-max = 80: violated constraint lambda_max <= length" -- "$VIADUCT" irregularity --spectrum fra6 --length 50 --out "$WORK/o"
 expect 2 "takes no scenario" -- "$VIADUCT" irregularity --spectrum fra6 --set a=1 --out "$WORK/o"
+# Vehicles: impossible parameters and combinations, with file, line and key.
+VS=$SRC/scenarios/vehicles-25m.toml
+expect 2 "key 'train.vehicle': multibody needs trains of coaches" -- "$VIADUCT" run "$VS" --set 'train.files=["hslm:A1"]' --out "$WORK/o"
+expect 2 "key 'irregularity.spectrum': moving forces do not see the rail's profile" -- "$VIADUCT" run "$VS" --set train.vehicle=forces --out "$WORK/o"
+expect 2 "key 'irregularity.spectrum': must be one of" -- "$VIADUCT" check "$VS" --set irregularity.spectrum=fra9
+sed 's/^body_mass_kg = .*/body_mass_kg = -47800.0/' "$SRC/data/vehicles/ave-s103.toml" > "$WORK/negcoach.toml"
+printf 'kind = "coaches"\nvehicle = "negcoach.toml"\nn_coaches = 2\n' > "$WORK/negtrain.toml"
+expect 2 "negcoach.toml:9: key 'body_mass_kg': -47800: violated constraint > 0 [kg]" -- "$VIADUCT" check "$VS" --set "train.files=[\"$WORK/negtrain.toml\"]"
+sed 's/^wheelbase_m = .*/wheelbase_m = 18.0/' "$SRC/data/vehicles/ave-s103.toml" > "$WORK/wbcoach.toml"
+printf 'kind = "coaches"\nvehicle = "wbcoach.toml"\nn_coaches = 2\n' > "$WORK/wbtrain.toml"
+expect 2 "key 'bogie_spacing_m': 17.375: violated constraint > wheelbase (the bogies would overlap)" -- "$VIADUCT" check "$VS" --set "train.files=[\"$WORK/wbtrain.toml\"]"
+printf 'x_m,z_mm\n0,0\n1,0.5\n2,0\n3,-0.5\n4,0\n' > "$WORK/shortprofile.csv"
+expect 2 "irregularity.profile covers x = 0 to 4 m; the run needs -100 to 45 m" -- "$VIADUCT" run "$VS" --set irregularity.spectrum= --set "irregularity.profile=$WORK/shortprofile.csv" --out "$WORK/o"
+expect 2 "a rigid contact under a wheel with mass" -- "$VIADUCT" run "$VS" --set train.contact=rigid --out "$WORK/o"
+expect 2 "train.end_transition_m = 30 m reaches the bridge" -- "$VIADUCT" run "$OG" --set "train.files=[\"$SRC/data/trains/ave-s103-8.toml\"]" --set train.vehicle=multibody --set train.end_transition_m=30 --speed-kmh 200 --out "$WORK/o"
+expect 2 "key 'analysis.superposition': unit-response composes constant axle loads" -- "$VIADUCT" sweep "$VS" --set analysis.superposition=unit-response --out "$WORK/o"
 finish

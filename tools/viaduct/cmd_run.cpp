@@ -31,6 +31,63 @@ void write_quasi_static(const std::string& out, const study::RunResult& r, const
   io::write_table_csv(out + "/dynamic_increments.csv", {"quantity", "max_dynamic", "max_static", "phi_dyn"}, rows);
 }
 
+// vehicles.csv (t_s, each axle's contact force a<k>_contact_N, each car body's acceleration
+// <body>_acc_mps2) and contact.csv (one row per axle: its offset, static load, extremes, the
+// unloading ratio (P0 - min)/P0 and whether the wheel would have lifted).
+void write_vehicles(const std::string& out, const study::RunResult& r, const load::Train& train) {
+  const study::VehicleHistory& v = r.vehicles;
+  std::vector<std::string> names = {"t_s"};
+  std::vector<Vector> cols = {r.t};
+  for (Index k = 0; k < v.contact_force.cols(); ++k) {
+    names.push_back("a" + std::to_string(k + 1) + "_contact_N");
+    cols.push_back(v.contact_force.col(k));
+  }
+  for (std::size_t b = 0; b < v.body_names.size(); ++b) {
+    names.push_back(v.body_names[b] + "_acc_mps2");
+    cols.push_back(v.body_acc.col(static_cast<Index>(b)));
+  }
+  io::write_columns_csv(out + "/vehicles.csv", names, cols);
+  std::vector<std::vector<std::string>> rows;
+  for (Index k = 0; k < v.static_load.size(); ++k) {
+    const double p0 = v.static_load[k], lo = v.min_contact[k], hi = v.max_contact[k];
+    rows.push_back({"a" + std::to_string(k + 1), io::table_cell(train.offset[static_cast<std::size_t>(k)]), io::table_cell(p0),
+                    io::table_cell(lo), io::table_cell(hi), io::table_cell((p0 - lo) / p0), lo < 0.0 ? "true" : "false"});
+  }
+  io::write_table_csv(out + "/contact.csv",
+                      {"axle", "offset_m", "static_N", "min_N", "max_N", "unloading_ratio", "contact_lost"}, rows);
+}
+
+// The vehicles' extremes, one line each, and a warning for every wheel that would have lifted.
+std::vector<std::string> describe_vehicles(const study::RunResult& r, bool quiet) {
+  const study::VehicleHistory& v = r.vehicles;
+  std::vector<std::string> warnings;
+  std::vector<std::string> lifted;
+  for (Index k = 0; k < v.min_contact.size(); ++k)
+    if (v.min_contact[k] < 0.0) lifted.push_back("a" + std::to_string(k + 1));
+  if (!lifted.empty()) {
+    std::string list;
+    for (std::size_t i = 0; i < lifted.size() && i < 8; ++i) list += (i ? ", " : "") + lifted[i];
+    if (lifted.size() > 8) list += ", ...";
+    warnings.push_back(std::to_string(lifted.size()) + " of " + std::to_string(v.min_contact.size()) +
+                       " axles would have lost contact (" + list + "; contact force below zero, largest unloading ratio " +
+                       format_number(v.max_unloading_ratio(), 3) +
+                       "): the linear contact kept them on the rail, so the response after that is not physical");
+  }
+  if (!quiet) {
+    double acc = 0.0;
+    std::string body;
+    for (Index b = 0; b < v.body_acc.cols(); ++b) {
+      const double a = v.body_acc.col(b).cwiseAbs().maxCoeff();
+      if (a > acc) acc = a, body = v.body_names[static_cast<std::size_t>(b)];
+    }
+    std::printf("vehicles: %s, %ld DOFs; contact force %.1f to %.1f kN (static %.1f to %.1f), largest unloading ratio %.3f; "
+                "car body max |acc| %.4f m/s² (%s, unfiltered)\n",
+                v.model.c_str(), static_cast<long>(v.n_dofs), v.min_contact.minCoeff() / 1e3, v.max_contact.maxCoeff() / 1e3,
+                v.static_load.minCoeff() / 1e3, v.static_load.maxCoeff() / 1e3, v.max_unloading_ratio(), acc, body.c_str());
+  }
+  return warnings;
+}
+
 void print_increments(const study::QuasiStaticResult& qs, const study::RunResult& r, const study::PreparedModel& pm) {
   std::printf("dynamic increments phi'dyn = max|dynamic| / max|quasi-static| - 1:\n");
   for (const auto& d : qs.increments)
@@ -66,10 +123,15 @@ Command run_command() {
       "deck support<k>_rot_rad and support<k>_reaction_N, k from 1 at the bridge's start),\n"
       "OUT/quasi_static.csv (the same train crawling: deck deflections and load effects),\n"
       "OUT/dynamic_increments.csv (phi'dyn = max|dynamic| / max|quasi-static| - 1 per quantity)\n"
-      "and OUT/manifest.toml. Plot with scripts/plot/plot_history.py OUT.\n\n"
+      "and OUT/manifest.toml. Plot with scripts/plot/plot_history.py OUT.\n"
+      "With vehicles (train.vehicle = sprung or multibody, docs/vehicles.md) also OUT/vehicles.csv\n"
+      "(t_s, a<k>_contact_N per axle, <coach>_acc_mps2 per car body) and OUT/contact.csv (per axle:\n"
+      "static_N, min_N, max_N, unloading_ratio, contact_lost); a wheel whose contact force went\n"
+      "below zero is warned of (the linear contact keeps it on the rail).\n\n"
       "Sample runs:\n"
       "  viaduct run scenarios/old-guadiana-talgo.toml --out out/talgo\n"
-      "  viaduct run scenarios/hslm-simply-supported.toml --speed-kmh 300 --train HSLM-A4 --out out/a4\n";
+      "  viaduct run scenarios/hslm-simply-supported.toml --speed-kmh 300 --train HSLM-A4 --out out/a4\n"
+      "  viaduct run scenarios/vehicles-25m.toml --out out/vehicles\n";
   const auto body = [](const Common& o, const RunOptions& ro) {
     const auto t0 = std::chrono::steady_clock::now();
     const io::FlatScenario flat = load_scenario(o);
@@ -104,6 +166,10 @@ Command run_command() {
     write_quasi_static(o.out, r, qs);
     io::Manifest m = start_manifest(o, "run");
     m.warnings = study::accuracy_warnings(sc, {speed});
+    if (!r.vehicles.empty()) {
+      write_vehicles(o.out, r, *train);
+      for (auto& w : describe_vehicles(r, o.quiet)) m.warnings.push_back(std::move(w));
+    }
     print_warnings("run", m.warnings);
     m.as_run = io::settings_as_run(sc.settings);
     m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -131,7 +197,8 @@ Command run_command() {
         std::printf("  %-16s max |acc| %.4f m/s²  max |disp| %.4f mm\n", r.stations[i].name.c_str(), pk[i].max_abs_acc,
                     pk[i].max_abs_disp * 1e3);
       print_increments(qs, r, pm);
-      std::printf("wrote %s/history.csv, quasi_static.csv, dynamic_increments.csv\n", o.out.c_str());
+      std::printf("wrote %s/history.csv, quasi_static.csv, dynamic_increments.csv%s\n", o.out.c_str(),
+                  r.vehicles.empty() ? "" : ", vehicles.csv, contact.csv");
     }
     return ok;
   };

@@ -44,13 +44,16 @@ Command sweep_command() {
       "accelerations filtered as the scenario says; with sweep.variants, a column KEY_factor per\n"
       "varied key after variant), OUT/governing.csv (the largest value per station and where it\n"
       "occurs), OUT/failures.csv and OUT/manifest.toml; with --load-effects OUT/load_effects.csv\n"
-      "(per case and quantity: max, min, the quasi-static extremes of the train crawling, phi_dyn).\n"
+      "(per case and quantity: max, min, the quasi-static extremes of the train crawling, phi_dyn);\n"
+      "with vehicle models (train.vehicle = sprung or multibody) OUT/vehicles.csv (per case: the\n"
+      "smallest and largest contact force, unloading ratio, contact_lost, car-body acceleration).\n"
       "Results are identical for any --threads. A case that fails is listed in failures.csv,\n"
       "the others complete, and the exit code is 1 (2 when every case failed on its input, as\n"
       "`run` exits with the same value). Plot with scripts/plot/plot_envelope.py OUT.\n\n"
       "Sample runs:\n"
       "  viaduct sweep scenarios/hslm-simply-supported.toml --set 'train.files=[\"data/trains/hslm/A1.toml\"]' --set sweep.speed_step_kmh=20 --out out/hslm\n"
-      "  viaduct sweep scenarios/old-guadiana-sensitivity.toml --set sweep.speed_min_mps=90 --set sweep.n_speeds=1 --threads 0 --out out/og\n";
+      "  viaduct sweep scenarios/old-guadiana-sensitivity.toml --set sweep.speed_min_mps=90 --set sweep.n_speeds=1 --threads 0 --out out/og\n"
+      "  viaduct sweep scenarios/vehicles-25m.toml --set sweep.speed_step_kmh=60 --out out/vehicles-sweep\n";
   bind(c, declare_sweep, run_sweep_command);
   return c;
 }
@@ -72,6 +75,7 @@ int run_sweep_command(const Common& o, const SweepOpts& opts) {
     const study::SweepResult r = study::run_sweep(variants, so);
     io::write_envelope_csv(o.out + "/envelope.csv", r.rows, variants);
     if (opts.load_effects) io::write_quantities_csv(o.out + "/load_effects.csv", r.quantities, variants);
+    if (!r.vehicles.empty()) io::write_vehicle_envelope_csv(o.out + "/vehicles.csv", r.vehicles, variants);
     io::write_failures_csv(o.out + "/failures.csv", r.failures);
     const std::vector<study::GoverningRow> gov = study::governing(r.rows);
     io::write_governing_csv(o.out + "/governing.csv", gov);

@@ -29,6 +29,11 @@ void write_envelope_csv(const std::string& path, const std::vector<study::Envelo
 /// quasi_static_max/min (the train crawling), phi_dyn (empty when the quasi-static is 0).
 void write_quantities_csv(const std::string& path, const std::vector<study::QuantityRow>& rows,
                           const std::vector<study::Variant>& variants);
+/// vehicles.csv of a sweep with vehicle models: variant (KEY_factor columns as envelope.csv),
+/// train, speed_kmh, min_contact_N, max_contact_N, max_unloading_ratio, contact_lost,
+/// max_body_acc_mps2 (unfiltered), body (the coach or axle where it occurs).
+void write_vehicle_envelope_csv(const std::string& path, const std::vector<study::VehicleRow>& rows,
+                                const std::vector<study::Variant>& variants);
 /// failures.csv: variant,train,speed_kmh,error (header only when nothing failed)
 void write_failures_csv(const std::string& path, const std::vector<study::CaseFailure>& failures);
 

@@ -103,5 +103,9 @@ inline bool is_builtin_train(const std::string& entry) { return entry.rfind("hsl
 /// Reads a train file: TOML (kind = "hslm" | "regular" | "axles") or CSV with columns
 /// position_m,load_kN ('#' comment lines). Throws InputError with file and line.
 load::Train read_train_file(const std::string& path);
+/// A coach file (data/vehicles/*.toml, kind = "coach"): masses, inertias, geometry and
+/// suspensions of load::CoachSpec with their units in the key names. InputError with file, line
+/// and key for a missing, unknown or invalid key (the violated constraint named).
+load::CoachSpec read_coach_file(const std::string& path);
 
 }  // namespace viaduct::io

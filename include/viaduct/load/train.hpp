@@ -1,6 +1,7 @@
 #pragma once
 /// \file Trains as lists of constant axle loads.
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -10,10 +11,46 @@ namespace viaduct::load {
 /// Most axles a train may have (a 1.5 km freight train has about 400).
 constexpr std::size_t kMaxAxles = 10000;
 
+/// A 2D coach (REFERENCE.md §8; per rail line, both sides summed): a car body (bounce, pitch) on
+/// two bogies (bounce, pitch), each on two wheelsets; a primary suspension per axle and a
+/// secondary one per bogie. Its centre of mass midway between the bogies: each axle carries a
+/// quarter of the body, half a bogie and its wheelset.
+struct CoachSpec {
+  std::string name;
+  double body_mass = 0.0;            ///< [kg] > 0
+  double body_pitch_inertia = 0.0;   ///< [kg·m²] > 0
+  double bogie_spacing = 0.0;        ///< [m] between the bogie centres, > wheelbase
+  double bogie_mass = 0.0;           ///< [kg] > 0
+  double bogie_pitch_inertia = 0.0;  ///< [kg·m²] > 0
+  double wheelbase = 0.0;            ///< [m] a bogie's axle spacing, > 0
+  double wheelset_mass = 0.0;        ///< [kg] > 0
+  double primary_k = 0.0;            ///< [N/m] per axle, > 0
+  double primary_c = 0.0;            ///< [N·s/m] per axle, >= 0
+  double secondary_k = 0.0;          ///< [N/m] per bogie, > 0
+  double secondary_c = 0.0;          ///< [N·s/m] per bogie, >= 0
+  /// [m] from a coach's first axle to the next coach's first axle, > bogie_spacing + wheelbase.
+  double length = 0.0;
+  double mass() const { return body_mass + 2.0 * bogie_mass + 4.0 * wheelset_mass; }  ///< [kg]
+  /// [N] static load of each axle under gravity g [m/s²].
+  double axle_load(double g) const { return g * (body_mass / 4.0 + bogie_mass / 2.0 + wheelset_mass); }
+  /// [m] the axles behind the coach's first: 0, wheelbase, bogie_spacing, bogie_spacing + wheelbase.
+  std::array<double, 4> axle_offsets() const {
+    return {0.0, wheelbase, bogie_spacing, bogie_spacing + wheelbase};
+  }
+  /// Throws InputError naming the coach, the field, its value and the violated constraint.
+  void validate() const;
+};
+
+/// [m/s²] standard gravity, as REFERENCE.md's static axle loads use it.
+constexpr double kGravity = 9.81;
+
 struct Train {
   std::string name;
   std::vector<double> offset;  ///< [m] first 0, non-decreasing
   std::vector<double> load;    ///< [N] per axle, > 0
+  /// The coaches, head first, when the train is made of vehicles (coach_train()); empty for a
+  /// list of axles. Coach k's axles are axles 4k … 4k + 3.
+  std::vector<CoachSpec> coaches;
 
   std::size_t n_axles() const { return offset.size(); }
   double length() const { return offset.empty() ? 0.0 : offset.back(); }  ///< [m] first to last axle
@@ -34,6 +71,10 @@ struct HslmRow {
 Train hslm_a(const std::string& name, const HslmRow& row);
 /// The ten table rows A1…A10 (REFERENCE.md §3); index 1..10.
 HslmRow hslm_a_row(int number);
+
+/// `n_coaches` coaches of `coach` one behind the other (coach k's first axle k·length behind the
+/// head), with their static axle loads under gravity g. InputError for an invalid coach or count.
+Train coach_train(const std::string& name, const CoachSpec& coach, int n_coaches, double g = kGravity);
 
 /// `n_axles` equal loads `load` [N] spaced `spacing` [m].
 Train regular_train(const std::string& name, int n_axles, double spacing, double load);

@@ -1,12 +1,16 @@
 #pragma once
 /// \file A resolved scenario: plain data in SI units, produced by io::load_scenario.
 
+#include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "viaduct/core/log.hpp"
+#include "viaduct/load/irregularity.hpp"
 #include "viaduct/load/train.hpp"
+#include "viaduct/load/vehicle.hpp"
 #include "viaduct/model/structure.hpp"
 #include "viaduct/signal/iir.hpp"
 #include "viaduct/solve/options.hpp"
@@ -65,6 +69,61 @@ struct ModalSettings {
   int damping_vectors = 1;
 };
 
+/// How a train acts on the rail (docs/vehicles.md): the rungs of the interaction ladder.
+enum class VehicleModel {
+  forces,     ///< constant moving axle loads (no vehicle dynamics)
+  sprung,     ///< one sprung mass on one unsprung mass per axle
+  multibody,  ///< 2D coaches: body and bogies in bounce and pitch, four wheelsets (trains of coaches)
+};
+/// "forces", "sprung", "multibody".
+const char* vehicle_model_name(VehicleModel m);
+/// The wheel–rail contact of vehicle models.
+enum class ContactModel {
+  hertz,  ///< linearised Hertz spring per axle
+  rigid,  ///< the wheel follows the rail
+};
+
+/// Vehicles on the rail (RunSettings::vehicle; ignored with VehicleModel::forces).
+struct VehicleSettings {
+  VehicleModel model = VehicleModel::forces;
+  ContactModel contact = ContactModel::hertz;
+  /// [N/m] contact stiffness per axle of a whole train (both rails; × load_factor in the model),
+  /// > 0; 0: linearised Hertz at the static wheel load, 3 P^{1/3} / G per axle with
+  /// G = 4.57e-8 R^-0.149 m/N^{2/3} (Zhai's conical tread, to confirm).
+  double contact_stiffness = 0.0;
+  double wheel_radius = 0.43;  ///< [m] > 0, for the Hertz stiffness
+  /// Per-axle sprung masses for every train (VehicleModel::sprung); absent: each train's coaches
+  /// give them (load::sprung_of), and a list of axles is an error.
+  std::optional<load::SprungSpec> sprung;
+  double gravity = load::kGravity;  ///< [m/s²] masses of the axles' static loads
+  /// [m] >= 0, track models: within this length of either end of the load path a wheel's load
+  /// passes gradually between rigid ground and the rail (study::train_contacts); shorter than the
+  /// approach and exit track.
+  double end_transition = 10.0;
+};
+
+/// Rail irregularities seen by vehicle models (a dip positive in the coupled equations).
+struct IrregularitySettings {
+  /// "" (a smooth rail), or a spectrum of load::irregularity_spectrum() for a random profile.
+  std::string spectrum;
+  /// A measured profile along the load path (io::read_rail_profile), instead of a spectrum.
+  std::shared_ptr<const load::RailProfile> measured;
+  std::string measured_file;  ///< where `measured` came from (manifest)
+  double lambda_min = 1.0;    ///< [m] random profile's shortest wavelength
+  double lambda_max = 80.0;   ///< [m] its longest
+  double dx = 0.05;           ///< [m] its sampling step
+  std::uint64_t seed = 1;
+  /// [m] >= taper: rigid, irregular track the train rolls over before the first axle reaches the
+  /// load path (the run starts run_in / v earlier; histories still begin with the first axle at
+  /// the path's start), so that the vehicles arrive moving as on any track.
+  double run_in = 100.0;
+  /// [m] >= 0: the profile fades in over the first taper metres of the run-in and out over taper
+  /// metres past the load path's end (cosine ramps); the rail is smooth beyond. The vehicles start
+  /// in static equilibrium on a smooth rail.
+  double taper = 20.0;
+  bool enabled() const { return !spectrum.empty() || measured != nullptr; }
+};
+
 /// Integration and run settings shared by `run` and `sweep`.
 struct RunSettings {
   Method method = Method::newmark;
@@ -76,6 +135,8 @@ struct RunSettings {
   double free_vibration_s = 1.0;   ///< [s] simulated after the last axle leaves, >= 0
   double load_factor = 1.0;        ///< [-] multiplies every axle load, > 0
   FilterSpec filter;
+  VehicleSettings vehicle;             ///< how the trains act on the rail (forces by default)
+  IrregularitySettings irregularity;   ///< rail profile seen by vehicle models
   /// What solve::make_integrator() takes: the method, dt and the options of each method.
   solve::IntegrationSettings integration() const;
 };

@@ -104,11 +104,31 @@ struct EffectHistory {
   Vector value;
 };
 
+/// What the vehicles did in one run (sprung and multibody models; empty with moving forces).
+struct VehicleHistory {
+  std::string model;          ///< "sprung" or "multibody"; empty: moving forces
+  Vector static_load;         ///< [N] per axle, × load_factor (P0)
+  Vector contact_stiffness;   ///< [N/m] per axle as used (+inf: rigid contact)
+  Matrix contact_force;       ///< [N] n_samples × n_axles, P0 + p, compression positive
+  std::vector<std::string> body_names;  ///< "c1" … per coach, "a1" … per sprung axle
+  Matrix body_acc;            ///< [m/s²] n_samples × n_bodies, car-body bounce (positive down)
+  Vector min_contact, max_contact;  ///< [N] per axle over the run
+  Index n_dofs = 0;           ///< vehicle DOFs
+  Index n_cached_columns = 0; ///< structure inverse columns the contacts needed (sparse solves)
+  bool empty() const { return model.empty(); }
+  /// True when some wheel's contact force went below zero: the linear model kept a wheel on the
+  /// rail that would have lifted (the result past that time is not physical).
+  bool contact_lost() const { return !empty() && min_contact.size() > 0 && min_contact.minCoeff() < 0.0; }
+  /// Largest (P0 − P_min)/P0 over the axles (1: a wheel just unloaded; > 1: lifted).
+  double max_unloading_ratio() const;
+};
+
 struct RunResult {
   Vector t;  ///< [s] sample times (every step, t = 0 included)
   std::vector<StationHistory> stations;
   std::vector<EffectHistory> effects;  ///< when the model was prepared with load effects
   solve::Summary summary;         ///< kernel, steps, counters, time reached, wall time (any method)
+  VehicleHistory vehicles;        ///< sprung or multibody vehicles (empty with moving forces)
   double speed = 0.0;             ///< [m/s]
   Method method = Method::newmark;
   Index n_modes = 0;              ///< modes used (modal method)
@@ -120,6 +140,8 @@ constexpr double kMaxHistoryBytes = 2.0 * (1 << 30);
 /// Modal loads of a unit axle along the load path, tabulated per path element as cubics in the
 /// element coordinate (built with the modal model; speed-independent).
 struct ModalPathTable;
+/// The modes of the vehicle fast path (study/vehicles.hpp).
+struct VehicleModalBasis;
 
 /// Everything the cases of one model share, built once (per sweep variant).
 struct PreparedModel {
@@ -133,6 +155,10 @@ struct PreparedModel {
   /// Recorded with the stations when prepared with load effects (modal: outputs of the reduction,
   /// with its static correction, i.e. the mode-acceleration method).
   std::vector<LoadEffect> effects;
+  /// The rail profile vehicle models see (null: a smooth rail or moving forces).
+  std::shared_ptr<const load::RailProfile> profile;
+  /// Modal basis of the vehicle fast path (vehicle models with Method::modal; opaque).
+  std::shared_ptr<const VehicleModalBasis> vehicle_modal;
 };
 
 /// Builds the structure, maps the stations and, for the modal method, solves the eigenproblem
@@ -207,6 +233,17 @@ bool effects_in_kernel(const PreparedModel& m);
 std::shared_ptr<const solve::MovingChannels> fold_train(const PreparedModel& m, const load::Train& train,
                                                         double load_factor);
 
+/// The vehicles' extremes in one case (sprung and multibody models).
+struct VehiclePeaks {
+  bool present = false;          ///< false with moving forces
+  double min_contact = 0.0;      ///< [N] smallest contact force of any axle (negative: a wheel lifted)
+  double max_contact = 0.0;      ///< [N] largest
+  double max_unloading_ratio = 0.0;  ///< (P0 − P_min)/P0, largest over the axles
+  double max_body_acc = 0.0;     ///< [m/s²] largest |car-body acceleration|, unfiltered
+  std::string body;              ///< where ("c3", "a5")
+};
+VehiclePeaks vehicle_peaks(const RunResult& r);
+
 /// Peaks of one case, as peaks(simulate(...)) gives them.
 struct CasePeaks {
   std::vector<StationPeaks> peaks;  ///< per station
@@ -214,6 +251,7 @@ struct CasePeaks {
   std::vector<EffectPeak> quantities;
   Index n_steps = 0;
   double wall_s = 0.0;  ///< [s]
+  VehiclePeaks vehicle;  ///< with vehicles
 };
 
 /// The peaks of `train` at each of `speeds` [m/s], in order, the cheapest way the settings allow

@@ -30,6 +30,13 @@ struct QuantityRow {
   double phi_dyn() const;
 };
 
+/// The vehicles' extremes in one case of a sweep with vehicle models.
+struct VehicleRow {
+  std::string variant, train;
+  double speed = 0.0;  ///< [m/s]
+  VehiclePeaks peaks;
+};
+
 /// A case that did not complete; the sweep carries on without it.
 struct CaseFailure {
   std::string variant, train;
@@ -50,6 +57,8 @@ struct SweepResult {
   std::vector<EnvelopeRow> rows;  ///< ordered variant, train, speed, station (thread-independent)
   /// With SweepOptions::load_effects: ordered variant, train, speed, quantity.
   std::vector<QuantityRow> quantities;
+  /// With vehicle models (train.vehicle sprung or multibody): ordered variant, train, speed.
+  std::vector<VehicleRow> vehicles;
   std::vector<CaseFailure> failures;
   SweepSummary summary;
 };

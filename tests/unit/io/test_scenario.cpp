@@ -2,9 +2,11 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include "viaduct/io/scenario.hpp"
+#include "viaduct/study/simulation.hpp"
 
 using namespace viaduct;
 using namespace viaduct::io;
@@ -171,7 +173,7 @@ TEST_CASE("train files: CSV and TOML, with clear errors") {
           std::string::npos);
   REQUIRE(error_of("e.csv", "position_m,load_kN\n").find("no axles") != std::string::npos);
   REQUIRE(error_of("f.toml", "kind = \"regular\"\nn_axle = 3\n").find("f.toml:2: key 'n_axle': unknown train key") != std::string::npos);
-  REQUIRE(error_of("g.toml", "kind = \"magic\"\n").find("must be hslm, regular or axles") != std::string::npos);
+  REQUIRE(error_of("g.toml", "kind = \"magic\"\n").find("must be hslm, regular, axles or coaches") != std::string::npos);
   REQUIRE(error_of("h.toml", "kind = \"hslm\"\nhslm_number = 12\n").find("h.toml:2: key 'hslm_number': must be a whole number from 1 to 10, got 12") !=
           std::string::npos);
   // Sizes are checked before they become integers: no overflow, no billion-axle train.
@@ -195,6 +197,84 @@ TEST_CASE("train files: CSV and TOML, with clear errors") {
   REQUIRE(error_of("l.toml", "kind = \"hslm\"\nhslm_number = 3\nspacing = 2.0\n").find("belongs to regular trains") !=
           std::string::npos);
   REQUIRE_THROWS_WITH(read_train_file(s.dir.string() + "/missing.toml"), Catch::Contains("train file not found"));
+}
+
+TEST_CASE("vehicles: coach files, trains of coaches and the vehicle keys, with file, line and key") {
+  // The shipped scenario: eight AVE S103 coaches as multibody vehicles on an FRA class 5 rail.
+  const study::Scenario v = to_scenario(load_flat(scenario_src + "/scenarios/vehicles-25m.toml"));
+  REQUIRE(v.trains.size() == 1);
+  CHECK(v.trains[0].coaches.size() == 8);
+  CHECK(v.trains[0].n_axles() == 32);
+  CHECK(v.trains[0].load[0] == Approx(152055.0).epsilon(1e-12));
+  CHECK(v.settings.vehicle.model == study::VehicleModel::multibody);
+  CHECK(v.settings.irregularity.spectrum == "fra5");
+  const load::CoachSpec m = read_coach_file(scenario_src + "/data/vehicles/manchester-benchmark.toml");
+  CHECK(m.mass() == Approx(32000 + 2 * 2615 + 4 * 1813).epsilon(1e-15));
+
+  Scratch s;
+  const std::string coach = "kind = \"coach\"\nbody_mass_kg = 47800\nbody_pitch_inertia_kgm2 = 1957888\nbogie_spacing_m = 17.375\n"
+                            "bogie_mass_kg = 3500\nbogie_pitch_inertia_kgm2 = 1715\nwheelbase_m = 2.5\nwheelset_mass_kg = 1800\n"
+                            "primary_stiffness_N_m = 2.4e6\nprimary_damping_Ns_m = 2e4\nsecondary_stiffness_N_m = 7e5\n"
+                            "secondary_damping_Ns_m = 4e4\nlength_m = 25.0\n";
+  auto train_error = [&](const std::string& coach_text) {
+    s.write("parts/coach.toml", coach_text);
+    try {
+      read_train_file(s.write("parts/coaches.toml", "kind = \"coaches\"\nvehicle = \"coach.toml\"\nn_coaches = 2\n"));
+    } catch (const InputError& err) {
+      return std::string(err.what());
+    }
+    return std::string("no error");
+  };
+  CHECK(train_error(coach) == "no error");
+  std::string e = train_error(std::regex_replace(coach, std::regex("body_mass_kg = 47800"), "body_mass_kg = -5"));
+  CHECK(e.find("coaches.toml:2: key 'vehicle'") != std::string::npos);
+  CHECK(e.find("coach.toml:2: key 'body_mass_kg': -5: violated constraint > 0") != std::string::npos);
+  e = train_error(std::regex_replace(coach, std::regex("length_m = 25.0"), "length_m = 19.0"));
+  CHECK(e.find("coach.toml:13: key 'length_m'") != std::string::npos);
+  CHECK(e.find("next coach") != std::string::npos);
+  e = train_error(coach + "wheel_radius = 0.4\n");
+  CHECK(e.find("coach.toml:14: key 'wheel_radius': unknown vehicle key") != std::string::npos);
+  e = train_error(std::regex_replace(coach, std::regex("wheelset_mass_kg = 1800\n"), ""));
+  CHECK(e.find("key 'wheelset_mass_kg': required") != std::string::npos);
+
+  // A scenario with [train] lines (from line 5) and more sections after the station.
+  auto vehicle_scenario = [&](const std::string& train, const std::string& extra) {
+    return s.write("v.toml", "[bridge]\nfile = \"parts/bridge.toml\"\n[train]\nfiles = [\"parts/train.toml\"]\n" + train +
+                                 "[[stations]]\nname = \"mid\"\nspan = 1\nat = 0.5\n" + extra);
+  };
+  auto error_of = [&](const std::string& train, const std::string& extra) {
+    try {
+      to_scenario(load_flat(vehicle_scenario(train, extra)));
+    } catch (const InputError& err) {
+      return std::string(err.what());
+    }
+    return std::string("no error");
+  };
+  // parts/train.toml is a list of axles.
+  const std::string sprung = "vehicle = \"sprung\"\nunsprung_mass_kg = 1800\nsuspension_stiffness_N_m = 3e5\n";
+  e = error_of("vehicle = \"multibody\"\n", "");
+  CHECK(e.find("v.toml:5: key 'train.vehicle': multibody needs trains of coaches") != std::string::npos);
+  e = error_of("vehicle = \"sprung\"\n", "");
+  CHECK(e.find("v.toml:5: key 'train.vehicle': sprung: 'train' is a list of axles: give train.unsprung_mass_kg") != std::string::npos);
+  e = error_of("vehicle = \"sprung\"\nunsprung_mass_kg = 1800\n", "");
+  CHECK(e.find("v.toml:6: key 'train.unsprung_mass_kg': needs train.suspension_stiffness_N_m too") != std::string::npos);
+  CHECK(error_of(sprung, "") == "no error");
+  e = error_of("vehicle = \"bogies\"\n", "");
+  CHECK(e.find("v.toml:5: key 'train.vehicle'") != std::string::npos);
+  CHECK(e.find("forces|sprung|multibody") != std::string::npos);
+  e = error_of(sprung, "[irregularity]\nspectrum = \"fra7\"\n");
+  CHECK(e.find("v.toml:13: key 'irregularity.spectrum'") != std::string::npos);
+  e = error_of("", "[irregularity]\nspectrum = \"fra4\"\n");
+  CHECK(e.find("v.toml:10: key 'irregularity.spectrum': moving forces do not see the rail's profile") != std::string::npos);
+  e = error_of(sprung, "[irregularity]\nspectrum = \"fra4\"\ntaper_m = 200\n");
+  CHECK(e.find("v.toml:14: key 'irregularity.taper_m': must not exceed irregularity.run_in_m") != std::string::npos);
+  e = error_of(sprung, "[irregularity]\nspectrum = \"fra4\"\nprofile = \"parts/p.csv\"\n");
+  CHECK(e.find("v.toml:14: key 'irregularity.profile': give a measured profile or irregularity.spectrum, not both") != std::string::npos);
+  // A measured profile shorter than the run is refused when the model is prepared.
+  s.write("parts/p.csv", "x_m,z_mm\n0,0\n1,0.5\n2,0\n3,-0.5\n4,0\n");
+  const study::Scenario sc = to_scenario(load_flat(vehicle_scenario(sprung, "[irregularity]\nprofile = \"parts/p.csv\"\n")));
+  REQUIRE(sc.settings.irregularity.measured);
+  CHECK_THROWS_WITH(study::prepare_model(sc), Catch::Contains("irregularity.profile covers x = 0 to 4 m; the run needs -100 to 30 m"));
 }
 
 TEST_CASE("grid variants and variant keys are checked") {
@@ -383,6 +463,8 @@ TEST_CASE("each scenario key is declared once: its schema entry sets its field, 
   const std::vector<std::string> by_hand = {"description", "bridge.file", "bridge.notes", "bridge.span_lengths",
                                             "bridge.EI", "bridge.mass_per_m", "track.file", "track.notes",
                                             "track.rail.", "train.files", "analysis.preset", "stations[].",
+                                            "train.unsprung_mass_kg", "train.suspension_stiffness_N_m",
+                                            "train.suspension_damping_Ns_m", "irregularity.profile",
                                             "sweep.", "fit.", "assess."};
   int with_setter = 0;
   for (const KeySpec& k : scenario_schema()) {
@@ -427,7 +509,11 @@ TEST_CASE("each scenario key is declared once: its schema entry sets its field, 
            t.pad.c != u.pad.c || t.ballast.k != u.ballast.k || t.ballast.c != u.ballast.c || t.shear.k != u.shear.k ||
            t.shear.c != u.shear.c || t.subgrade.k != u.subgrade.k || t.subgrade.c != u.subgrade.c ||
            t.subgrade_on_bridge.k != u.subgrade_on_bridge.k || t.subgrade_on_bridge.c != u.subgrade_on_bridge.c ||
-           a.run_speed != ref.run_speed;
+           a.run_speed != ref.run_speed || x.vehicle.contact_stiffness != y.vehicle.contact_stiffness ||
+           x.vehicle.wheel_radius != y.vehicle.wheel_radius || x.vehicle.end_transition != y.vehicle.end_transition || x.irregularity.seed != y.irregularity.seed ||
+           x.irregularity.lambda_min != y.irregularity.lambda_min || x.irregularity.lambda_max != y.irregularity.lambda_max ||
+           x.irregularity.dx != y.irregularity.dx || x.irregularity.run_in != y.irregularity.run_in ||
+           x.irregularity.taper != y.irregularity.taper;
   };
   int moved = 0;
   for (const KeySpec& k : scenario_schema()) {
@@ -438,7 +524,10 @@ TEST_CASE("each scenario key is declared once: its schema entry sets its field, 
     // every constraint of these keys.
     const double cur = base.has(k.key) ? base.at(k.key).x : 100.0;
     std::string value;
-    if (k.type == ValueType::integer) value = std::to_string(static_cast<long>(cur) == 1 ? 2 : 1);
+    if (k.key == "irregularity.seed") value = "7";
+    else if (k.key == "irregularity.min_wavelength_m") value = "2.0";  // below the 80 m longest
+    else if (k.key == "irregularity.taper_m") value = "30.0";          // within the 100 m run-in  // not in the base scenario: cur is not its default 1
+    else if (k.type == ValueType::integer) value = std::to_string(static_cast<long>(cur) == 1 ? 2 : 1);
     else if (k.key == "analysis.alpha") value = "-0.1";
     else if (k.key == "filter.low_hz") value = "2.0";
     else if (k.key == "analysis.gamma") value = "0.6";

@@ -8,7 +8,7 @@ using namespace viaduct;
 using namespace viaduct::study;
 
 namespace {
-Scenario small_scenario() {
+Scenario small_sweep_scenario() {
   Scenario sc;
   sc.bridge.spans = {{12.0, 5e9, 10000.0}};
   sc.bridge.element_size = 1.0;
@@ -24,7 +24,7 @@ Scenario small_scenario() {
 }  // namespace
 
 TEST_CASE("a failing case is recorded and every other case completes") {
-  std::vector<Variant> v = {{"reference", small_scenario()}};
+  std::vector<Variant> v = {{"reference", small_sweep_scenario()}};
   SweepOptions o;
   o.threads = 2;
   o.runner = [](const PreparedModel& m, const load::Train& t, double speed, const RunSettings& rs) {
@@ -41,9 +41,9 @@ TEST_CASE("a failing case is recorded and every other case completes") {
 }
 
 TEST_CASE("a variant whose model cannot be built fails its own cases only") {
-  Scenario bad = small_scenario();
+  Scenario bad = small_sweep_scenario();
   bad.bridge.spans[0].EI = -1.0;
-  std::vector<Variant> v = {{"reference", small_scenario()}, {"EI x-1", bad}};
+  std::vector<Variant> v = {{"reference", small_sweep_scenario()}, {"EI x-1", bad}};
   const SweepResult r = run_sweep(v, SweepOptions{});
   REQUIRE(r.failures.size() == 8);
   REQUIRE(r.failures[0].message.find("EI must be > 0") != std::string::npos);
@@ -51,8 +51,8 @@ TEST_CASE("a variant whose model cannot be built fails its own cases only") {
 }
 
 TEST_CASE("a variant that could not be formed fails its own cases with its reason") {
-  Variant broken{"EI x0", small_scenario(), "variant 'EI x0': factor 0 on key 'bridge.EI': must be > 0"};
-  std::vector<Variant> v = {{"reference", small_scenario()}, broken};
+  Variant broken{"EI x0", small_sweep_scenario(), "variant 'EI x0': factor 0 on key 'bridge.EI': must be > 0"};
+  std::vector<Variant> v = {{"reference", small_sweep_scenario()}, broken};
   const SweepResult r = run_sweep(v, SweepOptions{});
   REQUIRE(r.failures.size() == 8);
   for (const auto& f : r.failures) {
@@ -67,15 +67,15 @@ TEST_CASE("a variant that could not be formed fails its own cases with its reaso
   throwing.runner = [](const PreparedModel&, const load::Train&, double, const RunSettings&) -> RunResult {
     throw SolverError("non-finite state");
   };
-  const SweepResult t = run_sweep({{"reference", small_scenario()}}, throwing);
+  const SweepResult t = run_sweep({{"reference", small_sweep_scenario()}}, throwing);
   REQUIRE_FALSE(t.failures.empty());
   for (const auto& f : t.failures) CHECK_FALSE(f.input_error);
 }
 
 TEST_CASE("sweep results are identical for any thread count") {
-  Scenario b = small_scenario();
+  Scenario b = small_sweep_scenario();
   b.bridge.spans[0].EI *= 2;
-  const std::vector<Variant> v = {{"reference", small_scenario()}, {"EI x2", b}};
+  const std::vector<Variant> v = {{"reference", small_sweep_scenario()}, {"EI x2", b}};
   SweepOptions one, two;
   one.threads = 1;
   two.threads = 2;

@@ -1,0 +1,88 @@
+#pragma once
+/// \file Vehicle–structure interaction: a linear structure (M, C, K; every DOF or modal
+/// coordinates) and linear vehicles coupled at moving wheel–rail contacts, integrated together by
+/// Newmark's scheme (docs/vehicles.md has the derivation).
+///
+/// Vehicle coordinates z are measured from the static equilibrium of the vehicles on a rigid,
+/// smooth rail, so gravity leaves their equations: wheel w presses on the rail with
+/// P_w = P0_w + p_w, its static load P0_w plus the dynamic part p_w. The contact is a linearised
+/// Hertz spring, p_w = k_w (z_w − y_w − r_w) with y_w the rail's deflection under the wheel and r_w
+/// the irregularity there (positive down: a dip), or rigid (k_w = ∞: z_w = y_w + r_w, p_w a
+/// Lagrange multiplier). Each step solves the contact forces first, from a small dense system
+/// (wheels × wheels: flexibility of the structure between the contacts, of the vehicles, and of
+/// the springs), then the structure and vehicles; the structure's effective matrix is factored
+/// once and its inverse columns at the rail DOFs the wheels cross are cached, so a step costs one
+/// sparse solve, as without vehicles, plus the columns of newly reached DOFs. A wheel off the
+/// structure (before the path, after it) rolls on rigid ground and still sees the irregularity.
+/// Contact is never released: the linear model keeps a tensile contact force, which the result
+/// reports (CoupledSummary::min_contact_force) instead of hiding.
+
+#include <functional>
+#include <limits>
+#include <vector>
+
+#include "viaduct/core/types.hpp"
+#include "viaduct/solve/options.hpp"
+#include "viaduct/solve/summary.hpp"
+
+namespace viaduct::solve {
+
+/// Linear vehicles (a whole train's): M z̈ + C ż + K z = −B p, dense, symmetric. M may have
+/// zero rows (a massless wheel) when K and C make M + γ dt C + β dt² K positive definite.
+struct LinearVehicle {
+  Matrix M, C, K;                  ///< n_v × n_v
+  std::vector<Index> wheel_dof;    ///< per contact: the vehicle DOF that touches the rail
+  Vector static_load;              ///< [N] per contact: P0 > 0
+  /// [N/m] per contact: linearised Hertz stiffness > 0, or +infinity for a rigid contact.
+  Vector contact_stiffness;
+  Index n_dofs() const { return M.rows(); }
+  std::size_t n_contacts() const { return wheel_dof.size(); }
+  /// Sizes, symmetry, finite values, wheel DOFs in range and distinct, P0 > 0, k > 0. *why
+  /// names the field and the rule.
+  bool is_valid(std::string* why) const;
+};
+
+/// Where each wheel is: the rail deflection under it as a functional of the structure's
+/// coordinates, and the irregularity there. Called once per wheel and step, with t ascending.
+class ContactPath {
+ public:
+  virtual ~ContactPath() = default;
+  /// Clears `dof` and `weight` and fills them (nothing when the wheel is off the structure, on
+  /// rigid ground); writes the irregularity [m] under the wheel (positive down) to `irregularity`.
+  /// Must not allocate once the vectors have grown to their working size.
+  virtual void contact(std::size_t wheel, double t, std::vector<Index>& dof, std::vector<double>& weight,
+                       double& irregularity) const = 0;
+};
+
+/// The coupled state after each step, valid during the call: structure u, v, a; vehicles z, ż, z̈;
+/// the total contact forces P0 + p [N] per wheel (compression positive).
+struct CoupledState {
+  const Vector &u, &v, &a, &z, &zv, &za, &contact_force;
+};
+using CoupledObserver = std::function<void(Index step, double t, const CoupledState& s)>;
+
+/// What a coupled run did: the summary of any kernel plus the contact's extremes.
+struct CoupledSummary {
+  Summary summary;
+  Vector min_contact_force;  ///< [N] per wheel over the run (negative: the wheel would have lifted)
+  Vector max_contact_force;  ///< [N] per wheel
+  Index n_cached_columns = 0;  ///< structure inverse columns computed (one sparse solve each)
+};
+
+/// Integrates structure and vehicles from rest (u = v = 0, z = ż = 0: the vehicles in static
+/// equilibrium on rigid ground, which needs a zero irregularity under every wheel at t = 0) with
+/// Newmark's β and γ (HHT's α must be 0). InputError for invalid options, vehicles or grid, a
+/// non-zero irregularity at t = 0 or a contact DOF out of range; SolverError for an effective
+/// matrix that is not positive definite or a non-finite state (with its time).
+CoupledSummary coupled_newmark(const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K,
+                               const LinearVehicle& vehicle, const ContactPath& path, const TimeGrid& grid,
+                               const NewmarkOptions& opt, const CoupledObserver& observe);
+
+/// Static equilibrium of the structure (K) and the vehicles standing with the contacts `path`
+/// gives at time t: K u = Σ Nᵀ(P0 + p), K_v z = −B p, with the contact law. Returns u and writes
+/// z and the total contact forces. SolverError when the system is singular (a structure without
+/// supports, a vehicle that is a mechanism on its wheels).
+Vector coupled_static(const SparseMatrix& K, const LinearVehicle& vehicle, const ContactPath& path, double t,
+                      Vector* z, Vector* contact_force);
+
+}  // namespace viaduct::solve

@@ -1,0 +1,73 @@
+#pragma once
+/// \file Trains as vehicles on the structure (docs/vehicles.md): the vehicle model a scenario
+/// chooses, the rail profile the wheels see, and runs of the coupled system through
+/// solve::coupled_newmark — on every DOF (Method::newmark) or with the structure in modal
+/// coordinates and the vehicles in physical ones (Method::modal, the fast path: the modes up to
+/// modal.max_frequency_hz / modal.n_modes, without static correction).
+
+#include <memory>
+
+#include "viaduct/load/irregularity.hpp"
+#include "viaduct/load/vehicle.hpp"
+#include "viaduct/solve/coupled.hpp"
+#include "viaduct/study/simulation.hpp"
+
+namespace viaduct::study {
+
+/// The modes of the vehicle fast path: mass-normalised shapes and the reduced matrices.
+struct VehicleModalBasis {
+  Matrix shapes;            ///< n_dofs × m, Φᵀ M Φ = I
+  Vector omega;             ///< [rad/s]
+  SparseMatrix M, C, K;     ///< I, Φᵀ C Φ, Ω²
+  Vector frequency_hz;      ///< [Hz]
+};
+
+/// The modes `settings.modal` selects, reduced for the vehicle fast path. InputError when none
+/// is kept; SolverError from the eigensolver.
+std::shared_ptr<const VehicleModalBasis> vehicle_modal_basis(const model::Structure& s, const ModalSettings& settings);
+
+/// [N/m] linearised Hertz stiffness of one axle (both wheels) of static load `axle_load` [N]:
+/// 2 · 1.5 (P/2)^{1/3} / G, G = 4.57e-8 R^-0.149 m/N^{2/3} (Zhai's conical tread), R [m].
+double hertz_stiffness(double axle_load, double wheel_radius);
+
+/// The vehicles of `train` under `s.vehicle` (sprung or multibody), scaled by s.load_factor
+/// (one rail line carries its share of each vehicle), with their contacts; `detail` receives the
+/// unscaled model (DOF and body names). InputError for forces, a train the model cannot take,
+/// or invalid parameters.
+solve::LinearVehicle linear_vehicle(const load::Train& train, const RunSettings& s, load::TrainVehicles* detail = nullptr);
+
+/// The profile the wheels see on structure `s` (null for a smooth rail): drawn from the
+/// spectrum over the run-in, the load path and the taper past it (at least one longest
+/// wavelength long, from the run-in's start: the same for every train and speed), or the
+/// measured one, which must cover them. InputError otherwise.
+std::shared_ptr<const load::RailProfile> rail_profile(const model::Structure& s, const IrregularitySettings& irr);
+
+/// The irregularity under a wheel at x [m] along the line, positive down (a dip): minus the
+/// profile, faded in over [x_from, x_from + taper] and out over [x_end, x_end + taper] by cosine
+/// ramps, 0 outside [x_from, x_end + taper] and without a profile.
+double irregularity_at(const load::RailProfile* profile, double x, double x_from, double x_end, double taper);
+
+/// The wheels of `train` rolling at `speed` [m/s] along the load path of `s` (which must outlive
+/// the result): the first axle at the path's start at t = t_start [s], the others on rigid ground
+/// behind it until they reach it; the rail under each as Hermite weights of the element's DOFs,
+/// and the irregularity irregularity_at() gives with `profile` (may be null), fading in from
+/// x_start − run_in [m] and out past the path's end over `taper` [m]. On a track, within
+/// `transition` [m] of either end of the path a wheel's load passes between rigid ground and the
+/// rail gradually, the rail's level under it weighted alike (a cosine from 0 at the end to 1):
+/// a free rail end, deflecting several times more than the track, would otherwise be a dip that
+/// every wheel hits. InputError when the transition reaches the bridge. The path's time
+/// t is the kernel's minus t_start (a run-in starts at kernel time 0 with t_start = run_in / v).
+std::unique_ptr<solve::ContactPath> train_contacts(const model::Structure& s, const load::Train& train, double speed,
+                                                   const load::RailProfile* profile, double run_in, double taper,
+                                                   double t_start = 0.0, double transition = 10.0);
+
+/// InputError when a track's end transition [m] is negative or reaches the bridge.
+void require_transition(const model::Structure& s, double transition);
+
+/// One run of `train` at `speed` [m/s] with vehicles (settings.vehicle.model is sprung or
+/// multibody): station histories (unfiltered), load effects when `m` has them, and the vehicles'
+/// contact forces and car-body accelerations. Method newmark or modal (`m` prepared for it);
+/// InputError for ida or an invalid case, SolverError from the kernel.
+RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, double speed, const RunSettings& settings);
+
+}  // namespace viaduct::study

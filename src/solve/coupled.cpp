@@ -1,0 +1,364 @@
+#include "viaduct/solve/coupled.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <unordered_map>
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <Eigen/SparseCholesky>
+
+#include "checks.hpp"
+#include "viaduct/core/error.hpp"
+#include "viaduct/core/options.hpp"
+
+namespace viaduct::solve {
+
+bool LinearVehicle::is_valid(std::string* why) const {
+  auto fail = [&](const std::string& m) {
+    if (why) *why = "LinearVehicle::" + m;
+    return false;
+  };
+  const Index n = M.rows();
+  if (M.cols() != n || C.rows() != n || C.cols() != n || K.rows() != n || K.cols() != n)
+    return fail("M, C, K: must be square and of one size");
+  if (!M.allFinite() || !C.allFinite() || !K.allFinite()) return fail("M, C, K: must be finite");
+  if (!M.isApprox(M.transpose()) || !C.isApprox(C.transpose()) || !K.isApprox(K.transpose()))
+    return fail("M, C, K: must be symmetric");
+  const std::size_t nw = wheel_dof.size();
+  if (nw == 0) return fail("wheel_dof: at least one contact");
+  if (static_cast<std::size_t>(static_load.size()) != nw || static_cast<std::size_t>(contact_stiffness.size()) != nw)
+    return fail("static_load, contact_stiffness: one value per contact");
+  for (std::size_t w = 0; w < nw; ++w) {
+    const Index d = wheel_dof[w];
+    if (d < 0 || d >= n) return fail("wheel_dof[" + std::to_string(w) + "] = " + std::to_string(d) + ": out of range");
+    for (std::size_t q = 0; q < w; ++q)
+      if (wheel_dof[q] == d) return fail("wheel_dof: contacts " + std::to_string(q) + " and " + std::to_string(w) + " share a DOF");
+    const double p0 = static_load[static_cast<Index>(w)], k = contact_stiffness[static_cast<Index>(w)];
+    if (!(std::isfinite(p0) && p0 > 0.0))
+      return fail("static_load[" + std::to_string(w) + "] = " + format_number(p0) + ": violated constraint > 0");
+    if (!(k > 0.0) || std::isnan(k))
+      return fail("contact_stiffness[" + std::to_string(w) + "] = " + format_number(k) + ": violated constraint > 0");
+  }
+  return true;
+}
+
+namespace {
+
+std::string cnum(double v) { return format_number(v, 6); }
+
+// Columns of S⁻¹ at the DOFs the wheels touch, computed once each (one sparse solve) and kept while
+// they are used; the least recently used is dropped when the cache is full (the wheels move on).
+class InverseColumns {
+ public:
+  InverseColumns(const Eigen::SimplicialLDLT<SparseMatrix>& ls, Index n, std::size_t capacity)
+      : ls_(ls), n_(n), capacity_(capacity), e_(Vector::Zero(n)) {}
+  const Vector& get(Index dof, Index step) {
+    auto it = slot_.find(dof);
+    if (it != slot_.end()) {
+      last_[it->second] = step;
+      return cols_[it->second];
+    }
+    std::size_t s = cols_.size();
+    if (cols_.size() >= capacity_) {
+      const auto oldest = std::min_element(last_.begin(), last_.end());
+      if (*oldest < step) {
+        s = static_cast<std::size_t>(oldest - last_.begin());
+        slot_.erase(dof_[s]);
+      }
+    }
+    if (s == cols_.size()) {
+      cols_.emplace_back(n_);
+      dof_.push_back(-1);
+      last_.push_back(step);
+    }
+    e_[dof] = 1.0;
+    cols_[s] = ls_.solve(e_);
+    e_[dof] = 0.0;
+    dof_[s] = dof;
+    last_[s] = step;
+    slot_[dof] = s;
+    ++computed_;
+    return cols_[s];
+  }
+  Index computed() const { return computed_; }
+
+ private:
+  const Eigen::SimplicialLDLT<SparseMatrix>& ls_;
+  Index n_;
+  std::size_t capacity_;
+  Vector e_;
+  std::unordered_map<Index, std::size_t> slot_;
+  std::vector<Vector> cols_;
+  std::vector<Index> dof_, last_;
+  Index computed_ = 0;
+};
+
+// The contacts of every wheel at one time.
+struct Contacts {
+  std::vector<std::vector<Index>> dof;
+  std::vector<std::vector<double>> weight;
+  Vector r;
+  explicit Contacts(std::size_t nw) : dof(nw), weight(nw), r(Vector::Zero(static_cast<Index>(nw))) {}
+  void read(const ContactPath& path, double t, Index n_struct) {
+    for (std::size_t w = 0; w < dof.size(); ++w) {
+      double rw = 0.0;
+      path.contact(w, t, dof[w], weight[w], rw);
+      if (dof[w].size() != weight[w].size())
+        throw InputError("ContactPath: wheel " + std::to_string(w) + " has " + std::to_string(dof[w].size()) + " DOFs and " +
+                         std::to_string(weight[w].size()) + " weights");
+      for (Index d : dof[w])
+        if (d < 0 || d >= n_struct)
+          throw InputError("ContactPath: wheel " + std::to_string(w) + " touches DOF " + std::to_string(d) +
+                           ", outside the structure's " + std::to_string(n_struct));
+      if (!std::isfinite(rw)) throw InputError("ContactPath: non-finite irregularity under wheel " + std::to_string(w) + " at t = " + cnum(t) + " s");
+      r[static_cast<Index>(w)] = rw;
+    }
+  }
+  template <class V>
+  double rail(std::size_t w, const V& u) const {
+    double y = 0.0;
+    for (std::size_t q = 0; q < dof[w].size(); ++q) y += weight[w][q] * u[dof[w][q]];
+    return y;
+  }
+};
+
+void require_vehicle(const LinearVehicle& veh, const char* who) {
+  std::string why;
+  if (!veh.is_valid(&why)) throw InputError(std::string(who) + ": " + why);
+}
+
+}  // namespace
+
+namespace {
+
+// One coupled run: the factorisations, the state, and one step of Newmark / HHT-α (docs/vehicles.md).
+// With α: M a₁ + (1+α)(C v₁ + K u₁ − Nᵀ(P0 + p)₁) − α(C v₀ + K u₀ − Nᵀ(P0 + p)₀) = 0 for the structure,
+// the same for the vehicles with −B p, and the contact law at t₁.
+class CoupledRun {
+ public:
+  CoupledRun(const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K, const LinearVehicle& veh,
+             const ContactPath& path, double dt, const NewmarkOptions& opt)
+      : M_(M), C_(C), K_(K), veh_(veh), path_(path), n_(M.rows()), nv_(veh.n_dofs()), nw_(veh.n_contacts()),
+        dt_(dt), b_(opt.beta), g_(opt.gamma), al_(opt.alpha), check_(opt.check_finite), ct_(nw_),
+        cols_(ls_, n_, 8 * nw_ + 64) {
+    const double w = 1.0 + al_;
+    ls_.compute(SparseMatrix(M + (w * g_ * dt) * C + (w * b_ * dt * dt) * K));
+    if (ls_.info() != Eigen::Success) throw SolverError("coupled Newmark: the structure's effective matrix is not positive definite");
+    lv_.compute(veh.M + (w * g_ * dt) * veh.C + (w * b_ * dt * dt) * veh.K);
+    if (lv_.info() != Eigen::Success)
+      throw SolverError("coupled Newmark: the vehicles' effective matrix is not positive definite (a DOF without mass, spring or dashpot?)");
+    const Index nwi = static_cast<Index>(nw_);
+    // Y = S_v⁻¹ B, G = Bᵀ Y: the vehicles' flexibility at their wheels (constant).
+    Matrix B = Matrix::Zero(nv_, nwi);
+    for (std::size_t q = 0; q < nw_; ++q) B(veh.wheel_dof[q], static_cast<Index>(q)) = 1.0;
+    Y_ = lv_.solve(B);
+    G_.resize(nwi, nwi);
+    for (Index q = 0; q < nwi; ++q) G_.row(q) = Y_.row(veh.wheel_dof[static_cast<std::size_t>(q)]);
+    const double c = w * b_ * dt * dt;
+    spring_.resize(nwi);  // 1/((1+α) k β dt²): the contact springs' share (0 for rigid contacts)
+    for (Index q = 0; q < nwi; ++q)
+      spring_[q] = std::isinf(veh.contact_stiffness[q]) ? 0.0 : 1.0 / (veh.contact_stiffness[q] * c);
+    u_ = v_ = a_ = f_ = f_old_ = rhs_ = ut_ = vt_ = as_ = Vector::Zero(n_);
+    z_ = zv_ = za_ = zt_ = zvt_ = av_ = Vector::Zero(nv_);
+    force_ = veh.static_load;
+    p_ = gap_ = Vector::Zero(nwi);
+    X_.resize(n_, nwi);
+    A_.resize(nwi, nwi);
+    on_.assign(nw_, false);
+  }
+
+  // The state at rest at t = 0: the vehicles in equilibrium on a smooth rail, the structure under
+  // the static loads of the wheels already on it.
+  void start() {
+    ct_.read(path_, 0.0, n_);
+    for (Index q = 0; q < static_cast<Index>(nw_); ++q)
+      if (ct_.r[q] != 0.0)
+        throw InputError("coupled Newmark: the irregularity under wheel " + std::to_string(q) + " is " + cnum(ct_.r[q]) +
+                         " m at t = 0; the vehicles start in static equilibrium on a smooth rail (taper the profile in)");
+    contact_loads(force_, f_);
+    Eigen::SimplicialLDLT<SparseMatrix> lm(M_);
+    if (lm.info() != Eigen::Success) throw SolverError("coupled Newmark: mass matrix is not positive definite");
+    a_ = lm.solve(f_);
+  }
+
+  void step(double t) {
+    const double dt = dt_, b = b_, g = g_, al = al_, w = 1.0 + al, c = b * dt * dt;
+    ut_ = u_ + dt * v_ + (dt * dt * (0.5 - b)) * a_;
+    vt_ = v_ + (dt * (1.0 - g)) * a_;
+    zt_ = z_ + dt * zv_ + (dt * dt * (0.5 - b)) * za_;
+    zvt_ = zv_ + (dt * (1.0 - g)) * za_;
+    // The previous step's contact loads (its positions, P0 + p) for α's share, then today's static ones.
+    if (al != 0.0) contact_loads(force_, f_old_);
+    ct_.read(path_, t, n_);
+    contact_loads(veh_.static_load, f_);
+    rhs_.noalias() = w * f_;
+    rhs_.noalias() -= C_ * (w * vt_ - al * v_);
+    rhs_.noalias() -= K_ * (w * ut_ - al * u_);
+    if (al != 0.0) rhs_.noalias() -= al * f_old_;
+    as_ = ls_.solve(rhs_);
+    Vector rv = -(veh_.C * (w * zvt_ - al * zv_) + veh_.K * (w * zt_ - al * z_));
+    if (al != 0.0)
+      for (std::size_t q = 0; q < nw_; ++q) rv[veh_.wheel_dof[q]] += al * p_[static_cast<Index>(q)];
+    av_ = lv_.solve(rv);
+    solve_contacts(k_, w * c);
+    for (std::size_t q = 0; q < nw_; ++q)
+      if (on_[q]) as_ += (w * p_[static_cast<Index>(q)]) * X_.col(static_cast<Index>(q));
+    av_.noalias() -= w * (Y_ * p_);
+    a_ = as_;
+    za_ = av_;
+    u_ = ut_ + c * a_;
+    v_ = vt_ + (g * dt) * a_;
+    z_ = zt_ + c * za_;
+    zv_ = zvt_ + (g * dt) * za_;
+    force_ = veh_.static_load + p_;
+    if (check_ && !(u_.allFinite() && z_.allFinite() && p_.allFinite()))
+      throw SolverError("coupled Newmark: state became non-finite at t = " + cnum(t) + " s");
+  }
+
+  CoupledState state() const { return CoupledState{u_, v_, a_, z_, zv_, za_, force_}; }
+  const Vector& force() const { return force_; }
+  Index cached() const { return cols_.computed(); }
+  Index k_ = 0;  // the step number (the column cache's clock)
+
+ private:
+  // f = Σ Nᵀ P over the wheels on the structure (the contacts read last).
+  void contact_loads(const Vector& P, Vector& f) const {
+    f.setZero();
+    for (std::size_t q = 0; q < nw_; ++q)
+      for (std::size_t j = 0; j < ct_.dof[q].size(); ++j) f[ct_.dof[q][j]] += P[static_cast<Index>(q)] * ct_.weight[q][j];
+  }
+
+  // The contact forces p from (springs + G + N X) p = gap / c_eff, with X = S⁻¹ Nᵀ (cached columns).
+  void solve_contacts(Index k, double c_eff) {
+    const double c = b_ * dt_ * dt_;
+    for (std::size_t q = 0; q < nw_; ++q) {
+      on_[q] = !ct_.dof[q].empty();
+      if (!on_[q]) continue;
+      auto xq = X_.col(static_cast<Index>(q));
+      xq.setZero();
+      for (std::size_t j = 0; j < ct_.dof[q].size(); ++j) xq += ct_.weight[q][j] * cols_.get(ct_.dof[q][j], k);
+    }
+    for (std::size_t q = 0; q < nw_; ++q) {
+      const Index qi = static_cast<Index>(q);
+      const Index d = veh_.wheel_dof[q];
+      gap_[qi] = (zt_[d] + c * av_[d] - ct_.rail(q, ut_) - c * ct_.rail(q, as_) - ct_.r[qi]) / c_eff;
+      for (std::size_t j = 0; j < nw_; ++j) {
+        const Index ji = static_cast<Index>(j);
+        A_(qi, ji) = G_(qi, ji) + (on_[q] && on_[j] ? ct_.rail(q, X_.col(ji)) : 0.0);
+      }
+      A_(qi, qi) += spring_[qi];
+    }
+    la_.compute(A_);
+    if (la_.info() != Eigen::Success) throw SolverError("coupled Newmark: the contact system is singular");
+    p_ = la_.solve(gap_);
+  }
+
+  const SparseMatrix &M_, &C_, &K_;
+  const LinearVehicle& veh_;
+  const ContactPath& path_;
+  Index n_, nv_;
+  std::size_t nw_;
+  double dt_, b_, g_, al_;
+  bool check_;
+  Contacts ct_;
+  Eigen::SimplicialLDLT<SparseMatrix> ls_;
+  InverseColumns cols_;
+  Eigen::LLT<Matrix> lv_;
+  Eigen::LDLT<Matrix> la_;
+  Matrix Y_, G_, X_, A_;
+  Vector spring_, u_, v_, a_, f_, f_old_, rhs_, ut_, vt_, as_, z_, zv_, za_, zt_, zvt_, av_, force_, p_, gap_;
+  std::vector<bool> on_;
+};
+
+}  // namespace
+
+CoupledSummary coupled_newmark(const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K,
+                               const LinearVehicle& veh, const ContactPath& path, const TimeGrid& grid,
+                               const NewmarkOptions& opt, const CoupledObserver& observe) {
+  const auto wall0 = std::chrono::steady_clock::now();
+  require_valid(grid, "coupled Newmark");
+  require_valid(opt, "coupled Newmark");
+  if (!opt.unconditionally_stable())
+    throw InputError("coupled Newmark: NewmarkOptions beta = " + cnum(opt.beta) + ", gamma = " + cnum(opt.gamma) +
+                     ": only unconditionally stable schemes (2 beta >= gamma >= 1/2) with vehicles");
+  require_vehicle(veh, "coupled Newmark");
+  const Index n = detail::require_square_system(M, C, K, "coupled Newmark");
+  if (opt.alpha == 0.0 && opt.gamma == 0.5)
+    for (std::size_t q = 0; q < veh.n_contacts(); ++q)
+      if (std::isinf(veh.contact_stiffness[static_cast<Index>(q)]) && veh.M(veh.wheel_dof[q], veh.wheel_dof[q]) > 0.0)
+        throw InputError("coupled Newmark: a rigid contact under a wheel with mass (contact " + std::to_string(q) +
+                         ") is an index-3 constraint, whose force plain Newmark (alpha = 0, gamma = 0.5) does not damp: "
+                         "use HHT (analysis.alpha < 0) or a Hertz contact");
+  CoupledRun run(M, C, K, veh, path, grid.dt, opt);
+  run.start();
+  CoupledSummary out;
+  out.min_contact_force = run.force();
+  out.max_contact_force = run.force();
+  if (observe) observe(0, 0.0, run.state());
+  const Index n_steps = grid.n_steps();
+  for (Index k = 1; k <= n_steps; ++k) {
+    const double t = k * grid.dt;
+    run.k_ = k;
+    run.step(t);
+    out.min_contact_force = out.min_contact_force.cwiseMin(run.force());
+    out.max_contact_force = out.max_contact_force.cwiseMax(run.force());
+    if (observe) observe(k, t, run.state());
+  }
+  Summary& s = out.summary;
+  s.kernel = "newmark-vehicles";
+  s.n_steps = n_steps;
+  s.n_samples = n_steps + 1;
+  s.n_factorisations = 1;
+  s.n_dofs = n;
+  s.t_reached = n_steps * grid.dt;
+  s.stop_reason = "t_end reached";
+  out.n_cached_columns = run.cached();
+  s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  return out;
+}
+
+Vector coupled_static(const SparseMatrix& K, const LinearVehicle& veh, const ContactPath& path, double t, Vector* z_out,
+                      Vector* force_out) {
+  require_vehicle(veh, "coupled static");
+  const Index n = K.rows();
+  if (K.cols() != n) throw InputError("coupled static: K must be square");
+  Eigen::SimplicialLDLT<SparseMatrix> ls(K);
+  if (ls.info() != Eigen::Success) throw SolverError("coupled static: the structure's stiffness matrix is singular");
+  const std::size_t nw = veh.n_contacts();
+  const Index nwi = static_cast<Index>(nw), nv = veh.n_dofs();
+  Contacts ct(nw);
+  ct.read(path, t, n);
+  Matrix X = Matrix::Zero(n, nwi);  // K⁻¹ N_wᵀ
+  for (std::size_t w = 0; w < nw; ++w) {
+    if (ct.dof[w].empty()) continue;
+    Vector nt = Vector::Zero(n);
+    for (std::size_t q = 0; q < ct.dof[w].size(); ++q) nt[ct.dof[w][q]] += ct.weight[w][q];
+    X.col(static_cast<Index>(w)) = ls.solve(nt);
+  }
+  Matrix F(nwi, nwi);
+  for (Index w = 0; w < nwi; ++w)
+    for (Index q = 0; q < nwi; ++q) F(w, q) = ct.rail(static_cast<std::size_t>(w), X.col(q));
+  // [K_v  B; Bᵀ  −(D + F)] [z; p] = [0; r + F P0].
+  Matrix S = Matrix::Zero(nv + nwi, nv + nwi);
+  Vector rhs = Vector::Zero(nv + nwi);
+  S.topLeftCorner(nv, nv) = veh.K;
+  for (Index w = 0; w < nwi; ++w) {
+    const Index d = veh.wheel_dof[static_cast<std::size_t>(w)];
+    S(d, nv + w) = 1.0;
+    S(nv + w, d) = 1.0;
+    if (!std::isinf(veh.contact_stiffness[w])) S(nv + w, nv + w) -= 1.0 / veh.contact_stiffness[w];
+  }
+  S.bottomRightCorner(nwi, nwi) -= F;
+  rhs.tail(nwi) = ct.r + F * veh.static_load;
+  Eigen::FullPivLU<Matrix> lu(S);
+  if (!lu.isInvertible()) throw SolverError("coupled static: the vehicles are a mechanism on their wheels (singular system)");
+  const Vector x = lu.solve(rhs);
+  const Vector p = x.tail(nwi);
+  if (z_out) *z_out = x.head(nv);
+  if (force_out) *force_out = veh.static_load + p;
+  return X * (veh.static_load + p);
+}
+
+}  // namespace viaduct::solve

@@ -1,0 +1,371 @@
+#include "viaduct/study/vehicles.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "viaduct/core/error.hpp"
+#include "viaduct/core/options.hpp"
+#include "viaduct/model/beam_element.hpp"
+#include "viaduct/model/modes.hpp"
+
+namespace viaduct::study {
+
+const char* vehicle_model_name(VehicleModel m) {
+  switch (m) {
+    case VehicleModel::forces: return "forces";
+    case VehicleModel::sprung: return "sprung";
+    case VehicleModel::multibody: return "multibody";
+  }
+  return "?";
+}
+
+double VehicleHistory::max_unloading_ratio() const {
+  double r = 0.0;
+  for (Index k = 0; k < static_load.size() && k < min_contact.size(); ++k)
+    r = std::max(r, (static_load[k] - min_contact[k]) / static_load[k]);
+  return r;
+}
+
+VehiclePeaks vehicle_peaks(const RunResult& r) {
+  VehiclePeaks p;
+  const VehicleHistory& v = r.vehicles;
+  if (v.empty()) return p;
+  p.present = true;
+  p.min_contact = v.min_contact.minCoeff();
+  p.max_contact = v.max_contact.maxCoeff();
+  p.max_unloading_ratio = v.max_unloading_ratio();
+  for (Index b = 0; b < v.body_acc.cols(); ++b) {
+    const double a = v.body_acc.col(b).cwiseAbs().maxCoeff();
+    if (a > p.max_body_acc) p.max_body_acc = a, p.body = v.body_names[static_cast<std::size_t>(b)];
+  }
+  return p;
+}
+
+std::shared_ptr<const VehicleModalBasis> vehicle_modal_basis(const model::Structure& s, const ModalSettings& ms) {
+  if (ms.n_modes < 0) throw InputError("modal.n_modes must be >= 0");
+  require_non_negative(ms.max_frequency_hz, "modal.max_frequency_hz [Hz]");
+  const model::Modes modes = model::compute_modes_up_to(s, ms.n_modes, ms.max_frequency_hz);
+  const Index m = modes.frequency_hz.size();
+  if (m < 1) throw InputError("modal.max_frequency_hz = " + format_number(ms.max_frequency_hz, 6) + " Hz keeps no mode");
+  auto b = std::make_shared<VehicleModalBasis>();
+  b->shapes = modes.shape.leftCols(m);
+  for (Index j = 0; j < m; ++j) b->shapes.col(j) /= std::sqrt(b->shapes.col(j).dot(s.M * b->shapes.col(j)));
+  b->frequency_hz = modes.frequency_hz.head(m);
+  b->omega = (2.0 * M_PI) * b->frequency_hz;
+  const Matrix Cm = b->shapes.transpose() * (s.C * b->shapes);
+  b->M.resize(m, m);
+  b->K.resize(m, m);
+  b->M.setIdentity();
+  std::vector<Eigen::Triplet<double>> kt;
+  for (Index j = 0; j < m; ++j) kt.emplace_back(j, j, b->omega[j] * b->omega[j]);
+  b->K.setFromTriplets(kt.begin(), kt.end());
+  // Φᵀ C Φ in full (0.5 (A + Aᵀ) against rounding): classical damping leaves it diagonal.
+  b->C = (0.5 * (Cm + Cm.transpose())).sparseView(0.0, 0.0);
+  return b;
+}
+
+double hertz_stiffness(double axle_load, double wheel_radius) {
+  require_positive(axle_load, "axle load [N]");
+  require_positive(wheel_radius, "train.wheel_radius_m [m]");
+  const double G = 4.57e-8 * std::pow(wheel_radius, -0.149);
+  return 2.0 * 1.5 * std::cbrt(axle_load / 2.0) / G;
+}
+
+solve::LinearVehicle linear_vehicle(const load::Train& train, const RunSettings& s, load::TrainVehicles* detail) {
+  const VehicleSettings& vs = s.vehicle;
+  load::TrainVehicles tv;
+  switch (vs.model) {
+    case VehicleModel::forces:
+      throw InputError("linear_vehicle: train.vehicle = \"forces\" has no vehicle model");
+    case VehicleModel::sprung:
+      if (vs.sprung) tv = load::sprung_vehicles(train, *vs.sprung, vs.gravity);
+      else if (!train.coaches.empty()) {
+        // Coaches of one kind share the reduction (a train of mixed coaches needs the keys).
+        const load::SprungSpec sp = load::sprung_of(train.coaches.front());
+        for (const auto& c : train.coaches)
+          if (c.wheelset_mass != sp.unsprung_mass || c.primary_k != train.coaches.front().primary_k ||
+              c.secondary_k != train.coaches.front().secondary_k)
+            throw InputError("train '" + train.name + "': coaches differ; give train.unsprung_mass_kg and train.suspension_stiffness_N_m");
+        tv = load::sprung_vehicles(train, sp, vs.gravity);
+      } else
+        throw InputError("train '" + train.name + "' is a list of axles: sprung masses need train.unsprung_mass_kg and "
+                         "train.suspension_stiffness_N_m");
+      break;
+    case VehicleModel::multibody: tv = load::multibody_vehicles(train); break;
+  }
+  require_positive(s.load_factor, "train.load_factor");
+  solve::LinearVehicle v;
+  v.M = s.load_factor * tv.M;
+  v.C = s.load_factor * tv.C;
+  v.K = s.load_factor * tv.K;
+  v.wheel_dof = tv.wheel_dof;
+  const Index na = static_cast<Index>(train.n_axles());
+  v.static_load.resize(na);
+  v.contact_stiffness.resize(na);
+  for (Index k = 0; k < na; ++k) {
+    const double P = train.load[static_cast<std::size_t>(k)];
+    v.static_load[k] = s.load_factor * P;
+    if (vs.contact == ContactModel::rigid) v.contact_stiffness[k] = std::numeric_limits<double>::infinity();
+    else v.contact_stiffness[k] = s.load_factor * (vs.contact_stiffness > 0.0 ? vs.contact_stiffness : hertz_stiffness(P, vs.wheel_radius));
+  }
+  std::string why;
+  if (!v.is_valid(&why)) throw InputError("train '" + train.name + "': " + why);
+  if (detail) *detail = std::move(tv);
+  return v;
+}
+
+std::shared_ptr<const load::RailProfile> rail_profile(const model::Structure& s, const IrregularitySettings& irr) {
+  if (!irr.enabled()) return nullptr;
+  require_non_negative(irr.taper, "irregularity.taper_m [m]");
+  require_non_negative(irr.run_in, "irregularity.run_in_m [m]");
+  const double x0 = s.path_start() - irr.run_in, x1 = s.path_end() + irr.taper;
+  if (irr.measured) {
+    const load::RailProfile& p = *irr.measured;
+    if (p.x0 > x0 || p.end() < x1)
+      throw InputError("irregularity.profile covers x = " + format_number(p.x0, 6) + " to " + format_number(p.end(), 6) +
+                       " m; the run needs " + format_number(x0, 6) + " to " + format_number(x1, 6) +
+                       " m (irregularity.run_in_m before the load path, the path, and irregularity.taper_m past its end)");
+    return irr.measured;
+  }
+  load::ProfileSpec spec;
+  spec.spectrum = load::irregularity_spectrum(irr.spectrum);
+  spec.lambda_min = irr.lambda_min;
+  spec.lambda_max = irr.lambda_max;
+  spec.dx = irr.dx;
+  spec.seed = irr.seed;
+  spec.x0 = x0;
+  spec.length = std::max(x1 - x0, irr.lambda_max);
+  std::string why;
+  if (!spec.is_valid(&why)) throw InputError("irregularity: " + why);
+  return std::make_shared<const load::RailProfile>(load::random_profile(spec));
+}
+
+double irregularity_at(const load::RailProfile* profile, double x, double x_from, double x_end, double taper) {
+  if (!profile || x <= x_from || x >= x_end + taper) return 0.0;
+  double w = 1.0;
+  if (taper > 0.0) {
+    if (x < x_from + taper) w = 0.5 * (1.0 - std::cos(M_PI * (x - x_from) / taper));
+    if (x > x_end) w = std::min(w, 0.5 * (1.0 + std::cos(M_PI * (x - x_end) / taper)));
+  }
+  return -w * profile->at(x);
+}
+
+namespace {
+
+// The wheels of a train rolling at a constant speed along the structure's load path: the first
+// at the path's start at t = 0, the others behind it on rigid ground until they reach it.
+class TrainContacts : public solve::ContactPath {
+ public:
+  TrainContacts(const model::Structure& s, const load::Train& t, double speed, const load::RailProfile* profile,
+                double run_in, double taper, double t_start, double transition)
+      : path_(s.load_path()), offset_(t.offset), x_start_(s.path_start()), x_end_(s.path_end()), speed_(speed),
+        profile_(profile), x_from_(s.path_start() - run_in), taper_(taper), t_start_(t_start),
+        transition_(s.has_track ? transition : 0.0) {}
+  void contact(std::size_t w, double t, std::vector<Index>& dof, std::vector<double>& weight, double& r) const override {
+    dof.clear();
+    weight.clear();
+    const double x = x_start_ + speed_ * (t - t_start_) - offset_[w];
+    r = irregularity_at(profile_, x, x_from_, x_end_, taper_);
+    if (x < x_start_ || x > x_end_) return;  // rigid ground
+    // Near the ends of a track the wheel's load passes between rigid ground and the rail
+    // gradually, the rail's level under it weighted alike (a free rail end would be a dip).
+    double phi = 1.0;
+    const double from_end = std::min(x - x_start_, x_end_ - x);
+    if (from_end < transition_) phi = 0.5 * (1.0 - std::cos(M_PI * from_end / transition_));
+    auto it = std::upper_bound(path_.begin(), path_.end(), x, [](double v, const model::PathElement& e) { return v < e.x0; });
+    if (it != path_.begin()) --it;
+    const double xi = std::clamp((x - it->x0) / it->h, 0.0, 1.0);
+    const auto N = model::hermite_shape(xi, it->h);
+    for (std::size_t q = 0; q < 4; ++q)
+      if (it->dofs[q] >= 0) {
+        dof.push_back(it->dofs[q]);
+        weight.push_back(phi * N[q]);
+      }
+  }
+
+ private:
+  std::vector<model::PathElement> path_;
+  std::vector<double> offset_;
+  double x_start_, x_end_, speed_;
+  const load::RailProfile* profile_;
+  double x_from_, taper_, t_start_, transition_;
+};
+
+// The same contacts in modal coordinates: a rail point's weights on every mode.
+class ModalContacts : public solve::ContactPath {
+ public:
+  ModalContacts(const TrainContacts& full, const Matrix& shapes) : full_(full), phi_(shapes) {}
+  void contact(std::size_t w, double t, std::vector<Index>& dof, std::vector<double>& weight, double& r) const override {
+    full_.contact(w, t, d_, w_, r);
+    dof.clear();
+    weight.clear();
+    if (d_.empty()) return;
+    const Index m = phi_.cols();
+    dof.resize(static_cast<std::size_t>(m));
+    weight.assign(static_cast<std::size_t>(m), 0.0);
+    for (Index j = 0; j < m; ++j) {
+      dof[static_cast<std::size_t>(j)] = j;
+      double s = 0.0;
+      for (std::size_t q = 0; q < d_.size(); ++q) s += w_[q] * phi_(d_[q], j);
+      weight[static_cast<std::size_t>(j)] = s;
+    }
+  }
+
+ private:
+  const TrainContacts& full_;
+  const Matrix& phi_;
+  mutable std::vector<Index> d_;
+  mutable std::vector<double> w_;
+};
+
+}  // namespace
+
+void require_transition(const model::Structure& s, double transition) {
+  require_non_negative(transition, "train.end_transition_m [m]");
+  if (!s.has_track || s.deck_elements.empty()) return;
+  const double before = s.deck_elements.front().x0 - s.path_start();
+  const double after = s.path_end() - (s.deck_elements.back().x0 + s.deck_elements.back().h);
+  if (transition > std::min(before, after))
+    throw InputError("train.end_transition_m = " + format_number(transition, 6) + " m reaches the bridge: the track runs " +
+                     format_number(before, 6) + " m before it and " + format_number(after, 6) +
+                     " m after it (lengthen track.approach_length / exit_length or shorten the transition)");
+}
+
+std::unique_ptr<solve::ContactPath> train_contacts(const model::Structure& s, const load::Train& train, double speed,
+                                                   const load::RailProfile* profile, double run_in, double taper,
+                                                   double t_start, double transition) {
+  require_positive(speed, "speed [m/s]");
+  require_transition(s, transition);
+  train.validate();
+  if (s.load_path().empty()) throw InputError("structure has no load path");
+  return std::make_unique<TrainContacts>(s, train, speed, profile, run_in, taper, t_start, transition);
+}
+
+namespace {
+
+solve::Functional project(const solve::Functional& f, const Matrix* phi) {
+  if (!phi) return f;
+  solve::Functional p;
+  for (Index j = 0; j < phi->cols(); ++j) {
+    double s = 0.0;
+    for (std::size_t q = 0; q < f.dof.size(); ++q) s += f.weight[q] * (*phi)(f.dof[q], j);
+    p.dof.push_back(j);
+    p.weight.push_back(s);
+  }
+  return p;
+}
+
+double apply(const solve::Functional& f, const Vector& x) {
+  double y = 0.0;
+  for (std::size_t q = 0; q < f.dof.size(); ++q) y += f.weight[q] * x[f.dof[q]];
+  return y;
+}
+
+}  // namespace
+
+RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, double speed, const RunSettings& st) {
+  require_positive(speed, "speed [m/s]");
+  require_non_negative(st.free_vibration_s, "free_vibration_s [s]");
+  require_positive(st.dt, "analysis.dt [s]");
+  if (st.method == Method::ida)
+    throw InputError("analysis.method = \"ida\" does not take vehicles yet: use newmark (every DOF) or modal (the fast path)");
+  const model::Structure& s = m.structure;
+  load::TrainVehicles tv;
+  const solve::LinearVehicle veh = linear_vehicle(train, st, &tv);
+  const bool modal = st.method == Method::modal;
+  std::shared_ptr<const VehicleModalBasis> basis = m.vehicle_modal;
+  if (modal && !basis) basis = vehicle_modal_basis(s, st.modal);
+  const Matrix* phi = modal ? &basis->shapes : nullptr;
+
+  const double t_end = (s.path_end() - s.path_start() + train.length()) / speed + st.free_vibration_s;
+  const Index n_samples = solve::TimeGrid{st.dt, t_end}.n_steps() + 1;
+  // With a profile the run starts a run-in earlier (a whole number of steps), unrecorded.
+  const Index k0 = m.profile ? static_cast<Index>(std::ceil(st.irregularity.run_in / (speed * st.dt) - 1e-9)) : 0;
+  require_transition(s, st.vehicle.end_transition);
+  const solve::TimeGrid grid{st.dt, static_cast<double>(n_samples - 1 + k0) * st.dt};
+  const std::size_t na = train.n_axles(), nb = tv.body_dof.size();
+  const double bytes = static_cast<double>(n_samples) *
+                       static_cast<double>(1 + 4 * m.stations.size() + 2 * m.effects.size() + na + nb) * sizeof(double);
+  if (bytes > kMaxHistoryBytes)
+    throw InputError("a run of " + format_number(t_end, 6) + " s at dt = " + format_number(st.dt, 6) + " s would record " +
+                     format_number(bytes / (1 << 30), 3) + " GiB of histories: raise the speed or analysis.dt");
+
+  // Outputs: each station's main point (and the rail above a deck station), the load effects.
+  std::vector<solve::Functional> main, rail;
+  for (const auto& stn : m.stations) {
+    main.push_back(project(functional_of(stn.has_deck ? stn.deck : stn.rail), phi));
+    rail.push_back(stn.has_deck && stn.has_rail ? project(functional_of(stn.rail), phi) : solve::Functional{});
+  }
+  struct Eff {
+    solve::Functional f, inertia, damping;
+  };
+  std::vector<Eff> eff;
+  for (const auto& e : m.effects) eff.push_back({project(e.functional, phi), project(e.inertia, phi), project(e.damping, phi)});
+
+  RunResult r;
+  r.speed = speed;
+  r.method = st.method;
+  r.t.resize(n_samples);
+  for (Index k = 0; k < n_samples; ++k) r.t[k] = static_cast<double>(k) * st.dt;
+  for (std::size_t i = 0; i < m.stations.size(); ++i) {
+    StationHistory h;
+    h.name = m.stations[i].name;
+    h.on_deck = m.stations[i].has_deck;
+    h.disp.resize(n_samples);
+    h.acc.resize(n_samples);
+    if (!rail[i].dof.empty()) h.rail_disp.resize(n_samples);
+    r.stations.push_back(std::move(h));
+  }
+  for (const auto& e : m.effects) r.effects.push_back({e.name, Vector(n_samples)});
+  VehicleHistory& vh = r.vehicles;
+  vh.model = vehicle_model_name(st.vehicle.model);
+  vh.static_load = veh.static_load;
+  vh.contact_stiffness = veh.contact_stiffness;
+  vh.contact_force.resize(n_samples, static_cast<Index>(na));
+  vh.body_names = tv.body_names;
+  vh.body_acc.resize(n_samples, static_cast<Index>(nb));
+  vh.n_dofs = veh.n_dofs();
+
+  auto observe = [&](Index step, double, const solve::CoupledState& x) {
+    if (step < k0) return;
+    const Index k = step - k0;
+    for (std::size_t i = 0; i < main.size(); ++i) {
+      r.stations[i].disp[k] = apply(main[i], x.u);
+      r.stations[i].acc[k] = apply(main[i], x.a);
+      if (!rail[i].dof.empty()) r.stations[i].rail_disp[k] = apply(rail[i], x.u);
+    }
+    for (std::size_t j = 0; j < eff.size(); ++j)
+      r.effects[j].value[k] = apply(eff[j].f, x.u) + apply(eff[j].inertia, x.a) + apply(eff[j].damping, x.v);
+    vh.contact_force.row(k) = x.contact_force.transpose();
+    for (std::size_t b = 0; b < nb; ++b) vh.body_acc(k, static_cast<Index>(b)) = x.za[tv.body_dof[b]];
+  };
+  const TrainContacts full(s, train, speed, m.profile.get(), st.irregularity.run_in, st.irregularity.taper,
+                           static_cast<double>(k0) * st.dt, st.vehicle.end_transition);
+  solve::CoupledSummary cs;
+  if (modal) {
+    const ModalContacts mc(full, basis->shapes);
+    cs = solve::coupled_newmark(basis->M, basis->C, basis->K, veh, mc, grid, st.newmark, observe);
+    cs.summary.kernel = "modal-vehicles";
+    cs.summary.n_modes = basis->shapes.cols();
+    r.n_modes = cs.summary.n_modes;
+  } else {
+    cs = solve::coupled_newmark(s.M, s.C, s.K, veh, full, grid, st.newmark, observe);
+  }
+  r.summary = cs.summary;
+  vh.min_contact = cs.min_contact_force;
+  vh.max_contact = cs.max_contact_force;
+  vh.n_cached_columns = cs.n_cached_columns;
+  // A rigid bearing's own element passes the contact forces on it straight to the bearing.
+  for (std::size_t j = 0; j < m.effects.size(); ++j) {
+    if (m.effects[j].bearing < 0) continue;
+    load::Train at = train;
+    for (Index k = 0; k < n_samples; ++k) {
+      for (std::size_t a = 0; a < na; ++a) at.load[a] = vh.contact_force(k, static_cast<Index>(a));
+      r.effects[j].value[k] += bearing_load(s, m.effects[j], at, 1.0, s.path_start() + speed * r.t[k]);
+    }
+  }
+  return r;
+}
+
+}  // namespace viaduct::study

@@ -1,0 +1,111 @@
+#include <catch2/catch.hpp>
+
+#include <Eigen/Eigenvalues>
+
+#include "viaduct/core/error.hpp"
+#include "viaduct/load/vehicle.hpp"
+
+using namespace viaduct;
+
+namespace vehicle_unit {
+
+// REFERENCE.md §8: the AVE S103 intermediate coach.
+load::CoachSpec ave() {
+  load::CoachSpec c;
+  c.name = "AVE S103";
+  c.body_mass = 47800, c.body_pitch_inertia = 1957888, c.bogie_spacing = 17.375, c.bogie_mass = 3500;
+  c.bogie_pitch_inertia = 1715, c.wheelbase = 2.5, c.wheelset_mass = 1800, c.primary_k = 2.4e6, c.primary_c = 2e4;
+  c.secondary_k = 7e5, c.secondary_c = 4e4, c.length = 25.0;
+  return c;
+}
+
+// Eigenvalues of a symmetric matrix, ascending.
+Vector eigenvalues(const Matrix& A) { return Eigen::SelfAdjointEigenSolver<Matrix>(A).eigenvalues(); }
+
+}  // namespace vehicle_unit
+
+using namespace vehicle_unit;
+
+TEST_CASE("AVE S103 coach: masses, static axle loads and axle positions of REFERENCE.md section 8") {
+  const load::CoachSpec c = ave();
+  CHECK(c.mass() == Approx(62000.0).epsilon(1e-15));
+  CHECK(c.axle_load(9.81) == Approx(152055.0).epsilon(1e-12));
+  const load::Train t = load::coach_train("3 AVE", c, 3);
+  REQUIRE(t.n_axles() == 12);
+  const std::vector<double> first = {0.0, 2.5, 17.375, 19.875};
+  for (std::size_t i = 0; i < 4; ++i) {
+    CHECK(t.offset[i] == first[i]);
+    CHECK(t.offset[8 + i] == first[i] + 50.0);
+  }
+  CHECK(t.total_load() == Approx(3 * 62000.0 * 9.81).epsilon(1e-12));
+  CHECK(t.coaches.size() == 3);
+}
+
+TEST_CASE("multibody coaches: symmetric matrices, free motions and the static loads they carry") {
+  const load::Train t = load::coach_train("2 AVE", ave(), 2);
+  const load::TrainVehicles v = load::multibody_vehicles(t);
+  REQUIRE(v.n_dofs() == 20);
+  REQUIRE(v.wheel_dof.size() == 8);
+  CHECK((v.K - v.K.transpose()).norm() == 0.0);
+  CHECK((v.C - v.C.transpose()).norm() == 0.0);
+  CHECK(v.M.trace() == Approx(2 * (47800 + 1957888 + 2 * (3500 + 1715) + 4 * 1800)).epsilon(1e-14));
+  // A coach in the air has four free motions (body bounce and pitch, each bogie's pitch with its
+  // wheels following): K is positive semi-definite with nullity 4 per coach.
+  const Vector ev = eigenvalues(v.K);
+  const double big = ev.maxCoeff();
+  int zero = 0;
+  for (Index i = 0; i < ev.size(); ++i) {
+    CHECK(ev[i] > -1e-9 * big);
+    if (std::abs(ev[i]) < 1e-9 * big) ++zero;
+  }
+  CHECK(zero == 8);
+  // On rigid supports under its wheels (a stiff spring each), none is left.
+  Matrix Kg = v.K;
+  for (Index d : v.wheel_dof) Kg(d, d) += 1e9;
+  CHECK(eigenvalues(Kg).minCoeff() > 0.0);
+  // Statics: pressing the body down by its weight and each bogie by its own, the wheels fixed,
+  // the springs pass to each wheel a quarter of the body and half a bogie: with K_ff z_f = F_f the
+  // free DOFs' displacement, the wheel reactions −K_wf z_f are the axle loads minus the wheelsets.
+  std::vector<Index> free, wheel;
+  for (Index i = 0; i < 10; ++i) (i >= 6 ? wheel : free).push_back(i);
+  Matrix Kff(6, 6), Kwf(4, 6);
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j < 6; ++j) Kff(i, j) = v.K(free[i], free[j]);
+    for (int w = 0; w < 4; ++w) Kwf(w, i) = v.K(wheel[w], free[i]);
+  }
+  Vector F = Vector::Zero(6);
+  F[0] = 47800 * 9.81, F[2] = 3500 * 9.81, F[4] = 3500 * 9.81;
+  const Vector reaction = -Kwf * Kff.ldlt().solve(F);
+  for (int w = 0; w < 4; ++w) CHECK(reaction[w] == Approx(152055.0 - 1800 * 9.81).epsilon(1e-10));
+}
+
+TEST_CASE("sprung masses per axle and the sprung reduction of a coach") {
+  const load::Train t = load::regular_train("4 x 170 kN", 4, 3.0, 170e3);
+  const load::TrainVehicles v = load::sprung_vehicles(t, {1800.0, 3e5, 1e4});
+  REQUIRE(v.n_dofs() == 8);
+  CHECK(v.M(0, 0) + v.M(1, 1) == Approx(170e3 / 9.81).epsilon(1e-14));
+  CHECK(v.K(0, 1) == -3e5);
+  CHECK(v.C(0, 0) == 1e4);
+  CHECK(v.body_names.front() == "a1");
+  const load::SprungSpec s = load::sprung_of(ave());
+  CHECK(s.unsprung_mass == 1800.0);
+  CHECK(s.k == Approx(1.0 / (1.0 / 2.4e6 + 2.0 / 7e5)).epsilon(1e-14));
+  CHECK(s.c == Approx(1e4).epsilon(1e-14));
+}
+
+TEST_CASE("vehicle models refuse impossible parameters, naming the field and the rule") {
+  load::CoachSpec c = ave();
+  c.body_mass = -1.0;
+  CHECK_THROWS_WITH(c.validate(), Catch::Contains("body_mass = -1") && Catch::Contains("> 0"));
+  c = ave();
+  c.length = 19.0;  // shorter than its own axles
+  CHECK_THROWS_WITH(load::coach_train("t", c, 2), Catch::Contains("length = 19") && Catch::Contains("next coach"));
+  c = ave();
+  c.wheelbase = 20.0;
+  CHECK_THROWS_WITH(c.validate(), Catch::Contains("bogie_spacing") && Catch::Contains("overlap"));
+  CHECK_THROWS_WITH(load::coach_train("t", ave(), 0), Catch::Contains("n_coaches = 0"));
+  const load::Train light = load::regular_train("light", 2, 3.0, 10e3);
+  CHECK_THROWS_WITH(load::sprung_vehicles(light, {1800.0, 3e5, 0.0}), Catch::Contains("not more than its unsprung mass"));
+  CHECK_THROWS_WITH(load::sprung_vehicles(light, {100.0, -1.0, 0.0}), Catch::Contains("stiffness = -1"));
+  CHECK_THROWS_WITH(load::multibody_vehicles(light), Catch::Contains("not of coaches"));
+}

@@ -1,0 +1,134 @@
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <limits>
+
+#include "viaduct/core/error.hpp"
+#include "viaduct/solve/coupled.hpp"
+#include "viaduct/solve/newmark.hpp"
+
+using namespace viaduct;
+
+namespace coupled_unit {
+
+// A wheel fixed on DOF 0 of the structure with weight w (the rail under it does not move along).
+class FixedContact : public solve::ContactPath {
+ public:
+  explicit FixedContact(double w, double r = 0.0, double t_r = 1e9) : w_(w), r_(r), t_r_(t_r) {}
+  void contact(std::size_t, double t, std::vector<Index>& dof, std::vector<double>& weight, double& r) const override {
+    dof.assign(1, 0);
+    weight.assign(1, w_);
+    r = t >= t_r_ ? r_ : 0.0;
+  }
+
+ private:
+  double w_, r_, t_r_;
+};
+
+// The same two masses assembled as one system: u (structure), z (vehicle), the contact spring
+// between w·u and z, the static load on the structure, the step r in the rail as a force pair.
+class Assembled : public solve::SecondOrderSystem {
+ public:
+  Assembled(double ms, double ks, double cs, double mv, double kc, double w, double P0, double r, double t_r)
+      : P0_(P0), w_(w), kc_(kc), r_(r), t_r_(t_r) {
+    M_.resize(2, 2), C_.resize(2, 2), K_.resize(2, 2);
+    M_.insert(0, 0) = ms;
+    M_.insert(1, 1) = mv;
+    C_.insert(0, 0) = cs;
+    K_.insert(0, 0) = ks + kc * w * w;
+    K_.insert(0, 1) = -kc * w;
+    K_.insert(1, 0) = -kc * w;
+    K_.insert(1, 1) = kc;
+  }
+  const SparseMatrix& mass() const override { return M_; }
+  const SparseMatrix& damping() const override { return C_; }
+  const SparseMatrix& stiffness() const override { return K_; }
+  void force(double t, Vector& f) const override {
+    const double r = t >= t_r_ ? r_ : 0.0;  // p = kc (z − w u − r): the rail's step pushes the wheel up
+    f[0] = w_ * P0_ - w_ * kc_ * r;
+    f[1] = kc_ * r;
+  }
+
+ private:
+  SparseMatrix M_, C_, K_;
+  double P0_, w_, kc_, r_, t_r_;
+};
+
+}  // namespace coupled_unit
+
+using namespace coupled_unit;
+
+TEST_CASE("coupled Newmark is Newmark on the assembled system (one structure DOF, one wheel)") {
+  const double ms = 2e4, ks = 8e7, cs = 3e4, mv = 1500, kc = 2e8, w = 0.7, P0 = 1e5, r = 1e-3;
+  SparseMatrix M(1, 1), C(1, 1), K(1, 1);
+  M.insert(0, 0) = ms;
+  C.insert(0, 0) = cs;
+  K.insert(0, 0) = ks;
+  solve::LinearVehicle veh;
+  veh.M = Matrix::Constant(1, 1, mv);
+  veh.C = Matrix::Zero(1, 1);
+  veh.K = Matrix::Zero(1, 1);
+  veh.wheel_dof = {0};
+  veh.static_load = Vector::Constant(1, P0);
+  veh.contact_stiffness = Vector::Constant(1, kc);
+  const FixedContact path(w, r, 0.05);
+  const Assembled sys(ms, ks, cs, mv, kc, w, P0, r, 0.05);
+  for (const double alpha : {0.0, -0.1}) {
+    const solve::NewmarkOptions opt = solve::NewmarkOptions::hht(alpha);
+    const solve::TimeGrid grid{1e-3, 0.3};
+    std::vector<double> u1, z1, p1, u2, z2, p2;
+    solve::coupled_newmark(M, C, K, veh, path, grid, opt, [&](Index, double, const solve::CoupledState& x) {
+      u1.push_back(x.u[0]);
+      z1.push_back(x.z[0]);
+      p1.push_back(x.contact_force[0]);
+    });
+    solve::newmark(sys, grid, opt, [&](Index k, double t, const Vector& u, const Vector&, const Vector&) {
+      u2.push_back(u[0]);
+      z2.push_back(u[1]);
+      p2.push_back(P0 + kc * (u[1] - w * u[0] - (t >= 0.05 ? r : 0.0)));
+      (void)k;
+    });
+    REQUIRE(u1.size() == u2.size());
+    double eu = 0, ez = 0, ep = 0, su = 0;
+    for (std::size_t k = 0; k < u1.size(); ++k) {
+      eu = std::max(eu, std::abs(u1[k] - u2[k]));
+      ez = std::max(ez, std::abs(z1[k] - z2[k]));
+      ep = std::max(ep, std::abs(p1[k] - p2[k]));
+      su = std::max(su, std::abs(u2[k]));
+    }
+    INFO("alpha = " << alpha);
+    // The same scheme and equations, solved in another order: rounding only.
+    CHECK(eu < 1e-10 * su);
+    CHECK(ez < 1e-10 * su);
+    CHECK(ep < 1e-8 * P0);
+    CHECK(su > 1e-4);  // the step did move things
+  }
+}
+
+TEST_CASE("coupled Newmark refuses what it cannot do, naming the rule") {
+  SparseMatrix M(1, 1), C(1, 1), K(1, 1);
+  M.insert(0, 0) = 1.0;
+  K.insert(0, 0) = 1.0;
+  C.resize(1, 1);
+  solve::LinearVehicle veh;
+  veh.M = Matrix::Constant(1, 1, 1.0);
+  veh.C = Matrix::Zero(1, 1);
+  veh.K = Matrix::Zero(1, 1);
+  veh.wheel_dof = {0};
+  veh.static_load = Vector::Constant(1, 1.0);
+  veh.contact_stiffness = Vector::Constant(1, std::numeric_limits<double>::infinity());
+  const FixedContact path(1.0);
+  const solve::TimeGrid grid{1e-3, 0.01};
+  // A rigid contact under a wheel with mass: index 3, refused without numerical damping.
+  CHECK_THROWS_WITH(solve::coupled_newmark(M, C, K, veh, path, grid, {}, nullptr), Catch::Contains("index-3"));
+  CHECK_NOTHROW(solve::coupled_newmark(M, C, K, veh, path, grid, solve::NewmarkOptions::hht(-0.1), nullptr));
+  // A rail that is not level where the wheel starts.
+  const FixedContact step(1.0, 1e-3, 0.0);
+  veh.contact_stiffness[0] = 1e6;
+  CHECK_THROWS_WITH(solve::coupled_newmark(M, C, K, veh, step, grid, {}, nullptr), Catch::Contains("t = 0"));
+  veh.static_load[0] = -1.0;
+  CHECK_THROWS_WITH(solve::coupled_newmark(M, C, K, veh, path, grid, {}, nullptr), Catch::Contains("static_load[0]"));
+  veh.static_load[0] = 1.0;
+  solve::NewmarkOptions lin;
+  lin.beta = 1.0 / 6.0;
+  CHECK_THROWS_WITH(solve::coupled_newmark(M, C, K, veh, path, grid, lin, nullptr), Catch::Contains("unconditionally stable"));
+}
