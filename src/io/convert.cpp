@@ -531,7 +531,7 @@ load::Train read_train_file(const std::string& path) {
       {"hslm", {"hslm_number", "n_coaches", "coach_length", "bogie_spacing", "axle_load_kN"}},
       {"regular", {"n_axles", "spacing", "axle_load_kN"}},
       {"axles", {"csv"}},
-      {"coaches", {"vehicle", "n_coaches"}}};
+      {"coaches", {"vehicle", "n_coaches", "articulated"}}};
   auto where = [&](const std::string& key) {
     return SourceLocation{path, root.contains(key) ? parsed.line_of(root.at(key)) : 0, key};
   };
@@ -592,6 +592,13 @@ load::Train read_train_file(const std::string& path) {
       } catch (const InputError& e) {
         throw InputError(where("vehicle"), e.what());
       }
+      bool articulated = false;
+      if (root.contains("articulated")) {
+        if (!root.at("articulated").is_boolean()) throw InputError(where("articulated"), "must be true or false");
+        articulated = root.at("articulated").as_boolean();
+      }
+      if (articulated)
+        return load::articulated_train(name, coach, whole("n_coaches", 1, static_cast<double>(load::kMaxAxles / 2 - 1)));
       return load::coach_train(name, coach, whole("n_coaches", 1, static_cast<double>(load::kMaxAxles / 4)));
     }
     if (kind == "axles") {

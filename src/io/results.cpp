@@ -299,6 +299,20 @@ std::vector<std::pair<std::string, std::string>> settings_as_run(const study::Ru
               {"filter.ripple_db", num(c.ripple_db)},
               {"filter.low_hz", num(c.low_hz)},
               {"filter.high_hz", num(c.high_hz)}});
+  if (s.vehicle.model != study::VehicleModel::forces) {
+    // Moving forces keep their manifests as they were; vehicles say how they ran.
+    const auto& v = s.vehicle;
+    out.insert(out.end(), {{"vehicle.model", str(study::vehicle_model_name(v.model))},
+                           {"vehicle.contact", str(v.contact == study::ContactModel::rigid ? "rigid" : "hertz")},
+                           {"vehicle.contact_stiffness_N_m", v.contact_stiffness > 0.0 ? num(v.contact_stiffness) : str("hertz")},
+                           {"vehicle.end_transition_m", num(v.end_transition)}});
+    const auto& r = s.irregularity;
+    if (r.enabled())
+      out.insert(out.end(), {{"irregularity.source", str(r.measured ? r.measured_file : r.spectrum)},
+                             {"irregularity.seed", std::to_string(r.seed)},
+                             {"irregularity.run_in_m", num(r.run_in)},
+                             {"irregularity.taper_m", num(r.taper)}});
+  }
   return out;
 }
 
@@ -320,6 +334,7 @@ void write_manifest(const std::string& path, const Manifest& m, const FlatScenar
     if (flat->has("train.files"))
       for (const auto& t : flat->at("train.files").ss)
         if (!is_builtin_train(t)) add(t);
+    if (flat->has("irregularity.profile")) add(flat->at("irregularity.profile").s);
   }
   for (const auto& f : m.inputs) add(f);
   std::ostringstream out;

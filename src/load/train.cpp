@@ -68,6 +68,28 @@ Train coach_train(const std::string& name, const CoachSpec& coach, int n_coaches
   return t;
 }
 
+Train articulated_train(const std::string& name, const CoachSpec& coach, int n_coaches, double g) {
+  coach.validate();
+  if (n_coaches < 1 || static_cast<std::size_t>(n_coaches + 1) * 2 > kMaxAxles)
+    throw InputError("train '" + name + "': n_coaches = " + std::to_string(n_coaches) + ": violated constraint 1 .. " +
+                     std::to_string(kMaxAxles / 2 - 1));
+  if (!(g > 0.0)) throw InputError("train '" + name + "': gravity must be > 0");
+  Train t;
+  t.name = name;
+  t.articulated = true;
+  for (int j = 0; j <= n_coaches; ++j) {
+    const double bodies = (j == 0 || j == n_coaches) ? 0.5 : 1.0;  // halves of bodies on bogie j
+    const double axle = g * (bodies * coach.body_mass / 2.0 + coach.bogie_mass / 2.0 + coach.wheelset_mass);
+    for (double o : {0.0, coach.wheelbase}) {
+      t.offset.push_back(j * coach.bogie_spacing + o);
+      t.load.push_back(axle);
+    }
+  }
+  t.coaches.assign(static_cast<std::size_t>(n_coaches), coach);
+  t.validate();
+  return t;
+}
+
 HslmRow hslm_a_row(int number) {
   // EN 1991-2 Annex E, Table E.4 (REFERENCE.md §3): N, D [m], d [m], P [kN].
   static const double table[10][4] = {

@@ -76,10 +76,67 @@ SprungSpec sprung_of(const CoachSpec& c) {
   return SprungSpec{c.wheelset_mass, series(c.primary_k, c.secondary_k / 2.0), series(c.primary_c, c.secondary_c / 2.0)};
 }
 
+namespace {
+
+// Bodies on n + 1 shared bogies: DOFs body k (bounce, pitch) at 2k, bogie j (bounce, pitch) at
+// 2n + 2j, its wheelsets at 4n + 2 + 2j and + 1.
+TrainVehicles articulated_vehicles(const Train& t) {
+  const Index n = static_cast<Index>(t.coaches.size());
+  if (t.n_axles() != 2 * t.coaches.size() + 2)
+    throw InputError("train '" + t.name + "': " + std::to_string(t.n_axles()) + " axles for " + std::to_string(n) +
+                     " articulated coaches (2 per bogie, n + 1 bogies)");
+  TrainVehicles v;
+  resize(v, 6 * n + 4);
+  const Index bogie0 = 2 * n, wheel0 = 4 * n + 2;
+  for (Index j = 0; j <= n; ++j) {
+    // A bogie carries the neighbouring coaches' pivots; its own data are the first coach's.
+    const CoachSpec& c = t.coaches[static_cast<std::size_t>(std::min(j, n - 1))];
+    const Index bg = bogie0 + 2 * j;
+    v.M(bg, bg) = c.bogie_mass;
+    v.M(bg + 1, bg + 1) = c.bogie_pitch_inertia;
+    for (int i = 0; i < 2; ++i) {
+      const Index wheel = wheel0 + 2 * j + i;
+      v.M(wheel, wheel) = c.wheelset_mass;
+      const double ew = i == 0 ? c.wheelbase / 2.0 : -c.wheelbase / 2.0;
+      connect(v.K, ahead(bg, ew), at(wheel), c.primary_k);
+      connect(v.C, ahead(bg, ew), at(wheel), c.primary_c);
+      v.wheel_dof.push_back(wheel);
+      v.dof_names.push_back("b" + std::to_string(j + 1) + "_wheel" + std::to_string(i + 1));
+    }
+  }
+  for (Index k = 0; k < n; ++k) {
+    const CoachSpec& c = t.coaches[static_cast<std::size_t>(k)];
+    c.validate();
+    const Index body = 2 * k;
+    v.M(body, body) = c.body_mass;
+    v.M(body + 1, body + 1) = c.body_pitch_inertia;
+    for (int j = 0; j < 2; ++j) {  // front pivot on bogie k, rear on bogie k + 1
+      const Index bg = bogie0 + 2 * (k + j);
+      const double e = j == 0 ? c.bogie_spacing / 2.0 : -c.bogie_spacing / 2.0;
+      connect(v.K, ahead(body, e), at(bg), c.secondary_k);
+      connect(v.C, ahead(body, e), at(bg), c.secondary_c);
+    }
+    v.body_dof.push_back(body);
+    v.body_names.push_back("c" + std::to_string(k + 1));
+  }
+  // DOF names in DOF order: bodies, bogies, wheelsets.
+  std::vector<std::string> names;
+  for (Index k = 0; k < n; ++k)
+    for (const char* s : {"_body_bounce", "_body_pitch"}) names.push_back("c" + std::to_string(k + 1) + s);
+  for (Index j = 0; j <= n; ++j)
+    for (const char* s : {"_bounce", "_pitch"}) names.push_back("b" + std::to_string(j + 1) + s);
+  for (auto& w : v.dof_names) names.push_back(w);
+  v.dof_names = std::move(names);
+  return v;
+}
+
+}  // namespace
+
 TrainVehicles multibody_vehicles(const Train& t) {
   t.validate();
   if (t.coaches.empty())
     throw InputError("train '" + t.name + "' is a list of axles, not of coaches: a multibody model needs a train of kind \"coaches\"");
+  if (t.articulated) return articulated_vehicles(t);
   if (t.n_axles() != 4 * t.coaches.size())
     throw InputError("train '" + t.name + "': " + std::to_string(t.n_axles()) + " axles for " + std::to_string(t.coaches.size()) +
                      " coaches (4 each)");

@@ -143,6 +143,8 @@ CASES = [
     (["data/trains/artificial-20x210.toml"],
      ["run", "scenarios/hslm-simply-supported.toml", "--set", 'train.files=["data/trains/artificial-20x210.toml"]',
       "--out", "OUT"]),
+    (["scenarios/vehicles-25m.toml", "data/trains/ave-s103-8.toml", "data/vehicles/ave-s103.toml"],
+     ["run", "scenarios/vehicles-25m.toml", "--set", "run.speed_kmh=300", "--out", "OUT"]),
     (["record.csv"], ["spectrum", "record.csv", "--out", "OUT"]),
     (["record.csv"], ["spectrum", "record.csv", "--welch", "--nperseg", "256", "--out", "OUT"]),
     (["record.csv"], ["peaks", "record.csv", "--out", "OUT"]),

@@ -40,6 +40,11 @@ expect 0 "grid of 5 variants: each curve the maximum over every setting of the o
 
 "$VIADUCT" run "$OG" --set analysis.free_vibration_s=4 --quiet --out "$WORK/run"
 plotted history "$WORK/run/history.png" -- $PY "$P/plot_history.py" "$WORK/run"
+# Vehicles: two coaches over the 25 m span, contact forces and car bodies.
+printf 'kind = "coaches"\nvehicle = "%s"\nn_coaches = 2\n' "$SRC/data/vehicles/ave-s103.toml" > "$WORK/ave2.toml"
+"$VIADUCT" run "$SRC/scenarios/vehicles-25m.toml" --set "train.files=[\"$WORK/ave2.toml\"]" --quiet --out "$WORK/vehicles"
+plotted vehicles "$WORK/vehicles/vehicles.png" -- $PY "$P/plot_vehicles.py" "$WORK/vehicles"
+expect 1 "vehicles.csv not found" -- $PY "$P/plot_vehicles.py" "$WORK/run"
 "$VIADUCT" compare "$OG" --record "$REC" --map deck_acc=S1_mid --map deck_disp=S1_mid --quiet --out "$WORK/compare"
 plotted compare "$WORK/compare/compare.png" -- $PY "$P/plot_compare.py" "$WORK/compare"
 "$VIADUCT" decay "$WORK/run/history.csv" --channel S1_mid_acc --frequency-hz 10 --quiet --out "$WORK/decay"

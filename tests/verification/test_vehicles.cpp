@@ -162,13 +162,14 @@ TEST_CASE("a standing train gives the static contact forces and deflections exac
   c.body_mass = 47800, c.body_pitch_inertia = 1957888, c.bogie_spacing = 17.375, c.bogie_mass = 3500;
   c.bogie_pitch_inertia = 1715, c.wheelbase = 2.5, c.wheelset_mass = 1800, c.primary_k = 2.4e6, c.primary_c = 2e4;
   c.secondary_k = 7e5, c.secondary_c = 4e4, c.length = 25.0;
-  const load::Train train = load::coach_train("2 x AVE", c, 2);
-  REQUIRE(train.load[0] == Approx(152055.0).epsilon(1e-12));  // REFERENCE.md §8
+  REQUIRE(load::coach_train("2 x AVE", c, 2).load[0] == Approx(152055.0).epsilon(1e-12));  // REFERENCE.md §8
   study::RunSettings rs;
   rs.vehicle.model = study::VehicleModel::multibody;
   study::IrregularitySettings irr;
   irr.spectrum = "fra4";
   const auto profile = study::rail_profile(s, irr);
+  // Articulated coaches on shared bogies are statically determinate too.
+  for (const auto& train : {load::coach_train("2 x AVE", c, 2), load::articulated_train("3 AVE bodies on 4 bogies", c, 3)})
   for (const auto contact : {study::ContactModel::hertz, study::ContactModel::rigid}) {
     rs.vehicle.contact = contact;
     const solve::LinearVehicle veh = study::linear_vehicle(train, rs);
@@ -184,8 +185,8 @@ TEST_CASE("a standing train gives the static contact forces and deflections exac
     Eigen::SimplicialLDLT<SparseMatrix> ls(s.K);
     const Vector u0 = ls.solve(f);
     const double e_u = (u - u0).cwiseAbs().maxCoeff() / u0.cwiseAbs().maxCoeff();
-    std::printf("standing train (%s contact): contact forces %.1e, deflections %.1e off the static ones; body moved %.3g mm\n",
-                contact == study::ContactModel::rigid ? "rigid" : "Hertz", e_force, e_u, 1e3 * z.cwiseAbs().maxCoeff());
+    std::printf("standing train (%s, %s contact): contact forces %.1e, deflections %.1e off the static ones; body moved %.3g mm\n",
+                train.name.c_str(), contact == study::ContactModel::rigid ? "rigid" : "Hertz", e_force, e_u, 1e3 * z.cwiseAbs().maxCoeff());
     CHECK(e_force < 1e-9);  // rounding of a dense solve of ~30 unknowns with entries 1e-9 … 1e6
     CHECK(e_u < 1e-9);
     CHECK(z.cwiseAbs().maxCoeff() > 1e-4);  // the profile did move the vehicles (a test that can fail)

@@ -49,8 +49,11 @@ struct Train {
   std::vector<double> offset;  ///< [m] first 0, non-decreasing
   std::vector<double> load;    ///< [N] per axle, > 0
   /// The coaches, head first, when the train is made of vehicles (coach_train()); empty for a
-  /// list of axles. Coach k's axles are axles 4k … 4k + 3.
+  /// list of axles. Coach k's axles are axles 4k … 4k + 3 (articulated: bogie j's axles are 2j
+  /// and 2j + 1, and coach k rests on bogies k and k + 1).
   std::vector<CoachSpec> coaches;
+  /// True when neighbouring coaches share a bogie (Jacobs bogies): n coaches on n + 1 bogies.
+  bool articulated = false;
 
   std::size_t n_axles() const { return offset.size(); }
   double length() const { return offset.empty() ? 0.0 : offset.back(); }  ///< [m] first to last axle
@@ -75,6 +78,13 @@ HslmRow hslm_a_row(int number);
 /// `n_coaches` coaches of `coach` one behind the other (coach k's first axle k·length behind the
 /// head), with their static axle loads under gravity g. InputError for an invalid coach or count.
 Train coach_train(const std::string& name, const CoachSpec& coach, int n_coaches, double g = kGravity);
+
+/// An articulated train: `n_coaches` bodies of `coach` on n + 1 shared bogies (Jacobs bogies,
+/// as the TGV's), bogie centres bogie_spacing apart (coach.length is not used: a body spans from
+/// one pivot to the next). Each body's weight goes half to each of its bogies: an inner axle
+/// carries g (body/2 + bogie/2 + wheelset), an end axle g (body/4 + bogie/2 + wheelset).
+/// InputError for an invalid coach or count.
+Train articulated_train(const std::string& name, const CoachSpec& coach, int n_coaches, double g = kGravity);
 
 /// `n_axles` equal loads `load` [N] spaced `spacing` [m].
 Train regular_train(const std::string& name, int n_axles, double spacing, double load);

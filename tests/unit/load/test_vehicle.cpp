@@ -109,3 +109,35 @@ TEST_CASE("vehicle models refuse impossible parameters, naming the field and the
   CHECK_THROWS_WITH(load::sprung_vehicles(light, {100.0, -1.0, 0.0}), Catch::Contains("stiffness = -1"));
   CHECK_THROWS_WITH(load::multibody_vehicles(light), Catch::Contains("not of coaches"));
 }
+
+TEST_CASE("articulated coaches share their bogies: loads, free motions and the static load of each axle") {
+  const load::CoachSpec c = ave();
+  const load::Train t = load::articulated_train("3 on 4 bogies", c, 3);
+  REQUIRE(t.articulated);
+  REQUIRE(t.n_axles() == 8);
+  CHECK(t.offset[2] == c.bogie_spacing);
+  CHECK(t.offset[3] == c.bogie_spacing + c.wheelbase);
+  CHECK(t.total_load() == Approx(9.81 * (3 * 47800 + 4 * 3500 + 8 * 1800)).epsilon(1e-12));
+  CHECK(t.load[0] == Approx(9.81 * (47800 / 4.0 + 3500 / 2.0 + 1800)).epsilon(1e-12));
+  CHECK(t.load[3] == Approx(9.81 * (47800 / 2.0 + 3500 / 2.0 + 1800)).epsilon(1e-12));
+  const load::TrainVehicles v = load::multibody_vehicles(t);
+  REQUIRE(v.n_dofs() == 6 * 3 + 4);
+  REQUIRE(v.wheel_dof.size() == 8);
+  CHECK(v.dof_names.size() == static_cast<std::size_t>(v.n_dofs()));
+  CHECK((v.K - v.K.transpose()).norm() == 0.0);
+  // In the air 22 DOFs against 14 springs: each bogie's pitch with its wheels following (4) and
+  // the chain of bodies, hinged at the shared pivots (6 DOFs less 2 hinges: 4).
+  const Vector ev = eigenvalues(v.K);
+  int zero = 0;
+  for (Index i = 0; i < ev.size(); ++i)
+    if (std::abs(ev[i]) < 1e-9 * ev.maxCoeff()) ++zero;
+  CHECK(zero == 8);
+  // Statics with the wheels fixed: the wheel reactions are the axle loads minus the wheelsets.
+  const Index nf = v.n_dofs() - 8;
+  const Matrix Kff = v.K.topLeftCorner(nf, nf), Kwf = v.K.bottomLeftCorner(8, nf);
+  Vector F = Vector::Zero(nf);
+  for (Index k = 0; k < 3; ++k) F[2 * k] = 47800 * 9.81;
+  for (Index j = 0; j < 4; ++j) F[6 + 2 * j] = 3500 * 9.81;
+  const Vector reaction = -Kwf * Kff.ldlt().solve(F);
+  for (Index w = 0; w < 8; ++w) CHECK(reaction[w] == Approx(t.load[static_cast<std::size_t>(w)] - 1800 * 9.81).epsilon(1e-10));
+}
