@@ -142,6 +142,7 @@ LogSink log_printer(bool quiet);
 Command check_command();
 Command modes_command();
 Command run_command();
+Command ladder_command();
 Command sweep_command();
 Command schema_command();
 Command filter_command();
