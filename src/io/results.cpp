@@ -123,13 +123,13 @@ void write_vehicle_envelope_csv(const std::string& path, const std::vector<study
   const VariantColumns vc(variants);
   AtomicFile f(path);
   vc.header(f.get());
-  std::fprintf(f.get(), ",train,speed_kmh,min_contact_N,max_contact_N,max_unloading_ratio,contact_lost,max_body_acc_mps2,body\n");
+  std::fprintf(f.get(), ",train,speed_kmh,min_contact_N,max_contact_N,max_unloading_ratio,contact_lost,max_airborne_s,max_body_acc_mps2,body\n");
   for (const auto& r : rows) {
     vc.row(f.get(), r.variant, "vehicles.csv");
     const study::VehiclePeaks& p = r.peaks;
-    std::fprintf(f.get(), ",%s,%.10g,%.10g,%.10g,%.10g,%s,%.10g,%s\n", csv_text(r.train).c_str(), r.speed * 3.6, p.min_contact,
-                 p.max_contact, p.max_unloading_ratio, p.min_contact < 0.0 ? "true" : "false", p.max_body_acc,
-                 csv_text(p.body).c_str());
+    std::fprintf(f.get(), ",%s,%.10g,%.10g,%.10g,%.10g,%s,%.10g,%.10g,%s\n", csv_text(r.train).c_str(), r.speed * 3.6,
+                 p.min_contact, p.max_contact, p.max_unloading_ratio, p.contact_lost ? "true" : "false", p.max_airborne_s,
+                 p.max_body_acc, csv_text(p.body).c_str());
   }
   f.commit();
 }
@@ -305,6 +305,7 @@ std::vector<std::pair<std::string, std::string>> settings_as_run(const study::Ru
     out.insert(out.end(), {{"vehicle.model", str(study::vehicle_model_name(v.model))},
                            {"vehicle.contact", str(v.contact == study::ContactModel::rigid ? "rigid" : "hertz")},
                            {"vehicle.contact_stiffness_N_m", v.contact_stiffness > 0.0 ? num(v.contact_stiffness) : str("hertz")},
+                           {"vehicle.contact_release", yes(v.release)},
                            {"vehicle.end_transition_m", num(v.end_transition)}});
     const auto& r = s.irregularity;
     if (r.enabled())

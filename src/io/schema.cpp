@@ -155,6 +155,8 @@ std::vector<KeySpec> train_keys() {  // trains
        [](S& sc, const V& v) { sc.settings.vehicle.model = vehicle_of(v.s); }},
       {"train.contact", T::string, "\"hertz\"", "", "hertz|rigid", "Wheel-rail contact of sprung and multibody vehicles: a linearised Hertz spring per axle, or the wheel following the rail.",
        [](S& sc, const V& v) { sc.settings.vehicle.contact = contact_of(v.s); }},
+      {"train.contact_release", T::boolean, "true", "", "", "Sprung and multibody vehicles: true, a wheel whose contact force would pull leaves the rail and lands again (unilateral contact; the time in the air is reported); false, the linear contact holds it with a tensile force (reported as a lost contact).",
+       [](S& sc, const V& v) { sc.settings.vehicle.release = v.b; }},
       {"train.contact_stiffness_N_m", T::number, "", "N/m", "> 0", "Contact stiffness per axle, both rails (default: linearised Hertz at the static wheel load, 3 P^(1/3)/G with G = 4.57e-8 R^-0.149, Zhai's conical tread).",
        [](S& sc, const V& v) { sc.settings.vehicle.contact_stiffness = v.x; }},
       {"train.wheel_radius_m", T::number, "0.43", "m", "> 0", "Wheel radius R of the Hertz contact stiffness.",

@@ -250,9 +250,57 @@ class CoupledRun {
       }
       A_(qi, qi) += spring_[qi];
     }
-    la_.compute(A_);
-    if (la_.info() != Eigen::Success) throw SolverError("coupled Newmark: the contact system is singular");
-    p_ = la_.solve(gap_);
+    if (!veh_.release) {
+      la_.compute(A_);
+      if (la_.info() != Eigen::Success) throw SolverError("coupled Newmark: the contact system is singular");
+      p_ = la_.solve(gap_);
+      return;
+    }
+    settle_contacts(k);
+  }
+
+  // Unilateral contact: a wheel whose total force would pull is released (P0 + p = 0) and taken
+  // back when it would press into the rail again; the active set is iterated until the forces and
+  // the gaps agree with it (releases first, then landings, so that it does not cycle).
+  void settle_contacts(Index k) {
+    const Index nwi = static_cast<Index>(nw_);
+    for (int it = 0;; ++it) {
+      if (it == 4 * nwi + 8)
+        throw SolverError("coupled Newmark: the wheel-rail contacts did not settle at t = " + cnum(static_cast<double>(k) * dt_) + " s");
+      act_.clear();
+      for (Index q = 0; q < nwi; ++q) {
+        if (active_[static_cast<std::size_t>(q)]) act_.push_back(q);
+        else p_[q] = -veh_.static_load[q];
+      }
+      const Index na = static_cast<Index>(act_.size());
+      if (na > 0) {
+        Matrix Aa(na, na);
+        Vector ra(na);
+        for (Index i = 0; i < na; ++i) {
+          ra[i] = gap_[act_[static_cast<std::size_t>(i)]];
+          for (Index q = 0; q < nwi; ++q)
+            if (!active_[static_cast<std::size_t>(q)]) ra[i] -= A_(act_[static_cast<std::size_t>(i)], q) * p_[q];
+          for (Index j = 0; j < na; ++j) Aa(i, j) = A_(act_[static_cast<std::size_t>(i)], act_[static_cast<std::size_t>(j)]);
+        }
+        la_.compute(Aa);
+        if (la_.info() != Eigen::Success) throw SolverError("coupled Newmark: the contact system is singular");
+        const Vector pa = la_.solve(ra);
+        for (Index i = 0; i < na; ++i) p_[act_[static_cast<std::size_t>(i)]] = pa[i];
+      }
+      bool released = false, landed = false;
+      for (Index q = 0; q < nwi; ++q)
+        if (active_[static_cast<std::size_t>(q)] && veh_.static_load[q] + p_[q] < 0.0) active_[static_cast<std::size_t>(q)] = false, released = true;
+      if (!released)
+        for (Index q = 0; q < nwi; ++q) {
+          if (active_[static_cast<std::size_t>(q)]) continue;
+          // The compression the step would leave, relative to the static one, over c_eff.
+          double d = gap_[q];
+          for (Index j = 0; j < nwi; ++j) d -= (A_(q, j) - (j == q ? spring_[q] : 0.0)) * p_[j];
+          const bool presses = spring_[q] == 0.0 ? d > 0.0 : veh_.static_load[q] + d / spring_[q] > 0.0;
+          if (presses) active_[static_cast<std::size_t>(q)] = true, landed = true;
+        }
+      if (!released && !landed) return;
+    }
   }
 
   const SparseMatrix &M_, &C_, &K_;
@@ -270,6 +318,11 @@ class CoupledRun {
   Matrix Y_, G_, X_, A_;
   Vector spring_, u_, v_, a_, f_, f_old_, rhs_, ut_, vt_, as_, z_, zv_, za_, zt_, zvt_, av_, force_, p_, gap_;
   std::vector<bool> on_;
+  std::vector<bool> active_ = std::vector<bool>(nw_, true);  // wheels on the rail (unilateral contact)
+  std::vector<Index> act_;
+
+ public:
+  bool in_contact(std::size_t q) const { return active_[q]; }
 };
 
 }  // namespace
@@ -296,6 +349,7 @@ CoupledSummary coupled_newmark(const SparseMatrix& M, const SparseMatrix& C, con
   CoupledSummary out;
   out.min_contact_force = run.force();
   out.max_contact_force = run.force();
+  out.steps_released.assign(veh.n_contacts(), 0);
   if (observe) observe(0, 0.0, run.state());
   const Index n_steps = grid.n_steps();
   for (Index k = 1; k <= n_steps; ++k) {
@@ -304,6 +358,11 @@ CoupledSummary coupled_newmark(const SparseMatrix& M, const SparseMatrix& C, con
     run.step(t);
     out.min_contact_force = out.min_contact_force.cwiseMin(run.force());
     out.max_contact_force = out.max_contact_force.cwiseMax(run.force());
+    for (std::size_t q = 0; q < veh.n_contacts(); ++q)
+      if (!run.in_contact(q)) {
+        if (out.first_release_t < 0.0) out.first_release_t = t;
+        ++out.steps_released[q];
+      }
     if (observe) observe(k, t, run.state());
   }
   Summary& s = out.summary;

@@ -35,6 +35,8 @@ VehiclePeaks vehicle_peaks(const RunResult& r) {
   p.min_contact = v.min_contact.minCoeff();
   p.max_contact = v.max_contact.maxCoeff();
   p.max_unloading_ratio = v.max_unloading_ratio();
+  p.max_airborne_s = v.airborne_s.size() > 0 ? v.airborne_s.maxCoeff() : 0.0;
+  p.contact_lost = v.contact_lost();
   for (Index b = 0; b < v.body_acc.cols(); ++b) {
     const double a = v.body_acc.col(b).cwiseAbs().maxCoeff();
     if (a > p.max_body_acc) p.max_body_acc = a, p.body = v.body_names[static_cast<std::size_t>(b)];
@@ -100,6 +102,7 @@ solve::LinearVehicle linear_vehicle(const load::Train& train, const RunSettings&
   v.C = s.load_factor * tv.C;
   v.K = s.load_factor * tv.K;
   v.wheel_dof = tv.wheel_dof;
+  v.release = vs.release;
   const Index na = static_cast<Index>(train.n_axles());
   v.static_load.resize(na);
   v.contact_stiffness.resize(na);
@@ -356,6 +359,9 @@ RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, do
   vh.min_contact = cs.min_contact_force;
   vh.max_contact = cs.max_contact_force;
   vh.n_cached_columns = cs.n_cached_columns;
+  vh.released = veh.release;
+  vh.airborne_s.resize(static_cast<Index>(na));
+  for (std::size_t a = 0; a < na; ++a) vh.airborne_s[static_cast<Index>(a)] = static_cast<double>(cs.steps_released[a]) * st.dt;
   // A rigid bearing's own element passes the contact forces on it straight to the bearing.
   for (std::size_t j = 0; j < m.effects.size(); ++j) {
     if (m.effects[j].bearing < 0) continue;

@@ -50,11 +50,13 @@ void write_vehicles(const std::string& out, const study::RunResult& r, const loa
   std::vector<std::vector<std::string>> rows;
   for (Index k = 0; k < v.static_load.size(); ++k) {
     const double p0 = v.static_load[k], lo = v.min_contact[k], hi = v.max_contact[k];
+    const double air = v.airborne_s.size() > k ? v.airborne_s[k] : 0.0;
     rows.push_back({"a" + std::to_string(k + 1), io::table_cell(train.offset[static_cast<std::size_t>(k)]), io::table_cell(p0),
-                    io::table_cell(lo), io::table_cell(hi), io::table_cell((p0 - lo) / p0), lo < 0.0 ? "true" : "false"});
+                    io::table_cell(lo), io::table_cell(hi), io::table_cell((p0 - lo) / p0), io::table_cell(air),
+                    lo < 0.0 || air > 0.0 ? "true" : "false"});
   }
   io::write_table_csv(out + "/contact.csv",
-                      {"axle", "offset_m", "static_N", "min_N", "max_N", "unloading_ratio", "contact_lost"}, rows);
+                      {"axle", "offset_m", "static_N", "min_N", "max_N", "unloading_ratio", "airborne_s", "contact_lost"}, rows);
 }
 
 // The vehicles' extremes, one line each, and a warning for every wheel that would have lifted.
@@ -63,15 +65,21 @@ std::vector<std::string> describe_vehicles(const study::RunResult& r, bool quiet
   std::vector<std::string> warnings;
   std::vector<std::string> lifted;
   for (Index k = 0; k < v.min_contact.size(); ++k)
-    if (v.min_contact[k] < 0.0) lifted.push_back("a" + std::to_string(k + 1));
+    if (v.min_contact[k] < 0.0 || (v.airborne_s.size() > k && v.airborne_s[k] > 0.0)) lifted.push_back("a" + std::to_string(k + 1));
   if (!lifted.empty()) {
     std::string list;
     for (std::size_t i = 0; i < lifted.size() && i < 8; ++i) list += (i ? ", " : "") + lifted[i];
     if (lifted.size() > 8) list += ", ...";
-    warnings.push_back(std::to_string(lifted.size()) + " of " + std::to_string(v.min_contact.size()) +
-                       " axles would have lost contact (" + list + "; contact force below zero, largest unloading ratio " +
-                       format_number(v.max_unloading_ratio(), 3) +
-                       "): the linear contact kept them on the rail, so the response after that is not physical");
+    const std::string n = std::to_string(lifted.size()) + " of " + std::to_string(v.min_contact.size()) + " axles ";
+    if (v.released)
+      warnings.push_back(n + "left the rail (" + list + "; the most " + format_number(1e3 * v.airborne_s.maxCoeff(), 3) +
+                         " ms in the air in all, contact.csv airborne_s): unilateral contact, each landed again; landings "
+                         "are impacts, resolved only by a step well below the contact's period (compare with a smaller analysis.dt)");
+    else
+      warnings.push_back(n + "would have lost contact (" + list + "; contact force below zero, largest unloading ratio " +
+                         format_number(v.max_unloading_ratio(), 3) +
+                         "): the linear contact kept them on the rail (train.contact_release = false), so the response after "
+                         "that is not physical");
   }
   if (!quiet) {
     double acc = 0.0;
@@ -126,9 +134,9 @@ Command run_command() {
       "and OUT/manifest.toml. Plot with scripts/plot/plot_history.py OUT.\n"
       "With vehicles (train.vehicle = sprung or multibody, docs/vehicles.md) also OUT/vehicles.csv\n"
       "(t_s, a<k>_contact_N per axle, <coach>_acc_mps2 per car body) and OUT/contact.csv (per axle:\n"
-      "static_N, min_N, max_N, unloading_ratio, contact_lost); a wheel whose contact force went\n"
-      "below zero is warned of (the linear contact keeps it on the rail). Plot with\n"
-      "scripts/plot/plot_vehicles.py OUT.\n\n"
+      "static_N, min_N, max_N, unloading_ratio, airborne_s, contact_lost); a wheel that left the rail\n"
+      "is warned of (with train.contact_release = false: whose linear contact force went below\n"
+      "zero). Plot with scripts/plot/plot_vehicles.py OUT.\n\n"
       "Sample runs:\n"
       "  viaduct run scenarios/old-guadiana-talgo.toml --out out/talgo\n"
       "  viaduct run scenarios/hslm-simply-supported.toml --speed-kmh 300 --train HSLM-A4 --out out/a4\n"

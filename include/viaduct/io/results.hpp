@@ -30,7 +30,8 @@ void write_envelope_csv(const std::string& path, const std::vector<study::Envelo
 void write_quantities_csv(const std::string& path, const std::vector<study::QuantityRow>& rows,
                           const std::vector<study::Variant>& variants);
 /// vehicles.csv of a sweep with vehicle models: variant (KEY_factor columns as envelope.csv),
-/// train, speed_kmh, min_contact_N, max_contact_N, max_unloading_ratio, contact_lost,
+/// train, speed_kmh, min_contact_N, max_contact_N, max_unloading_ratio, contact_lost (a wheel
+/// left the rail, or its linear contact force went below zero), max_airborne_s,
 /// max_body_acc_mps2 (unfiltered), body (the coach or axle where it occurs).
 void write_vehicle_envelope_csv(const std::string& path, const std::vector<study::VehicleRow>& rows,
                                 const std::vector<study::Variant>& variants);

@@ -14,8 +14,10 @@
 /// once and its inverse columns at the rail DOFs the wheels cross are cached, so a step costs one
 /// sparse solve, as without vehicles, plus the columns of newly reached DOFs. A wheel off the
 /// structure (before the path, after it) rolls on rigid ground and still sees the irregularity.
-/// Contact is never released: the linear model keeps a tensile contact force, which the result
-/// reports (CoupledSummary::min_contact_force) instead of hiding.
+/// A wheel whose total contact force would become tensile leaves the rail and lands again when it
+/// would press into it (an active set per step, LinearVehicle::release); the result counts the
+/// steps each wheel spent in the air. With release off the linear contact keeps a tensile force,
+/// which the result reports (CoupledSummary::min_contact_force) instead of hiding.
 
 #include <functional>
 #include <limits>
@@ -35,6 +37,9 @@ struct LinearVehicle {
   Vector static_load;              ///< [N] per contact: P0 > 0
   /// [N/m] per contact: linearised Hertz stiffness > 0, or +infinity for a rigid contact.
   Vector contact_stiffness;
+  /// true: unilateral contact — a wheel whose total force would pull leaves the rail (its force
+  /// 0) and lands again when it would press; false: the linear contact holds it (a tensile force).
+  bool release = true;
   Index n_dofs() const { return M.rows(); }
   std::size_t n_contacts() const { return wheel_dof.size(); }
   /// Sizes, symmetry, finite values, wheel DOFs in range and distinct, P0 > 0, k > 0. *why
@@ -66,6 +71,8 @@ struct CoupledSummary {
   Summary summary;
   Vector min_contact_force;  ///< [N] per wheel over the run (negative: the wheel would have lifted)
   Vector max_contact_force;  ///< [N] per wheel
+  std::vector<Index> steps_released;  ///< per wheel: steps ended off the rail (LinearVehicle::release)
+  double first_release_t = -1.0;      ///< [s] first time a wheel left the rail (-1: never)
   Index n_cached_columns = 0;  ///< structure inverse columns computed (one sparse solve each)
 };
 

@@ -92,6 +92,9 @@ struct VehicleSettings {
   /// G = 4.57e-8 R^-0.149 m/N^{2/3} (Zhai's conical tread, to confirm).
   double contact_stiffness = 0.0;
   double wheel_radius = 0.43;  ///< [m] > 0, for the Hertz stiffness
+  /// true: unilateral contact, a wheel whose force would pull leaves the rail and lands again
+  /// (solve::LinearVehicle::release); false: the linear contact holds it with a tensile force.
+  bool release = true;
   /// Per-axle sprung masses for every train (VehicleModel::sprung); absent: each train's coaches
   /// give them (load::sprung_of), and a list of axles is an error.
   std::optional<load::SprungSpec> sprung;

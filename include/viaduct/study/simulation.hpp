@@ -113,12 +113,18 @@ struct VehicleHistory {
   std::vector<std::string> body_names;  ///< "c1" … per coach, "a1" … per sprung axle
   Matrix body_acc;            ///< [m/s²] n_samples × n_bodies, car-body bounce (positive down)
   Vector min_contact, max_contact;  ///< [N] per axle over the run
+  /// [s] per axle: time off the rail (unilateral contact), the run-in included; 0 without release.
+  Vector airborne_s;
+  bool released = false;      ///< the contact was unilateral (VehicleSettings::release)
   Index n_dofs = 0;           ///< vehicle DOFs
   Index n_cached_columns = 0; ///< structure inverse columns the contacts needed (sparse solves)
   bool empty() const { return model.empty(); }
-  /// True when some wheel's contact force went below zero: the linear model kept a wheel on the
-  /// rail that would have lifted (the result past that time is not physical).
-  bool contact_lost() const { return !empty() && min_contact.size() > 0 && min_contact.minCoeff() < 0.0; }
+  /// True when some wheel left the rail (unilateral contact) or, with the linear contact, its
+  /// force went below zero (the wheel would have lifted: the result past that time is not physical).
+  bool contact_lost() const {
+    return !empty() && ((airborne_s.size() > 0 && airborne_s.maxCoeff() > 0.0) ||
+                        (min_contact.size() > 0 && min_contact.minCoeff() < 0.0));
+  }
   /// Largest (P0 − P_min)/P0 over the axles (1: a wheel just unloaded; > 1: lifted).
   double max_unloading_ratio() const;
 };
@@ -241,6 +247,8 @@ struct VehiclePeaks {
   double max_unloading_ratio = 0.0;  ///< (P0 − P_min)/P0, largest over the axles
   double max_body_acc = 0.0;     ///< [m/s²] largest |car-body acceleration|, unfiltered
   std::string body;              ///< where ("c3", "a5")
+  double max_airborne_s = 0.0;   ///< [s] longest time an axle spent off the rail
+  bool contact_lost = false;     ///< VehicleHistory::contact_lost()
 };
 VehiclePeaks vehicle_peaks(const RunResult& r);
 

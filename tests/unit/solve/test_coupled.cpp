@@ -1,4 +1,5 @@
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -70,6 +71,7 @@ TEST_CASE("coupled Newmark is Newmark on the assembled system (one structure DOF
   veh.wheel_dof = {0};
   veh.static_load = Vector::Constant(1, P0);
   veh.contact_stiffness = Vector::Constant(1, kc);
+  veh.release = false;  // the assembled system is linear: the 1 mm step pulls on the wheel for a while
   const FixedContact path(w, r, 0.05);
   const Assembled sys(ms, ks, cs, mv, kc, w, P0, r, 0.05);
   for (const double alpha : {0.0, -0.1}) {
@@ -131,4 +133,60 @@ TEST_CASE("coupled Newmark refuses what it cannot do, naming the rule") {
   solve::NewmarkOptions lin;
   lin.beta = 1.0 / 6.0;
   CHECK_THROWS_WITH(solve::coupled_newmark(M, C, K, veh, path, grid, lin, nullptr), Catch::Contains("unconditionally stable"));
+}
+
+namespace coupled_unit {
+
+// A wheel on rigid ground whose rail drops by `depth` over 1 ms at t0 (a dip, positive down).
+class StepDown : public solve::ContactPath {
+ public:
+  StepDown(double t0, double depth) : t0_(t0), depth_(depth) {}
+  void contact(std::size_t, double t, std::vector<Index>& dof, std::vector<double>& weight, double& r) const override {
+    dof.clear();
+    weight.clear();
+    r = depth_ * std::clamp((t - t0_) / 1e-3, 0.0, 1.0);
+  }
+
+ private:
+  double t0_, depth_;
+};
+
+}  // namespace coupled_unit
+
+TEST_CASE("a wheel leaves a rail that drops away faster than it can fall, flies under gravity and lands") {
+  // A free 1000 kg wheel on a Hertz spring; the rail drops 5 mm at t0 = 0.1 s. Unilateral contact:
+  // the wheel falls freely from rest, z = g (t - t0)² / 2, and lands after sqrt(2 d / g) = 31.93 ms.
+  SparseMatrix M(1, 1), C(1, 1), K(1, 1);  // a structure the wheel never touches
+  M.insert(0, 0) = 1.0;
+  K.insert(0, 0) = 1.0;
+  const double m = 1000.0, g = 9.81, d = 5e-3, dt = 1e-4;
+  solve::LinearVehicle veh;
+  veh.M = Matrix::Constant(1, 1, m);
+  veh.C = Matrix::Zero(1, 1);
+  veh.K = Matrix::Zero(1, 1);
+  veh.wheel_dof = {0};
+  veh.static_load = Vector::Constant(1, m * g);
+  veh.contact_stiffness = Vector::Constant(1, 2e9);
+  const StepDown path(0.1, d);
+  const solve::TimeGrid grid{dt, 0.2};
+  double left = -1, landed = -1, worst_g = 0.0;
+  const auto s = solve::coupled_newmark(M, C, K, veh, path, grid, {}, [&](Index, double t, const solve::CoupledState& x) {
+    const bool air = x.contact_force[0] == 0.0;
+    if (air && left < 0) left = t;
+    if (!air && left > 0 && landed < 0) landed = t;
+    if (air && landed < 0) worst_g = std::max(worst_g, std::abs(x.za[0] - g));
+  });
+  const double flight = landed - left, expected = std::sqrt(2 * d / g);
+  INFO("left " << left << " s, landed " << landed << " s");
+  CHECK(std::abs(left - 0.1) < 2 * dt);             // leaves within the first steps of the drop
+  CHECK(std::abs(flight - expected) < 1e-3 + 2 * dt);  // the 1 ms ramp and the step's resolution
+  CHECK(worst_g < 1e-9 * g);                          // in the air only gravity acts
+  CHECK(s.steps_released[0] > 0);
+  CHECK(s.first_release_t == Approx(left).margin(1e-12));
+  CHECK(s.min_contact_force[0] == 0.0);
+  // The linear contact instead pulls the wheel down with the rail: a tensile force, reported.
+  veh.release = false;
+  const auto lin = solve::coupled_newmark(M, C, K, veh, path, grid, {}, nullptr);
+  CHECK(lin.min_contact_force[0] < -m * g);
+  CHECK(lin.steps_released[0] == 0);
 }
