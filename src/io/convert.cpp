@@ -453,18 +453,22 @@ load::Train train_from_csv(const std::string& path) {
   return t;
 }
 
-}  // namespace
-
-load::CoachSpec read_coach_file(const std::string& path) {
-  if (!fs::exists(path)) throw InputError("vehicle file not found: " + path);
-  detail::TomlFile parsed;
+// A component file (train, coach) parsed, or InputError naming it (`what`: "train", "vehicle").
+detail::TomlFile parse_component(const std::string& path, const char* what) {
+  if (!fs::exists(path)) throw InputError(std::string(what) + " file not found: " + path);
   try {
-    parsed = detail::parse_toml_file(path);
+    return detail::parse_toml_file(path);
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {
-    throw InputError(path + ": TOML syntax error: " + e.what());
+    throw InputError(std::string("TOML syntax error: ") + e.what());
   }
+}
+
+}  // namespace
+
+load::CoachSpec read_coach_file(const std::string& path) {
+  const detail::TomlFile parsed = parse_component(path, "vehicle");
   const toml::value& root = parsed.root;
   auto where = [&](const std::string& key) {
     return SourceLocation{path, root.contains(key) ? parsed.line_of(root.at(key)) : 1, key};
@@ -515,15 +519,7 @@ load::CoachSpec read_coach_file(const std::string& path) {
 
 load::Train read_train_file(const std::string& path) {
   if (fs::path(path).extension() == ".csv") return train_from_csv(path);
-  if (!fs::exists(path)) throw InputError("train file not found: " + path);
-  detail::TomlFile parsed;
-  try {
-    parsed = detail::parse_toml_file(path);
-  } catch (const InputError&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw InputError(std::string("TOML syntax error: ") + e.what());
-  }
+  const detail::TomlFile parsed = parse_component(path, "train");
   const toml::value& root = parsed.root;
   // The keys of each kind (name, kind and notes belong to all): a key of another kind is an error,
   // not silently ignored.

@@ -106,6 +106,11 @@ void require_strain_fibre(const study::Scenario& sc, std::size_t station, const 
 /// Creates the output directory (throws SolverError when it cannot).
 void make_out_dir(const std::string& dir);
 
+/// The speed of a one-speed command [m/s]: --speed-kmh, else run.speed_kmh; InputError otherwise.
+double speed_of(const study::Scenario& sc, const std::optional<double>& speed_kmh);
+/// The train named by --train, else the scenario's first; InputError listing the names.
+const load::Train& train_of(const study::Scenario& sc, const std::optional<std::string>& name);
+
 /// Progress printer on stderr: a live line on a terminal, every 10 % otherwise, from 2 s on (short
 /// work prints none); silent if quiet.
 ProgressSink progress_printer(const std::string& what, bool quiet, const std::string& unit = "cases");

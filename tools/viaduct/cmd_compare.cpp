@@ -37,14 +37,6 @@ std::vector<Mapping> mappings_of(const std::vector<std::string>& pairs, const io
   return maps;
 }
 
-// --train, or the first of the scenario's trains.
-const load::Train* train_of(const study::Scenario& sc, const std::optional<std::string>& name) {
-  if (!name) return &sc.trains.front();
-  for (const auto& t : sc.trains)
-    if (t.name == *name) return &t;
-  throw InputError("no train named '" + *name + "' in the scenario");
-}
-
 struct CompareOptions {
   std::optional<std::string> record, train;
   std::vector<std::string> maps;
@@ -71,7 +63,7 @@ int compare_body(const Common& o, const CompareOptions& k) {
   } else if (sc.run_speed && !k.identify_speed_m) {
     speed = *sc.run_speed;
   }
-  const load::Train* train = train_of(sc, k.train);
+  const load::Train* train = &train_of(sc, k.train);
   const std::vector<Mapping> maps = mappings_of(k.maps, rec, sc);
   if (k.identify_speed_m) {
     const study::SpeedEstimate e = study::speed_from_spectrum(rec.data.col(static_cast<Index>(maps.front().channel)), rec.fs_hz,

@@ -44,26 +44,9 @@ Command ladder_command() {
     const auto t0 = std::chrono::steady_clock::now();
     const io::FlatScenario flat = load_scenario(o);
     const study::Scenario sc = io::to_scenario(flat);
-    double speed = 0.0;
-    if (l.speed_kmh) {
-      speed = *l.speed_kmh / 3.6;
-      if (!(speed > 0.0) || !std::isfinite(speed)) throw InputError("--speed-kmh must be > 0");
-    } else if (sc.run_speed) {
-      speed = *sc.run_speed;
-    } else {
-      throw InputError("no speed: give --speed-kmh or run.speed_kmh in the scenario");
-    }
+    const double speed = speed_of(sc, l.speed_kmh);
     if (!(l.modal_max_hz >= 0.0) || !std::isfinite(l.modal_max_hz)) throw InputError("--modal-max-hz must be >= 0 [Hz]");
-    const load::Train* train = &sc.trains.front();
-    if (l.train) {
-      train = nullptr;
-      std::string names;
-      for (const auto& t : sc.trains) {
-        names += " " + t.name;
-        if (t.name == *l.train) train = &t;
-      }
-      if (!train) throw InputError("no train named '" + *l.train + "'; the scenario has:" + names);
-    }
+    const load::Train* train = &train_of(sc, l.train);
     const study::LadderResult r = study::vehicle_ladder(sc, *train, speed, l.modal_max_hz);
     make_out_dir(o.out);
     std::vector<std::vector<std::string>> rows;

@@ -145,25 +145,8 @@ Command run_command() {
     const auto t0 = std::chrono::steady_clock::now();
     const io::FlatScenario flat = load_scenario(o);
     study::Scenario sc = io::to_scenario(flat);
-    double speed = 0.0;
-    if (ro.speed_kmh) {
-      speed = *ro.speed_kmh / 3.6;
-      if (!(speed > 0.0) || !std::isfinite(speed)) throw InputError("--speed-kmh must be > 0");
-    } else if (sc.run_speed) {
-      speed = *sc.run_speed;
-    } else {
-      throw InputError("no speed: give --speed-kmh or run.speed_kmh in the scenario");
-    }
-    const load::Train* train = &sc.trains.front();
-    if (ro.train) {
-      train = nullptr;
-      std::string names;
-      for (const auto& t : sc.trains) {
-        names += " " + t.name;
-        if (t.name == *ro.train) train = &t;
-      }
-      if (!train) throw InputError("no train named '" + *ro.train + "'; the scenario has:" + names);
-    }
+    const double speed = speed_of(sc, ro.speed_kmh);
+    const load::Train* train = &train_of(sc, ro.train);
     sc.settings.ida.log = log_printer(o.quiet);
     const study::PreparedModel pm = study::prepare_model(sc, /*rail_outputs=*/true, /*with_load_effects=*/true);
     const model::Structure& s = pm.structure;
