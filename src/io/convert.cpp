@@ -14,6 +14,7 @@
 #include "viaduct/io/profile.hpp"
 #include "viaduct/io/scenario.hpp"
 #include "viaduct/study/tradeoff.hpp"
+#include "viaduct/study/vehicles.hpp"
 
 namespace viaduct::io {
 
@@ -240,6 +241,21 @@ void vehicles_of(const FlatScenario& f, study::Scenario& sc) {
   if (irr.enabled() && vs.model == study::VehicleModel::forces)
     bad(f.at(irr.measured ? "irregularity.profile" : "irregularity.spectrum"),
         "moving forces do not see the rail's profile: set train.vehicle = \"sprung\" or \"multibody\"");
+  // What needs the model's load path: a measured profile must cover it, a track's end transition
+  // must end before the bridge (checked again per sweep variant when the model is prepared).
+  if (vs.model != study::VehicleModel::forces && (irr.measured || sc.track)) {
+    const model::Structure s = model::build_structure(sc.bridge, sc.track);
+    try {
+      study::require_transition(s, vs.end_transition);
+    } catch (const InputError& e) {
+      bad(f.at("train.end_transition_m"), e.what());
+    }
+    if (irr.measured) try {
+        study::rail_profile(s, irr);
+      } catch (const InputError& e) {
+        bad(f.at("irregularity.profile"), e.what());
+      }
+  }
 }
 
 study::Scenario to_scenario(const FlatScenario& f) {

@@ -5,6 +5,7 @@
 #include <regex>
 #include <sstream>
 
+#include "viaduct/io/profile.hpp"
 #include "viaduct/io/scenario.hpp"
 #include "viaduct/study/simulation.hpp"
 
@@ -270,10 +271,14 @@ TEST_CASE("vehicles: coach files, trains of coaches and the vehicle keys, with f
   CHECK(e.find("v.toml:14: key 'irregularity.taper_m': must not exceed irregularity.run_in_m") != std::string::npos);
   e = error_of(sprung, "[irregularity]\nspectrum = \"fra4\"\nprofile = \"parts/p.csv\"\n");
   CHECK(e.find("v.toml:14: key 'irregularity.profile': give a measured profile or irregularity.spectrum, not both") != std::string::npos);
-  // A measured profile shorter than the run is refused when the model is prepared.
+  // A measured profile shorter than the run: refused with the key's line (and again when a
+  // model is prepared, for sweep variants that change the path).
   s.write("parts/p.csv", "x_m,z_mm\n0,0\n1,0.5\n2,0\n3,-0.5\n4,0\n");
-  const study::Scenario sc = to_scenario(load_flat(vehicle_scenario(sprung, "[irregularity]\nprofile = \"parts/p.csv\"\n")));
-  REQUIRE(sc.settings.irregularity.measured);
+  e = error_of(sprung, "[irregularity]\nprofile = \"parts/p.csv\"\n");
+  CHECK(e.find("v.toml:13: key 'irregularity.profile': irregularity.profile covers x = 0 to 4 m; the run needs -100 to 30 m") !=
+        std::string::npos);
+  study::Scenario sc = to_scenario(load_flat(vehicle_scenario(sprung, "")));
+  sc.settings.irregularity.measured = std::make_shared<const load::RailProfile>(read_rail_profile(s.dir.string() + "/parts/p.csv"));
   CHECK_THROWS_WITH(study::prepare_model(sc), Catch::Contains("irregularity.profile covers x = 0 to 4 m; the run needs -100 to 30 m"));
 }
 
