@@ -198,10 +198,14 @@ class CoupledRun {
     rhs_.noalias() -= K_ * (w * ut_ - al * u_);
     if (al != 0.0) rhs_.noalias() -= al * f_old_;
     as_ = ls_.solve(rhs_);
-    Vector rv = -(veh_.C * (w * zvt_ - al * zv_) + veh_.K * (w * zt_ - al * z_));
+    // The vehicles' right-hand side in work vectors (no allocation per step).
+    zw_ = w * zvt_ - al * zv_;
+    rv_.noalias() = -(veh_.C * zw_);
+    zw_ = w * zt_ - al * z_;
+    rv_.noalias() -= veh_.K * zw_;
     if (al != 0.0)
-      for (std::size_t q = 0; q < nw_; ++q) rv[veh_.wheel_dof[q]] += al * p_[static_cast<Index>(q)];
-    av_ = lv_.solve(rv);
+      for (std::size_t q = 0; q < nw_; ++q) rv_[veh_.wheel_dof[q]] += al * p_[static_cast<Index>(q)];
+    av_ = lv_.solve(rv_);
     solve_contacts(k_, w * c);
     for (std::size_t q = 0; q < nw_; ++q)
       if (on_[q]) as_ += (w * p_[static_cast<Index>(q)]) * X_.col(static_cast<Index>(q));
@@ -274,8 +278,10 @@ class CoupledRun {
       }
       const Index na = static_cast<Index>(act_.size());
       if (na > 0) {
-        Matrix Aa(na, na);
-        Vector ra(na);
+        Matrix& Aa = Aa_;  // resized only when the active set's size changes
+        Vector& ra = ra_;
+        Aa.resize(na, na);
+        ra.resize(na);
         for (Index i = 0; i < na; ++i) {
           ra[i] = gap_[act_[static_cast<std::size_t>(i)]];
           for (Index q = 0; q < nwi; ++q)
@@ -284,8 +290,8 @@ class CoupledRun {
         }
         la_.compute(Aa);
         if (la_.info() != Eigen::Success) throw SolverError("coupled Newmark: the contact system is singular");
-        const Vector pa = la_.solve(ra);
-        for (Index i = 0; i < na; ++i) p_[act_[static_cast<std::size_t>(i)]] = pa[i];
+        pa_ = la_.solve(ra);
+        for (Index i = 0; i < na; ++i) p_[act_[static_cast<std::size_t>(i)]] = pa_[i];
       }
       bool released = false, landed = false;
       for (Index q = 0; q < nwi; ++q)
@@ -320,6 +326,8 @@ class CoupledRun {
   std::vector<bool> on_;
   std::vector<bool> active_ = std::vector<bool>(nw_, true);  // wheels on the rail (unilateral contact)
   std::vector<Index> act_;
+  Matrix Aa_;                 // the active contacts' system (unilateral contact)
+  Vector ra_, pa_, rv_, zw_;  // work vectors of settle_contacts() and step()
 
  public:
   bool in_contact(std::size_t q) const { return active_[q]; }
