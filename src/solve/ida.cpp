@@ -15,34 +15,22 @@
 #include <sunmatrix/sunmatrix_sparse.h>
 
 #include "checks.hpp"
+#include "sundials.hpp"
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/options.hpp"
 
 namespace viaduct::solve {
 
 namespace {
+using sun::check;
+using sun::check_ptr;
+using sun::flag_name;
+using sun::ContextPtr;
+using sun::VectorPtr;
+using sun::MatrixPtr;
+using sun::SolverPtr;
+using sun::IdaMemDeleter;
 std::string short_num(double v) { return format_number(v, 6); }
-
-// RAII for the C handles.
-struct ContextDeleter {
-  void operator()(SUNContext c) const { SUNContext_Free(&c); }
-};
-struct IdaMemDeleter {
-  void operator()(void* m) const { IDAFree(&m); }
-};
-struct VectorDeleter {
-  void operator()(N_Vector v) const { N_VDestroy(v); }
-};
-struct MatrixDeleter {
-  void operator()(SUNMatrix m) const { SUNMatDestroy(m); }
-};
-struct SolverDeleter {
-  void operator()(SUNLinearSolver s) const { SUNLinSolFree(s); }
-};
-using ContextPtr = std::unique_ptr<std::remove_pointer_t<SUNContext>, ContextDeleter>;
-using VectorPtr = std::unique_ptr<std::remove_pointer_t<N_Vector>, VectorDeleter>;
-using MatrixPtr = std::unique_ptr<std::remove_pointer_t<SUNMatrix>, MatrixDeleter>;
-using SolverPtr = std::unique_ptr<std::remove_pointer_t<SUNLinearSolver>, SolverDeleter>;
 
 // Shared with the C callbacks through user_data.
 struct Problem {
@@ -55,23 +43,6 @@ struct Problem {
   std::string last_message;  // last SUNDIALS message
   LogSink log;
 };
-
-// IDAGetReturnFlagName returns a malloc'ed string the caller frees.
-std::string flag_name(int flag) {
-  char* name = IDAGetReturnFlagName(flag);
-  std::string s = name ? name : std::to_string(flag);
-  std::free(name);
-  return s;
-}
-
-void check(int flag, const char* what) {
-  if (flag < 0) throw SolverError(std::string("IDA: ") + what + " failed (" + flag_name(flag) + ")");
-}
-template <class T>
-T* check_ptr(T* p, const char* what) {
-  if (!p) throw SolverError(std::string("IDA: ") + what + " failed (out of memory?)");
-  return p;
-}
 
 int residual(realtype t, N_Vector yy, N_Vector yp, N_Vector rr, void* user) {
   auto* P = static_cast<Problem*>(user);
@@ -166,24 +137,6 @@ std::vector<double> stop_times(const SecondOrderSystem& sys, double t_end, doubl
   return events;
 }
 
-// IDA's counters into the summary.
-void read_counters(void* ida_mem, Summary& s) {
-  long v = 0;
-  check(IDAGetNumSteps(ida_mem, &v), "IDAGetNumSteps");
-  s.n_steps = v;
-  check(IDAGetNumResEvals(ida_mem, &v), "IDAGetNumResEvals");
-  s.n_residuals = v;
-  check(IDAGetNumJacEvals(ida_mem, &v), "IDAGetNumJacEvals");
-  s.n_factorisations = v;
-  check(IDAGetNumErrTestFails(ida_mem, &v), "IDAGetNumErrTestFails");
-  s.n_rejected_steps = v;
-  check(IDAGetNumNonlinSolvConvFails(ida_mem, &v), "IDAGetNumNonlinSolvConvFails");
-  s.n_nonlinear_failures = v;
-  int order = 0;
-  check(IDAGetLastOrder(ida_mem, &order), "IDAGetLastOrder");
-  s.last_order = order;
-}
-
 }  // namespace
 
 bool IdaOptions::is_valid(std::string* why) const {
@@ -220,6 +173,7 @@ Summary ida(const SecondOrderSystem& sys, const TimeGrid& grid, const IdaOptions
   VectorPtr yy(check_ptr(N_VNew_Serial(2 * n, ctx.get()), "N_VNew_Serial"));
   VectorPtr yp(check_ptr(N_VNew_Serial(2 * n, ctx.get()), "N_VNew_Serial"));
   VectorPtr avtol(check_ptr(N_VNew_Serial(2 * n, ctx.get()), "N_VNew_Serial"));
+  for (N_Vector v : {yy.get(), yp.get(), avtol.get()}) sun::use_fast_ops(v);
   Eigen::Map<Vector> y(N_VGetArrayPointer(yy.get()), 2 * n), ydot(N_VGetArrayPointer(yp.get()), 2 * n);
   Eigen::Map<Vector> at(N_VGetArrayPointer(avtol.get()), 2 * n);
   at.head(n).setConstant(opt.atol_disp);
@@ -284,6 +238,7 @@ Summary ida(const SecondOrderSystem& sys, const TimeGrid& grid, const IdaOptions
       const double te = events[next_event++];
       if (te > t_now) t_now = solve_to(te, te);
       consistent(te + eps_t);
+      sun::add_counters(ida_mem, s);  // IDAReInit zeroes them
       check(IDAReInit(ida_mem, te, yy.get(), yp.get()), "IDAReInit");
       ++s.n_restarts;
     }
@@ -291,7 +246,7 @@ Summary ida(const SecondOrderSystem& sys, const TimeGrid& grid, const IdaOptions
     t_now = solve_to(tout, tstop);
     emit(k, k * dt_out);
   }
-  read_counters(ida_mem, s);
+  sun::add_counters(ida_mem, s);
   s.n_samples = n_out + 1;
   s.n_dofs = n;
   s.t_reached = n_out * dt_out;
