@@ -223,6 +223,14 @@ void vehicles_of(const FlatScenario& f, study::Scenario& sc) {
   if (vs.model != study::VehicleModel::forces && f.at("analysis.superposition").s == "unit-response")
     bad(f.at("analysis.superposition"), "unit-response composes constant axle loads: it cannot take train.vehicle = \"" +
                                             model.s + "\" (use \"direct\")");
+  if (vs.model != study::VehicleModel::forces && f.at("analysis.method").s == "ida") {
+    if (vs.contact == study::ContactModel::rigid)
+      bad(f.at("train.contact"), "rigid under a wheel with mass is an index-3 constraint IDA does not take: use \"hertz\" "
+                                 "with analysis.method = \"ida\"");
+    if (vs.sprung && !(vs.sprung->unsprung_mass > 0.0))
+      bad(f.at("train.unsprung_mass_kg"), "must be > 0 [kg] with analysis.method = \"ida\" (a massless wheel is an "
+                                          "algebraic equation IDA is not given)");
+  }
   study::IrregularitySettings& irr = sc.settings.irregularity;
   if (given("irregularity.profile") && !f.at("irregularity.profile").s.empty()) {
     const Value& p = f.at("irregularity.profile");

@@ -10,6 +10,7 @@
 #include <Eigen/SparseCholesky>
 
 #include "checks.hpp"
+#include "contacts.hpp"
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/options.hpp"
 
@@ -93,35 +94,6 @@ class InverseColumns {
   std::vector<Vector> cols_;
   std::vector<Index> dof_, last_;
   Index computed_ = 0;
-};
-
-// The contacts of every wheel at one time.
-struct Contacts {
-  std::vector<std::vector<Index>> dof;
-  std::vector<std::vector<double>> weight;
-  Vector r;
-  explicit Contacts(std::size_t nw) : dof(nw), weight(nw), r(Vector::Zero(static_cast<Index>(nw))) {}
-  void read(const ContactPath& path, double t, Index n_struct) {
-    for (std::size_t w = 0; w < dof.size(); ++w) {
-      double rw = 0.0;
-      path.contact(w, t, dof[w], weight[w], rw);
-      if (dof[w].size() != weight[w].size())
-        throw InputError("ContactPath: wheel " + std::to_string(w) + " has " + std::to_string(dof[w].size()) + " DOFs and " +
-                         std::to_string(weight[w].size()) + " weights");
-      for (Index d : dof[w])
-        if (d < 0 || d >= n_struct)
-          throw InputError("ContactPath: wheel " + std::to_string(w) + " touches DOF " + std::to_string(d) +
-                           ", outside the structure's " + std::to_string(n_struct));
-      if (!std::isfinite(rw)) throw InputError("ContactPath: non-finite irregularity under wheel " + std::to_string(w) + " at t = " + cnum(t) + " s");
-      r[static_cast<Index>(w)] = rw;
-    }
-  }
-  template <class V>
-  double rail(std::size_t w, const V& u) const {
-    double y = 0.0;
-    for (std::size_t q = 0; q < dof[w].size(); ++q) y += weight[w][q] * u[dof[w][q]];
-    return y;
-  }
 };
 
 void require_vehicle(const LinearVehicle& veh, const char* who) {
@@ -316,7 +288,7 @@ class CoupledRun {
   std::size_t nw_;
   double dt_, b_, g_, al_;
   bool check_;
-  Contacts ct_;
+  detail::Contacts ct_;
   Eigen::SimplicialLDLT<SparseMatrix> ls_;
   InverseColumns cols_;
   Eigen::LLT<Matrix> lv_;
@@ -358,6 +330,7 @@ CoupledSummary coupled_newmark(const SparseMatrix& M, const SparseMatrix& C, con
   out.min_contact_force = run.force();
   out.max_contact_force = run.force();
   out.steps_released.assign(veh.n_contacts(), 0);
+  std::vector<bool> was_on(veh.n_contacts(), true);
   if (observe) observe(0, 0.0, run.state());
   const Index n_steps = grid.n_steps();
   for (Index k = 1; k <= n_steps; ++k) {
@@ -366,13 +339,19 @@ CoupledSummary coupled_newmark(const SparseMatrix& M, const SparseMatrix& C, con
     run.step(t);
     out.min_contact_force = out.min_contact_force.cwiseMin(run.force());
     out.max_contact_force = out.max_contact_force.cwiseMax(run.force());
-    for (std::size_t q = 0; q < veh.n_contacts(); ++q)
+    for (std::size_t q = 0; q < veh.n_contacts(); ++q) {
       if (!run.in_contact(q)) {
         if (out.first_release_t < 0.0) out.first_release_t = t;
         ++out.steps_released[q];
       }
+      if (run.in_contact(q) != was_on[q]) out.events.push_back(ContactEvent{q, t, run.in_contact(q)});
+      was_on[q] = run.in_contact(q);
+    }
     if (observe) observe(k, t, run.state());
   }
+  out.airborne_s.resize(static_cast<Index>(veh.n_contacts()));
+  for (std::size_t q = 0; q < veh.n_contacts(); ++q)
+    out.airborne_s[static_cast<Index>(q)] = static_cast<double>(out.steps_released[q]) * grid.dt;
   Summary& s = out.summary;
   s.kernel = "newmark-vehicles";
   s.n_steps = n_steps;
@@ -395,7 +374,7 @@ Vector coupled_static(const SparseMatrix& K, const LinearVehicle& veh, const Con
   if (ls.info() != Eigen::Success) throw SolverError("coupled static: the structure's stiffness matrix is singular");
   const std::size_t nw = veh.n_contacts();
   const Index nwi = static_cast<Index>(nw), nv = veh.n_dofs();
-  Contacts ct(nw);
+  detail::Contacts ct(nw);
   ct.read(path, t, n);
   Matrix X = Matrix::Zero(n, nwi);  // K⁻¹ N_wᵀ
   for (std::size_t w = 0; w < nw; ++w) {

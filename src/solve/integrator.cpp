@@ -20,7 +20,7 @@ bool TimeGrid::is_valid(std::string* why) const {
 }
 
 std::string Summary::describe() const {
-  if (kernel != "ida") return stop_reason;
+  if (kernel != "ida" && kernel != "ida-vehicles") return stop_reason;
   return stop_reason + " (" + std::to_string(n_steps) + " internal steps, " + std::to_string(n_residuals) +
          " residuals, " + std::to_string(n_factorisations) + " factorisations, " + std::to_string(n_rejected_steps) +
          " error-test and " + std::to_string(n_nonlinear_failures) + " Newton failures, " +

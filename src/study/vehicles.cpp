@@ -165,6 +165,18 @@ class TrainContacts : public solve::ContactPath {
       : path_(s.load_path()), offset_(t.offset), x_start_(s.path_start()), x_end_(s.path_end()), speed_(speed),
         profile_(profile), x_from_(s.path_start() - run_in), taper_(taper), t_start_(t_start),
         transition_(s.has_track ? transition : 0.0) {}
+  // Each wheel reaching the path's ends, the transitions' ends and the irregularity's taper ends.
+  std::vector<double> breaks(double t_end) const override {
+    std::vector<double> t, at{x_start_, x_end_};
+    if (transition_ > 0.0) at.insert(at.end(), {x_start_ + transition_, x_end_ - transition_});
+    if (profile_) at.insert(at.end(), {x_from_, x_from_ + taper_, x_end_ + taper_});
+    for (const double off : offset_)
+      for (const double x : at) {
+        const double tb = t_start_ + (x - x_start_ + off) / speed_;
+        if (tb > 0.0 && tb < t_end) t.push_back(tb);
+      }
+    return t;
+  }
   void contact(std::size_t w, double t, std::vector<Index>& dof, std::vector<double>& weight, double& r) const override {
     dof.clear();
     weight.clear();
@@ -199,6 +211,7 @@ class TrainContacts : public solve::ContactPath {
 class ModalContacts : public solve::ContactPath {
  public:
   ModalContacts(const TrainContacts& full, const Matrix& shapes) : full_(full), phi_(shapes) {}
+  std::vector<double> breaks(double t_end) const override { return full_.breaks(t_end); }
   void contact(std::size_t w, double t, std::vector<Index>& dof, std::vector<double>& weight, double& r) const override {
     full_.contact(w, t, d_, w_, r);
     dof.clear();
@@ -271,12 +284,11 @@ RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, do
   require_positive(speed, "speed [m/s]");
   require_non_negative(st.free_vibration_s, "free_vibration_s [s]");
   require_positive(st.dt, "analysis.dt [s]");
-  if (st.method == Method::ida)
-    throw InputError("analysis.method = \"ida\" does not take vehicles yet: use newmark (every DOF) or modal (the fast path)");
   const model::Structure& s = m.structure;
   load::TrainVehicles tv;
   const solve::LinearVehicle veh = linear_vehicle(train, st, &tv);
-  const bool modal = st.method == Method::modal;
+  // The modal fast path and IDA integrate the structure's modes with the vehicles physical.
+  const bool modal = st.method == Method::modal || st.method == Method::ida;
   std::shared_ptr<const VehicleModalBasis> basis = m.vehicle_modal;
   if (modal && !basis) basis = vehicle_modal_basis(s, st.modal);
   const Matrix* phi = modal ? &basis->shapes : nullptr;
@@ -348,8 +360,12 @@ RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, do
   solve::CoupledSummary cs;
   if (modal) {
     const ModalContacts mc(full, basis->shapes);
-    cs = solve::coupled_newmark(basis->M, basis->C, basis->K, veh, mc, grid, st.newmark, observe);
-    cs.summary.kernel = "modal-vehicles";
+    if (st.method == Method::ida) {
+      cs = solve::coupled_ida(basis->M, basis->C, basis->K, veh, mc, grid, st.ida, observe);
+    } else {
+      cs = solve::coupled_newmark(basis->M, basis->C, basis->K, veh, mc, grid, st.newmark, observe);
+      cs.summary.kernel = "modal-vehicles";
+    }
     cs.summary.n_modes = basis->shapes.cols();
     r.n_modes = cs.summary.n_modes;
   } else {
@@ -360,8 +376,11 @@ RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, do
   vh.max_contact = cs.max_contact_force;
   vh.n_cached_columns = cs.n_cached_columns;
   vh.released = veh.release;
-  vh.airborne_s.resize(static_cast<Index>(na));
-  for (std::size_t a = 0; a < na; ++a) vh.airborne_s[static_cast<Index>(a)] = static_cast<double>(cs.steps_released[a]) * st.dt;
+  vh.airborne_s = cs.airborne_s;
+  vh.first_loss_s = Vector::Constant(static_cast<Index>(na), std::numeric_limits<double>::quiet_NaN());
+  for (const solve::ContactEvent& e : cs.events)
+    if (!e.landed && std::isnan(vh.first_loss_s[static_cast<Index>(e.wheel)]))
+      vh.first_loss_s[static_cast<Index>(e.wheel)] = e.t - static_cast<double>(k0) * st.dt;
   // A rigid bearing's own element passes the contact forces on it straight to the bearing.
   for (std::size_t j = 0; j < m.effects.size(); ++j) {
     if (m.effects[j].bearing < 0) continue;

@@ -1,5 +1,6 @@
 // viaduct run
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 
 #include "cli.hpp"
@@ -51,12 +52,15 @@ void write_vehicles(const std::string& out, const study::RunResult& r, const loa
   for (Index k = 0; k < v.static_load.size(); ++k) {
     const double p0 = v.static_load[k], lo = v.min_contact[k], hi = v.max_contact[k];
     const double air = v.airborne_s.size() > k ? v.airborne_s[k] : 0.0;
+    const double first = v.first_loss_s.size() > k ? v.first_loss_s[k] : std::nan("");
     rows.push_back({"a" + std::to_string(k + 1), io::table_cell(train.offset[static_cast<std::size_t>(k)]), io::table_cell(p0),
                     io::table_cell(lo), io::table_cell(hi), io::table_cell((p0 - lo) / p0), io::table_cell(air),
-                    lo < 0.0 || air > 0.0 ? "true" : "false"});
+                    std::isnan(first) ? "" : io::table_cell(first), lo < 0.0 || air > 0.0 ? "true" : "false"});
   }
   io::write_table_csv(out + "/contact.csv",
-                      {"axle", "offset_m", "static_N", "min_N", "max_N", "unloading_ratio", "airborne_s", "contact_lost"}, rows);
+                      {"axle", "offset_m", "static_N", "min_N", "max_N", "unloading_ratio", "airborne_s", "first_loss_s",
+                       "contact_lost"},
+                      rows);
 }
 
 // The vehicles' extremes, one line each, and a warning for every wheel that would have lifted.
@@ -74,7 +78,8 @@ std::vector<std::string> describe_vehicles(const study::RunResult& r, bool quiet
     if (v.released)
       warnings.push_back(n + "left the rail (" + list + "; the most " + format_number(1e3 * v.airborne_s.maxCoeff(), 3) +
                          " ms in the air in all, contact.csv airborne_s): unilateral contact, each landed again; landings "
-                         "are impacts, resolved only by a step well below the contact's period (compare with a smaller analysis.dt)");
+                         "are impacts, resolved only by a step well below the contact's period (compare with a smaller analysis.dt, "
+                         "or analysis.method = \"ida\", which locates each loss and landing)");
     else
       warnings.push_back(n + "would have lost contact (" + list + "; contact force below zero, largest unloading ratio " +
                          format_number(v.max_unloading_ratio(), 3) +
@@ -134,7 +139,7 @@ Command run_command() {
       "and OUT/manifest.toml. Plot with scripts/plot/plot_history.py OUT.\n"
       "With vehicles (train.vehicle = sprung or multibody, docs/vehicles.md) also OUT/vehicles.csv\n"
       "(t_s, a<k>_contact_N per axle, <coach>_acc_mps2 per car body) and OUT/contact.csv (per axle:\n"
-      "static_N, min_N, max_N, unloading_ratio, airborne_s, contact_lost); a wheel that left the rail\n"
+      "static_N, min_N, max_N, unloading_ratio, airborne_s, first_loss_s, contact_lost); a wheel that left the rail\n"
       "is warned of (with train.contact_release = false: whose linear contact force went below\n"
       "zero). Plot with scripts/plot/plot_vehicles.py OUT.\n\n"
       "Sample runs:\n"

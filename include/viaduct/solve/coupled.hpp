@@ -57,6 +57,10 @@ class ContactPath {
   /// Must not allocate once the vectors have grown to their working size.
   virtual void contact(std::size_t wheel, double t, std::vector<Index>& dof, std::vector<double>& weight,
                        double& irregularity) const = 0;
+  /// The times in (0, t_end) at which a wheel's contact stops being smooth in time (a wheel
+  /// entering or leaving the structure or a transition, an irregularity's taper starting or
+  /// ending): the adaptive kernel (coupled_ida) stops and restarts there. May be empty.
+  virtual std::vector<double> breaks(double /*t_end*/) const { return {}; }
 };
 
 /// The coupled state after each step, valid during the call: structure u, v, a; vehicles z, ż, z̈;
@@ -66,6 +70,14 @@ struct CoupledState {
 };
 using CoupledObserver = std::function<void(Index step, double t, const CoupledState& s)>;
 
+/// A wheel leaving the rail (landed = false) or landing on it again, at time t [s]: the step at
+/// whose end it was found (coupled_newmark, resolution dt) or the root located by IDA (coupled_ida).
+struct ContactEvent {
+  std::size_t wheel = 0;
+  double t = 0.0;
+  bool landed = false;
+};
+
 /// What a coupled run did: the summary of any kernel plus the contact's extremes.
 struct CoupledSummary {
   Summary summary;
@@ -73,6 +85,8 @@ struct CoupledSummary {
   Vector max_contact_force;  ///< [N] per wheel
   std::vector<Index> steps_released;  ///< per wheel: steps ended off the rail (LinearVehicle::release)
   double first_release_t = -1.0;      ///< [s] first time a wheel left the rail (-1: never)
+  Vector airborne_s;                  ///< [s] per wheel: time spent off the rail
+  std::vector<ContactEvent> events;   ///< every loss and return of contact, in time order
   Index n_cached_columns = 0;  ///< structure inverse columns computed (one sparse solve each)
 };
 
@@ -84,6 +98,22 @@ struct CoupledSummary {
 CoupledSummary coupled_newmark(const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K,
                                const LinearVehicle& vehicle, const ContactPath& path, const TimeGrid& grid,
                                const NewmarkOptions& opt, const CoupledObserver& observe);
+
+/// The same coupled system integrated by SUNDIALS IDA (variable-order BDF with error control),
+/// meant for the reduced system: the structure in modal coordinates (M, C, K small), the vehicles
+/// physical. The unknowns are y = [u, v, z, ż]; the contact law of each wheel is fixed between
+/// events, and IDA's root finding locates the events: a wheel whose total force P0 + k (z − y − r)
+/// crosses zero downwards leaves the rail, one whose would-be force crosses zero upwards lands; at
+/// each event and at each of path.breaks() the integration restarts from a consistent state. The
+/// Newton systems are solved reduced to the displacements: the vehicles' block sparse, the
+/// structure's Schur complement dense, so n <= 3000 (InputError beyond: integrate the modes; on
+/// every DOF of a FE model the error test would follow its kHz modes anyway). Hertz contacts only (a rigid contact under a mass is an index-3 constraint: InputError), and every vehicle DOF
+/// needs mass (M positive definite). Outputs at k·grid.dt (IDA's interpolant). Summary: internal
+/// steps, Jacobians, rejected steps, restarts (breaks and events); CoupledSummary::events with
+/// the root times (to IDA's tolerances, not the recording step).
+CoupledSummary coupled_ida(const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K,
+                           const LinearVehicle& vehicle, const ContactPath& path, const TimeGrid& grid,
+                           const IdaOptions& opt, const CoupledObserver& observe);
 
 /// Static equilibrium of the structure (K) and the vehicles standing with the contacts `path`
 /// gives at time t: K u = Σ Nᵀ(P0 + p), K_v z = −B p, with the contact law. Returns u and writes

@@ -115,6 +115,9 @@ struct VehicleHistory {
   Vector min_contact, max_contact;  ///< [N] per axle over the run
   /// [s] per axle: time off the rail (unilateral contact), the run-in included; 0 without release.
   Vector airborne_s;
+  /// [s] per axle: when it first left the rail, on the recorded time axis (NaN: never; the run-in
+  /// before t = 0 gives negative times). IDA locates it by root finding, Newmark to its step.
+  Vector first_loss_s;
   bool released = false;      ///< the contact was unilateral (VehicleSettings::release)
   Index n_dofs = 0;           ///< vehicle DOFs
   Index n_cached_columns = 0; ///< structure inverse columns the contacts needed (sparse solves)

@@ -3,7 +3,8 @@
 /// chooses, the rail profile the wheels see, and runs of the coupled system through
 /// solve::coupled_newmark — on every DOF (Method::newmark) or with the structure in modal
 /// coordinates and the vehicles in physical ones (Method::modal, the fast path: the modes up to
-/// modal.max_frequency_hz / modal.n_modes, without static correction).
+/// modal.max_frequency_hz / modal.n_modes, without static correction) — or through
+/// solve::coupled_ida on the same modal system (Method::ida: adaptive, contact events as roots).
 
 #include <memory>
 
@@ -66,8 +67,8 @@ void require_transition(const model::Structure& s, double transition);
 
 /// One run of `train` at `speed` [m/s] with vehicles (settings.vehicle.model is sprung or
 /// multibody): station histories (unfiltered), load effects when `m` has them, and the vehicles'
-/// contact forces and car-body accelerations. Method newmark or modal (`m` prepared for it);
-/// InputError for ida or an invalid case, SolverError from the kernel.
+/// contact forces and car-body accelerations. Method newmark, modal or ida (`m` prepared for it:
+/// the modal basis for modal and ida); InputError for an invalid case, SolverError from the kernel.
 RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, double speed, const RunSettings& settings);
 
 }  // namespace viaduct::study
