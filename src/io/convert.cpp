@@ -541,6 +541,19 @@ load::CoachSpec read_coach_file(const std::string& path) {
   return c;
 }
 
+std::string coach_file_of(const std::string& train_path) {
+  if (fs::path(train_path).extension() == ".csv") return "";
+  try {
+    const detail::TomlFile parsed = parse_component(train_path, "train");
+    const toml::value& root = parsed.root;
+    if (!root.contains("kind") || !root.at("kind").is_string() || root.at("kind").as_string().str != "coaches") return "";
+    if (!root.contains("vehicle") || !root.at("vehicle").is_string()) return "";
+    return (fs::path(train_path).parent_path() / root.at("vehicle").as_string().str).lexically_normal().string();
+  } catch (const std::exception&) {
+    return "";  // the train's own reading reports what is wrong with it
+  }
+}
+
 load::Train read_train_file(const std::string& path) {
   if (fs::path(path).extension() == ".csv") return train_from_csv(path);
   const detail::TomlFile parsed = parse_component(path, "train");

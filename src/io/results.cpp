@@ -334,7 +334,7 @@ void write_manifest(const std::string& path, const Manifest& m, const FlatScenar
     for (const auto& kv : flat->values) add(kv.second.where.file);
     if (flat->has("train.files"))
       for (const auto& t : flat->at("train.files").ss)
-        if (!is_builtin_train(t)) add(t);
+        if (!is_builtin_train(t)) add(t), add(coach_file_of(t));  // a train of coaches: its coach file too
     if (flat->has("irregularity.profile")) add(flat->at("irregularity.profile").s);
   }
   for (const auto& f : m.inputs) add(f);

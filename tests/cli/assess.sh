@@ -11,6 +11,7 @@ for f in report.md checks.csv envelope.csv load_effects.csv phi_dyn.csv mass_cas
   if [ -s "$O/$f" ]; then n_pass=$((n_pass + 1)); else echo "FAIL: $O/$f missing or empty"; n_fail=$((n_fail + 1)); fi
 done
 for s in "## Summary" "## Inputs of the check" "Table 6.6" "HSLM-A1…A10" "max(30, 1.5 f1, f3)" "## Dynamic increments" \
+         "trains as moving axle loads (train.vehicle = \"forces\")" \
          "no ballast mass given" "## Provenance"; do
   expect 0 "$s" -- cat "$O/report.md"
 done

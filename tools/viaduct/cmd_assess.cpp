@@ -485,6 +485,21 @@ void report_summary(std::ostringstream& o, const ReportInput& in) {
   if (in.figures) o << "\n![Peak deck acceleration against speed, every train, with the limit](acc_vs_speed.png)\n";
 }
 
+// How the trains ran: the vehicle model, its contact and the rail profile (docs/vehicles.md).
+std::string vehicle_line(const study::RunSettings& st) {
+  const study::VehicleSettings& v = st.vehicle;
+  if (v.model == study::VehicleModel::forces) return "as moving axle loads (train.vehicle = \"forces\")";
+  std::string s = std::string("as ") + study::vehicle_model_name(v.model) + " vehicles (docs/vehicles.md), " +
+                  (v.contact == study::ContactModel::rigid ? "rigid" : "Hertz") + " contact" +
+                  (v.release ? " released when it would pull" : " held (tensile forces reported)");
+  const study::IrregularitySettings& irr = st.irregularity;
+  if (irr.measured) s += ", measured rail profile " + irr.measured_file;
+  else if (!irr.spectrum.empty()) s += ", random rail profile " + irr.spectrum + " (seed " + std::to_string(irr.seed) + ")";
+  else s += ", smooth rail";
+  if (st.method == study::Method::ida) s += ", IDA on the modes with the contact events located";
+  return s;
+}
+
 void report_inputs(std::ostringstream& o, const ReportInput& in) {
   const Config& c = in.c;
   const Plan& p = in.p;
@@ -518,7 +533,7 @@ void report_inputs(std::ostringstream& o, const ReportInput& in) {
   o << "- **Model and method**: " << in.nominal.bridge.spans.size() << (in.nominal.bridge.continuous ? " span(s) of one continuous deck, " : " span(s), ")
     << (in.nominal.track ? "with" : "without")
     << " track; " << (in.nominal.settings.method == study::Method::modal ? "modal superposition" : "direct integration") << ", dt = "
-    << fmt(in.nominal.settings.dt * 1e3) << " ms.\n";
+    << fmt(in.nominal.settings.dt * 1e3) << " ms; trains " << vehicle_line(in.nominal.settings) << ".\n";
 }
 
 void report_details(std::ostringstream& o, const ReportInput& in) {

@@ -103,6 +103,9 @@ inline bool is_builtin_train(const std::string& entry) { return entry.rfind("hsl
 /// Reads a train file: TOML (kind = "hslm" | "regular" | "axles") or CSV with columns
 /// position_m,load_kN ('#' comment lines). Throws InputError with file and line.
 load::Train read_train_file(const std::string& path);
+/// The coach file a train file of kind "coaches" names (its `vehicle`, resolved beside the train
+/// file), for manifests; empty for any other train file or one that does not read.
+std::string coach_file_of(const std::string& train_path);
 /// A coach file (data/vehicles/*.toml, kind = "coach"): masses, inertias, geometry and
 /// suspensions of load::CoachSpec with their units in the key names. InputError with file, line
 /// and key for a missing, unknown or invalid key (the violated constraint named).

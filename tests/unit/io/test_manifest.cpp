@@ -54,3 +54,25 @@ TEST_CASE("a manifest records the command line, the settings that ran and every 
   for (std::size_t at = t.find("[[inputs]]"); at != std::string::npos; at = t.find("[[inputs]]", at + 1)) ++n_inputs;
   REQUIRE(n_inputs >= 4);  // scenario, bridge and track components, train, record
 }
+
+TEST_CASE("a manifest lists the coach file a train of coaches names, with its checksum") {
+  const std::string src = VIADUCT_SOURCE_DIR;
+  const std::string scen = src + "/scenarios/vehicles-25m.toml";
+  const io::FlatScenario flat = io::load_flat(scen, {});
+  io::Manifest m;
+  m.command = "run";
+  const auto out = std::filesystem::temp_directory_path() / "viaduct_manifest_coaches.toml";
+  io::write_manifest(out.string(), m, flat);
+  std::ifstream in(out);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string t = ss.str();
+  std::filesystem::remove(out);
+  const std::string coach =
+      std::filesystem::path(src + "/data/vehicles/ave-s103.toml").lexically_normal().string();
+  INFO(t);
+  REQUIRE(t.find("ave-s103.toml\"\nsha256 = \"" + io::sha256_file(coach) + "\"") != std::string::npos);
+  REQUIRE(io::coach_file_of(src + "/data/trains/ave-s103-8.toml") ==
+          std::filesystem::path(src + "/data/trains/../vehicles/ave-s103.toml").lexically_normal().string());
+  REQUIRE(io::coach_file_of(src + "/data/records/synthetic-deck.csv").empty());
+}
