@@ -8,6 +8,19 @@
 
 using namespace viaduct;
 
+namespace manifest_tests {
+// Writes the manifest to `out`, reads it back and removes the file.
+std::string manifest_text(const std::filesystem::path& out, const io::Manifest& m, const io::FlatScenario& flat) {
+  io::write_manifest(out.string(), m, flat);
+  std::ifstream in(out);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::filesystem::remove(out);
+  return ss.str();
+}
+}  // namespace manifest_tests
+using namespace manifest_tests;
+
 TEST_CASE("SHA-256 of the FIPS 180-4 test vectors, in memory and from a file") {
   // Empty input, one block, a message whose padding needs a second block, and a million bytes.
   REQUIRE(io::sha256_hex("") == "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
@@ -34,12 +47,7 @@ TEST_CASE("a manifest records the command line, the settings that ran and every 
   m.as_run = io::settings_as_run(sc.settings);
   m.inputs = {src + "/data/records/synthetic-deck.csv"};
   const auto out = std::filesystem::temp_directory_path() / "viaduct_manifest_test.toml";
-  io::write_manifest(out.string(), m, flat);
-  std::ifstream in(out);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string t = ss.str();
-  std::filesystem::remove(out);
+  const std::string t = manifest_text(out, m, flat);
   REQUIRE(t.find("command_line = ") != std::string::npos);
   REQUIRE(t.find("git_commit = ") != std::string::npos);
   // The preset ran the modal method, though the [scenario] table keeps analysis.method's default.
@@ -62,12 +70,7 @@ TEST_CASE("a manifest lists the coach file a train of coaches names, with its ch
   io::Manifest m;
   m.command = "run";
   const auto out = std::filesystem::temp_directory_path() / "viaduct_manifest_coaches.toml";
-  io::write_manifest(out.string(), m, flat);
-  std::ifstream in(out);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string t = ss.str();
-  std::filesystem::remove(out);
+  const std::string t = manifest_text(out, m, flat);
   const std::string coach =
       std::filesystem::path(src + "/data/vehicles/ave-s103.toml").lexically_normal().string();
   INFO(t);

@@ -6,57 +6,12 @@
 #include "viaduct/core/error.hpp"
 #include "viaduct/solve/coupled.hpp"
 #include "viaduct/solve/newmark.hpp"
+#include "coupled_fixtures.hpp"
 
 using namespace viaduct;
 
-namespace coupled_unit {
 
-// A wheel fixed on DOF 0 of the structure with weight w (the rail under it does not move along).
-class FixedContact : public solve::ContactPath {
- public:
-  explicit FixedContact(double w, double r = 0.0, double t_r = 1e9) : w_(w), r_(r), t_r_(t_r) {}
-  void contact(std::size_t, double t, std::vector<Index>& dof, std::vector<double>& weight, double& r) const override {
-    dof.assign(1, 0);
-    weight.assign(1, w_);
-    r = t >= t_r_ ? r_ : 0.0;
-  }
-
- private:
-  double w_, r_, t_r_;
-};
-
-// The same two masses assembled as one system: u (structure), z (vehicle), the contact spring
-// between w·u and z, the static load on the structure, the step r in the rail as a force pair.
-class Assembled : public solve::SecondOrderSystem {
- public:
-  Assembled(double ms, double ks, double cs, double mv, double kc, double w, double P0, double r, double t_r)
-      : P0_(P0), w_(w), kc_(kc), r_(r), t_r_(t_r) {
-    M_.resize(2, 2), C_.resize(2, 2), K_.resize(2, 2);
-    M_.insert(0, 0) = ms;
-    M_.insert(1, 1) = mv;
-    C_.insert(0, 0) = cs;
-    K_.insert(0, 0) = ks + kc * w * w;
-    K_.insert(0, 1) = -kc * w;
-    K_.insert(1, 0) = -kc * w;
-    K_.insert(1, 1) = kc;
-  }
-  const SparseMatrix& mass() const override { return M_; }
-  const SparseMatrix& damping() const override { return C_; }
-  const SparseMatrix& stiffness() const override { return K_; }
-  void force(double t, Vector& f) const override {
-    const double r = t >= t_r_ ? r_ : 0.0;  // p = kc (z − w u − r): the rail's step pushes the wheel up
-    f[0] = w_ * P0_ - w_ * kc_ * r;
-    f[1] = kc_ * r;
-  }
-
- private:
-  SparseMatrix M_, C_, K_;
-  double P0_, w_, kc_, r_, t_r_;
-};
-
-}  // namespace coupled_unit
-
-using namespace coupled_unit;
+using namespace coupled_fixtures;
 
 TEST_CASE("coupled Newmark is Newmark on the assembled system (one structure DOF, one wheel)") {
   const double ms = 2e4, ks = 8e7, cs = 3e4, mv = 1500, kc = 2e8, w = 0.7, P0 = 1e5, r = 1e-3;
@@ -64,13 +19,7 @@ TEST_CASE("coupled Newmark is Newmark on the assembled system (one structure DOF
   M.insert(0, 0) = ms;
   C.insert(0, 0) = cs;
   K.insert(0, 0) = ks;
-  solve::LinearVehicle veh;
-  veh.M = Matrix::Constant(1, 1, mv);
-  veh.C = Matrix::Zero(1, 1);
-  veh.K = Matrix::Zero(1, 1);
-  veh.wheel_dof = {0};
-  veh.static_load = Vector::Constant(1, P0);
-  veh.contact_stiffness = Vector::Constant(1, kc);
+  solve::LinearVehicle veh = one_wheel(mv, P0, kc);
   veh.release = false;  // the assembled system is linear: the 1 mm step pulls on the wheel for a while
   const FixedContact path(w, r, 0.05);
   const Assembled sys(ms, ks, cs, mv, kc, w, P0, r, 0.05);
@@ -153,20 +102,15 @@ class StepDown : public solve::ContactPath {
 
 }  // namespace coupled_unit
 
+using namespace coupled_unit;
+
 TEST_CASE("a wheel leaves a rail that drops away faster than it can fall, flies under gravity and lands") {
   // A free 1000 kg wheel on a Hertz spring; the rail drops 5 mm at t0 = 0.1 s. Unilateral contact:
   // the wheel falls freely from rest, z = g (t - t0)² / 2, and lands after sqrt(2 d / g) = 31.93 ms.
-  SparseMatrix M(1, 1), C(1, 1), K(1, 1);  // a structure the wheel never touches
-  M.insert(0, 0) = 1.0;
-  K.insert(0, 0) = 1.0;
+  const Untouched st;  // a structure the wheel never touches
+  const SparseMatrix &M = st.M, &C = st.C, &K = st.K;
   const double m = 1000.0, g = 9.81, d = 5e-3, dt = 1e-4;
-  solve::LinearVehicle veh;
-  veh.M = Matrix::Constant(1, 1, m);
-  veh.C = Matrix::Zero(1, 1);
-  veh.K = Matrix::Zero(1, 1);
-  veh.wheel_dof = {0};
-  veh.static_load = Vector::Constant(1, m * g);
-  veh.contact_stiffness = Vector::Constant(1, 2e9);
+  solve::LinearVehicle veh = one_wheel(m, m * g, 2e9);
   const StepDown path(0.1, d);
   const solve::TimeGrid grid{dt, 0.2};
   double left = -1, landed = -1, worst_g = 0.0;

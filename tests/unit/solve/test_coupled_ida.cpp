@@ -6,6 +6,7 @@
 #include "viaduct/core/error.hpp"
 #include "viaduct/solve/coupled.hpp"
 #include "viaduct/solve/ida.hpp"
+#include "coupled_fixtures.hpp"
 
 using namespace viaduct;
 
@@ -32,62 +33,6 @@ class Parabola : public solve::ContactPath {
   double t0_, c_, tau1_;
 };
 
-// A wheel fixed on DOF 0 of the structure with weight w; the rail there steps by r at t_r.
-class StepContact : public solve::ContactPath {
- public:
-  StepContact(double w, double r, double t_r) : w_(w), r_(r), t_r_(t_r) {}
-  void contact(std::size_t, double t, std::vector<Index>& dof, std::vector<double>& weight, double& r) const override {
-    dof.assign(1, 0);
-    weight.assign(1, w_);
-    r = t >= t_r_ ? r_ : 0.0;
-  }
-  std::vector<double> breaks(double) const override { return {t_r_}; }
-
- private:
-  double w_, r_, t_r_;
-};
-
-// The same two masses assembled as one system (u: structure, z: wheel, contact spring between
-// w·u and z; the step in the rail as a force pair), for solve::ida.
-class AssembledPair : public solve::SecondOrderSystem {
- public:
-  AssembledPair(double ms, double ks, double cs, double mv, double kc, double w, double P0, double r, double t_r)
-      : P0_(P0), w_(w), kc_(kc), r_(r), t_r_(t_r) {
-    M_.resize(2, 2), C_.resize(2, 2), K_.resize(2, 2);
-    M_.insert(0, 0) = ms;
-    M_.insert(1, 1) = mv;
-    C_.insert(0, 0) = cs;
-    K_.insert(0, 0) = ks + kc * w * w;
-    K_.insert(0, 1) = -kc * w;
-    K_.insert(1, 0) = -kc * w;
-    K_.insert(1, 1) = kc;
-  }
-  const SparseMatrix& mass() const override { return M_; }
-  const SparseMatrix& damping() const override { return C_; }
-  const SparseMatrix& stiffness() const override { return K_; }
-  void force(double t, Vector& f) const override {
-    const double r = t >= t_r_ ? r_ : 0.0;
-    f[0] = w_ * P0_ - w_ * kc_ * r;
-    f[1] = kc_ * r;
-  }
-  std::vector<double> discontinuities(double) const override { return {t_r_}; }
-
- private:
-  SparseMatrix M_, C_, K_;
-  double P0_, w_, kc_, r_, t_r_;
-};
-
-solve::LinearVehicle one_wheel(double m, double P0, double k) {
-  solve::LinearVehicle veh;
-  veh.M = Matrix::Constant(1, 1, m);
-  veh.C = Matrix::Zero(1, 1);
-  veh.K = Matrix::Zero(1, 1);
-  veh.wheel_dof = {0};
-  veh.static_load = Vector::Constant(1, P0);
-  veh.contact_stiffness = Vector::Constant(1, k);
-  return veh;
-}
-
 }  // namespace coupled_ida_unit
 
 using namespace coupled_ida_unit;
@@ -97,12 +42,10 @@ TEST_CASE("coupled IDA locates a wheel's loss of contact and its landing at thei
   // t0 = 0.05 s. In contact (τ = t − t0): z = cτ² − (2c/ω²)(1 − cos ωτ), so the force is
   // P0 − 2cm(1 − cos ωτ): zero at ωτ = arccos(1 − g/2c) = π/3 for c = g. Then free flight at g,
   // the rail reaching constant speed at τ1 = 20 ms; it lands when P0 + k(z − r) returns to zero.
-  SparseMatrix M(1, 1), C(1, 1), K(1, 1);  // a structure the wheel never touches
-  M.insert(0, 0) = 1.0;
-  K.insert(0, 0) = 1.0;
-  C.resize(1, 1);
+  const coupled_fixtures::Untouched st;  // a structure the wheel never touches
+  const SparseMatrix &M = st.M, &C = st.C, &K = st.K;
   const double m = 1000.0, g = 9.81, k = 1e7, w = std::sqrt(k / m), c = g, t0 = 0.05, tau1 = 0.02;
-  const solve::LinearVehicle veh = one_wheel(m, m * g, k);
+  const solve::LinearVehicle veh = coupled_fixtures::one_wheel(m, m * g, k);
   const Parabola path(t0, c, tau1);
   const double tauL = std::acos(1.0 - g / (2.0 * c)) / w;
   const double zL = c * tauL * tauL - 2.0 * c / (w * w) * (1.0 - std::cos(w * tauL));
@@ -148,10 +91,10 @@ TEST_CASE("coupled IDA agrees with IDA on the same system assembled by hand") {
   M.insert(0, 0) = ms;
   C.insert(0, 0) = cs;
   K.insert(0, 0) = ks;
-  solve::LinearVehicle veh = one_wheel(mv, P0, kc);
+  solve::LinearVehicle veh = coupled_fixtures::one_wheel(mv, P0, kc);
   veh.release = false;  // linear: the step pulls on the wheel for a while
-  const StepContact path(w, r, t_r);
-  const AssembledPair sys(ms, ks, cs, mv, kc, w, P0, r, t_r);
+  const coupled_fixtures::FixedContact path(w, r, t_r);
+  const coupled_fixtures::Assembled sys(ms, ks, cs, mv, kc, w, P0, r, t_r);
   solve::IdaOptions opt;
   opt.rtol = 1e-9;
   opt.atol_disp = 1e-14;
@@ -185,16 +128,16 @@ TEST_CASE("coupled IDA refuses what it cannot integrate, naming the rule") {
   M.insert(0, 0) = 1.0;
   K.insert(0, 0) = 1.0;
   C.resize(1, 1);
-  const StepContact path(1.0, 0.0, 1.0);
+  const coupled_fixtures::FixedContact path(1.0, 0.0, 1.0);
   const solve::TimeGrid grid{1e-3, 0.01};
-  solve::LinearVehicle veh = one_wheel(1.0, 1.0, std::numeric_limits<double>::infinity());
+  solve::LinearVehicle veh = coupled_fixtures::one_wheel(1.0, 1.0, std::numeric_limits<double>::infinity());
   CHECK_THROWS_WITH(solve::coupled_ida(M, C, K, veh, path, grid, {}, nullptr), Catch::Contains("rigid"));
   veh.contact_stiffness[0] = 1e6;
   veh.M(0, 0) = 0.0;  // a massless wheel: an algebraic equation IDA is not given
   veh.K(0, 0) = 1.0;
   CHECK_THROWS_WITH(solve::coupled_ida(M, C, K, veh, path, grid, {}, nullptr), Catch::Contains("mass on every vehicle DOF"));
   veh.M(0, 0) = 1.0;
-  const StepContact step(1.0, 1e-3, 0.0);
+  const coupled_fixtures::FixedContact step(1.0, 1e-3, 0.0);
   CHECK_THROWS_WITH(solve::coupled_ida(M, C, K, veh, step, grid, {}, nullptr), Catch::Contains("t = 0"));
   solve::IdaOptions bad;
   bad.rtol = 0.0;
