@@ -29,7 +29,8 @@ std::string tnum(double v) { return format_number(v, 6); }
 // Largest structure the dense Schur complement takes (n² doubles: 72 MB).
 constexpr Index kMaxStructure = 3000;
 
-// Shared with the C callbacks through user_data. y = [u (n), v (n), z (n_v), ż (n_v)].
+// Shared with the C callbacks through user_data. y = [u (n), v (n), z (n_v), w (n_v)]: the
+// structure's and the vehicles' displacements and velocities.
 struct Problem {
   const SparseMatrix *M = nullptr, *C = nullptr, *K = nullptr;
   const LinearVehicle* veh = nullptr;
@@ -68,7 +69,7 @@ struct Problem {
   }
 };
 
-// F = [u̇ − v; M v̇ + C v + K u − Σ Nᵀ P; ż − ż; M_v z̈ + C_v ż + K_v z + B (P − P0)].
+// F = [u̇ − v; M v̇ + C v + K u − Σ Nᵀ P; ż − w; M_v ẇ + C_v w + K_v z + B (P − P0)].
 int residual(realtype t, N_Vector yy, N_Vector yp, N_Vector rr, void* user) {
   auto* P = static_cast<Problem*>(user);
   try {
@@ -114,7 +115,7 @@ int roots(realtype t, N_Vector yy, N_Vector, realtype* g, void* user) {
   }
 }
 
-// The Newton matrix ∂F/∂y + c_j ∂F/∂ẏ eliminates the velocities (v = c_j u − b_u, ż = c_j z − b_z):
+// The Newton matrix ∂F/∂y + c_j ∂F/∂ẏ eliminates the velocities (v = c_j u − b_u, w = c_j z − b_z):
 // what is left, for (u, z), is S = [A, B; Bᵀ, D] with A = K + c_j C + c_j² M + W k Wᵀ (W: the
 // contacts' weight vectors as columns, k: the contact stiffnesses of the wheels on the rail),
 // B = −W k E (E: the wheels' rows of the vehicles), D = K_v + c_j C_v + c_j² M_v + Eᵀ k E, symmetric
@@ -329,7 +330,7 @@ class Run {
     }
   }
 
-  // A consistent state at t: u̇ = v, ż = ż, and the accelerations from the residual with them 0.
+  // A consistent state at t: u̇ = v, ż = w, and the accelerations from the residual with them 0.
   void consistent(double t) {
     auto Y = y();
     auto D = yd();
