@@ -224,6 +224,11 @@ void vehicles_of(const FlatScenario& f, study::Scenario& sc) {
     bad(f.at("analysis.superposition"), "unit-response composes constant axle loads: it cannot take train.vehicle = \"" +
                                             model.s + "\" (use \"direct\")");
   if (vs.model != study::VehicleModel::forces && f.at("analysis.method").s == "ida") {
+    // (a preset sets a cut-off of its own)
+    if (!(f.at("modal.n_modes").x > 0.0) && !(f.at("modal.max_frequency_hz").x > 0.0) && f.at("analysis.preset").s.empty())
+      bad(f.at("analysis.method"), "ida with vehicles integrates the structure's modes: give modal.max_frequency_hz (or "
+                                   "modal.n_modes); every mode would bring the kHz modes whose steps IDA is meant to avoid "
+                                   "(60-200 Hz: docs/vehicles.md)");
     if (vs.contact == study::ContactModel::rigid)
       bad(f.at("train.contact"), "rigid under a wheel with mass is an index-3 constraint IDA does not take: use \"hertz\" "
                                  "with analysis.method = \"ida\"");

@@ -105,7 +105,12 @@ std::vector<TradeoffRung> default_ladder(const Scenario& sc, bool with_ida) {
       s.ida.rtol = rtol;
       s.ida.atol_disp = 1e-3 * rtol;
       s.ida.atol_vel = 1e-1 * rtol;
-      out.push_back({"ida rtol=" + format_number(rtol, 3) + " out=" + ms(dt), s});
+      // With vehicles IDA integrates the modes: those of the scenario, or up to 3 f_c.
+      const bool band = s.vehicle.model != VehicleModel::forces && s.modal.n_modes == 0 && !(s.modal.max_frequency_hz > 0.0);
+      if (band) s.modal.max_frequency_hz = 3.0 * fc;
+      out.push_back({"ida rtol=" + format_number(rtol, 3) + (band ? " modal " + format_number(3.0 * fc, 4) + " Hz" : "") +
+                         " out=" + ms(dt),
+                     s});
     }
   if (sc.trains.size() > 1) {
     RunSettings s = sc.settings;

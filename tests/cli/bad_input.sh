@@ -273,5 +273,6 @@ expect 2 "irregularity.profile covers x = 0 to 4 m; the run needs -100 to 45 m" 
 expect 2 "a rigid contact under a wheel with mass" -- "$VIADUCT" run "$VS" --set train.contact=rigid --out "$WORK/o"
 expect 2 "train.end_transition_m = 30 m reaches the bridge" -- "$VIADUCT" run "$OG" --set "train.files=[\"$SRC/data/trains/ave-s103-8.toml\"]" --set train.vehicle=multibody --set train.end_transition_m=30 --speed-kmh 200 --out "$WORK/o"
 expect 2 "key 'analysis.superposition': unit-response composes constant axle loads" -- "$VIADUCT" sweep "$VS" --set analysis.superposition=unit-response --out "$WORK/o"
-expect 2 "key 'train.contact': rigid under a wheel with mass is an index-3 constraint IDA does not take" -- "$VIADUCT" run "$VS" --set analysis.method=ida --set train.contact=rigid --out "$WORK/o"
+expect 2 "key 'train.contact': rigid under a wheel with mass is an index-3 constraint IDA does not take" -- "$VIADUCT" run "$VS" --set analysis.method=ida --set modal.max_frequency_hz=60 --set train.contact=rigid --out "$WORK/o"
+expect 2 "key 'analysis.method': ida with vehicles integrates the structure's modes: give modal.max_frequency_hz" -- "$VIADUCT" run "$VS" --set analysis.method=ida --out "$WORK/o"
 finish
