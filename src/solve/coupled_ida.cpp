@@ -366,7 +366,13 @@ class Run {
         out_.events.push_back(ContactEvent{w, t, true});
       }
     }
-    if (flipped) restart(t);
+    if (!flipped) return;
+    // Contacts that flip again and again within a microsecond cannot settle: an error, not a hang.
+    if (t - burst_t_ > 1e-6) burst_t_ = t, burst_n_ = 0;
+    if (++burst_n_ > 1000)
+      throw SolverError("coupled IDA: the wheel-rail contacts changed 1000 times within 1 µs at t = " + tnum(t) +
+                        " s and did not settle (a step in the rail profile?)");
+    restart(t);
   }
 
   // Integrates to tout without passing tstop, through any roots on the way.
@@ -415,6 +421,8 @@ class Run {
   std::unique_ptr<void, sun::IdaMemDeleter> mem_;
   std::vector<int> found_;
   std::vector<double> left_at_;
+  double burst_t_ = -1.0;  // the start of the current burst of contact events
+  int burst_n_ = 0;
   CoupledSummary out_;
   Vector u_, v_, a_, z_, zv_, za_;
 };
