@@ -216,4 +216,10 @@ done
 expect 0 "psd_fra1_m2_per_rad_per_m" -- head -1 "$WORK/irr-fra4-check/psd.csv"
 expect 2 "give --profile (analyse a measured profile) or --spectrum (make one), not both" -- "$VIADUCT" irregularity --profile "$WORK/irr-fra4/profile.csv" --spectrum fra4 --out "$WORK/o"
 expect 2 "--lambda-max = 800: violated constraint lambda_min < lambda_max <= 204.8 m" -- "$VIADUCT" irregularity --profile "$WORK/irr-fra4/profile.csv" --lambda-max 800 --out "$WORK/o"
+# IDA with vehicles: wheels that leave the rail are warned of with IDA's located events, and
+# contact.csv gives each axle's first loss (the 25 m span at 300 km/h on FRA 5: every axle).
+VS=$SRC/scenarios/vehicles-25m.toml
+expect 0 "each loss and landing located by IDA" -- "$VIADUCT" run "$VS" --speed-kmh 300 --set analysis.method=ida \
+  --set modal.max_frequency_hz=60 --set ida.rtol=1e-5 --out "$WORK/ida-vehicles"
+expect 0 "first_loss_s" -- head -1 "$WORK/ida-vehicles/contact.csv"
 finish
