@@ -9,6 +9,7 @@
 
 #include <toml.hpp>
 
+#include "flat_items.hpp"
 #include "toml_file.hpp"
 
 #include "viaduct/io/profile.hpp"
@@ -19,6 +20,19 @@
 namespace viaduct::io {
 
 namespace fs = std::filesystem;
+
+namespace detail {
+std::vector<std::size_t> item_indices(const FlatScenario& f, const std::string& head) {
+  std::set<std::size_t> idx;
+  const std::string pre = head + "[";
+  for (const auto& kv : f.values) {
+    if (kv.first.compare(0, pre.size(), pre) != 0) continue;
+    idx.insert(static_cast<std::size_t>(std::stoul(kv.first.substr(pre.size()))));
+  }
+  return {idx.begin(), idx.end()};
+}
+}  // namespace detail
+using detail::item_indices;
 
 namespace {
 
@@ -35,16 +49,6 @@ std::vector<double> per_span(const FlatScenario& f, const std::string& key, std:
   if (v.xs.size() != n)
     bad(v, "needs one value or one per span (" + std::to_string(n) + "), got " + std::to_string(v.xs.size()));
   return v.xs;
-}
-
-std::vector<std::size_t> item_indices(const FlatScenario& f, const std::string& head) {
-  std::set<std::size_t> idx;
-  const std::string pre = head + "[";
-  for (const auto& kv : f.values) {
-    if (kv.first.compare(0, pre.size(), pre) != 0) continue;
-    idx.insert(static_cast<std::size_t>(std::stoul(kv.first.substr(pre.size()))));
-  }
-  return {idx.begin(), idx.end()};
 }
 
 // Where an error of a section's is_valid() belongs: the key of the section whose last component
@@ -364,7 +368,10 @@ std::vector<study::Variant> sweep_variants(const FlatScenario& flat, bool isolat
     SourceLocation where;  // the [[sweep.variants]] entry's key
   };
   std::vector<Axis> axes;
-  for (std::size_t i : item_indices(flat, "sweep.variants")) {
+  // A sampled study's variants are its samples (sampled_study, sample_variant): the other
+  // commands see its reference.
+  const bool sampled = flat.at("sweep.mode").s == "sample";
+  for (std::size_t i : sampled ? std::vector<std::size_t>{} : item_indices(flat, "sweep.variants")) {
     const std::string pre = "sweep.variants[" + std::to_string(i) + "].";
     Axis a;
     a.key = flat.at(pre + "key").s;

@@ -9,6 +9,15 @@
 
 namespace viaduct::io::detail {
 
+/// A text cell as write_table_csv quotes it: in double quotes (inner quotes doubled) when it holds
+/// a comma, a quote or a line break.
+inline std::string csv_text(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string o = "\"";
+  for (char c : s) o += (c == '"') ? std::string("\"\"") : std::string(1, c);
+  return o + "\"";
+}
+
 inline std::string trim(const std::string& s) {
   const auto a = s.find_first_not_of(" \t\r");
   if (a == std::string::npos) return "";

@@ -22,6 +22,7 @@
 #define VIADUCT_VERSION "0.0.0"
 #endif
 #include "atomic_file.hpp"
+#include "csv_cells.hpp"
 #include "viaduct/io/scenario.hpp"
 #include "git_commit.hpp"  // VIADUCT_GIT_COMMIT, written at build time (cmake/git_commit.cmake)
 
@@ -31,12 +32,7 @@ namespace {
 
 using detail::AtomicFile;
 
-std::string csv_text(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string o = "\"";
-  for (char c : s) o += (c == '"') ? std::string("\"\"") : std::string(1, c);
-  return o + "\"";
-}
+using detail::csv_text;
 
 }  // namespace
 

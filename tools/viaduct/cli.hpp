@@ -144,6 +144,14 @@ int sweep_exit_code(const std::string& command, const std::string& scenario, con
 /// Message printer for the library's log sink (stderr, "viaduct: warning: ...").
 LogSink log_printer(bool quiet);
 
+/// Options of sampled studies (viaduct sweep with sweep.mode = "sample").
+struct SampleCliOptions {
+  std::string shard;    ///< "K/N" or empty
+  bool resume = false;
+};
+/// viaduct sweep on a sampled study (cmd_sample.cpp).
+int run_sampled_sweep(const Common& o, const io::FlatScenario& flat, const SampleCliOptions& opts);
+
 Command check_command();
 Command modes_command();
 Command run_command();
@@ -167,5 +175,6 @@ Command fit_command();
 Command assess_command();
 Command passages_command();
 Command irregularity_command();
+Command merge_command();
 
 }  // namespace viaduct::cli

@@ -6,6 +6,7 @@
 #include "cli.hpp"
 #include "viaduct/study/guards.hpp"
 #include "viaduct/io/results.hpp"
+#include "viaduct/io/sampled.hpp"
 
 namespace viaduct::cli {
 
@@ -24,12 +25,17 @@ void print_governing(const std::vector<study::GoverningRow>& gov, bool with_vari
 
 struct SweepOpts {
   bool load_effects = false;
+  SampleCliOptions sample;
 };
 
 void declare_sweep(po::options_description& d, SweepOpts& s) {
   d.add_options()("load-effects", po::bool_switch(&s.load_effects),
                   "also the extremes of every deck deflection and load effect with phi'dyn (load_effects.csv); "
-                  "modal sweeps keep the peaks kernel when every effect is a functional of the deflections");
+                  "modal sweeps keep the peaks kernel when every effect is a functional of the deflections")(
+      "shard", value(s.sample.shard),
+      "sampled studies: run the K-th of N parts of the samples (K/N) into --out; viaduct merge joins the parts")(
+      "resume", po::bool_switch(&s.sample.resume),
+      "sampled studies: carry on the run interrupted in --out from its last complete batch");
 }
 
 int run_sweep_command(const Common& o, const SweepOpts& opts);
@@ -50,10 +56,18 @@ Command sweep_command() {
       "Results are identical for any --threads. A case that fails is listed in failures.csv,\n"
       "the others complete, and the exit code is 1 (2 when every case failed on its input, as\n"
       "`run` exits with the same value). Plot with scripts/plot/plot_envelope.py OUT.\n\n"
+      "With sweep.mode = \"sample\" (docs/sampled.md) each sample draws every variant key's factor from\n"
+      "its distribution; writes OUT/samples.csv (the design), OUT/sample_peaks.csv (per sample, train,\n"
+      "speed and station), OUT/percentiles.csv and OUT/peak_percentiles.csv (percentiles of the peaks,\n"
+      "probability of exceeding sweep.acceleration_limit_mps2 with its standard error and 95 % bound)\n"
+      "and, with sweep.sensitivity, OUT/sensitivity.csv and OUT/peak_sensitivity.csv (Sobol indices with\n"
+      "bootstrap intervals). Results are flushed batch by batch: --resume carries on an interrupted run;\n"
+      "--shard K/N runs a part, viaduct merge joins them. Plot with scripts/plot/plot_sampled.py OUT.\n\n"
       "Sample runs:\n"
       "  viaduct sweep scenarios/hslm-simply-supported.toml --set 'train.files=[\"data/trains/hslm/A1.toml\"]' --set sweep.speed_step_kmh=20 --out out/hslm\n"
       "  viaduct sweep scenarios/old-guadiana-sensitivity.toml --set sweep.speed_min_mps=90 --set sweep.n_speeds=1 --threads 0 --out out/og\n"
-      "  viaduct sweep scenarios/vehicles-25m.toml --set sweep.speed_step_kmh=120 --out out/vehicles-sweep\n";
+      "  viaduct sweep scenarios/vehicles-25m.toml --set sweep.speed_step_kmh=120 --out out/vehicles-sweep\n"
+      "  viaduct sweep scenarios/old-guadiana-sampled.toml --set sweep.n_samples=8 --set sweep.n_speeds=4 --threads 0 --out out/og-sampled\n";
   bind(c, declare_sweep, run_sweep_command);
   return c;
 }
@@ -62,6 +76,13 @@ namespace {
 int run_sweep_command(const Common& o, const SweepOpts& opts) {
     const auto t0 = std::chrono::steady_clock::now();
     const io::FlatScenario flat = load_scenario(o);
+    if (io::is_sampled(flat)) {
+      if (opts.load_effects)
+        throw InputError(flat.at("sweep.mode").where, "--load-effects is not available for sampled studies (they keep the deck peaks)");
+      return run_sampled_sweep(o, flat, opts.sample);
+    }
+    if (!opts.sample.shard.empty() || opts.sample.resume)
+      throw InputError(flat.at("sweep.mode").where, "--shard and --resume apply to sampled studies (sweep.mode = \"sample\")");
     auto variants = io::sweep_variants(flat, /*isolate_failures=*/true);
     for (auto& v : variants) v.scenario.settings.ida.log = log_printer(o.quiet);
     if (variants.front().scenario.sweep_speeds.empty())

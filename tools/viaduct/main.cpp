@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
                                          peaks_command(), compare_command(), speed_command(),
                                          resample_command(), envelope_command(), inspect_command(), tradeoff_command(),
                                          frf_command(), shaker_command(), modal_fit_command(), decay_command(), fit_command(), assess_command(),
-                                         passages_command(), irregularity_command(), ladder_command()};
+                                         passages_command(), irregularity_command(), ladder_command(), merge_command()};
   auto usage = [&](std::ostream& os) {
     os << "viaduct " << viaduct::io::version() << " — railway train–track–bridge dynamics\n\n"
        << "Usage: viaduct COMMAND SCENARIO|RECORD [options]    (viaduct COMMAND --help for each)\n\nCommands:\n";

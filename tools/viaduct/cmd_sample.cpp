@@ -1,0 +1,149 @@
+// viaduct sweep with sweep.mode = "sample" (streamed, resumable, sharded) and viaduct merge.
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+
+#include "cli.hpp"
+#include "viaduct/io/sampled.hpp"
+#include "viaduct/study/guards.hpp"
+
+namespace viaduct::cli {
+
+namespace sample_cli {
+
+// The statistics at a glance: per train and station, the peak over the speeds.
+void print_peaks(const std::string& dir, const io::StatisticsSpec& spec) {
+  std::ifstream in(dir + "/peak_percentiles.csv");
+  std::string header, line;
+  std::getline(in, header);
+  std::printf("\nthe peak over the speeds per sample (%s/peak_percentiles.csv; acceleration limit %.2f m/s²):\n", dir.c_str(),
+              spec.stats.acc_limit);
+  std::printf("  %s\n", header.c_str());
+  int shown = 0;
+  while (std::getline(in, line) && shown++ < 12) std::printf("  %s\n", line.c_str());
+}
+
+int exit_code(const study::SampledRunSummary& s) {
+  if (s.n_failed == 0) return ok;
+  std::fprintf(stderr, "viaduct sweep: %lld of %lld cases failed (failures.csv); the statistics use the samples that completed\n",
+               static_cast<long long>(s.n_failed), static_cast<long long>(s.n_cases));
+  return runtime_failure;
+}
+
+}  // namespace sample_cli
+
+int run_sampled_sweep(const Common& o, const io::FlatScenario& flat, const SampleCliOptions& opts) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const io::SampledStudy st = io::sampled_study(flat);
+  study::Scenario reference = io::to_scenario(flat);
+  reference.settings.ida.log = log_printer(o.quiet);
+  if (reference.sweep_speeds.empty())
+    throw InputError(flat.at("sweep.mode").where,
+                     "no speeds: give sweep.speeds_kmh, sweep.speed_min/max/step_kmh or sweep.speed_min/max_mps with n_speeds");
+  const study::SampleDesign design = study::sample_design(st.spec);
+  Index begin = 0, end = st.n_total();
+  int shard_k = 0, shard_n = 0;
+  if (!opts.shard.empty()) {
+    std::tie(shard_k, shard_n) = io::parse_shard(opts.shard);
+    std::tie(begin, end) = io::shard_range(shard_k, shard_n, st.n_total(), st.spec.sensitivity ? Index(st.keys.size()) + 2 : 1);
+  }
+  make_out_dir(o.out);
+  if (!opts.resume && std::ifstream(o.out + "/sample_progress.toml"))
+    std::fprintf(stderr, "viaduct sweep: note: %s holds an interrupted sampled run: starting over (--resume carries it on)\n",
+                 o.out.c_str());
+  io::write_samples_csv(o.out + "/samples.csv", st, design, begin, end);
+  io::SampleStream stream = opts.resume ? io::SampleStream::resume(o.out, begin, end, st.fingerprint)
+                                        : io::SampleStream(o.out, begin, end, st.fingerprint);
+  if (!o.quiet)
+    std::printf("%s %lld samples%s of %zu keys (%s), %zu speeds x %zu trains each; from sample %lld\n",
+                opts.resume ? "resuming" : "running", static_cast<long long>(end - begin),
+                shard_n ? (" (shard " + opts.shard + ")").c_str() : "", st.keys.size(), flat.at("sweep.sampling").s.c_str(),
+                reference.sweep_speeds.size(), reference.trains.size(), static_cast<long long>(stream.next()));
+  study::SampledRunOptions ro;
+  ro.threads = o.threads;
+  ro.batch = st.batch;
+  ro.progress = progress_printer("sweep", o.quiet, "samples");
+  auto make = [&](Index s) {
+    study::Variant v = io::sample_variant(flat, st, design, s, reference);
+    v.scenario.settings.ida.log = reference.settings.ida.log;
+    return v;
+  };
+  const study::SampledRunSummary sum =
+      study::run_samples(stream.next(), end, make, [&](const study::SampleBatch& b) { stream.append(b); }, ro);
+  stream.finish();
+  io::Manifest m = start_manifest(o, "sweep");
+  m.warnings = study::accuracy_warnings(reference, reference.sweep_speeds);
+  print_warnings("sweep", m.warnings);
+  m.as_run = io::settings_as_run(reference.settings);
+  if (shard_n) io::write_shard_toml(o.out + "/shard.toml", shard_k, shard_n, begin, end, st);
+  else io::write_sample_statistics(o.out, io::statistics_spec(st));
+  m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  m.extra = {{"threads", std::to_string(o.threads)},
+             {"n_samples_total", std::to_string(st.n_total())},
+             {"samples_begin", std::to_string(begin)},
+             {"samples_end", std::to_string(end)},
+             {"n_samples_run", std::to_string(sum.n_samples)},
+             {"n_cases_run", std::to_string(sum.n_cases)},
+             {"n_failed_run", std::to_string(sum.n_failed)},
+             {"n_steps_run", std::to_string(sum.n_steps_total)},
+             {"resumed", opts.resume ? "true" : "false"},
+             {"fingerprint", "\"" + st.fingerprint + "\""}};
+  io::write_manifest(o.out + "/manifest.toml", m, flat);
+  if (!o.quiet) {
+    std::printf("%lld samples (%lld cases, %lld failed) in %.1f s; wrote %s/samples.csv, sample_peaks.csv%s\n",
+                static_cast<long long>(sum.n_samples), static_cast<long long>(sum.n_cases), static_cast<long long>(sum.n_failed),
+                sum.wall_s, o.out.c_str(),
+                shard_n ? " and shard.toml (join the shards with viaduct merge)"
+                        : (st.spec.sensitivity ? ", percentiles.csv, sensitivity.csv" : ", percentiles.csv"));
+    if (!shard_n) sample_cli::print_peaks(o.out, io::statistics_spec(st));
+  }
+  return sample_cli::exit_code(sum);
+}
+
+namespace sample_cli {
+struct MergeOpts {};
+void declare_merge(po::options_description&, MergeOpts&) {}
+
+int run_merge(const Common& o, const MergeOpts&) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<std::string> dirs{o.scenario};
+  dirs.insert(dirs.end(), o.more.begin(), o.more.end());
+  make_out_dir(o.out);
+  const io::StatisticsSpec spec = io::merge_shards(dirs, o.out);
+  std::vector<std::string> inputs;
+  for (const auto& d : dirs) inputs.push_back(d + "/shard.toml");
+  io::Manifest m = start_manifest(o, "merge", inputs);
+  m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  m.extra = {{"n_shards", std::to_string(dirs.size())}, {"n_samples_total", std::to_string(spec.n_total)}};
+  io::write_manifest(o.out + "/manifest.toml", m, nullptr);
+  if (!o.quiet) {
+    std::printf("merged %zu shards (%lld samples) into %s\n", dirs.size(), static_cast<long long>(spec.n_total), o.out.c_str());
+    print_peaks(o.out, spec);
+  }
+  return ok;
+}
+}  // namespace sample_cli
+
+Command merge_command() {
+  Command c;
+  c.name = "merge";
+  c.summary = "join the shards of a sampled study (viaduct sweep --shard K/N) into its files";
+  c.positional = "SHARD_DIR...";
+  c.many_positionals = true;
+  c.needs_scenario = true;
+  c.usage_and_samples =
+      "Joins the output directories of the N shards of one sampled study (viaduct sweep SCENARIO\n"
+      "--shard K/N, K = 1..N, in any order) into OUT: samples.csv, sample_peaks.csv and failures.csv\n"
+      "in sample order, then percentiles.csv, peak_percentiles.csv and, with sweep.sensitivity,\n"
+      "sensitivity.csv and peak_sensitivity.csv: byte for byte the files one process writes. A\n"
+      "missing, repeated or unfinished shard, or one of another study, is an error naming it: rerun\n"
+      "that shard alone. See docs/sampled.md for SLURM job arrays and GNU parallel.\n\n"
+      "Sample runs:\n"
+      "  viaduct sweep scenarios/old-guadiana-sampled.toml --set sweep.n_samples=4 --set sweep.n_speeds=3 --shard 1/2 --out out/og-shard-1\n"
+      "  viaduct sweep scenarios/old-guadiana-sampled.toml --set sweep.n_samples=4 --set sweep.n_speeds=3 --shard 2/2 --out out/og-shard-2\n"
+      "  viaduct merge out/og-shard-1 out/og-shard-2 --out out/og-merged\n";
+  bind(c, sample_cli::declare_merge, sample_cli::run_merge);
+  return c;
+}
+
+}  // namespace viaduct::cli
