@@ -15,6 +15,7 @@ packages=(
   catch2                 # tests (v2)
   libtoml11-dev          # scenario files
   libmatio-dev           # MATLAB .mat records (v4, v5, v7.3)
+  libopenmpi-dev openmpi-bin  # mpirun -n N viaduct sweep: sampled studies over MPI ranks (issue #16)
   python3 python3-numpy python3-matplotlib  # plot scripts
   python3-scipy          # regenerating the committed filter reference vectors only
 )

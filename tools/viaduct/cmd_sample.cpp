@@ -1,7 +1,9 @@
 // viaduct sweep with sweep.mode = "sample" (streamed, resumable, sharded) and viaduct merge.
 #include <chrono>
 #include <cstdio>
+#include <exception>
 #include <fstream>
+#include <optional>
 
 #include "cli.hpp"
 #include "viaduct/io/sampled.hpp"
@@ -47,30 +49,49 @@ int run_sampled_sweep(const Common& o, const io::FlatScenario& flat, const Sampl
     std::tie(shard_k, shard_n) = io::parse_shard(opts.shard);
     std::tie(begin, end) = io::shard_range(shard_k, shard_n, st.n_total(), st.spec.sensitivity ? Index(st.keys.size()) + 2 : 1);
   }
-  make_out_dir(o.out);
-  if (!opts.resume && std::ifstream(o.out + "/sample_progress.toml"))
-    std::fprintf(stderr, "viaduct sweep: note: %s holds an interrupted sampled run: starting over (--resume carries it on)\n",
-                 o.out.c_str());
-  io::write_samples_csv(o.out + "/samples.csv", st, design, begin, end);
-  io::SampleStream stream = opts.resume ? io::SampleStream::resume(o.out, begin, end, st.fingerprint)
-                                        : io::SampleStream(o.out, begin, end, st.fingerprint);
-  if (!o.quiet)
-    std::printf("%s %lld samples%s of %zu keys (%s), %zu speeds x %zu trains each; from sample %lld\n",
+  // Under MPI rank 0 writes every file and prints; the other ranks compute.
+  const study::MpiWorld world = study::mpi_world();
+  const bool writer = world.rank == 0;
+  const bool quiet = o.quiet || !writer;
+  std::optional<io::SampleStream> stream;
+  Index start = -1;
+  std::exception_ptr setup_failed;
+  if (writer) {
+    try {
+      make_out_dir(o.out);
+      if (!opts.resume && std::ifstream(o.out + "/sample_progress.toml"))
+        std::fprintf(stderr, "viaduct sweep: note: %s holds an interrupted sampled run: starting over (--resume carries it on)\n",
+                     o.out.c_str());
+      io::write_samples_csv(o.out + "/samples.csv", st, design, begin, end);
+      if (opts.resume) stream.emplace(io::SampleStream::resume(o.out, begin, end, st.fingerprint));
+      else stream.emplace(o.out, begin, end, st.fingerprint);
+      start = stream->next();
+    } catch (...) {
+      setup_failed = std::current_exception();
+    }
+  }
+  start = study::mpi_broadcast(start);
+  if (setup_failed) std::rethrow_exception(setup_failed);
+  if (start < 0) return runtime_failure;  // rank 0 said why
+  if (!quiet)
+    std::printf("%s %lld samples%s of %zu keys (%s), %zu speeds x %zu trains each; from sample %lld%s\n",
                 opts.resume ? "resuming" : "running", static_cast<long long>(end - begin),
                 shard_n ? (" (shard " + opts.shard + ")").c_str() : "", st.keys.size(), flat.at("sweep.sampling").s.c_str(),
-                reference.sweep_speeds.size(), reference.trains.size(), static_cast<long long>(stream.next()));
+                reference.sweep_speeds.size(), reference.trains.size(), static_cast<long long>(start),
+                world.size > 1 ? (" over " + std::to_string(world.size) + " MPI ranks").c_str() : "");
   study::SampledRunOptions ro;
   ro.threads = o.threads;
   ro.batch = st.batch;
-  ro.progress = progress_printer("sweep", o.quiet, "samples");
+  ro.progress = progress_printer("sweep", quiet, "samples");
   auto make = [&](Index s) {
     study::Variant v = io::sample_variant(flat, st, design, s, reference);
     v.scenario.settings.ida.log = reference.settings.ida.log;
     return v;
   };
   const study::SampledRunSummary sum =
-      study::run_samples(stream.next(), end, make, [&](const study::SampleBatch& b) { stream.append(b); }, ro);
-  stream.finish();
+      study::run_samples_mpi(start, end, make, [&](const study::SampleBatch& b) { stream->append(b); }, ro);
+  if (!writer) return ok;
+  stream->finish();
   io::Manifest m = start_manifest(o, "sweep");
   m.warnings = study::accuracy_warnings(reference, reference.sweep_speeds);
   print_warnings("sweep", m.warnings);
@@ -79,6 +100,7 @@ int run_sampled_sweep(const Common& o, const io::FlatScenario& flat, const Sampl
   else io::write_sample_statistics(o.out, io::statistics_spec(st));
   m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   m.extra = {{"threads", std::to_string(o.threads)},
+             {"mpi_ranks", std::to_string(world.size)},
              {"n_samples_total", std::to_string(st.n_total())},
              {"samples_begin", std::to_string(begin)},
              {"samples_end", std::to_string(end)},

@@ -81,6 +81,9 @@ int run_sweep_command(const Common& o, const SweepOpts& opts) {
         throw InputError(flat.at("sweep.mode").where, "--load-effects is not available for sampled studies (they keep the deck peaks)");
       return run_sampled_sweep(o, flat, opts.sample);
     }
+    if (study::mpi_world().size > 1)
+      throw InputError(flat.at("sweep.mode").where, "an MPI run shares the samples of a sampled study (sweep.mode = \"sample\"); "
+                                                    "this sweep runs in one process (viaduct sweep --threads N)");
     if (!opts.sample.shard.empty() || opts.sample.resume)
       throw InputError(flat.at("sweep.mode").where, "--shard and --resume apply to sampled studies (sweep.mode = \"sample\")");
     auto variants = io::sweep_variants(flat, /*isolate_failures=*/true);

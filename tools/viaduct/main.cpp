@@ -6,6 +6,7 @@
 
 #include "cli.hpp"
 #include "viaduct/io/results.hpp"
+#include "viaduct/study/sampled.hpp"
 
 int main(int argc, char** argv) {
   using namespace viaduct::cli;
@@ -36,7 +37,21 @@ int main(int argc, char** argv) {
     return ok;
   }
   for (const auto& c : commands)
-    if (c.name == name) return dispatch(c, argc - 1, argv + 1);
+    if (c.name == name) {
+      // Under mpirun (and built with MPI) the ranks share the samples of `viaduct sweep` on a
+      // sampled study; any other command would run N times over the same outputs.
+      const viaduct::study::MpiWorld w = viaduct::study::mpi_start(&argc, &argv);
+      if (w.size > 1 && name != "sweep") {
+        if (w.rank == 0)
+          std::cerr << "viaduct " << name << ": error: started on " << w.size
+                    << " MPI ranks; only viaduct sweep on a sampled study (sweep.mode = \"sample\") runs over MPI\n";
+        viaduct::study::mpi_finish();
+        return usage_error;
+      }
+      const int rc = dispatch(c, argc - 1, argv + 1);
+      viaduct::study::mpi_finish();
+      return rc;
+    }
   // The nearest command by edit distance, when near enough to be a typo.
   auto distance = [](const std::string& x, const std::string& y) {
     std::vector<std::size_t> row(y.size() + 1);

@@ -58,6 +58,27 @@ struct SampledRunSummary {
 SampledRunSummary run_samples(Index begin, Index end, const VariantMaker& make, const BatchSink& sink,
                               const SampledRunOptions& options);
 
+/// The MPI world of this process: rank 0 of 1 unless viaduct was started by mpirun (an Open MPI
+/// or PMI environment) and built with MPI (VIADUCT_HAVE_MPI). mpi_start initialises MPI then,
+/// asking for MPI_THREAD_MULTIPLE; mpi_finish finalises it (both no-ops otherwise).
+struct MpiWorld {
+  int rank = 0, size = 1;
+  bool threads_multiple = false;  ///< rank 0 computes beside its coordinator thread
+};
+MpiWorld mpi_start(int* argc, char*** argv);
+MpiWorld mpi_world();
+void mpi_finish();
+/// Rank 0's value on every rank (the start of a resumed run; −1: rank 0 could not set up).
+Index mpi_broadcast(Index value);
+/// Samples [begin, end) over the ranks with dynamic load balancing: rank 0's coordinator hands
+/// out units of `options.batch` samples to whichever rank asks next (rank 0 itself computes too
+/// when MPI gives it threads), gathers their peaks and calls `sink` on rank 0 in sample order,
+/// so the files are those of one process. Every rank must call it with the same arguments; the
+/// summary on rank 0 counts every rank's work, on the others their own. Without MPI (or one
+/// rank): run_samples.
+SampledRunSummary run_samples_mpi(Index begin, Index end, const VariantMaker& make, const BatchSink& sink,
+                                  const SampledRunOptions& options);
+
 struct SampleStatsOptions {
   std::vector<double> percentiles{5.0, 50.0, 95.0};  ///< each in [0, 100]
   double acc_limit = 3.5;                            ///< [m/s²] exceedance of the deck acceleration
