@@ -46,7 +46,7 @@ void estimate(const Vector& fa, const Vector& fb, const Matrix& fab, const std::
   for (Index i = 0; i < d; ++i) {
     double first = 0.0, total = 0.0;
     for (Index r : idx) {
-      first += fb(r) * (fab(r, i) - fa(r));
+      first += (fb(r) - mean) * (fab(r, i) - fa(r));
       total += (fa(r) - fab(r, i)) * (fa(r) - fab(r, i));
     }
     const double nan = std::numeric_limits<double>::quiet_NaN();

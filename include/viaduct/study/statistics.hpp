@@ -36,8 +36,10 @@ struct SobolOptions {
   std::uint64_t seed = 1;     ///< of the resampling (the same resamples for every output)
 };
 /// Indices from Saltelli's design: fa = f(A), fb = f(B) (n each), fab column i = f(A with
-/// column i from B) (n × d). V is the variance of fa and fb together;
-/// S_i = mean(fb (fab_i − fa)) / V (Saltelli et al. 2010), ST_i = mean((fa − fab_i)²) / (2 V)
+/// column i from B) (n × d). f0 and V are the mean and variance of fa and fb together;
+/// S_i = mean((fb − f0) (fab_i − fa)) / V (Saltelli et al. 2010, centred: the same expectation,
+/// and without the centring a response whose mean is many times its spread, as a resonance peak
+/// over uncertain pads, gets indices of ±50 from 32 points), ST_i = mean((fa − fab_i)²) / (2 V)
 /// (Jansen 1999). Intervals: percentiles of the estimates over n_bootstrap resamples of the
 /// n base points. NaN everywhere when V = 0 (the response does not vary).
 std::vector<SobolIndex> sobol_indices(const Vector& fa, const Vector& fb, const Matrix& fab, const SobolOptions& options);
