@@ -217,7 +217,8 @@ is shared and noisy: 2-thread wall times are medians of $repeats runs, 1-thread 
 (\`scripts/measure/bench_ident.sh\`). Model updating: the 3-parameter fit of the Old Guadiana model to one
 record takes $(sed -n 's/^| Newmark, dt = 1 ms (default) | 2 | \([0-9.]*\) .*/\1/p' docs/benchmarks-fitting.md) s on 2 threads (target < 60 s), [benchmarks-fitting.md](benchmarks-fitting.md)
 (\`scripts/measure/bench_fit.sh\`). The EN 1991-2 assessment (\`viaduct assess\`): [benchmarks-assess.md](benchmarks-assess.md)
-(\`scripts/measure/bench_assess.sh\`).
+(\`scripts/measure/bench_assess.sh\`) Sampled studies (time per case, memory, threads, shards, MPI ranks):
+[benchmarks-sampled.md](benchmarks-sampled.md) (\`scripts/measure/sampled_scaling.py\`).
 
 ## Studies
 

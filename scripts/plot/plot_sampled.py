@@ -38,12 +38,20 @@ def pct_columns(row):
     return sorted(cols)
 
 
+DESIGNS = {"lhs": "Latin hypercube", "sobol": "Sobol sequence", "random": "random"}
+
+
 def study_note(directory):
-    run = plotlib.manifest(directory).get("run", {})
+    """'64 samples, Sobol sequence' or '64 x 6 runs (Saltelli), Sobol sequence'."""
     sc = plotlib.manifest(directory).get("scenario", {})
-    n = run.get("n_samples_total", "")
-    design = sc.get("sweep.sampling", "")
-    return ("%s samples, %s design" % (n, design)) if n else ""
+    n = sc.get("sweep.n_samples")
+    if not n:
+        return ""
+    design = DESIGNS.get(sc.get("sweep.sampling", ""), sc.get("sweep.sampling", ""))
+    if sc.get("sweep.sensitivity"):
+        d = len([k for k in sc if k.startswith("sweep.variants[") and k.endswith("].key")])
+        return "%d x %d runs (Saltelli's design: %d independent samples), %s" % (n, d + 2, 2 * n, design)
+    return "%d samples, %s" % (n, design)
 
 
 def plot_percentiles(directory, rows, limit, dpi):
@@ -62,8 +70,9 @@ def plot_percentiles(directory, rows, limit, dpi):
             hi = [plotlib.number(r[cols[-1][1]]) for r in rs]
             mid = [plotlib.number(r[cols[len(cols) // 2][1]]) for r in rs]
             color = "C%d" % i
-            ax.fill_between(v, lo, hi, color=color, alpha=0.25, lw=0,
-                            label="%s: %g–%g %%" % (train, cols[0][0], cols[-1][0]))
+            spread = max((h - l for h, l in zip(hi, lo) if h is not None and l is not None), default=0.0)
+            ax.fill_between(v, lo, hi, color=color, alpha=0.3, lw=0,
+                            label="%s: %g–%g %% (widest %.3g m/s²)" % (train, cols[0][0], cols[-1][0], spread))
             ax.plot(v, mid, color=color, lw=1.6, label="%s: %g %%" % (train, cols[len(cols) // 2][0]))
             for r, h in zip(rs, hi):
                 if h is not None and (best is None or h > best[0]):
@@ -75,12 +84,13 @@ def plot_percentiles(directory, rows, limit, dpi):
         if limit > 0:
             ax.axhline(limit, color="red", lw=1.0, ls=":", label="limit %.3g m/s²" % limit)
         if best:
-            ax.annotate("%g %%: %.2f m/s² at %.0f km/h (%s)" % (cols[-1][0], best[0], best[1], best[2]),
-                        (best[1], best[0]), xytext=(0, 8), textcoords="offset points", ha="center", fontsize=8)
+            ax.annotate("largest %g %%: %.2f m/s² at %.0f km/h (%s)" % (cols[-1][0], best[0], best[1], best[2]),
+                        (best[1], best[0]), xytext=(0.98, 0.97), textcoords="axes fraction", ha="right", va="top",
+                        fontsize=8, arrowprops={"arrowstyle": "->", "lw": 0.8})
+            ax.set_ylim(0, 1.25 * max(best[0], limit))
         ax.set_title("%s: deck acceleration over the samples" % station)
         ax.set_xlabel("speed [km/h]")
         ax.set_ylabel("max |acceleration| [m/s²]")
-        ax.set_ylim(bottom=0)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, loc="upper left")
         axp.set_title("%s: P(max |a| > %.3g m/s²)" % (station, limit))
@@ -134,7 +144,7 @@ def plot_sensitivity(directory, rows, peak_rows, dpi):
                     label="first order" if name == "S" else "total")
         axb.set_xticks(list(x))
         axb.set_xticklabels([r["label"] for r in ps])
-        axb.set_title("%s: peak over the speeds (95 %% intervals)" % station)
+        axb.set_title("%s: peak over the speeds (95 %% CI)" % station)
         axb.set_ylabel("Sobol index [-]")
         axb.set_ylim(0, 1.05)
         axb.grid(alpha=0.3, axis="y")

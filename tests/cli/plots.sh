@@ -25,6 +25,12 @@ plotted() {
   fi
 }
 
+# Sampled studies (#16): percentile bands and exceedance, Sobol indices (2 base points and 4 speeds:
+# cheap, and every panel drawn).
+"$VIADUCT" sweep "$SRC/scenarios/old-guadiana-sampled.toml" --set sweep.n_samples=2 --set sweep.n_speeds=4 \
+  --set sweep.sensitivity=true --quiet --out "$WORK/sampled"
+plotted sampled "$WORK/sampled/sampled.png" -- $PY "$P/plot_sampled.py" "$WORK/sampled"
+plotted sampled "$WORK/sampled/sensitivity.png" -- $PY "$P/plot_sampled.py" "$WORK/sampled"
 "$VIADUCT" sweep "$HS" --set 'train.files=["hslm:A1-A3"]' --set sweep.speed_step_kmh=20 --quiet --out "$WORK/trains"
 plotted envelope "$WORK/trains/envelope.png" -- $PY "$P/plot_envelope.py" "$WORK/trains"
 plotted envelope "$WORK/trains/envelope_disp.png" -- $PY "$P/plot_envelope.py" "$WORK/trains" --quantity disp
