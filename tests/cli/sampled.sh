@@ -15,6 +15,10 @@ same() {  # same DIR_A DIR_B FILE...: every file byte for byte
   for f in "$@"; do expect 0 "" -- cmp "$a/$f" "$b/$f"; done
 }
 
+# The study at a glance (lognormal mean 1, sd 0.3: its 1 % quantile exp(-0.04309 - 2.32635 x 0.29356)).
+expect 0 "# sampled study: 64 samples (sobol design) x 60 speeds x 1 trains = 3840 cases" -- "$VIADUCT" check "$OG"
+expect 0 "#   Kp (track.pad.k): lognormal factor, 1-99 % in [0.4838, 1.896]" -- "$VIADUCT" check "$OG"
+
 # A: plain samples, one per shard at N = 7.
 if [ "$SIZE" = full ]; then NA=7; SHARDS="1 7"; else NA=3; SHARDS="3"; fi
 A=(--set sweep.n_samples=$NA --set sweep.n_speeds=2 --set sweep.batch=2)

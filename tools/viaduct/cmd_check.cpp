@@ -3,6 +3,7 @@
 
 #include "cli.hpp"
 #include "viaduct/study/guards.hpp"
+#include "viaduct/io/sampled.hpp"
 #include "viaduct/io/scenario.hpp"
 #include "viaduct/model/modes.hpp"
 #include "viaduct/model/structure.hpp"
@@ -18,7 +19,8 @@ Command check_command() {
       "the model that the scenario builds. Exit code 2 names file, line and key of a bad input.\n\n"
       "Sample runs:\n"
       "  viaduct check scenarios/old-guadiana-sensitivity.toml\n"
-      "  viaduct check scenarios/hslm-simply-supported.toml --set bridge.damping.ratio=0.02\n";
+      "  viaduct check scenarios/hslm-simply-supported.toml --set bridge.damping.ratio=0.02\n"
+      "  viaduct check scenarios/old-guadiana-sampled.toml\n";
   c.run = [](const Common& o) {
     const io::FlatScenario flat = load_scenario(o);
     const study::Scenario sc = io::to_scenario(flat);
@@ -40,8 +42,23 @@ Command check_command() {
     for (const auto& t : sc.trains)
       std::cout << "# train " << t.name << ": " << t.n_axles() << " axles, " << t.length() << " m first to last, "
                 << t.total_load() / 1e3 << " kN\n";
-    std::cout << "# sweep: " << sc.sweep_speeds.size() << " speeds x " << sc.trains.size() << " trains x "
-              << variants.size() << " variants\n";
+    if (!io::is_sampled(flat)) {
+      std::cout << "# sweep: " << sc.sweep_speeds.size() << " speeds x " << sc.trains.size() << " trains x "
+                << variants.size() << " variants\n";
+      return ok;
+    }
+    // A sampled study at a glance: the runs, and each key's factor range (1st to 99th percentile).
+    const io::SampledStudy st = io::sampled_study(flat);
+    std::cout << "# sampled study: " << st.n_total() << " samples (" << flat.at("sweep.sampling").s << " design"
+              << (st.spec.sensitivity ? ", Saltelli's: " + std::to_string(st.spec.n) + " x " + std::to_string(st.keys.size() + 2)
+                                      : std::string())
+              << ") x " << sc.sweep_speeds.size() << " speeds x " << sc.trains.size() << " trains = "
+              << st.n_total() * Index(sc.sweep_speeds.size() * sc.trains.size()) << " cases\n";
+    for (std::size_t i = 0; i < st.keys.size(); ++i) {
+      const study::Distribution& d = st.spec.distributions[i];
+      std::cout << "#   " << st.labels[i] << " (" << st.keys[i] << "): " << flat.at("sweep.variants[" + std::to_string(i) + "].distribution").s
+                << " factor, 1-99 % in [" << format_number(d.quantile(0.01), 4) << ", " << format_number(d.quantile(0.99), 4) << "]\n";
+    }
     return ok;
   };
   return c;

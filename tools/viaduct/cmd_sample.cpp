@@ -38,7 +38,11 @@ int run_sampled_sweep(const Common& o, const io::FlatScenario& flat, const Sampl
   const auto t0 = std::chrono::steady_clock::now();
   const io::SampledStudy st = io::sampled_study(flat);
   study::Scenario reference = io::to_scenario(flat);
-  reference.settings.ida.log = log_printer(o.quiet);
+  // Under MPI rank 0 writes every file and prints; the other ranks compute.
+  const study::MpiWorld world = study::mpi_world();
+  const bool writer = world.rank == 0;
+  const bool quiet = o.quiet || !writer;
+  reference.settings.ida.log = log_printer(quiet);
   if (reference.sweep_speeds.empty())
     throw InputError(flat.at("sweep.mode").where,
                      "no speeds: give sweep.speeds_kmh, sweep.speed_min/max/step_kmh or sweep.speed_min/max_mps with n_speeds");
@@ -49,10 +53,6 @@ int run_sampled_sweep(const Common& o, const io::FlatScenario& flat, const Sampl
     std::tie(shard_k, shard_n) = io::parse_shard(opts.shard);
     std::tie(begin, end) = io::shard_range(shard_k, shard_n, st.n_total(), st.spec.sensitivity ? Index(st.keys.size()) + 2 : 1);
   }
-  // Under MPI rank 0 writes every file and prints; the other ranks compute.
-  const study::MpiWorld world = study::mpi_world();
-  const bool writer = world.rank == 0;
-  const bool quiet = o.quiet || !writer;
   std::optional<io::SampleStream> stream;
   Index start = -1;
   std::exception_ptr setup_failed;
