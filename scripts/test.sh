@@ -27,10 +27,10 @@ scripts/setup.sh
 run_preset() {
   local preset=$1
   shift
-  echo "== $preset: configure and build" >&2
+  echo "== $preset: configure and build (${SECONDS} s in)" >&2
   cmake --preset "$preset" -G Ninja >/dev/null
   cmake --build --preset "$preset" -j "$jobs"
-  echo "== $preset: tests ($*)" >&2
+  echo "== $preset: tests ($*) (${SECONDS} s in)" >&2
   ctest --preset "$preset" -j "$jobs" "$@"
 }
 
@@ -39,4 +39,4 @@ if [ "$sanitize" -eq 1 ]; then
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     run_preset sanitize -L "unit|cli|verification" -LE long
 fi
-echo "== all tests passed" >&2
+echo "== all tests passed (${SECONDS} s)" >&2
