@@ -370,7 +370,7 @@ std::vector<study::Variant> sweep_variants(const FlatScenario& flat, bool isolat
   std::vector<Axis> axes;
   // A sampled study's variants are its samples (sampled_study, sample_variant): the other
   // commands see its reference.
-  const bool sampled = flat.at("sweep.mode").s == "sample";
+  const bool sampled = flat.has("sweep.mode") && flat.at("sweep.mode").s == "sample";
   for (std::size_t i : sampled ? std::vector<std::size_t>{} : item_indices(flat, "sweep.variants")) {
     const std::string pre = "sweep.variants[" + std::to_string(i) + "].";
     Axis a;

@@ -81,11 +81,12 @@ int run_sweep_command(const Common& o, const SweepOpts& opts) {
         throw InputError(flat.at("sweep.mode").where, "--load-effects is not available for sampled studies (they keep the deck peaks)");
       return run_sampled_sweep(o, flat, opts.sample);
     }
+    const SourceLocation mode_at = flat.has("sweep.mode") ? flat.at("sweep.mode").where : SourceLocation{o.scenario, 0, "sweep.mode"};
     if (study::mpi_world().size > 1)
-      throw InputError(flat.at("sweep.mode").where, "an MPI run shares the samples of a sampled study (sweep.mode = \"sample\"); "
+      throw InputError(mode_at, "an MPI run shares the samples of a sampled study (sweep.mode = \"sample\"); "
                                                     "this sweep runs in one process (viaduct sweep --threads N)");
     if (!opts.sample.shard.empty() || opts.sample.resume)
-      throw InputError(flat.at("sweep.mode").where, "--shard and --resume apply to sampled studies (sweep.mode = \"sample\")");
+      throw InputError(mode_at, "--shard and --resume apply to sampled studies (sweep.mode = \"sample\")");
     auto variants = io::sweep_variants(flat, /*isolate_failures=*/true);
     for (auto& v : variants) v.scenario.settings.ida.log = log_printer(o.quiet);
     if (variants.front().scenario.sweep_speeds.empty())
