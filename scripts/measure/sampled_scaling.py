@@ -61,11 +61,12 @@ def main():
         out("## Time per case and memory (one process, 1 thread)\n")
         out("| samples | cases | wall s | ms per case | peak RSS MB |\n|---:|---:|---:|---:|---:|")
         for n in a.samples:
-            out = os.path.join(tmp, "n%d" % n)
-            wall, rss = run([base + ["--set", "sweep.n_samples=%d" % n, "--threads", "1", "--out", out]])
-            with open(os.path.join(out, "sample_peaks.csv")) as f:
-                rows = sum(1 for _ in f) - 1
-            stations = len({line.split(",")[3] for line in open(os.path.join(out, "sample_peaks.csv")).readlines()[1:]})
+            odir = os.path.join(tmp, "n%d" % n)
+            wall, rss = run([base + ["--set", "sweep.n_samples=%d" % n, "--threads", "1", "--out", odir]])
+            with open(os.path.join(odir, "sample_peaks.csv")) as f:
+                lines = f.readlines()[1:]
+            rows = len(lines)
+            stations = len({line.split(",")[3] for line in lines})
             cases = rows // max(1, stations)
             out("| %d | %d | %.1f | %.2f | %.0f |" % (n, cases, wall, 1e3 * wall / cases, rss))
         n = a.scaling_samples
@@ -80,11 +81,11 @@ def main():
         times = {name: [] for name, _ in ways}
         for r in range(a.repeat):
             for name, make in ways:
-                out = os.path.join(tmp, "w%d" % r)
-                wall, _ = run(make(out))
+                odir = os.path.join(tmp, "w%d" % r)
+                wall, _ = run(make(odir))
                 if name.startswith("2 shards"):
                     t0 = time.perf_counter()
-                    subprocess.run([a.viaduct, "merge", out + "-1", out + "-2", "--quiet", "--out", out + "-m"], check=True)
+                    subprocess.run([a.viaduct, "merge", odir + "-1", odir + "-2", "--quiet", "--out", odir + "-m"], check=True)
                     wall += time.perf_counter() - t0
                 times[name].append(wall)
         ref = statistics.median(times[ways[0][0]])
