@@ -35,6 +35,9 @@ std::string num(double x) { return format_number(x, 12); }
 
 // The distribution of item `pre` ("sweep.variants[0].").
 study::Distribution distribution_of(const FlatScenario& flat, const std::string& pre) {
+  if (!flat.has(pre + "distribution"))
+    bad(flat.at(pre + "key"), "a sampled study needs the distribution of each key's factor (" + pre +
+                                  "distribution = \"uniform\", \"normal\", \"lognormal\" or \"truncated\")");
   const Value& kind = flat.at(pre + "distribution");
   study::Distribution d;
   if (!study::distribution_kind_of(kind.s, &d.kind)) bad(kind, "unknown distribution '" + kind.s + "'");

@@ -281,7 +281,7 @@ std::vector<KeySpec> sweep_keys() {  // sweep
       {"sweep.variants[].key", T::string, "", "", "", "Numeric scenario key to vary, e.g. track.pad.k (required)."},
       {"sweep.variants[].label", T::string, "\"\"", "", "", "Short name in outputs, e.g. Kp (default: the key)."},
       {"sweep.variants[].factors", T::number_list, "", "-", ">= 0", "Multipliers of the reference value (one-at-a-time and grid sweeps)."},
-      {"sweep.variants[].distribution", T::string, "\"uniform\"", "", "uniform|normal|lognormal|truncated", "Sampled studies: the factor's distribution; uniform (low, high), normal (mean, sd), lognormal (the factor's mean, sd), truncated normal (mean, sd, low, high)."},
+      {"sweep.variants[].distribution", T::string, "", "", "uniform|normal|lognormal|truncated", "Sampled studies (needed there): the factor's distribution; uniform (low, high), normal (mean, sd), lognormal (the factor's mean, sd), truncated normal (mean, sd, low, high)."},
       {"sweep.variants[].low", T::number, "", "-", "", "Lower bound of a uniform or truncated factor (>= 0)."},
       {"sweep.variants[].high", T::number, "", "-", "", "Upper bound of a uniform or truncated factor."},
       {"sweep.variants[].mean", T::number, "", "-", "", "Mean of a normal, lognormal or truncated (before truncation) factor."},

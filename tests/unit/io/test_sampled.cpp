@@ -109,6 +109,8 @@ TEST_CASE("sampled study: bad distributions are errors with file, line and key")
   const std::string self = d.scenario(std::string(kEI) + "[[sweep.correlations]]\nkeys = [\"EI\", \"bridge.EI\"]\nrho = 0.5\n");
   CHECK_THAT(error_of(self, {}), Catch::Contains("s.toml:24") && Catch::Contains("itself"));
   CHECK_THAT(error_of(path, {}, {"sweep.n_samples"}), Catch::Contains("needs sweep.n_samples"));
+  CHECK_THAT(error_of(path, {}, {"sweep.variants[0].distribution"}),
+             Catch::Contains("s.toml:18") && Catch::Contains("sweep.variants[0].distribution = \"uniform\""));
 }
 
 TEST_CASE("sampled study: a factor range breaking the key's rule, correlations, and the design's limits") {
