@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
+#include <algorithm>
 #include <exception>
 #include <map>
 #include <thread>
@@ -132,7 +133,17 @@ MpiWorld mpi_world() { return sampled_mpi_detail::world(); }
 
 #ifndef VIADUCT_HAVE_MPI
 
-MpiWorld mpi_start(int*, char***) { return {}; }
+// Started by mpirun on several ranks, this build would run the whole study on every one of them
+// into the same files: say so instead (main refuses to run).
+MpiWorld mpi_start(int*, char***) {
+  MpiWorld& w = sampled_mpi_detail::world();
+  for (const char* size : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
+    if (const char* v = std::getenv(size)) w.size = std::max(1, std::atoi(v));
+  for (const char* rank : {"OMPI_COMM_WORLD_RANK", "PMI_RANK"})
+    if (const char* v = std::getenv(rank)) w.rank = std::atoi(v);
+  w.without_mpi = w.size > 1;
+  return w;
+}
 void mpi_finish() {}
 Index mpi_broadcast(Index value) { return value; }
 SampledRunSummary run_samples_mpi(Index begin, Index end, const VariantMaker& make, const BatchSink& sink,

@@ -41,6 +41,12 @@ int main(int argc, char** argv) {
       // Under mpirun (and built with MPI) the ranks share the samples of `viaduct sweep` on a
       // sampled study; any other command would run N times over the same outputs.
       const viaduct::study::MpiWorld w = viaduct::study::mpi_start(&argc, &argv);
+      if (w.without_mpi) {
+        if (w.rank == 0)
+          std::cerr << "viaduct " << name << ": error: started on " << w.size
+                    << " MPI ranks, but this viaduct was built without MPI (install libopenmpi-dev and rebuild)\n";
+        return usage_error;
+      }
       if (w.size > 1 && name != "sweep") {
         if (w.rank == 0)
           std::cerr << "viaduct " << name << ": error: started on " << w.size

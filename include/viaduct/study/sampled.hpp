@@ -64,6 +64,8 @@ SampledRunSummary run_samples(Index begin, Index end, const VariantMaker& make, 
 struct MpiWorld {
   int rank = 0, size = 1;
   bool threads_multiple = false;  ///< rank 0 computes beside its coordinator thread
+  /// Started on several ranks (size > 1, read from the launcher) by a build without MPI.
+  bool without_mpi = false;
 };
 MpiWorld mpi_start(int* argc, char*** argv);
 MpiWorld mpi_world();
