@@ -80,6 +80,13 @@ for n in $SHARDS; do
   expect 0 "merged $n shards ($NA samples)" -- "$VIADUCT" merge "${dirs[@]}" --out "$WORK/a-merged-$n"
   same "$WORK/a-one" "$WORK/a-merged-$n" $FILES
 done
+# The SLURM job array's script (scripts/cluster/sampled-array.slurm) as its tasks would run it.
+for k in 1 2; do
+  expect 0 "" -- env N=2 SCENARIO="$SC" OUT="$WORK/slurm" VIADUCT="$VIADUCT" SLURM_ARRAY_TASK_ID=$k \
+    bash "$SRC/scripts/cluster/sampled-array.slurm" "${A[@]}"
+done
+expect 0 "merged 2 shards" -- "$VIADUCT" merge "$WORK/slurm/shard-1" "$WORK/slurm/shard-2" --out "$WORK/slurm/merged"
+same "$WORK/a-one" "$WORK/slurm/merged" $FILES
 # A shard missing, given twice, or of another study (another seed) is named.
 L=${SHARDS##* }
 expect 2 "shard 2/$L is missing: run it with viaduct sweep ... --shard 2/$L" -- "$VIADUCT" merge "$WORK/a-$L-1" "$WORK/a-$L-3" --out "$WORK/bad"
