@@ -57,9 +57,7 @@ void estimate(const Vector& fa, const Vector& fb, const Matrix& fab, const std::
 
 double quantile_of(std::vector<double> xs, double q) {
   std::sort(xs.begin(), xs.end());
-  const double rank = q * double(xs.size() - 1);
-  const std::size_t lo = std::size_t(std::floor(rank)), hi = std::min(lo + 1, xs.size() - 1);
-  return xs[lo] + (rank - double(lo)) * (xs[hi] - xs[lo]);
+  return percentile_of_sorted(xs, 100.0 * q);
 }
 
 }  // namespace statistics_detail
