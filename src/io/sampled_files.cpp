@@ -187,7 +187,7 @@ void chunk_statistics(const std::string& path, const PeakFile& pf, std::size_t g
       const auto ra = study::response_statistics(a, spec.layout, limit, spec.stats);
       const auto rd = study::response_statistics(d, spec.layout, nan, spec.stats);
       const double v = std::stod(gr.speeds[k]);
-      std::vector<std::string> row{csv_text(gr.train), gr.speeds[k], csv_text(gr.station)};
+      std::vector<std::string> row{gr.train, gr.speeds[k], gr.station};
       stats_cells(ra, rd, row);
       const auto key = std::make_tuple(gr.train_order, v, gr.station_order);
       t.per_speed[key] = row;
@@ -197,24 +197,12 @@ void chunk_statistics(const std::string& path, const PeakFile& pf, std::size_t g
     }
     const auto ra = study::response_statistics(peak_acc, spec.layout, limit, spec.stats);
     const auto rd = study::response_statistics(peak_disp, spec.layout, nan, spec.stats);
-    std::vector<std::string> row{csv_text(gr.train), csv_text(gr.station)};
+    std::vector<std::string> row{gr.train, gr.station};
     stats_cells(ra, rd, row);
     t.peak.push_back(row);
     sobol_rows({row[0], row[1]}, "max_abs_acc_mps2", ra, spec, t.peak_sobol);
     sobol_rows({row[0], row[1]}, "max_abs_disp_m", rd, spec, t.peak_sobol);
   }
-}
-
-void write_rows(const std::string& path, const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows) {
-  // Cells are already CSV text (names quoted by csv_text); write_table_csv would quote again.
-  AtomicFile f(path);
-  for (std::size_t i = 0; i < header.size(); ++i) std::fprintf(f.get(), "%s%s", i ? "," : "", header[i].c_str());
-  std::fprintf(f.get(), "\n");
-  for (const auto& r : rows) {
-    for (std::size_t i = 0; i < r.size(); ++i) std::fprintf(f.get(), "%s%s", i ? "," : "", r[i].c_str());
-    std::fprintf(f.get(), "\n");
-  }
-  f.commit();
 }
 
 }  // namespace sampled_files_detail
@@ -325,10 +313,10 @@ std::size_t write_sample_statistics(const std::string& dir, const StatisticsSpec
   h.insert(h.end(), stats.begin(), stats.end());
   std::vector<std::vector<std::string>> rows;
   for (const auto& kv : t.per_speed) rows.push_back(kv.second);
-  write_rows(dir + "/percentiles.csv", h, rows);
+  write_table_csv(dir + "/percentiles.csv", h, rows);
   std::vector<std::string> hp{"train", "station"};
   hp.insert(hp.end(), stats.begin(), stats.end());
-  write_rows(dir + "/peak_percentiles.csv", hp, t.peak);
+  write_table_csv(dir + "/peak_percentiles.csv", hp, t.peak);
   if (spec.layout.saltelli) {
     const std::vector<std::string> sh{"quantity", "key", "label", "n_base", "S", "S_lo", "S_hi", "ST", "ST_lo", "ST_hi"};
     std::vector<std::string> h1{"train", "speed_kmh", "station"}, h2{"train", "station"};
@@ -336,8 +324,8 @@ std::size_t write_sample_statistics(const std::string& dir, const StatisticsSpec
     h2.insert(h2.end(), sh.begin(), sh.end());
     rows.clear();
     for (const auto& kv : t.per_speed_sobol) rows.insert(rows.end(), kv.second.begin(), kv.second.end());
-    write_rows(dir + "/sensitivity.csv", h1, rows);
-    write_rows(dir + "/peak_sensitivity.csv", h2, t.peak_sobol);
+    write_table_csv(dir + "/sensitivity.csv", h1, rows);
+    write_table_csv(dir + "/peak_sensitivity.csv", h2, t.peak_sobol);
   }
   return pf.groups.size();
 }
