@@ -16,6 +16,7 @@
 
 #include "atomic_file.hpp"
 #include "csv_cells.hpp"
+#include "shard_files.hpp"
 #include "toml_file.hpp"
 #include "viaduct/io/results.hpp"
 #include "viaduct/io/sampled.hpp"
@@ -42,32 +43,9 @@ long long append_synced(const std::string& path, const std::string& text) {
   return size;
 }
 
-std::string toml_string(const std::string& s) {
-  std::string o = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') o += '\\';
-    o += c;
-  }
-  return o + "\"";
-}
-
-// A TOML float that reads back as the same double (a decimal point even for whole numbers).
-std::string g17(double x) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.17g", x);
-  std::string s = b;
-  if (s.find_first_of(".eni") == std::string::npos) s += ".0";
-  return s;
-}
-
-template <class T>
-T find_in(const toml::value& v, const std::string& table, const std::string& key, const std::string& path) {
-  try {
-    return toml::find<T>(v, table, key);
-  } catch (const std::exception&) {
-    throw InputError(SourceLocation{path, 1, table + "." + key}, "missing or of the wrong type");
-  }
-}
+using detail::find_in;
+using detail::g17;
+using detail::toml_string;
 
 // One output column group: a train and a station, with the speeds (text as written, ascending).
 struct Group {
@@ -225,15 +203,14 @@ SampleStream SampleStream::resume(const std::string& dir, Index begin, Index end
   if (!fs::exists(path))
     throw InputError("--resume: nothing to resume in " + dir + " (no sample_progress.toml: no sampled run was interrupted there)");
   const auto tf = detail::parse_toml_file(path);
-  using sampled_files_detail::find_in;
   SampleStream s;
   s.dir_ = dir;
-  s.fingerprint_ = find_in<std::string>(tf.root, "progress", "fingerprint", path);
-  s.begin_ = find_in<Index>(tf.root, "progress", "begin", path);
-  s.end_ = find_in<Index>(tf.root, "progress", "end", path);
-  s.done_ = find_in<Index>(tf.root, "progress", "done", path);
-  s.peaks_bytes_ = find_in<long long>(tf.root, "progress", "peaks_bytes", path);
-  s.failures_bytes_ = find_in<long long>(tf.root, "progress", "failures_bytes", path);
+  s.fingerprint_ = detail::find_in<std::string>(tf.root, "progress", "fingerprint", path);
+  s.begin_ = detail::find_in<Index>(tf.root, "progress", "begin", path);
+  s.end_ = detail::find_in<Index>(tf.root, "progress", "end", path);
+  s.done_ = detail::find_in<Index>(tf.root, "progress", "done", path);
+  s.peaks_bytes_ = detail::find_in<long long>(tf.root, "progress", "peaks_bytes", path);
+  s.failures_bytes_ = detail::find_in<long long>(tf.root, "progress", "failures_bytes", path);
   if (s.fingerprint_ != fingerprint)
     throw InputError(SourceLocation{path, 1, "fingerprint"}, "the interrupted run in " + dir +
                                                                  " is of another study (the scenario or a --set differs)");
@@ -257,7 +234,7 @@ SampleStream SampleStream::resume(const std::string& dir, Index begin, Index end
 void SampleStream::record() const {
   std::ostringstream os;
   os << "# viaduct sweep: a sampled run in progress (viaduct sweep ... --resume carries it on)\n[progress]\n"
-     << "fingerprint = " << sampled_files_detail::toml_string(fingerprint_) << "\nbegin = " << begin_ << "\nend = " << end_
+     << "fingerprint = " << detail::toml_string(fingerprint_) << "\nbegin = " << begin_ << "\nend = " << end_
      << "\ndone = " << done_ << "\npeaks_bytes = " << peaks_bytes_ << "\nfailures_bytes = " << failures_bytes_ << "\n";
   write_text_file(dir_ + "/sample_progress.toml", os.str());
 }
@@ -354,7 +331,7 @@ std::pair<Index, Index> shard_range(int k, int n, Index n_total, Index group) {
 
 void write_shard_toml(const std::string& path, int k, int n, Index begin, Index end, const SampledStudy& st) {
   using sampled_files_detail::g17;
-  using sampled_files_detail::toml_string;
+  using detail::toml_string;
   std::ostringstream os;
   os << "# viaduct sweep --shard: one part of a sampled study; viaduct merge joins the parts\n[shard]\nk = " << k
      << "\nn = " << n << "\nbegin = " << begin << "\nend = " << end << "\nn_total = " << st.n_total()
@@ -371,70 +348,44 @@ void write_shard_toml(const std::string& path, int k, int n, Index begin, Index 
 }
 
 ShardInfo read_shard_toml(const std::string& dir) {
-  using sampled_files_detail::find_in;
   const std::string path = dir + "/shard.toml";
   if (!fs::exists(path)) throw InputError(SourceLocation{path, 1, ""}, "not a shard: " + dir + " has no shard.toml (viaduct sweep --shard K/N writes one)");
   const auto tf = detail::parse_toml_file(path);
   const toml::value& v = tf.root;
   ShardInfo s;
   s.dir = dir;
-  s.k = find_in<int>(v, "shard", "k", path);
-  s.n = find_in<int>(v, "shard", "n", path);
-  s.begin = find_in<Index>(v, "shard", "begin", path);
-  s.end = find_in<Index>(v, "shard", "end", path);
-  s.spec.n_total = find_in<Index>(v, "shard", "n_total", path);
-  s.fingerprint = find_in<std::string>(v, "shard", "fingerprint", path);
-  s.spec.keys = find_in<std::vector<std::string>>(v, "study", "keys", path);
-  s.spec.labels = find_in<std::vector<std::string>>(v, "study", "labels", path);
+  s.k = detail::find_in<int>(v, "shard", "k", path);
+  s.n = detail::find_in<int>(v, "shard", "n", path);
+  s.begin = detail::find_in<Index>(v, "shard", "begin", path);
+  s.end = detail::find_in<Index>(v, "shard", "end", path);
+  s.spec.n_total = detail::find_in<Index>(v, "shard", "n_total", path);
+  s.fingerprint = detail::find_in<std::string>(v, "shard", "fingerprint", path);
+  s.spec.keys = detail::find_in<std::vector<std::string>>(v, "study", "keys", path);
+  s.spec.labels = detail::find_in<std::vector<std::string>>(v, "study", "labels", path);
   s.spec.layout.d = int(s.spec.keys.size());
-  s.spec.layout.n_base = find_in<Index>(v, "study", "n_base", path);
-  s.spec.layout.saltelli = find_in<bool>(v, "study", "saltelli", path);
-  s.spec.stats.percentiles = find_in<std::vector<double>>(v, "study", "percentiles", path);
-  s.spec.stats.acc_limit = find_in<double>(v, "study", "acceleration_limit_mps2", path);
-  s.spec.stats.sobol.n_bootstrap = find_in<int>(v, "study", "n_bootstrap", path);
-  s.spec.stats.sobol.seed = find_in<std::uint64_t>(v, "study", "seed", path);
+  s.spec.layout.n_base = detail::find_in<Index>(v, "study", "n_base", path);
+  s.spec.layout.saltelli = detail::find_in<bool>(v, "study", "saltelli", path);
+  s.spec.stats.percentiles = detail::find_in<std::vector<double>>(v, "study", "percentiles", path);
+  s.spec.stats.acc_limit = detail::find_in<double>(v, "study", "acceleration_limit_mps2", path);
+  s.spec.stats.sobol.n_bootstrap = detail::find_in<int>(v, "study", "n_bootstrap", path);
+  s.spec.stats.sobol.seed = detail::find_in<std::uint64_t>(v, "study", "seed", path);
   if (s.k < 1 || s.k > s.n || s.begin < 0 || s.end < s.begin || s.end > s.spec.n_total)
     throw InputError(SourceLocation{path, 1, "shard"}, "inconsistent shard (k, n, begin, end)");
   return s;
 }
-
-namespace sampled_files_detail {
-// Appends the rows of dir/name (its header dropped unless `first`) to `out`.
-void concatenate(const std::string& dir, const std::string& name, bool first, std::FILE* out) {
-  std::ifstream in(dir + "/" + name, std::ios::binary);
-  if (!in) throw InputError(SourceLocation{dir + "/" + name, 1, ""}, "missing: the shard in " + dir + " did not finish; rerun it");
-  std::string line;
-  bool header = true;
-  while (std::getline(in, line)) {
-    if (!(header && !first)) std::fprintf(out, "%s\n", line.c_str());
-    header = false;
-  }
-}
-}  // namespace sampled_files_detail
 
 StatisticsSpec merge_shards(const std::vector<std::string>& dirs, const std::string& out) {
   std::vector<ShardInfo> shards;
   for (const auto& d : dirs) shards.push_back(read_shard_toml(d));
   if (shards.empty()) throw InputError("no shard directories given");
   std::sort(shards.begin(), shards.end(), [](const ShardInfo& x, const ShardInfo& y) { return x.k < y.k; });
-  const ShardInfo a = shards.front();
-  for (const auto& s : shards) {
-    if (s.fingerprint != a.fingerprint || s.n != a.n)
-      throw InputError(SourceLocation{s.dir + "/shard.toml", 1, "fingerprint"},
-                       "shard " + std::to_string(s.k) + "/" + std::to_string(s.n) + " in " + s.dir + " is of another study than " + a.dir);
-  }
-  for (int k = 1; k <= a.n; ++k) {
-    const auto c = std::count_if(shards.begin(), shards.end(), [&](const ShardInfo& s) { return s.k == k; });
-    if (c == 0) throw InputError("shard " + std::to_string(k) + "/" + std::to_string(a.n) +
-                                 " is missing: run it with viaduct sweep ... --shard " + std::to_string(k) + "/" + std::to_string(a.n));
-    if (c > 1) throw InputError("shard " + std::to_string(k) + "/" + std::to_string(a.n) + " is given twice");
-  }
-  for (std::size_t i = 0; i < shards.size(); ++i)
-    if (shards[i].begin != (i == 0 ? 0 : shards[i - 1].end) || (i + 1 == shards.size() && shards[i].end != a.spec.n_total))
-      throw InputError(SourceLocation{shards[i].dir + "/shard.toml", 1, "begin"}, "the shards' samples do not join end to end");
+  std::vector<detail::ShardPart> parts;
+  for (const auto& s : shards) parts.push_back({s.dir, s.k, s.n, s.begin, s.end, s.spec.n_total, s.fingerprint});
+  detail::check_shards_join(parts, "samples");
+  const ShardInfo& a = shards.front();
   for (const char* name : {"samples.csv", "sample_peaks.csv", "failures.csv"}) {
     detail::AtomicFile f(out + "/" + name);
-    for (std::size_t i = 0; i < shards.size(); ++i) sampled_files_detail::concatenate(shards[i].dir, name, i == 0, f.get());
+    for (std::size_t i = 0; i < shards.size(); ++i) detail::concatenate(shards[i].dir, name, i == 0, f.get());
     f.commit();
   }
   write_sample_statistics(out, a.spec);

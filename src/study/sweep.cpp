@@ -62,6 +62,13 @@ class Sweep {
  public:
   Sweep(const std::vector<Variant>& variants, const SweepOptions& options)
       : variants_(variants), options_(options), prepared_(variants.size()), folded_(variants.size()) {
+    std::size_t first = 0;
+    first_case_.resize(variants.size());
+    for (std::size_t v = 0; v < variants.size(); ++v)
+      for (std::size_t t = 0; t < variants[v].scenario.trains.size(); ++t) {
+        first_case_[v].push_back(first);
+        first += speeds(v, t).size();
+      }
     runner_ = options.runner ? options.runner
                              : CaseRunner([](const PreparedModel& m, const load::Train& t, double v, const RunSettings& rs) {
                                  return simulate(m, t, v, rs);
@@ -81,6 +88,7 @@ class Sweep {
   // peaks kernel (a custom runner opts out).
   void prepare() {
     parallel_for(variants_.size(), options_.threads, [&](std::size_t v, int) {
+      if (!variant_in_range(v)) return;  // another shard's: not built
       if (!variants_[v].error.empty()) {
         prepared_[v].error = variants_[v].error;
         prepared_[v].input_error = true;  // a factor that breaks its key's rule
@@ -104,7 +112,8 @@ class Sweep {
       // With load effects, only when the kernel can keep them all.
       if (!options_.runner && prepared_[v].model && folds_trains(*prepared_[v].model, variants_[v].scenario.settings) &&
           (!options_.load_effects || effects_in_kernel(*prepared_[v].model)))
-        for (std::size_t t = 0; t < folded_[v].size(); ++t) to_fold.emplace_back(v, t);
+        for (std::size_t t = 0; t < folded_[v].size(); ++t)
+          if (train_in_range(v, t)) to_fold.emplace_back(v, t);
     }
     parallel_for(to_fold.size(), options_.threads, [&](std::size_t i, int) {
       const auto [v, t] = to_fold[i];
@@ -131,17 +140,25 @@ class Sweep {
       // Newmark cases of one train run in batches of speeds (a custom runner opts out).
       const bool newmark_batched = !options_.runner && !unit && sc.settings.method == Method::newmark;
       if (unit) {
-        for (std::size_t s = 0; s < sc.sweep_speeds.size(); ++s) jobs_.push_back({v, kAllTrains, s});
-        n_cases_ += sc.trains.size() * sc.sweep_speeds.size();
+        for (std::size_t s = 0; s < sc.sweep_speeds.size(); ++s) {
+          const std::size_t in = kept_in_job({v, kAllTrains, s});
+          if (in > 0) jobs_.push_back({v, kAllTrains, s});
+          n_cases_ += in;
+        }
         continue;
       }
       for (std::size_t t = 0; t < sc.trains.size(); ++t) {
         const std::size_t n = speeds(v, t).size();
         for (std::size_t s = 0; s < n; ++s) {
-          if (!folded_[v][t] && !newmark_batched) jobs_.push_back({v, t, s});
-          else if (s % kSpeedBlock == 0) jobs_.push_back({v, t, s, std::min(kSpeedBlock, n - s), true});
+          Job job{v, t, s};
+          if (folded_[v][t] || newmark_batched) {
+            if (s % kSpeedBlock != 0) continue;
+            job = {v, t, s, std::min(kSpeedBlock, n - s), true};
+          }
+          const std::size_t in = kept_in_job(job);
+          if (in > 0) jobs_.push_back(job);
+          n_cases_ += in;
         }
-        n_cases_ += n;
       }
     }
   }
@@ -184,7 +201,7 @@ class Sweep {
     }
     if (options_.progress) {
       std::lock_guard<std::mutex> lock(progress_mutex_);
-      for (std::size_t k = 0; k < n_out; ++k) options_.progress(++n_done_, n_cases_);  // once per case
+      for (std::size_t k = kept_in_job(c); k > 0; --k) options_.progress(++n_done_, n_cases_);  // once per kept case
     }
   }
 
@@ -218,6 +235,31 @@ class Sweep {
     o.vehicle = vehicle_peaks(r);
   }
 
+  // Whether case s of train t of variant v is in the range the sweep reports (a shard's part).
+  bool in_range(std::size_t v, std::size_t t, std::size_t s) const {
+    const std::size_t i = first_case_[v][t] + s;
+    return i >= options_.case_begin && i < options_.case_end;
+  }
+  bool train_in_range(std::size_t v, std::size_t t) const {
+    const std::size_t n = speeds(v, t).size();
+    return n > 0 && first_case_[v][t] < options_.case_end && first_case_[v][t] + n > options_.case_begin;
+  }
+  bool variant_in_range(std::size_t v) const {
+    for (std::size_t t = 0; t < variants_[v].scenario.trains.size(); ++t)
+      if (train_in_range(v, t)) return true;
+    return false;
+  }
+  // The cases of a job that the sweep reports.
+  std::size_t kept_in_job(const Job& c) const {
+    std::size_t n = 0;
+    if (c.train == kAllTrains) {
+      for (std::size_t t = 0; t < variants_[c.variant].scenario.trains.size(); ++t) n += in_range(c.variant, t, c.speed);
+    } else {
+      for (std::size_t k = 0; k < c.n_speeds; ++k) n += in_range(c.variant, c.train, c.speed + k);
+    }
+    return n;
+  }
+
   // The speeds of train t of variant v: its own list, or the scenario's.
   const std::vector<double>& speeds(std::size_t v, std::size_t t) const {
     const Variant& x = variants_[v];
@@ -234,7 +276,7 @@ class Sweep {
   SweepResult collect() {
     SweepResult out;
     out.summary = summary_;
-    std::vector<std::vector<std::vector<const CaseOutcome*>>> at(variants_.size());
+    std::vector<std::vector<std::vector<const CaseOutcome*>>> at(variants_.size());  // null: not run
     for (std::size_t v = 0; v < variants_.size(); ++v)
       for (std::size_t t = 0; t < variants_[v].scenario.trains.size(); ++t)
         at[v].emplace_back(speeds(v, t).size(), nullptr);
@@ -252,6 +294,7 @@ class Sweep {
       const std::vector<std::string> names = p.quasi_static.empty() ? std::vector<std::string>{} : quantity_names(*p.model);
       for (std::size_t t = 0; t < sc.trains.size(); ++t)
         for (std::size_t s = 0; s < speeds(v, t).size(); ++s) {
+          if (!in_range(v, t, s)) continue;
           const CaseOutcome& o = *at[v][t][s];
           const std::string& tname = sc.trains[t].name;
           const double speed = speeds(v, t)[s];
@@ -277,6 +320,7 @@ class Sweep {
   CaseRunner runner_;
   std::vector<Prepared> prepared_;
   std::vector<std::vector<std::shared_ptr<const solve::MovingChannels>>> folded_;
+  std::vector<std::vector<std::size_t>> first_case_;  // [variant][train]: its first case's index in the sweep
   std::vector<Job> jobs_;
   std::vector<std::vector<CaseOutcome>> outcome_;  // [job][case in job]
   SweepSummary summary_;
@@ -296,6 +340,14 @@ SweepResult run_sweep(const std::vector<Variant>& variants, const SweepOptions& 
   SweepResult out = Sweep(variants, options).run();
   out.summary.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
+}
+
+std::size_t count_cases(const std::vector<Variant>& variants) {
+  std::size_t n = 0;
+  for (const auto& v : variants)
+    for (std::size_t t = 0; t < v.scenario.trains.size(); ++t)
+      n += (v.train_speeds.empty() ? v.scenario.sweep_speeds : v.train_speeds[t]).size();
+  return n;
 }
 
 double QuantityRow::phi_dyn() const {

@@ -128,7 +128,7 @@ expect 2 "violated constraint low < high" -- "$VIADUCT" sweep "$OG" --set sweep.
 expect 2 "expected K/N with 1 <= K <= N, got '3/2'" -- "$VIADUCT" sweep "$OG" --shard 3/2 --out "$WORK/bad"
 expect 2 "nothing to resume" -- "$VIADUCT" sweep "$OG" --resume --out "$WORK/empty"
 expect 2 "--load-effects is not available for sampled studies" -- "$VIADUCT" sweep "$OG" --load-effects --out "$WORK/bad"
-expect 2 "--shard and --resume apply to sampled studies" -- "$VIADUCT" sweep "$SRC/scenarios/old-guadiana-sensitivity.toml" --shard 1/2 --out "$WORK/bad"
+expect 2 "--resume applies to sampled studies" -- "$VIADUCT" sweep "$SRC/scenarios/old-guadiana-sensitivity.toml" --resume --out "$WORK/bad"
 
 if [ "$MPI" = mpi ]; then
   export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
@@ -138,5 +138,6 @@ if [ "$MPI" = mpi ]; then
   expect 0 "over 2 MPI ranks" -- mpirun -n 2 "$VIADUCT" sweep "$SC" "${B[@]}" --out "$WORK/b-mpi"
   same "$WORK/b-one" "$WORK/b-mpi" $FILES sensitivity.csv peak_sensitivity.csv
   expect 2 "only viaduct sweep on a sampled study" -- mpirun -n 2 "$VIADUCT" check "$OG"
+  expect 2 "or in shards (--shard K/N)" -- mpirun -n 2 "$VIADUCT" sweep "$SRC/scenarios/hslm-simply-supported.toml" --out "$WORK/bad"
 fi
 finish

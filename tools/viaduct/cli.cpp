@@ -304,6 +304,17 @@ std::string describe_f1(const model::Structure& s, std::vector<model::DeckMode>*
   }
 }
 
+void print_governing(const std::vector<study::GoverningRow>& gov, bool with_variant) {
+  if (gov.empty()) return;
+  std::printf("\ngoverning cases (largest over %strains and speeds):\n", with_variant ? "variants, " : "");
+  std::printf("  %-14s %14s  %-16s %7s%s   %12s  %-16s %7s%s\n", "station", "max|acc| m/s²", "train", "km/h",
+              with_variant ? "  variant" : "", "max|disp| mm", "train", "km/h", with_variant ? "  variant" : "");
+  for (const auto& g : gov)
+    std::printf("  %-14s %14.4f  %-16s %7.1f%s   %12.3f  %-16s %7.1f%s\n", g.station.c_str(), g.acc.value, g.acc.train.c_str(),
+                g.acc.speed * 3.6, with_variant ? ("  " + g.acc.variant).c_str() : "", g.disp.value * 1e3,
+                g.disp.train.c_str(), g.disp.speed * 3.6, with_variant ? ("  " + g.disp.variant).c_str() : "");
+}
+
 int sweep_exit_code(const std::string& command, const std::string& scenario, const study::SweepResult& r) {
   for (const auto& f : r.failures)
     std::fprintf(stderr, "viaduct %s: case failed: %s / %s / %.1f km/h: %s\n", command.c_str(), f.variant.c_str(),

@@ -141,6 +141,9 @@ void print_resonance_speeds(double f1_hz, const std::vector<load::Train>& trains
 /// same value), 1 otherwise (a partial result, failures.csv).
 int sweep_exit_code(const std::string& command, const std::string& scenario, const study::SweepResult& r);
 
+/// The governing case of each station, at a glance (viaduct sweep, merge).
+void print_governing(const std::vector<study::GoverningRow>& gov, bool with_variant);
+
 /// Message printer for the library's log sink (stderr, "viaduct: warning: ...").
 LogSink log_printer(bool quiet);
 

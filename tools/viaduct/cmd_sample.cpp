@@ -7,6 +7,7 @@
 
 #include "cli.hpp"
 #include "viaduct/io/sampled.hpp"
+#include "viaduct/io/sweep_shard.hpp"
 #include "viaduct/study/guards.hpp"
 
 namespace viaduct::cli {
@@ -126,11 +127,44 @@ namespace sample_cli {
 struct MergeOpts {};
 void declare_merge(po::options_description&, MergeOpts&) {}
 
+// Shards of a sweep: envelope.csv and the other files concatenated, governing.csv from theirs.
+int merge_sweep(const Common& o, const std::vector<std::string>& dirs, std::chrono::steady_clock::time_point t0) {
+  const io::SweepMerge r = io::merge_sweep_shards(dirs, o.out);
+  std::vector<std::string> inputs;
+  for (const auto& d : dirs) inputs.push_back(d + "/shard.toml");
+  io::Manifest m = start_manifest(o, "merge", inputs);
+  m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  m.extra = {{"kind", "\"sweep\""},
+             {"n_shards", std::to_string(r.n_shards)},
+             {"n_cases", std::to_string(r.n_cases)},
+             {"n_failed", std::to_string(r.n_failed)}};
+  io::write_manifest(o.out + "/manifest.toml", m, nullptr);
+  if (!o.quiet) {
+    std::printf("merged %zu shards (%zu cases, %zu failed) into %s:", r.n_shards, r.n_cases, r.n_failed, o.out.c_str());
+    for (const auto& f : r.files) std::printf(" %s", f.c_str());
+    std::printf("\n");
+    print_governing(r.governing, r.n_variants > 1);
+  }
+  // The exit codes of the one-process sweep (sweep_exit_code).
+  if (r.n_failed == 0) return ok;
+  const bool all_input = r.n_rows == 0 && r.n_failed_input == r.n_failed;
+  std::fprintf(stderr, "viaduct merge: %zu of %zu cases failed (%s/failures.csv)%s\n", r.n_failed, r.n_cases, o.out.c_str(),
+               all_input ? ": every case failed on its input" : "");
+  return all_input ? usage_error : runtime_failure;
+}
+
 int run_merge(const Common& o, const MergeOpts&) {
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<std::string> dirs{o.scenario};
   dirs.insert(dirs.end(), o.more.begin(), o.more.end());
   make_out_dir(o.out);
+  const std::string kind = io::shard_kind(dirs.front());
+  for (const auto& d : dirs)
+    if (io::shard_kind(d) != kind)
+      throw InputError(SourceLocation{d + "/shard.toml", 1, "shard.kind"},
+                       d + " is a shard of a " + (kind == "sweep" ? "sampled study" : "sweep") + ", " + dirs.front() + " of a " +
+                           (kind == "sweep" ? "sweep" : "sampled study") + ": merge the shards of one study");
+  if (kind == "sweep") return merge_sweep(o, dirs, t0);
   const io::StatisticsSpec spec = io::merge_shards(dirs, o.out);
   std::vector<std::string> inputs;
   for (const auto& d : dirs) inputs.push_back(d + "/shard.toml");
@@ -149,21 +183,26 @@ int run_merge(const Common& o, const MergeOpts&) {
 Command merge_command() {
   Command c;
   c.name = "merge";
-  c.summary = "join the shards of a sampled study (viaduct sweep --shard K/N) into its files";
+  c.summary = "join the shards of a sweep or a sampled study (viaduct sweep --shard K/N) into its files";
   c.positional = "SHARD_DIR...";
   c.many_positionals = true;
   c.needs_scenario = true;
   c.usage_and_samples =
-      "Joins the output directories of the N shards of one sampled study (viaduct sweep SCENARIO\n"
-      "--shard K/N, K = 1..N, in any order) into OUT: samples.csv, sample_peaks.csv and failures.csv\n"
-      "in sample order, then percentiles.csv, peak_percentiles.csv and, with sweep.sensitivity,\n"
-      "sensitivity.csv and peak_sensitivity.csv: byte for byte the files one process writes. A\n"
+      "Joins the output directories of the N shards of one study (viaduct sweep SCENARIO --shard K/N,\n"
+      "K = 1..N, in any order) into OUT: byte for byte the files one process writes. Shards of a\n"
+      "sweep: envelope.csv, failures.csv, load_effects.csv and vehicles.csv in case order, and\n"
+      "governing.csv (exit code 1 when a case failed, as the sweep's). Shards of a sampled study:\n"
+      "samples.csv, sample_peaks.csv and failures.csv in sample order, then percentiles.csv,\n"
+      "peak_percentiles.csv and, with sweep.sensitivity, sensitivity.csv and peak_sensitivity.csv. A\n"
       "missing, repeated or unfinished shard, or one of another study, is an error naming it: rerun\n"
       "that shard alone. See docs/sampled.md for SLURM job arrays and GNU parallel.\n\n"
       "Sample runs:\n"
       "  viaduct sweep scenarios/old-guadiana-sampled.toml --set sweep.n_samples=4 --set sweep.n_speeds=3 --shard 1/2 --out out/og-shard-1\n"
       "  viaduct sweep scenarios/old-guadiana-sampled.toml --set sweep.n_samples=4 --set sweep.n_speeds=3 --shard 2/2 --out out/og-shard-2\n"
-      "  viaduct merge out/og-shard-1 out/og-shard-2 --out out/og-merged\n";
+      "  viaduct merge out/og-shard-1 out/og-shard-2 --out out/og-merged\n"
+      "  viaduct sweep scenarios/hslm-simply-supported.toml --set sweep.speed_step_kmh=40 --shard 1/2 --out out/hslm-shard-1\n"
+      "  viaduct sweep scenarios/hslm-simply-supported.toml --set sweep.speed_step_kmh=40 --shard 2/2 --out out/hslm-shard-2\n"
+      "  viaduct merge out/hslm-shard-1 out/hslm-shard-2 --out out/hslm-merged\n";
   bind(c, sample_cli::declare_merge, sample_cli::run_merge);
   return c;
 }

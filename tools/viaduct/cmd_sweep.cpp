@@ -2,27 +2,17 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <tuple>
 
 #include "cli.hpp"
 #include "viaduct/study/guards.hpp"
 #include "viaduct/io/results.hpp"
 #include "viaduct/io/sampled.hpp"
+#include "viaduct/io/sweep_shard.hpp"
 
 namespace viaduct::cli {
 
 namespace {
-// The governing case of each station, at a glance.
-void print_governing(const std::vector<study::GoverningRow>& gov, bool with_variant) {
-  if (gov.empty()) return;
-  std::printf("\ngoverning cases (largest over %strains and speeds):\n", with_variant ? "variants, " : "");
-  std::printf("  %-14s %14s  %-16s %7s%s   %12s  %-16s %7s%s\n", "station", "max|acc| m/s²", "train", "km/h",
-              with_variant ? "  variant" : "", "max|disp| mm", "train", "km/h", with_variant ? "  variant" : "");
-  for (const auto& g : gov)
-    std::printf("  %-14s %14.4f  %-16s %7.1f%s   %12.3f  %-16s %7.1f%s\n", g.station.c_str(), g.acc.value, g.acc.train.c_str(),
-                g.acc.speed * 3.6, with_variant ? ("  " + g.acc.variant).c_str() : "", g.disp.value * 1e3,
-                g.disp.train.c_str(), g.disp.speed * 3.6, with_variant ? ("  " + g.disp.variant).c_str() : "");
-}
-
 struct SweepOpts {
   bool load_effects = false;
   SampleCliOptions sample;
@@ -33,12 +23,33 @@ void declare_sweep(po::options_description& d, SweepOpts& s) {
                   "also the extremes of every deck deflection and load effect with phi'dyn (load_effects.csv); "
                   "modal sweeps keep the peaks kernel when every effect is a functional of the deflections")(
       "shard", value(s.sample.shard),
-      "sampled studies: run the K-th of N parts of the samples (K/N) into --out; viaduct merge joins the parts")(
+      "run the K-th of N parts (K/N) of the cases (of the samples of a sampled study) into --out; viaduct merge "
+      "joins the parts")(
       "resume", po::bool_switch(&s.sample.resume),
       "sampled studies: carry on the run interrupted in --out from its last complete batch");
 }
 
 int run_sweep_command(const Common& o, const SweepOpts& opts);
+
+// shard.toml of a shard of a sweep: its range, the files it wrote and its governing cases.
+void write_shard(io::SweepShard& shard, const std::string& out, const io::FlatScenario& flat, const study::SweepOptions& so,
+                 const study::SweepResult& r, const std::vector<study::GoverningRow>& gov, std::size_t variants_count) {
+  shard.dir = out;
+  shard.begin = so.case_begin;
+  shard.end = so.case_end;
+  shard.fingerprint = io::sha256_hex(io::resolved_toml(flat));
+  shard.files = {"envelope.csv", "failures.csv"};
+  if (so.load_effects) shard.files.push_back("load_effects.csv");
+  if (!r.vehicles.empty()) shard.files.push_back("vehicles.csv");
+  shard.load_effects = so.load_effects;
+  shard.n_variants = variants_count;
+  shard.n_rows = r.rows.size();
+  shard.n_failed = r.failures.size();
+  shard.n_failed_input =
+      static_cast<std::size_t>(std::count_if(r.failures.begin(), r.failures.end(), [](const auto& f) { return f.input_error; }));
+  shard.governing = gov;
+  io::write_sweep_shard_toml(shard);
+}
 }  // namespace
 
 Command sweep_command() {
@@ -55,7 +66,9 @@ Command sweep_command() {
       "smallest and largest contact force, unloading ratio, contact_lost, car-body acceleration).\n"
       "Results are identical for any --threads. A case that fails is listed in failures.csv,\n"
       "the others complete, and the exit code is 1 (2 when every case failed on its input, as\n"
-      "`run` exits with the same value). Plot with scripts/plot/plot_envelope.py OUT.\n\n"
+      "`run` exits with the same value). Plot with scripts/plot/plot_envelope.py OUT.\n"
+      "--shard K/N runs the K-th of N parts of the cases (variant, train, speed order) and writes\n"
+      "shard.toml beside its files; viaduct merge joins the parts into the one-process files.\n\n"
       "With sweep.mode = \"sample\" (docs/sampled.md) each sample draws every variant key's factor from\n"
       "its distribution; writes OUT/samples.csv (the design), OUT/sample_peaks.csv (per sample, train,\n"
       "speed and station), OUT/percentiles.csv and OUT/peak_percentiles.csv (percentiles of the peaks,\n"
@@ -84,9 +97,10 @@ int run_sweep_command(const Common& o, const SweepOpts& opts) {
     const SourceLocation mode_at = flat.has("sweep.mode") ? flat.at("sweep.mode").where : SourceLocation{o.scenario, 0, "sweep.mode"};
     if (study::mpi_world().size > 1)
       throw InputError(mode_at, "an MPI run shares the samples of a sampled study (sweep.mode = \"sample\"); "
-                                                    "this sweep runs in one process (viaduct sweep --threads N)");
-    if (!opts.sample.shard.empty() || opts.sample.resume)
-      throw InputError(mode_at, "--shard and --resume apply to sampled studies (sweep.mode = \"sample\")");
+                                "this sweep runs in one process (viaduct sweep --threads N) or in shards (--shard K/N)");
+    if (opts.sample.resume)
+      throw InputError(mode_at, "--resume applies to sampled studies (sweep.mode = \"sample\"); rerun a failed shard "
+                                "of this sweep alone (--shard K/N)");
     auto variants = io::sweep_variants(flat, /*isolate_failures=*/true);
     for (auto& v : variants) v.scenario.settings.ida.log = log_printer(o.quiet);
     if (variants.front().scenario.sweep_speeds.empty())
@@ -97,6 +111,14 @@ int run_sweep_command(const Common& o, const SweepOpts& opts) {
     so.threads = o.threads;
     so.progress = progress_printer("sweep", o.quiet);
     so.load_effects = opts.load_effects;
+    io::SweepShard shard;
+    if (!opts.sample.shard.empty()) {
+      std::tie(shard.k, shard.n) = io::parse_shard(opts.sample.shard);
+      shard.n_total = study::count_cases(variants);
+      std::tie(so.case_begin, so.case_end) = io::sweep_shard_range(shard.k, shard.n, shard.n_total);
+      // A rerun into the same directory: until it has finished, the directory is no shard.
+      std::remove((o.out + "/shard.toml").c_str());
+    }
     const study::SweepResult r = study::run_sweep(variants, so);
     io::write_envelope_csv(o.out + "/envelope.csv", r.rows, variants);
     if (opts.load_effects) io::write_quantities_csv(o.out + "/load_effects.csv", r.quantities, variants);
@@ -104,6 +126,7 @@ int run_sweep_command(const Common& o, const SweepOpts& opts) {
     io::write_failures_csv(o.out + "/failures.csv", r.failures);
     const std::vector<study::GoverningRow> gov = study::governing(r.rows);
     io::write_governing_csv(o.out + "/governing.csv", gov);
+    if (shard.n) write_shard(shard, o.out, flat, so, r, gov, variants.size());
     io::Manifest m = start_manifest(o, "sweep");
     m.warnings = study::accuracy_warnings(variants.front().scenario, variants.front().scenario.sweep_speeds);
     print_warnings("sweep", m.warnings);
@@ -116,10 +139,18 @@ int run_sweep_command(const Common& o, const SweepOpts& opts) {
                {"n_steps_total", std::to_string(r.summary.n_steps_total)},
                {"n_dofs_reference", std::to_string(r.summary.n_dofs.front())},
                {"sweep_wall_s", std::to_string(r.summary.wall_s)}};
+    if (shard.n)
+      m.extra.insert(m.extra.end(), {{"shard", "\"" + opts.sample.shard + "\""},
+                                     {"cases_begin", std::to_string(so.case_begin)},
+                                     {"cases_end", std::to_string(so.case_end)},
+                                     {"n_cases_total", std::to_string(shard.n_total)}});
     io::write_manifest(o.out + "/manifest.toml", m, flat);
     if (!o.quiet) {
       std::printf("%zu cases (%zu variants), %zu failed, %.1f s; wrote %s/envelope.csv and governing.csv\n", r.summary.n_cases,
                   variants.size(), r.summary.n_failed, r.summary.wall_s, o.out.c_str());
+      if (shard.n)
+        std::printf("shard %d/%d: cases %zu to %zu of %zu; wrote %s/shard.toml (join the shards with viaduct merge)\n", shard.k,
+                    shard.n, so.case_begin + 1, so.case_end, shard.n_total, o.out.c_str());
       print_governing(gov, variants.size() > 1);
       // Where the peaks are expected, from the reference model's first deck bending frequency.
       const study::Scenario& ref = variants.front().scenario;

@@ -94,7 +94,16 @@ struct SweepOptions {
   /// variants keep the peaks kernel when it can take every effect (effects_in_kernel()); other
   /// cases run with histories (simulate(), batched Newmark).
   bool load_effects = false;
+  /// Only the cases [case_begin, case_end) of the sweep's order — variant, train, speed, as
+  /// count_cases() counts them — run and are reported (a shard of a sweep). A variant or train
+  /// with no case in the range is not built; a job (a block of speeds, a speed of every train)
+  /// that straddles an end runs whole, as in the full sweep, so every kept case is bit for bit
+  /// the full sweep's. SweepSummary::n_cases counts the range.
+  std::size_t case_begin = 0, case_end = static_cast<std::size_t>(-1);
 };
+
+/// The cases of a sweep: over the variants, trains × the train's speeds.
+std::size_t count_cases(const std::vector<Variant>& variants);
 
 /// Prepares each variant's model once, in parallel (structure, stations, modes for the modal
 /// method; a variant whose model cannot be built fails all its cases with the reason), then runs

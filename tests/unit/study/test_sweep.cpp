@@ -117,3 +117,73 @@ TEST_CASE("governing cases: the largest value per station and quantity, and wher
   CHECK(g[1].disp.train == "A1");
   CHECK(governing({}).empty());
 }
+
+TEST_CASE("shards of a sweep: the case ranges together give the full sweep bit for bit") {
+  // Every job layout: batched Newmark (reference), the modal peaks kernel with speed blocks,
+  // unit-response superposition (a speed with every train), and a variant that fails to form.
+  Scenario modal = small_sweep_scenario(), unit = small_sweep_scenario();
+  modal.settings.method = Method::modal;
+  unit.settings.superposition = Superposition::unit_response;
+  modal.sweep_speeds = unit.sweep_speeds = {20.0, 25.0, 30.0, 35.0, 40.0, 45.0, 50.0, 55.0, 60.0, 65.0};
+  const std::vector<Variant> v = {{"reference", small_sweep_scenario()},
+                                  {"modal", modal},
+                                  {"unit", unit},
+                                  {"EI x0", small_sweep_scenario(), "factor 0 on key 'bridge.EI': must be > 0"}};
+  const std::size_t n = count_cases(v);
+  REQUIRE(n == 8 + 20 + 20 + 8);
+  SweepOptions full_options;
+  full_options.threads = 2;
+  const SweepResult full = run_sweep(v, full_options);
+  REQUIRE(full.summary.n_cases == n);
+  REQUIRE(full.failures.size() == 8);
+  for (std::size_t parts : {2, 3, 7}) {
+    std::vector<EnvelopeRow> rows;
+    std::vector<CaseFailure> failures;
+    std::size_t cases = 0;
+    for (std::size_t k = 0; k < parts; ++k) {
+      SweepOptions o = full_options;
+      o.case_begin = k * n / parts;
+      o.case_end = (k + 1) * n / parts;
+      std::size_t progress_calls = 0;
+      o.progress = [&](std::size_t done, std::size_t total) {
+        ++progress_calls;
+        REQUIRE(done <= total);
+      };
+      const SweepResult r = run_sweep(v, o);
+      REQUIRE(r.summary.n_cases == o.case_end - o.case_begin);
+      REQUIRE(progress_calls == r.summary.n_cases);
+      REQUIRE(r.rows.size() / 2 + r.failures.size() == r.summary.n_cases);  // two stations per case
+      cases += r.summary.n_cases;
+      rows.insert(rows.end(), r.rows.begin(), r.rows.end());
+      failures.insert(failures.end(), r.failures.begin(), r.failures.end());
+    }
+    INFO(parts << " shards");
+    REQUIRE(cases == n);
+    REQUIRE(rows.size() == full.rows.size());
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      REQUIRE(rows[i].variant == full.rows[i].variant);
+      REQUIRE(rows[i].train == full.rows[i].train);
+      REQUIRE(rows[i].station == full.rows[i].station);
+      REQUIRE(rows[i].speed == full.rows[i].speed);
+      REQUIRE(rows[i].max_abs_acc == full.rows[i].max_abs_acc);  // bitwise: the same jobs
+      REQUIRE(rows[i].max_abs_disp == full.rows[i].max_abs_disp);
+    }
+    REQUIRE(failures.size() == full.failures.size());
+    for (std::size_t i = 0; i < failures.size(); ++i) REQUIRE(failures[i].speed == full.failures[i].speed);
+  }
+}
+
+TEST_CASE("a shard builds only the variants it runs") {
+  Scenario bad = small_sweep_scenario();
+  bad.bridge.spans[0].EI = -1.0;  // its model cannot be built
+  const std::vector<Variant> v = {{"reference", small_sweep_scenario()}, {"EI x-1", bad}};
+  SweepOptions first_half;
+  first_half.case_end = count_cases(v) / 2;
+  const SweepResult r = run_sweep(v, first_half);
+  REQUIRE(r.failures.empty());  // the broken variant is the other half's
+  REQUIRE(r.rows.size() == 8 * 2);
+  REQUIRE(r.summary.n_dofs[1] == 0);
+  SweepOptions second_half;
+  second_half.case_begin = count_cases(v) / 2;
+  REQUIRE(run_sweep(v, second_half).failures.size() == 8);
+}
