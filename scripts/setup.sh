@@ -18,6 +18,8 @@ packages=(
   libopenmpi-dev openmpi-bin  # mpirun -n N viaduct sweep: sampled studies over MPI ranks (issue #16)
   python3 python3-numpy python3-matplotlib  # plot scripts
   python3-scipy          # regenerating the committed filter reference vectors only
+  python3-dev python3-pybind11  # the Python package (issue #17: python/, docs/python.md)
+  python3-pytest python3-pandas  # its tests (tables as DataFrames when pandas is there)
 )
 
 missing=()

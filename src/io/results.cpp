@@ -40,33 +40,27 @@ std::string version() { return VIADUCT_VERSION; }
 
 void write_text_file(const std::string& path, const std::string& text) { detail::write_text_atomically(path, text); }
 
-void write_history_csv(const std::string& path, const study::RunResult& r) {
-  AtomicFile f(path);
-  std::vector<const Vector*> cols;
-  std::fprintf(f.get(), "t_s");
+std::vector<std::pair<std::string, const Vector*>> history_columns(const study::RunResult& r) {
+  std::vector<std::pair<std::string, const Vector*>> cols = {{"t_s", &r.t}};
   for (const auto& h : r.stations) {
     const std::string p = h.name + (h.on_deck ? "_" : "_rail_");
-    std::fprintf(f.get(), ",%s", (h.name + (h.on_deck ? "_disp_m" : "_rail_disp_m")).c_str());
-    cols.push_back(&h.disp);
-    std::fprintf(f.get(), ",%sacc_mps2", p.c_str());
-    cols.push_back(&h.acc);
-    if (h.acc_filt.size() > 0) {
-      std::fprintf(f.get(), ",%sacc_filt_mps2", p.c_str());
-      cols.push_back(&h.acc_filt);
-    }
-    if (h.rail_disp.size() > 0) {
-      std::fprintf(f.get(), ",%s_rail_disp_m", h.name.c_str());
-      cols.push_back(&h.rail_disp);
-    }
+    cols.emplace_back(h.name + (h.on_deck ? "_disp_m" : "_rail_disp_m"), &h.disp);
+    cols.emplace_back(p + "acc_mps2", &h.acc);
+    if (h.acc_filt.size() > 0) cols.emplace_back(p + "acc_filt_mps2", &h.acc_filt);
+    if (h.rail_disp.size() > 0) cols.emplace_back(h.name + "_rail_disp_m", &h.rail_disp);
   }
-  for (const auto& e : r.effects) {
-    std::fprintf(f.get(), ",%s", e.name.c_str());
-    cols.push_back(&e.value);
-  }
+  for (const auto& e : r.effects) cols.emplace_back(e.name, &e.value);
+  return cols;
+}
+
+void write_history_csv(const std::string& path, const study::RunResult& r) {
+  AtomicFile f(path);
+  const auto cols = history_columns(r);
+  for (std::size_t j = 0; j < cols.size(); ++j) std::fprintf(f.get(), "%s%s", j ? "," : "", cols[j].first.c_str());
   std::fprintf(f.get(), "\n");
   for (Index k = 0; k < r.t.size(); ++k) {
     std::fprintf(f.get(), "%.6f", r.t[k]);
-    for (const Vector* c : cols) std::fprintf(f.get(), ",%.9g", (*c)[k]);
+    for (std::size_t j = 1; j < cols.size(); ++j) std::fprintf(f.get(), ",%.9g", (*cols[j].second)[k]);
     std::fprintf(f.get(), "\n");
   }
   f.commit();
@@ -93,6 +87,14 @@ class VariantColumns {
       throw SolverError(std::string(file) + ": row of an unknown variant '" + variant + "'");
     for (const auto& kf : it->second->factors) std::fprintf(f, ",%.10g", kf.second);
   }
+  const std::vector<std::pair<std::string, double>>& keys() const { return keys_; }
+  // The factors of a row's variant on each varied key.
+  const std::vector<std::pair<std::string, double>>& factors(const std::string& variant) const {
+    const auto it = by_label_.find(variant);
+    if (it == by_label_.end() || it->second->factors.size() != keys_.size())
+      throw SolverError("envelope: row of an unknown variant '" + variant + "'");
+    return it->second->factors;
+  }
 
  private:
   std::vector<std::pair<std::string, double>> keys_;
@@ -112,6 +114,31 @@ void write_envelope_csv(const std::string& path, const std::vector<study::Envelo
                  r.max_abs_acc, r.max_abs_disp);
   }
   f.commit();
+}
+
+std::vector<TableColumn> envelope_columns(const std::vector<study::EnvelopeRow>& rows,
+                                         const std::vector<study::Variant>& variants) {
+  const VariantColumns vc(variants);
+  auto text = [](const char* name) { return TableColumn{name, true, {}, {}}; };
+  auto number = [](const std::string& name) { return TableColumn{name, false, {}, {}}; };
+  std::vector<TableColumn> c = {text("variant")};
+  for (const auto& kf : vc.keys()) c.push_back(number(kf.first + "_factor"));
+  const std::size_t k = c.size();
+  for (auto&& col : {text("train"), number("speed_kmh"), text("station"), number("max_abs_acc_mps2"), number("max_abs_disp_m")})
+    c.push_back(col);
+  for (const auto& r : rows) {
+    c[0].cells.push_back(r.variant);
+    if (k > 1) {
+      const auto& f = vc.factors(r.variant);
+      for (std::size_t i = 0; i < f.size(); ++i) c[1 + i].values.push_back(f[i].second);
+    }
+    c[k].cells.push_back(r.train);
+    c[k + 1].values.push_back(r.speed * 3.6);
+    c[k + 2].cells.push_back(r.station);
+    c[k + 3].values.push_back(r.max_abs_acc);
+    c[k + 4].values.push_back(r.max_abs_disp);
+  }
+  return c;
 }
 
 void write_vehicle_envelope_csv(const std::string& path, const std::vector<study::VehicleRow>& rows,

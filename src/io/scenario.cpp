@@ -294,8 +294,10 @@ const Value& FlatScenario::at(const std::string& key) const {
 FlatScenario load_flat(const std::string& path, const std::vector<std::string>& overrides, const std::vector<std::string>& unset) {
   FlatScenario fsn;
   fsn.path = path;
-  const detail::TomlFile root = parse_file(path, SourceLocation{});
-  flatten(root.root, "", path, root, fsn.values);
+  if (!path.empty()) {  // empty: every key from the overrides (the Python package's dict)
+    const detail::TomlFile root = parse_file(path, SourceLocation{});
+    flatten(root.root, "", path, root, fsn.values);
+  }
   for (const auto& o : overrides) {
     const auto eq = o.find('=');
     if (eq == std::string::npos || eq == 0)

@@ -380,7 +380,7 @@ Vector filtfilt_from_rest(const Sos& sos, const Vector& x) {
   return y.reverse();
 }
 
-Vector sosfiltfilt(const Sos& sos, const Vector& x) {
+Vector sosfiltfilt(const Sos& sos, Eigen::Ref<const Vector> x) {
   const std::size_t padlen = default_padlen(sos);
   const Index n = x.size();
   if (static_cast<std::size_t>(n) <= padlen)

@@ -173,7 +173,9 @@ class Sweep {
     auto fail_all = [&](const std::string& m, bool input) {
       for (auto& x : o) x.error = m, x.input_error = input;
     };
-    if (!prepared_[c.variant].error.empty()) {
+    if (options_.cancel && options_.cancel->load()) {
+      fail_all("cancelled", false);
+    } else if (!prepared_[c.variant].error.empty()) {
       fail_all(prepared_[c.variant].error, prepared_[c.variant].input_error);
     } else {
       const PreparedModel& pm = *prepared_[c.variant].model;

@@ -18,12 +18,25 @@ namespace viaduct::io {
 /// Then the load effects, when recorded (study::load_effects: <station>_moment_Nm,
 /// <station>_strain_ue, span<k>_start_rot_rad, span<k>_end_rot_rad).
 void write_history_csv(const std::string& path, const study::RunResult& r);
+/// history.csv's columns in its order, with its names (t_s first), pointing into `r`.
+std::vector<std::pair<std::string, const Vector*>> history_columns(const study::RunResult& r);
 
 /// envelope.csv: variant,train,speed_kmh,station,max_abs_acc_mps2,max_abs_disp_m; with the sweep's
 /// `variants` when they vary keys, one column KEY_factor per varied key after `variant` (the
 /// factor of that row's variant on KEY, 1 where it leaves KEY alone).
 void write_envelope_csv(const std::string& path, const std::vector<study::EnvelopeRow>& rows,
                         const std::vector<study::Variant>& variants = {});
+/// One column of a table in memory (the Python package's tables): text cells or numbers.
+struct TableColumn {
+  std::string name;
+  bool text = false;
+  std::vector<std::string> cells;  ///< when text
+  std::vector<double> values;      ///< otherwise
+};
+/// envelope.csv's columns, in its order and with its names (write_envelope_csv), the numbers
+/// unrounded (speed_kmh = speed × 3.6).
+std::vector<TableColumn> envelope_columns(const std::vector<study::EnvelopeRow>& rows,
+                                         const std::vector<study::Variant>& variants = {});
 /// load_effects.csv of a sweep with load effects: variant (KEY_factor columns as envelope.csv),
 /// train, speed_kmh, quantity (its unit in its name), max, min, max_abs over the run,
 /// quasi_static_max/min (the train crawling), phi_dyn (empty when the quasi-static is 0).

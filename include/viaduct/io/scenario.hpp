@@ -63,7 +63,9 @@ struct FlatScenario {
 
 /// Reads, merges, overrides ("key=value", value in TOML syntax; bare words are strings), removes
 /// the `unset` keys (a key, or a table or array of tables with everything under it: "sweep.variants"),
-/// checks types, constraints and unknown keys, fills defaults. Throws InputError.
+/// checks types, constraints and unknown keys, fills defaults. An empty `path` reads no file:
+/// every key comes from the overrides (relative paths then from the working directory). Throws
+/// InputError.
 FlatScenario load_flat(const std::string& path, const std::vector<std::string>& overrides = {},
                        const std::vector<std::string>& unset = {});
 /// Converts to plain data, checking cross-key rules (required keys, physics). Throws InputError

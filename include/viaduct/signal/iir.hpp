@@ -53,7 +53,7 @@ std::size_t default_padlen(const Sos& sos);
 /// Zero-phase forward–backward filtering with odd extension of `padlen` samples at each end
 /// and steady-state initial conditions (SciPy `sosfiltfilt` defaults). The magnitude is
 /// squared: band edges sit at -2·ripple_db. Requires x.size() > padlen (InputError otherwise).
-Vector sosfiltfilt(const Sos& sos, const Vector& x);
+Vector sosfiltfilt(const Sos& sos, Eigen::Ref<const Vector> x);  // x read in place (a numpy array, a matrix column)
 
 /// Zero-phase forward–backward filtering of a signal that is zero before its first sample and
 /// after its last (a simulated response that starts at rest and is cut at the record's end):

@@ -1,6 +1,7 @@
 #pragma once
 /// \file Speed × train × variant sweeps → maximum-response envelopes.
 
+#include <atomic>
 #include <functional>
 #include <string>
 #include <vector>
@@ -100,6 +101,9 @@ struct SweepOptions {
   /// that straddles an end runs whole, as in the full sweep, so every kept case is bit for bit
   /// the full sweep's. SweepSummary::n_cases counts the range.
   std::size_t case_begin = 0, case_end = static_cast<std::size_t>(-1);
+  /// Optional: when it becomes true, jobs not yet started are skipped and fail with "cancelled"
+  /// (the Python package's Ctrl-C); jobs running finish.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 /// The cases of a sweep: over the variants, trains × the train's speeds.

@@ -544,3 +544,14 @@ TEST_CASE("each scenario key is declared once: its schema entry sets its field, 
   }
   REQUIRE(moved > 40);
 }
+
+TEST_CASE("a scenario of overrides alone: no file read, the keys checked as --set values") {
+  const io::FlatScenario f = io::load_flat("", {"bridge.span_lengths=[12.0]", "bridge.EI=5e9", "bridge.mass_per_m=1e4",
+                                               "train.files=[\"hslm:A1\"]", "stations[0].name=\"mid\"", "stations[0].span=1",
+                                               "stations[0].at=0.5"});
+  CHECK(f.at("bridge.EI").x == 5e9);
+  CHECK(f.at("stations[0].name").s == "mid");
+  CHECK(f.at("bridge.EI").where.file == "--set");
+  CHECK(io::to_scenario(f).stations.size() == 1);
+  REQUIRE_THROWS_WITH(io::load_flat("", {"bridge.EI=-1.0"}), Catch::Contains("--set: key 'bridge.EI': must be > 0"));
+}

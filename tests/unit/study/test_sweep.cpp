@@ -1,4 +1,5 @@
 #include <catch2/catch.hpp>
+#include <atomic>
 #include <cmath>
 
 #include "viaduct/core/error.hpp"
@@ -186,4 +187,17 @@ TEST_CASE("a shard builds only the variants it runs") {
   SweepOptions second_half;
   second_half.case_begin = count_cases(v) / 2;
   REQUIRE(run_sweep(v, second_half).failures.size() == 8);
+}
+
+TEST_CASE("a cancelled sweep skips the cases not started and says so") {
+  const std::vector<Variant> v = {{"reference", small_sweep_scenario()}};
+  std::atomic<bool> cancel{true};
+  SweepOptions o;
+  o.cancel = &cancel;
+  const SweepResult r = run_sweep(v, o);
+  REQUIRE(r.rows.empty());
+  REQUIRE(r.failures.size() == 8);
+  for (const auto& f : r.failures) CHECK((f.message == "cancelled" && !f.input_error));
+  cancel = false;
+  REQUIRE(run_sweep(v, o).failures.empty());
 }

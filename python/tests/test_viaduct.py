@@ -1,0 +1,213 @@
+"""The Python package against the CLI's own files for the same inputs, and its errors."""
+import csv
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import viaduct
+
+
+def run_cli(cli, *args, code=0):
+    p = subprocess.run([cli, *map(str, args)], capture_output=True, text=True)
+    assert p.returncode == code, p.stderr
+    return p
+
+
+def read_csv(path):
+    """Columns of a CSV file (skipping '#' lines): numbers as float arrays, text as lists."""
+    with open(path, newline="") as f:
+        rows = [r for r in csv.reader(line for line in f if not line.startswith("#"))]
+    header, body = rows[0], rows[1:]
+    out = {}
+    for j, name in enumerate(header):
+        cells = [r[j] for r in body]
+        try:
+            out[name] = np.array([float(c) for c in cells])
+        except ValueError:
+            out[name] = cells
+    return out
+
+
+def close_to_printed(values, printed, digits):
+    """Equal to the CSV's numbers printed with `digits` significant digits (%.{digits}g)."""
+    values = np.asarray(values, dtype=float)
+    np.testing.assert_allclose(values, printed, rtol=10.0 ** (1 - digits), atol=1e-300)
+
+
+# Scenarios ---------------------------------------------------------------------------------------
+
+def test_scenario_get_set_and_the_cli_messages(src, cli, tmp_path):
+    sc = viaduct.load_scenario(src / "scenarios/hslm-simply-supported.toml")
+    assert isinstance(sc.get("bridge.damping.ratio"), float) and isinstance(sc.get("train.files"), list)
+    sc.set("sweep.speed_step_kmh", 20.0)
+    assert sc.get("sweep.speed_step_kmh") == 20.0
+    assert sc.where("sweep.speed_step_kmh")[0] == "--set"
+    with pytest.raises(viaduct.InputError) as e:
+        sc.set("bridge.EI", -1.0)
+    cli_error = run_cli(cli, "check", src / "scenarios/hslm-simply-supported.toml", "--set", "bridge.EI=-1.0", code=2).stderr
+    assert str(e.value) in cli_error  # the same text
+    assert sc.get("bridge.EI") > 0  # a refused value leaves the scenario as it was
+    with pytest.raises(viaduct.InputError, match="unknown key.*did you mean"):
+        sc.set("bridge.EJ", 1.0)
+    with pytest.raises(ValueError):  # InputError is a ValueError
+        viaduct.load_scenario(src / "scenarios/no-such-file.toml")
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[bridge]\nspan_lengths = [15.0]\nEI = -1.0\n")
+    with pytest.raises(viaduct.InputError, match=r"bad\.toml:3: key 'bridge\.EI': must be > 0"):
+        viaduct.load_scenario(bad)
+
+
+def test_scenario_from_a_dict_is_the_file(src, monkeypatch):
+    monkeypatch.chdir(src)  # relative paths of a dict are from the working directory
+    d = {"bridge": {"span_lengths": [15.0], "EI": 7.694e9, "mass_per_m": 15000.0, "damping": {"ratio": 0.0135}},
+         "train": {"files": ["hslm:A1"]},
+         "stations": [{"name": "mid", "span": 1, "at": 0.5}],
+         "sweep": {"speeds_kmh": [200.0, 300.0]}}
+    sc = viaduct.scenario_from_dict(d)
+    assert sc.get("stations[0].name") == "mid"
+    assert sc.get("bridge.EI") == 7.694e9
+    env = viaduct.sweep(sc)
+    assert list(env["speed_kmh"]) == [200.0, 300.0]
+    with pytest.raises(viaduct.InputError, match="bridge.mass_per_m"):
+        viaduct.scenario_from_dict({**d, "bridge": {**d["bridge"], "mass_per_m": 0.0}})
+
+
+# Runs and sweeps ---------------------------------------------------------------------------------
+
+def test_run_equals_history_csv(src, cli, tmp_path):
+    sc = viaduct.load_scenario(src / "scenarios/hslm-simply-supported.toml")
+    h = viaduct.run(sc, speed_kmh=300, train="HSLM-A4")
+    run_cli(cli, "run", src / "scenarios/hslm-simply-supported.toml", "--speed-kmh", 300, "--train", "HSLM-A4", "-q",
+            "--out", tmp_path)
+    ref = read_csv(tmp_path / "history.csv")
+    assert list(h.keys()) == list(ref.keys())
+    np.testing.assert_allclose(h["t_s"], ref["t_s"], atol=5e-7)
+    for name in list(ref)[1:]:
+        close_to_printed(h[name], ref[name], 9)
+    assert h.attrs["train"] == "HSLM-A4" and h.attrs["speed_kmh"] == pytest.approx(300)
+
+
+def test_sweep_equals_envelope_csv_and_threads_agree(src, cli, tmp_path):
+    scenario = src / "scenarios/old-guadiana-sensitivity.toml"
+    sc = viaduct.load_scenario(scenario, set={"sweep.n_speeds": 3, "sweep.variants[1].factors": [0.0, 1.0]})
+    calls = []
+    env = viaduct.sweep(sc, threads=2, progress=lambda done, total: calls.append((done, total)))
+    run_cli(cli, "sweep", scenario, "--set", "sweep.n_speeds=3", "--set", "sweep.variants[1].factors=[0.0, 1.0]", "-q",
+            "--threads", 2, "--out", tmp_path, code=0)
+    ref = read_csv(tmp_path / "envelope.csv")
+    assert list(env.columns) == list(ref.keys())  # the CLI's names and order
+    for name, col in ref.items():
+        if isinstance(col, list):
+            assert list(env[name]) == col
+        else:
+            close_to_printed(env[name], col, 10)
+    assert calls and calls[-1][0] <= calls[-1][1]
+    one = viaduct.sweep(sc, threads=1)
+    assert np.array_equal(one["max_abs_acc_mps2"].to_numpy(), env["max_abs_acc_mps2"].to_numpy())  # bit for bit
+    gov = read_csv(tmp_path / "governing.csv")
+    close_to_printed(env.attrs["governing"]["max_abs_acc_mps2"], gov["max_abs_acc_mps2"], 10)
+    assert len(env.attrs["failures"]) == 0
+
+
+def test_sweep_failures_and_tables_without_pandas(src, monkeypatch):
+    sc = viaduct.load_scenario(src / "scenarios/old-guadiana-sensitivity.toml",
+                               set={"sweep.n_speeds": 2, "sweep.variants[0].factors": [0.0, 1.0]})
+    monkeypatch.setitem(sys.modules, "pandas", None)  # import pandas fails
+    env = viaduct.sweep(sc)
+    assert isinstance(env, dict) and isinstance(env["max_abs_acc_mps2"], np.ndarray)
+    assert len(env["failures"]["error"]) == 2 and "factor 0 breaks the rule" in env["failures"]["error"][0]
+
+
+def test_ctrl_c_stops_a_sweep_and_the_gil_is_free(src):
+    sc = viaduct.load_scenario(src / "scenarios/old-guadiana-sensitivity.toml")
+    seen = []
+    # Ctrl-C half a second in: KeyboardInterrupt, with most cases never run.
+    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        viaduct.sweep(sc, threads=1, progress=lambda d, n: seen.append((d, n)))
+    # Stopped early (under load the signal may come before the first case is done: no progress yet).
+    assert not seen or seen[-1][0] < seen[-1][1]
+    # Another Python thread runs while a sweep computes.
+    ticks = 0
+    small = viaduct.load_scenario(src / "scenarios/old-guadiana-sensitivity.toml", set={"sweep.n_speeds": 6})
+    worker = threading.Thread(target=viaduct.sweep, args=(small,))
+    worker.start()
+    while worker.is_alive():
+        ticks += 1
+        time.sleep(0.01)
+    assert ticks > 20  # the sweep takes about a second: the GIL was released
+
+
+# Records and signals -----------------------------------------------------------------------------
+
+def test_read_record_every_format(src):
+    csv_rec = viaduct.read_record(src / "data/records/synthetic-deck.csv")
+    ref = read_csv(src / "data/records/synthetic-deck.csv")
+    assert csv_rec.channels == [c for c in ref if c != "t_s"]
+    np.testing.assert_array_equal(csv_rec[csv_rec.channels[0]], ref[csv_rec.channels[0]])
+    np.testing.assert_allclose(csv_rec.t, ref["t_s"], atol=1e-9)
+    assert csv_rec.data.base is not None and not csv_rec.data.flags.owndata  # the reader's memory
+    assert np.shares_memory(csv_rec.data, csv_rec[csv_rec.channels[0]])
+    mat = viaduct.read_record(src / "tests/data/records/matrix.mat")
+    assert mat.data.shape[0] > 0 and mat.fs_hz > 0
+    uff = viaduct.read_record(src / "tests/fuzz/corpus/uff/two-channels.uff")
+    assert uff.data.shape[1] == 2
+    with pytest.raises(viaduct.InputError, match="no-such.csv"):
+        viaduct.read_record(src / "data/records/no-such.csv")
+
+
+def test_filter_spectrum_welch_equal_the_cli(src, cli, tmp_path):
+    path = src / "data/records/synthetic-deck.csv"
+    rec = viaduct.read_record(path)
+    ch = rec.channels[0]
+    x = rec[ch]
+    y = viaduct.filter(x, rec.fs_hz, low_hz=1.0, high_hz=30.0)
+    run_cli(cli, "filter", path, "--low-hz", 1, "--high-hz", 30, "-q", "--out", tmp_path / "f")
+    close_to_printed(y, read_csv(tmp_path / "f/filtered.csv")[ch], 9)
+    assert y.base is not None and not y.flags.owndata  # handed over, not copied
+    f, a = viaduct.spectrum(x, rec.fs_hz)
+    run_cli(cli, "spectrum", path, "-q", "--out", tmp_path / "s")
+    ref = read_csv(tmp_path / "s/spectrum.csv")
+    close_to_printed(f, ref["frequency_hz"], 9)
+    close_to_printed(a, ref[[k for k in ref if k != "frequency_hz"][0]], 9)
+    fw, p = viaduct.welch(x, rec.fs_hz, nperseg=1024)
+    run_cli(cli, "spectrum", path, "--welch", "--nperseg", 1024, "-q", "--out", tmp_path / "w")
+    ref = read_csv(tmp_path / "w/spectrum.csv")
+    close_to_printed(p, ref[[k for k in ref if k != "frequency_hz"][0]], 9)
+    with pytest.raises(viaduct.InputError, match="high_hz|Nyquist|fs"):
+        viaduct.filter(x, rec.fs_hz, low_hz=1.0, high_hz=rec.fs_hz)
+    with pytest.raises(viaduct.InputError, match="1-D"):
+        viaduct.filter(rec.data, rec.fs_hz)
+
+
+def test_compare_equals_the_cli(src, cli, tmp_path):
+    scenario = src / "scenarios/old-guadiana-talgo.toml"
+    rec = viaduct.read_record(src / "data/records/synthetic-deck.csv")
+    h = viaduct.run(viaduct.load_scenario(scenario))  # run.speed_kmh = 154.8
+    t = np.asarray(h["t_s"])
+    c = viaduct.compare(rec["deck_acc_mps2"], rec.fs_hz, h["S1_mid_acc_mps2"], 1.0 / (t[1] - t[0]), t0_record=rec.t0_s)
+    run_cli(cli, "compare", scenario, "--record", src / "data/records/synthetic-deck.csv", "--map", "deck_acc=S1_mid", "-q",
+            "--out", tmp_path)
+    ref = read_csv(tmp_path / "compare_metrics.csv")
+    for k in ["shift_s", "peak_record", "peak_model", "peak_ratio", "rms_ratio", "correlation", "f_peak_record_hz",
+              "f_peak_model_hz", "spectral_correlation"]:
+        close_to_printed([c[k]], ref[k], 8)
+    overlay = read_csv(tmp_path / "compare_time.csv")
+    close_to_printed(c["model"], overlay["deck_acc_model_mps2"], 9)
+    with pytest.raises(viaduct.InputError):
+        viaduct.compare(rec["deck_acc_mps2"][:5], rec.fs_hz, h["S1_mid_acc_mps2"], 1000.0)
+
+
+def test_the_example_runs(src, tmp_path):
+    p = subprocess.run([sys.executable, str(src / "examples/python/sweep_and_record.py"), "--out", str(tmp_path)],
+                       capture_output=True, text=True, cwd=src)
+    assert p.returncode == 0, p.stderr
+    assert (tmp_path / "envelope.png").stat().st_size > 10000
+    assert (tmp_path / "record.png").stat().st_size > 10000

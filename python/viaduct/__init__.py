@@ -1,0 +1,232 @@
+"""viaduct in Python: scenarios, runs, sweeps, records and signals on numpy arrays.
+
+The computation is the C++ core's (the same functions as the ``viaduct`` command line); this
+package is a thin layer over it. Errors are ``viaduct.InputError`` (a ``ValueError``) and
+``viaduct.SolverError`` (a ``RuntimeError``) with the command line's text: file, line and key.
+Tables are pandas DataFrames when pandas is installed, dicts of numpy arrays otherwise.
+
+    import viaduct
+    sc = viaduct.load_scenario("scenarios/hslm-simply-supported.toml")
+    sc.set("sweep.speed_step_kmh", 10.0)
+    env = viaduct.sweep(sc, threads=0)        # envelope.csv's columns
+"""
+import math
+
+from . import _viaduct
+from ._viaduct import InputError, SolverError
+
+__all__ = ["Scenario", "load_scenario", "scenario_from_dict", "run", "sweep", "Record", "read_record", "filter",
+           "spectrum", "welch", "compare", "InputError", "SolverError", "version"]
+
+
+def version():
+    """The viaduct version string ("viaduct x.y.z")."""
+    return _viaduct.version()
+
+
+def _toml(value, key):
+    """A Python value as the TOML literal of a --set override."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            raise InputError(f"key '{key}': {value} is not a finite number")
+        return repr(value)
+    if isinstance(value, str):
+        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if hasattr(value, "tolist"):  # numpy scalars and arrays
+        return _toml(value.tolist(), key)
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_toml(v, key) for v in value) + "]"
+    raise InputError(f"key '{key}': cannot set a value of type {type(value).__name__}")
+
+
+def _flatten(d, prefix, out):
+    """Nested dicts (tables) and lists of dicts (arrays of tables) to dotted keys."""
+    for k, v in d.items():
+        key = f"{prefix}.{k}" if prefix else str(k)
+        if isinstance(v, dict):
+            _flatten(v, key, out)
+        elif isinstance(v, (list, tuple)) and v and all(isinstance(x, dict) for x in v):
+            for i, item in enumerate(v):
+                _flatten(item, f"{key}[{i}]", out)
+        else:
+            out.append((key, v))
+    return out
+
+
+class Scenario:
+    """A scenario: a file (or a dict) with its overrides, checked as ``viaduct check`` checks it."""
+
+    def __init__(self, path, overrides=()):
+        self._path = path
+        self._overrides = list(overrides)
+        self._flat = _viaduct.load_flat(path, self._overrides)
+
+    @property
+    def path(self):
+        """The scenario file ("" for a scenario built from a dict)."""
+        return self._path
+
+    @property
+    def overrides(self):
+        """The ``key=value`` overrides set so far, as ``viaduct --set`` takes them."""
+        return list(self._overrides)
+
+    def set(self, key, value):
+        """Sets a key (checked as ``--set key=value``: type, constraint, cross-key rules); returns self."""
+        overrides = self._overrides + [f"{key}={_toml(value, key)}"]
+        self._flat = _viaduct.load_flat(self._path, overrides)  # raises and leaves the scenario as it was
+        self._overrides = overrides
+        return self
+
+    def get(self, key):
+        """The resolved value of a key (defaults included)."""
+        return self._flat.get(key)
+
+    def keys(self):
+        """Every resolved key."""
+        return self._flat.keys()
+
+    def where(self, key):
+        """(file, line) where a key's value comes from ("--set" for overrides, "default")."""
+        return self._flat.where(key)
+
+    def to_toml(self):
+        """The resolved scenario as TOML (as in manifest.toml)."""
+        return self._flat.resolved_toml()
+
+    def __repr__(self):
+        return f"viaduct.Scenario({self._path!r}, {len(self._overrides)} overrides)"
+
+
+def load_scenario(path, set=None):
+    """Reads a scenario file; ``set`` is a dict of key -> value applied as ``--set``."""
+    overrides = [f"{k}={_toml(v, k)}" for k, v in (set or {}).items()]
+    return Scenario(str(path), overrides)
+
+
+def scenario_from_dict(d):
+    """A scenario from a dict shaped as the TOML file (tables as dicts, arrays of tables as lists
+    of dicts, or dotted keys). Checked as ``--set`` values are; relative paths are from the
+    working directory."""
+    return Scenario("", [f"{k}={_toml(v, k)}" for k, v in _flatten(d, "", [])])
+
+
+def _table(columns):
+    """A DataFrame when pandas is there, else the dict of columns."""
+    try:
+        import pandas
+    except ImportError:
+        return columns
+    return pandas.DataFrame(columns)
+
+
+def _progress_printer(what):
+    import sys
+
+    def show(done, total):
+        sys.stderr.write(f"\r{what}: {done}/{total} cases")
+        if done == total:
+            sys.stderr.write("\n")
+        sys.stderr.flush()
+    return show
+
+
+def run(scenario, speed_kmh=None, train=None, progress=None):
+    """One train at one speed: history.csv's columns (t_s, per station disp, acc, filtered acc,
+    then the load effects) as a DataFrame or dict of numpy arrays. ``train``: a train name
+    (default the first); ``speed_kmh`` defaults to run.speed_kmh. Ctrl-C raises KeyboardInterrupt
+    when the run returns."""
+    names, columns, info = _viaduct.run(scenario._flat, speed_kmh, train, progress)
+    table = _table(dict(zip(names, columns)))
+    try:
+        table.attrs.update(info)
+    except AttributeError:
+        pass
+    return table
+
+
+def sweep(scenario, threads=1, load_effects=False, progress=False):
+    """Speeds x trains x variants: envelope.csv's columns (variant, KEY_factor per varied key,
+    train, speed_kmh, station, max_abs_acc_mps2, max_abs_disp_m). ``threads`` as the CLI's (0: all
+    cores). ``progress``: True prints to stderr, or a callable(done, total). Ctrl-C stops the cases
+    not yet started and raises KeyboardInterrupt. Failed cases are in the table's
+    ``attrs["failures"]`` (a DataFrame) or, without pandas, under the key "failures"."""
+    cb = _progress_printer("sweep") if progress is True else (progress or None)
+    envelope, failures, governing = _viaduct.sweep(scenario._flat, threads, load_effects, cb)
+    fail = {"variant": [f[0] for f in failures], "train": [f[1] for f in failures],
+            "speed_kmh": [f[2] for f in failures], "error": [f[3] for f in failures]}
+    gov_names = ["station", "max_abs_acc_mps2", "acc_variant", "acc_train", "acc_speed_kmh", "max_abs_disp_m",
+                 "disp_variant", "disp_train", "disp_speed_kmh"]
+    gov = {n: [g[i] for g in governing] for i, n in enumerate(gov_names)}
+    table = _table(envelope)
+    if isinstance(table, dict):
+        table = dict(table, failures=fail, governing=gov)
+    else:
+        table.attrs["failures"] = _table(fail)
+        table.attrs["governing"] = _table(gov)
+    return table
+
+
+class Record:
+    """A record read as the CLI reads it: ``data`` (samples x channels, float64, the reader's own
+    memory), ``channels`` (names with their unit suffix), ``units``, ``fs_hz``, ``t0_s``."""
+
+    def __init__(self, data, channels, units, fs_hz, t0_s):
+        self.data, self.channels, self.units, self.fs_hz, self.t0_s = data, channels, units, fs_hz, t0_s
+
+    @property
+    def t(self):
+        """Time of each sample [s]."""
+        import numpy
+        return self.t0_s + numpy.arange(self.data.shape[0]) / self.fs_hz
+
+    def __getitem__(self, channel):
+        """A channel's samples (a view, no copy)."""
+        return self.data[:, self.channels.index(channel)]
+
+    def to_frame(self):
+        """t_s and every channel as a DataFrame (pandas) or dict of arrays."""
+        cols = {"t_s": self.t}
+        cols.update({c: self.data[:, j] for j, c in enumerate(self.channels)})
+        return _table(cols)
+
+    def __repr__(self):
+        return f"viaduct.Record({self.data.shape[0]} samples x {len(self.channels)} channels at {self.fs_hz} Hz)"
+
+
+def read_record(path, time_column="", fs_hz=None):
+    """Reads a record in any format the CLI reads (CSV of any layout, MATLAB .mat, UFF 58)."""
+    return Record(*_viaduct.read_record(str(path), time_column, fs_hz))
+
+
+def filter(x, fs_hz, low_hz=1.0, high_hz=60.0, order=3, ripple_db=0.5, band="bandpass"):
+    """Zero-phase Chebyshev I filter, as scipy.signal.sosfiltfilt(cheby1(order, ripple_db, edges,
+    band, fs=fs_hz, output="sos"), x) and ``viaduct filter``. A contiguous float64 array is read
+    in place; the result is handed over without a copy."""
+    return _viaduct.filter(x, fs_hz, low_hz, high_hz, order, ripple_db, band)
+
+
+def spectrum(x, fs_hz, window="hann"):
+    """One-sided amplitude spectrum 2|X|/sum(w) (frequency_hz, amplitude in x's unit), as ``viaduct spectrum``
+    (Hann window by default; "rectangular" reads a sine's amplitude on any bin)."""
+    return _viaduct.spectrum(x, fs_hz, window)
+
+
+def welch(x, fs_hz, nperseg=256, noverlap=None, window="hann", detrend="constant"):
+    """Welch power spectral density (frequency_hz, density in unit^2/Hz), as scipy.signal.welch."""
+    return _viaduct.welch(x, fs_hz, nperseg, -1 if noverlap is None else noverlap, window, detrend)
+
+
+def compare(record, fs_record, model, fs_model, t0_record=0.0, low_hz=1.0, high_hz=30.0, order=3, ripple_db=0.5,
+            band="bandpass", filter=True, max_shift_s=60.0, spectrum_max_hz=0.0):
+    """A record channel against a model quantity in the same unit, as ``viaduct compare``: both
+    filtered alike (at their own rates), the model aligned onto the record (shift_s: record time
+    of the model's t = 0), and the metrics peak_record, peak_model, peak_ratio, rms_ratio,
+    correlation, f_peak_record_hz, f_peak_model_hz, spectral_correlation, with the overlays t,
+    record, model and the spectra frequency_hz, record_amplitude, model_amplitude (a dict)."""
+    return _viaduct.compare(record, fs_record, model, fs_model, t0_record, low_hz, high_hz, order, ripple_db, band,
+                            filter, max_shift_s, spectrum_max_hz)

@@ -1,0 +1,375 @@
+// The Python package's core (_viaduct): the library's own functions on numpy arrays. The
+// package (python/viaduct/__init__.py) wraps it in the documented names; docs/python.md.
+//
+// No copies between numpy and the core where the core can read in place: results are Eigen
+// vectors moved to the heap and handed to numpy with a capsule that frees them; a float64,
+// contiguous array goes to the filter as an Eigen::Map. Long calls run on a worker thread while
+// the calling thread, without the GIL, wakes every 0.1 s to report progress and to see Ctrl-C
+// (PyErr_CheckSignals): a sweep then skips the cases not yet started and KeyboardInterrupt is
+// raised.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <atomic>
+#include <cmath>
+#include <optional>
+#include <chrono>
+#include <future>
+#include <thread>
+
+#include "viaduct/core/error.hpp"
+#include "viaduct/io/record.hpp"
+#include "viaduct/io/results.hpp"
+#include "viaduct/io/sampled.hpp"
+#include "viaduct/io/scenario.hpp"
+#include "viaduct/signal/iir.hpp"
+#include "viaduct/signal/spectrum.hpp"
+#include "viaduct/study/comparison.hpp"
+#include "viaduct/study/sweep.hpp"
+
+namespace py = pybind11;
+
+namespace viaduct_py {
+
+using viaduct::Index;
+using viaduct::InputError;
+using viaduct::Vector;
+
+// A vector handed to numpy without a copy: moved to the heap, freed with the array.
+py::array_t<double> to_numpy(Vector&& v) {
+  auto* p = new Vector(std::move(v));
+  py::capsule owner(p, [](void* q) { delete static_cast<Vector*>(q); });
+  return py::array_t<double>({p->size()}, {static_cast<py::ssize_t>(sizeof(double))}, p->data(), owner);
+}
+py::array_t<double> to_numpy(std::vector<double>&& v) {
+  auto* p = new std::vector<double>(std::move(v));
+  py::capsule owner(p, [](void* q) { delete static_cast<std::vector<double>*>(q); });
+  return py::array_t<double>({static_cast<py::ssize_t>(p->size())}, {static_cast<py::ssize_t>(sizeof(double))}, p->data(), owner);
+}
+
+// A 1-D float64 array as an Eigen vector: in place when contiguous (any other array is converted
+// by numpy first, and `keep` holds the converted one).
+Eigen::Map<const Vector> view(const py::handle& x, py::array_t<double, py::array::c_style | py::array::forcecast>& keep,
+                              const char* what) {
+  keep = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(x);
+  if (!keep) throw InputError(std::string(what) + ": expected an array of numbers");
+  if (keep.ndim() != 1) throw InputError(std::string(what) + ": expected a 1-D array, got " + std::to_string(keep.ndim()) + " dimensions");
+  return Eigen::Map<const Vector>(keep.data(), keep.shape(0));
+}
+
+// Runs `f` on a worker thread; the calling thread reports progress(done, total) and turns Ctrl-C
+// into `cancel` and KeyboardInterrupt once `f` has returned.
+template <class F>
+auto interruptible(F f, const py::object& progress, const std::atomic<std::size_t>& done, const std::atomic<std::size_t>& total,
+                   std::atomic<bool>& cancel) -> decltype(f()) {
+  auto result = std::async(std::launch::async, std::move(f));
+  std::size_t shown = 0;
+  auto finish = [&] {
+    cancel = true;
+    py::gil_scoped_release nogil;
+    result.wait();
+  };
+  for (;;) {
+    bool ready = false;
+    {
+      py::gil_scoped_release nogil;
+      ready = result.wait_for(std::chrono::milliseconds(100)) == std::future_status::ready;
+    }
+    if (PyErr_CheckSignals() != 0) {
+      finish();
+      throw py::error_already_set();
+    }
+    if (!progress.is_none() && done.load() != shown) {
+      shown = done.load();
+      try {
+        progress(shown, total.load());
+      } catch (...) {
+        finish();
+        throw;
+      }
+    }
+    if (ready) return result.get();
+  }
+}
+
+// A scenario value as Python sees it.
+py::object to_python(const viaduct::io::Value& v) {
+  using viaduct::io::ValueType;
+  switch (v.type) {
+    case ValueType::boolean: return py::bool_(v.b);
+    case ValueType::integer: return py::int_(static_cast<long long>(v.x));
+    case ValueType::number: return py::float_(v.x);
+    case ValueType::string: return py::str(v.s);
+    case ValueType::number_list: return py::cast(v.xs);
+    case ValueType::string_list: return py::cast(v.ss);
+    default: return py::float_(v.x);
+  }
+}
+
+double speed_of(const viaduct::study::Scenario& sc, const std::optional<double>& speed_kmh) {
+  if (speed_kmh) {
+    const double v = *speed_kmh / 3.6;
+    if (!(v > 0.0) || !std::isfinite(v)) throw InputError("speed_kmh must be > 0");
+    return v;
+  }
+  if (sc.run_speed) return *sc.run_speed;
+  throw InputError("no speed: give speed_kmh or run.speed_kmh in the scenario");
+}
+
+const viaduct::load::Train& train_of(const viaduct::study::Scenario& sc, const std::optional<std::string>& name) {
+  if (!name) return sc.trains.front();
+  std::string names;
+  for (const auto& t : sc.trains) {
+    names += " " + t.name;
+    if (t.name == *name) return t;
+  }
+  throw InputError("no train named '" + *name + "'; the scenario has:" + names);
+}
+
+int threads_of(int threads) {
+  if (threads < 0) throw InputError("threads must be >= 0");
+  return threads == 0 ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency())) : threads;
+}
+
+// One train at one speed: history.csv's columns (names, arrays) and what ran.
+py::tuple run(const viaduct::io::FlatScenario& flat, std::optional<double> speed_kmh, std::optional<std::string> train,
+              const py::object& progress) {
+  namespace study = viaduct::study;
+  study::Scenario sc = viaduct::io::to_scenario(flat);
+  const double speed = speed_of(sc, speed_kmh);
+  const viaduct::load::Train t = train_of(sc, train);
+  std::atomic<std::size_t> done{0}, total{1};
+  std::atomic<bool> cancel{false};
+  auto r = std::make_shared<study::RunResult>(interruptible(
+      [&] {
+        const study::PreparedModel pm = study::prepare_model(sc, /*rail_outputs=*/true, /*with_load_effects=*/true);
+        study::RunResult out = study::simulate(pm, t, speed, sc.settings);
+        done = 1;
+        return out;
+      },
+      progress, done, total, cancel));
+  // The columns point into the result: numpy views kept alive by one capsule holding it.
+  py::capsule owner(new std::shared_ptr<study::RunResult>(r),
+                    [](void* q) { delete static_cast<std::shared_ptr<study::RunResult>*>(q); });
+  py::list names, columns;
+  for (const auto& [name, col] : viaduct::io::history_columns(*r)) {
+    names.append(name);
+    columns.append(py::array_t<double>({col->size()}, {static_cast<py::ssize_t>(sizeof(double))}, col->data(), owner));
+  }
+  py::dict info;
+  info["train"] = t.name;
+  info["speed_kmh"] = speed * 3.6;
+  info["method"] = viaduct::solve::method_name(sc.settings.method);
+  info["n_steps"] = r->summary.n_steps;
+  info["n_modes"] = r->n_modes;
+  return py::make_tuple(names, columns, info);
+}
+
+// The sweep's envelope (envelope.csv's columns), failures and governing cases.
+py::tuple sweep(const viaduct::io::FlatScenario& flat, int threads, bool load_effects, const py::object& progress) {
+  namespace study = viaduct::study;
+  if (viaduct::io::is_sampled(flat))
+    throw InputError(flat.at("sweep.mode").where, "sampled studies run with viaduct sweep (the package runs plain sweeps)");
+  const std::vector<study::Variant> variants = viaduct::io::sweep_variants(flat, /*isolate_failures=*/true);
+  if (variants.front().scenario.sweep_speeds.empty())
+    throw InputError("no speeds: give sweep.speeds_kmh, sweep.speed_min/max/step_kmh or sweep.speed_min/max_mps with n_speeds");
+  std::atomic<std::size_t> done{0}, total{study::count_cases(variants)};
+  std::atomic<bool> cancel{false};
+  study::SweepOptions so;
+  so.threads = threads_of(threads);
+  so.load_effects = load_effects;
+  so.cancel = &cancel;
+  so.progress = [&](std::size_t d, std::size_t n) {
+    done = d;
+    total = n;
+  };
+  const study::SweepResult r = interruptible([&] { return study::run_sweep(variants, so); }, progress, done, total, cancel);
+  py::dict envelope;
+  for (auto& c : viaduct::io::envelope_columns(r.rows, variants)) {
+    if (c.text) envelope[py::str(c.name)] = py::cast(c.cells);
+    else envelope[py::str(c.name)] = to_numpy(std::move(c.values));
+  }
+  py::list failures, governing;
+  for (const auto& f : r.failures) failures.append(py::make_tuple(f.variant, f.train, f.speed * 3.6, f.message));
+  for (const auto& g : study::governing(r.rows))
+    governing.append(py::make_tuple(g.station, g.acc.value, g.acc.variant, g.acc.train, g.acc.speed * 3.6, g.disp.value,
+                                    g.disp.variant, g.disp.train, g.disp.speed * 3.6));
+  return py::make_tuple(envelope, failures, governing);
+}
+
+viaduct::signal::Cheby1Spec cheby_of(double low_hz, double high_hz, int order, double ripple_db, const std::string& band) {
+  viaduct::signal::Cheby1Spec spec;
+  spec.order = order;
+  spec.ripple_db = ripple_db;
+  spec.low_hz = low_hz;
+  spec.high_hz = high_hz;
+  if (band == "bandpass") spec.band = viaduct::signal::BandType::bandpass;
+  else if (band == "lowpass") spec.band = viaduct::signal::BandType::lowpass;
+  else if (band == "highpass") spec.band = viaduct::signal::BandType::highpass;
+  else throw InputError("band must be bandpass, lowpass or highpass, got '" + band + "'");
+  return spec;
+}
+
+// A record channel against a model quantity (viaduct compare's metrics and overlays).
+py::dict compare(const py::handle& record, double fs_record, const py::handle& model, double fs_model, double t0_record,
+                 const viaduct::signal::Cheby1Spec& spec, bool filter, double max_shift_s, double spectrum_max_hz) {
+  namespace study = viaduct::study;
+  py::array_t<double, py::array::c_style | py::array::forcecast> keep_r, keep_m;
+  const Vector r = view(record, keep_r, "compare: record"), m = view(model, keep_m, "compare: model");
+  study::ComparisonOptions o;
+  o.filter.enabled = filter;
+  o.filter.cheby = spec;
+  o.max_shift_s = max_shift_s;
+  o.spectrum_max_hz = spectrum_max_hz;
+  study::ChannelComparison c;
+  {
+    py::gil_scoped_release nogil;
+    c = study::compare_channel(r, fs_record, t0_record, m, fs_model, o);
+  }
+  py::dict d;
+  d["shift_s"] = c.shift_s;
+  d["peak_record"] = c.peak_record;
+  d["peak_model"] = c.peak_model;
+  d["peak_ratio"] = c.peak_ratio;
+  d["rms_ratio"] = c.rms_ratio;
+  d["correlation"] = c.correlation;
+  d["f_peak_record_hz"] = c.f_peak_record_hz;
+  d["f_peak_model_hz"] = c.f_peak_model_hz;
+  d["spectral_correlation"] = c.spectral_correlation;
+  d["t"] = to_numpy(std::move(c.t));
+  d["record"] = to_numpy(std::move(c.record));
+  d["model"] = to_numpy(std::move(c.model));
+  d["frequency_hz"] = to_numpy(std::move(c.frequency_hz));
+  d["record_amplitude"] = to_numpy(std::move(c.record_amplitude));
+  d["model_amplitude"] = to_numpy(std::move(c.model_amplitude));
+  return d;
+}
+
+viaduct::signal::Window window_of(const std::string& w) {
+  if (w == "hann") return viaduct::signal::Window::hann;
+  if (w == "rectangular" || w == "boxcar") return viaduct::signal::Window::rectangular;
+  throw InputError("window must be hann or rectangular, got '" + w + "'");
+}
+
+void bind(py::module_& m) {
+  namespace io = viaduct::io;
+  namespace signal = viaduct::signal;
+  py::class_<io::FlatScenario>(m, "FlatScenario")
+      .def_readonly("path", &io::FlatScenario::path)
+      .def("get", [](const io::FlatScenario& f, const std::string& key) { return to_python(f.at(key)); })
+      .def("has", &io::FlatScenario::has)
+      .def("keys", [](const io::FlatScenario& f) {
+        std::vector<std::string> k;
+        for (const auto& kv : f.values) k.push_back(kv.first);
+        return k;
+      })
+      .def("where", [](const io::FlatScenario& f, const std::string& key) {
+        const auto& w = f.at(key).where;
+        return py::make_tuple(w.file, w.line);
+      })
+      .def("resolved_toml", [](const io::FlatScenario& f) { return io::resolved_toml(f); })
+      .def("describe", [](const io::FlatScenario& f) { return io::format_resolved(f); });
+  m.def(
+      "load_flat",
+      [](const std::string& path, const std::vector<std::string>& overrides) {
+        io::FlatScenario f = io::load_flat(path, overrides);
+        (void)io::to_scenario(f);  // the cross-key rules, as viaduct check
+        return f;
+      },
+      py::arg("path"), py::arg("overrides") = std::vector<std::string>{});
+  m.def("run", &run, py::arg("flat"), py::arg("speed_kmh") = py::none(), py::arg("train") = py::none(),
+        py::arg("progress") = py::none());
+  m.def("sweep", &sweep, py::arg("flat"), py::arg("threads") = 1, py::arg("load_effects") = false,
+        py::arg("progress") = py::none());
+  m.def(
+      "read_record",
+      [](const std::string& path, const std::string& time_column, std::optional<double> fs_hz) {
+        io::ReadOptions o;
+        o.time_column = time_column;
+        o.fs_hz = fs_hz;
+        auto r = std::make_shared<io::Record>(io::read_record(path, o));
+        // The samples stay where the reader put them (column-major): a Fortran-ordered view.
+        py::capsule owner(new std::shared_ptr<io::Record>(r), [](void* q) { delete static_cast<std::shared_ptr<io::Record>*>(q); });
+        const auto rows = static_cast<py::ssize_t>(r->data.rows()), cols = static_cast<py::ssize_t>(r->data.cols());
+        const auto s = static_cast<py::ssize_t>(sizeof(double));
+        py::array_t<double> data({rows, cols}, {s, s * rows}, r->data.data(), owner);
+        return py::make_tuple(data, r->channels, r->units, r->fs_hz, r->t0_s);
+      },
+      py::arg("path"), py::arg("time_column") = "", py::arg("fs_hz") = py::none());
+  m.def(
+      "filter",
+      [](const py::handle& x, double fs_hz, double low_hz, double high_hz, int order, double ripple_db, const std::string& band) {
+        const signal::Cheby1Spec spec = cheby_of(low_hz, high_hz, order, ripple_db, band);
+        py::array_t<double, py::array::c_style | py::array::forcecast> keep;
+        const Eigen::Map<const Vector> in = view(x, keep, "filter");
+        const signal::Sos sos = signal::cheby1(spec, fs_hz);
+        Vector y;
+        {
+          py::gil_scoped_release nogil;
+          y = signal::sosfiltfilt(sos, in);
+        }
+        return to_numpy(std::move(y));
+      },
+      py::arg("x"), py::arg("fs_hz"), py::arg("low_hz"), py::arg("high_hz"), py::arg("order") = 3, py::arg("ripple_db") = 0.5,
+      py::arg("band") = "bandpass");
+  m.def(
+      "spectrum",
+      [](const py::handle& x, double fs_hz, const std::string& window) {
+        py::array_t<double, py::array::c_style | py::array::forcecast> keep;
+        const Vector in = view(x, keep, "spectrum");
+        signal::AmplitudeSpectrum a = signal::amplitude_spectrum(in, fs_hz, window_of(window));
+        return py::make_tuple(to_numpy(std::move(a.frequency_hz)), to_numpy(std::move(a.amplitude)));
+      },
+      py::arg("x"), py::arg("fs_hz"), py::arg("window") = "hann");
+  m.def(
+      "welch",
+      [](const py::handle& x, double fs_hz, Index nperseg, Index noverlap, const std::string& window, const std::string& detrend) {
+        py::array_t<double, py::array::c_style | py::array::forcecast> keep;
+        const Vector in = view(x, keep, "welch");
+        signal::WelchOptions o;
+        o.nperseg = nperseg;
+        o.noverlap = noverlap;
+        o.window = window_of(window);
+        if (detrend == "constant") o.detrend = signal::Detrend::constant;
+        else if (detrend == "linear") o.detrend = signal::Detrend::linear;
+        else if (detrend == "none") o.detrend = signal::Detrend::none;
+        else throw InputError("detrend must be constant, linear or none, got '" + detrend + "'");
+        signal::Psd p = signal::welch(in, fs_hz, o);
+        return py::make_tuple(to_numpy(std::move(p.frequency_hz)), to_numpy(std::move(p.density)));
+      },
+      py::arg("x"), py::arg("fs_hz"), py::arg("nperseg") = 256, py::arg("noverlap") = -1, py::arg("window") = "hann",
+      py::arg("detrend") = "constant");
+  m.def(
+      "compare",
+      [](const py::handle& record, double fs_record, const py::handle& model, double fs_model, double t0_record, double low_hz,
+         double high_hz, int order, double ripple_db, const std::string& band, bool filter, double max_shift_s,
+         double spectrum_max_hz) {
+        return compare(record, fs_record, model, fs_model, t0_record, cheby_of(low_hz, high_hz, order, ripple_db, band), filter,
+                       max_shift_s, spectrum_max_hz);
+      },
+      py::arg("record"), py::arg("fs_record"), py::arg("model"), py::arg("fs_model"), py::arg("t0_record") = 0.0,
+      py::arg("low_hz") = 1.0, py::arg("high_hz") = 30.0, py::arg("order") = 3, py::arg("ripple_db") = 0.5,
+      py::arg("band") = "bandpass", py::arg("filter") = true, py::arg("max_shift_s") = 60.0, py::arg("spectrum_max_hz") = 0.0);
+  m.def("version", [] { return viaduct::io::version(); });
+}
+
+}  // namespace viaduct_py
+
+PYBIND11_MODULE(_viaduct, m) {
+  m.doc() = "viaduct's C++ core (use the viaduct package)";
+  // The errors of the CLI, with its text (file, line, key): InputError is a ValueError,
+  // SolverError a RuntimeError.
+  static py::exception<viaduct::InputError> input_error(m, "InputError", PyExc_ValueError);
+  static py::exception<viaduct::SolverError> solver_error(m, "SolverError", PyExc_RuntimeError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const viaduct::InputError& e) {
+      input_error(e.what());
+    } catch (const viaduct::SolverError& e) {
+      solver_error(e.what());
+    }
+  });
+  viaduct_py::bind(m);
+}
