@@ -19,6 +19,7 @@
 #include <thread>
 
 #include "viaduct/core/error.hpp"
+#include "viaduct_py.hpp"
 #include "viaduct/io/record.hpp"
 #include "viaduct/io/results.hpp"
 #include "viaduct/io/sampled.hpp"
@@ -35,28 +36,6 @@ namespace viaduct_py {
 using viaduct::Index;
 using viaduct::InputError;
 using viaduct::Vector;
-
-// A vector handed to numpy without a copy: moved to the heap, freed with the array.
-py::array_t<double> to_numpy(Vector&& v) {
-  auto* p = new Vector(std::move(v));
-  py::capsule owner(p, [](void* q) { delete static_cast<Vector*>(q); });
-  return py::array_t<double>({p->size()}, {static_cast<py::ssize_t>(sizeof(double))}, p->data(), owner);
-}
-py::array_t<double> to_numpy(std::vector<double>&& v) {
-  auto* p = new std::vector<double>(std::move(v));
-  py::capsule owner(p, [](void* q) { delete static_cast<std::vector<double>*>(q); });
-  return py::array_t<double>({static_cast<py::ssize_t>(p->size())}, {static_cast<py::ssize_t>(sizeof(double))}, p->data(), owner);
-}
-
-// A 1-D float64 array as an Eigen vector: in place when contiguous (any other array is converted
-// by numpy first, and `keep` holds the converted one).
-Eigen::Map<const Vector> view(const py::handle& x, py::array_t<double, py::array::c_style | py::array::forcecast>& keep,
-                              const char* what) {
-  keep = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(x);
-  if (!keep) throw InputError(std::string(what) + ": expected an array of numbers");
-  if (keep.ndim() != 1) throw InputError(std::string(what) + ": expected a 1-D array, got " + std::to_string(keep.ndim()) + " dimensions");
-  return Eigen::Map<const Vector>(keep.data(), keep.shape(0));
-}
 
 // Runs `f` on a worker thread; the calling thread reports progress(done, total) and turns Ctrl-C
 // into `cancel` and KeyboardInterrupt once `f` has returned.
@@ -372,4 +351,5 @@ PYBIND11_MODULE(_viaduct, m) {
     }
   });
   viaduct_py::bind(m);
+  viaduct_py::bind_ident(m);
 }

@@ -205,6 +205,67 @@ def test_compare_equals_the_cli(src, cli, tmp_path):
         viaduct.compare(rec["deck_acc_mps2"][:5], rec.fs_hz, h["S1_mid_acc_mps2"], 1000.0)
 
 
+def test_frf_modal_fit_and_decay_equal_the_cli(src, cli, tmp_path):
+    # A swept-sine test of the HSLM 15 m span, as the CLI's samples make it.
+    run_cli(cli, "shaker", src / "scenarios/hslm-simply-supported.toml", "--force-at", 7, "--swept", "2:30", "--sweep-s", 60,
+            "--snr-db", 40, "-q", "--out", tmp_path / "sweep")
+    run_cli(cli, "frf", tmp_path / "sweep/record.csv", "--force", "force_N", "--method", "swept", "--f-min", 3, "--f-max", 28,
+            "-q", "--out", tmp_path / "frf")
+    rec = viaduct.read_record(tmp_path / "sweep/record.csv")
+    f = viaduct.record_frf(rec, "force_N", method="swept", f_min_hz=3.0, f_max_hz=28.0)
+    ref = read_csv(tmp_path / "frf/frf.csv")
+    assert f["responses"] == ["mid"] and f["units"] == ["mps2"]
+    close_to_printed(f["frequency_hz"], ref["frequency_hz"], 10)
+    close_to_printed(f["h"][:, 0].real, ref["mid_re_mps2_per_N"], 10)
+    close_to_printed(f["h"][:, 0].imag, ref["mid_im_mps2_per_N"], 10)
+    # The modal fit of the CLI's FRF file.
+    run_cli(cli, "modal-fit", tmp_path / "frf/frf.csv", "--f-min", 3, "--f-max", 28, "--max-order", 30, "-q",
+            "--out", tmp_path / "fit")
+    fit = viaduct.modal_fit(viaduct.read_frf(tmp_path / "frf/frf.csv"), f_min_hz=3.0, f_max_hz=28.0, max_order=30)
+    modes = read_csv(tmp_path / "fit/modes.csv")
+    assert list(fit["modes"]["method"]) == modes["method"]
+    close_to_printed(fit["modes"]["frequency_hz"], modes["frequency_hz"], 8)
+    close_to_printed(fit["modes"]["damping_ratio"], modes["damping_ratio"], 8)
+    stab = read_csv(tmp_path / "fit/stabilization.csv")
+    assert list(fit["stabilization"]["status"]) == stab["status"]
+    # A free decay after a passage.
+    run_cli(cli, "run", src / "scenarios/old-guadiana-talgo.toml", "--set", "analysis.free_vibration_s=5", "-q",
+            "--out", tmp_path / "passage")
+    run_cli(cli, "decay", tmp_path / "passage/history.csv", "--channel", "S1_mid_acc", "--frequency-hz", 10, "-q",
+            "--out", tmp_path / "decay")
+    hist = viaduct.read_record(tmp_path / "passage/history.csv")
+    d = viaduct.decay(hist["S1_mid_acc_mps2"], hist.fs_hz, 10.0, t0_s=hist.t0_s)
+    ref = read_csv(tmp_path / "decay/decay.csv")
+    for k in ["start_s", "frequency_hz", "zeta_log_decrement", "zeta_envelope_fit", "zeta_hilbert", "amplitude_start",
+              "law_zeta0", "law_f0_hz"]:
+        close_to_printed([d[k]], ref[k], 8)
+    amp = read_csv(tmp_path / "decay/decay_amplitude.csv")
+    close_to_printed(d["by_amplitude"]["damping_ratio"], amp["damping_ratio"], 8)
+    with pytest.raises(viaduct.InputError, match="m, mps or mps2|unit"):
+        viaduct.frf(rec["force_N"], rec["mid_acc_mps2"], rec.fs_hz, ["g"])
+
+
+def test_peaks_and_speed(src, cli, tmp_path):
+    rec = viaduct.read_record(src / "data/records/synthetic-deck.csv")
+    x = rec["deck_acc_mps2"]
+    p = viaduct.peaks(x, min_prominence=0.05, interpolation="none")
+    try:
+        import scipy.signal
+    except ImportError:
+        pytest.skip("scipy for the reference")
+    idx, props = scipy.signal.find_peaks(x, prominence=0.05)
+    assert list(p["index"]) == list(idx)
+    np.testing.assert_allclose(p["prominence"], props["prominences"], rtol=1e-12)
+    s = viaduct.identify_speed(x, rec.fs_hz, 13.14, v_min_kmh=100, v_max_kmh=250)
+    run_cli(cli, "speed", src / "data/records/synthetic-deck.csv", "--channel", "deck_acc_mps2", "--distance-m", 13.14,
+            "--v-min-kmh", 100, "--v-max-kmh", 250, "-q", "--out", tmp_path)
+    ref = read_csv(tmp_path / "speed.csv")
+    close_to_printed([s["speed_kmh"], s["uncertainty_kmh"]], [ref["speed_kmh"][0], ref["uncertainty_kmh"][0]], 8)
+    assert abs(s["speed_kmh"] - 154.8) < 3 * s["uncertainty_kmh"]  # the record's known speed
+    with pytest.raises(viaduct.InputError, match="spectrum or peaks"):
+        viaduct.identify_speed(x, rec.fs_hz, 13.14, method="comb")
+
+
 def test_the_example_runs(src, tmp_path):
     p = subprocess.run([sys.executable, str(src / "examples/python/sweep_and_record.py"), "--out", str(tmp_path)],
                        capture_output=True, text=True, cwd=src)

@@ -16,7 +16,7 @@ from . import _viaduct
 from ._viaduct import InputError, SolverError
 
 __all__ = ["Scenario", "load_scenario", "scenario_from_dict", "run", "sweep", "Record", "read_record", "filter",
-           "spectrum", "welch", "compare", "InputError", "SolverError", "version"]
+           "spectrum", "welch", "compare", "peaks", "identify_speed", "frf", "record_frf", "read_frf", "modal_fit", "decay", "InputError", "SolverError", "version"]
 
 
 def version():
@@ -230,3 +230,78 @@ def compare(record, fs_record, model, fs_model, t0_record=0.0, low_hz=1.0, high_
     record, model and the spectra frequency_hz, record_amplitude, model_amplitude (a dict)."""
     return _viaduct.compare(record, fs_record, model, fs_model, t0_record, low_hz, high_hz, order, ripple_db, band,
                             filter, max_shift_s, spectrum_max_hz)
+
+
+def frf(force, responses, fs_hz, units, names=(), force_unit="N", method="welch", estimator="h1", nperseg=4096,
+        window="hann", f_min_hz=None, f_max_hz=None, steps=(), settle_cycles=30.0, t0_s=0.0):
+    """The FRF of a forced-vibration test, as ``viaduct frf RECORD``: ``force`` (N or kN) and
+    ``responses`` (samples x channels; ``units`` per channel: m, mps or mps2; ``names`` the
+    stations) at ``fs_hz``. ``method``: "welch" (H1 or H2, ``nperseg``, ``window``), "stepped"
+    (``steps``: (t_start_s, t_end_s, frequency_hz) dwells, detected from the force when empty) or
+    "swept" (``f_min_hz``/``f_max_hz`` required). A dict: frequency_hz, h (complex, frequencies x
+    responses), coherence (Welch) or None, responses, quantities, units, force_unit, n_segments,
+    steps (the schedule used)."""
+    return _viaduct.frf(force, responses, fs_hz, list(units), list(names), force_unit, method, estimator, nperseg, window,
+                        f_min_hz, f_max_hz, [tuple(s) for s in steps], settle_cycles, t0_s)
+
+
+def record_frf(record, force, responses=None, **options):
+    """``frf`` on a Record's channels, named as ``viaduct frf RECORD --force CHANNEL`` names them:
+    ``force`` a channel in N or kN, ``responses`` channels in m, mps or mps2 (default: all of
+    them); the stations are their names without the quantity tag and unit (S1_mid_acc_mps2 ->
+    S1_mid)."""
+    if responses is None:
+        responses = [c for c, u in zip(record.channels, record.units) if u in ("m", "mps", "mps2")]
+    idx = [record.channels.index(c) for c in responses]
+    units = [record.units[j] for j in idx]
+    names = [record.channels[j][: -len(record.units[j]) - 1] for j in idx]
+    f = record.channels.index(force)
+    return frf(record.data[:, f], record.data[:, idx], record.fs_hz, units, names, force_unit=record.units[f],
+               t0_s=record.t0_s, **options)
+
+
+def read_frf(path):
+    """A frf.csv (viaduct frf) as the dict ``frf`` returns."""
+    return _viaduct.read_frf(str(path))
+
+
+def modal_fit(frf, f_min_hz=0.0, f_max_hz=1e9, max_order=40, cluster_tol=0.005, min_prominence=0.05, refine=True):
+    """Modal parameters from an FRF (the dict of ``frf`` or ``read_frf``), as ``viaduct modal-fit``:
+    peak picking, circle fits and LSCF with its stabilization diagram. A dict: "modes" (modes.csv's
+    columns: method, mode, frequency_hz, damping_ratio, response, note), "stabilization" (order,
+    frequency_hz, damping_ratio, status), "lscf_shapes" (per LSCF mode, complex, across the
+    responses) and "warnings"."""
+    r = _viaduct.modal_fit(frf, f_min_hz, f_max_hz, max_order, cluster_tol, min_prominence, refine)
+    r["modes"] = _table(r["modes"])
+    r["stabilization"] = _table(r["stabilization"])
+    return r
+
+
+def decay(x, fs_hz, frequency_hz, t0_s=0.0, band_ratio=0.15, order=2, start_s=None, end_s=None):
+    """Frequency and damping of one mode from a free decay, as ``viaduct decay``: x band-passed
+    around ``frequency_hz`` (f(1 -/+ band_ratio), Chebyshev I of ``order``), the decay from
+    ``start_s`` (detected by default) to ``end_s`` (the noise floor). A dict: start_s, end_s,
+    n_cycles, frequency_hz, zeta_log_decrement, zeta_envelope_fit, envelope_residual,
+    zeta_hilbert, frequency_hilbert_hz, amplitude_start/end, the amplitude laws law_zeta0,
+    law_zeta_slope, law_f0_hz, law_f_slope_hz, and "by_amplitude" (t_s, amplitude,
+    frequency_hz, damping_ratio per window)."""
+    r = _viaduct.decay(x, fs_hz, frequency_hz, t0_s, band_ratio, order, start_s, end_s)
+    r["by_amplitude"] = _table(r["by_amplitude"])
+    return r
+
+
+def peaks(y, min_height=None, min_prominence=0.0, min_distance=1, max_peaks=0, interpolation="gaussian"):
+    """Peaks of a sampled curve, after scipy.signal.find_peaks (height, prominence and distance
+    filters; flat tops at their middle), positions refined between samples ("gaussian",
+    "parabolic" or "none"). A dict of index, position (samples), value and prominence."""
+    return _viaduct.peaks(y, -math.inf if min_height is None else min_height, min_prominence, min_distance, max_peaks,
+                          interpolation)
+
+
+def identify_speed(x, fs_hz, distance_m, method="spectrum", v_min_kmh=40.0, v_max_kmh=400.0, harmonics=4,
+                   min_interval_s=0.1):
+    """A train's speed from a record, as ``viaduct speed --distance-m``: "spectrum" (the comb of
+    ``harmonics`` lines k v/d on the Hann spectrum, searched over [v_min_kmh, v_max_kmh]) or
+    "peaks" (v = d / the median interval of axle peaks at least ``min_interval_s`` apart). A
+    dict: speed_kmh, uncertainty_kmh, frequency_hz, n_used."""
+    return _viaduct.identify_speed(x, fs_hz, distance_m, method, v_min_kmh, v_max_kmh, harmonics, min_interval_s)
