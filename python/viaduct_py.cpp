@@ -37,41 +37,6 @@ using viaduct::Index;
 using viaduct::InputError;
 using viaduct::Vector;
 
-// Runs `f` on a worker thread; the calling thread reports progress(done, total) and turns Ctrl-C
-// into `cancel` and KeyboardInterrupt once `f` has returned.
-template <class F>
-auto interruptible(F f, const py::object& progress, const std::atomic<std::size_t>& done, const std::atomic<std::size_t>& total,
-                   std::atomic<bool>& cancel) -> decltype(f()) {
-  auto result = std::async(std::launch::async, std::move(f));
-  std::size_t shown = 0;
-  auto finish = [&] {
-    cancel = true;
-    py::gil_scoped_release nogil;
-    result.wait();
-  };
-  for (;;) {
-    bool ready = false;
-    {
-      py::gil_scoped_release nogil;
-      ready = result.wait_for(std::chrono::milliseconds(100)) == std::future_status::ready;
-    }
-    if (PyErr_CheckSignals() != 0) {
-      finish();
-      throw py::error_already_set();
-    }
-    if (!progress.is_none() && done.load() != shown) {
-      shown = done.load();
-      try {
-        progress(shown, total.load());
-      } catch (...) {
-        finish();
-        throw;
-      }
-    }
-    if (ready) return result.get();
-  }
-}
-
 // A scenario value as Python sees it.
 py::object to_python(const viaduct::io::Value& v) {
   using viaduct::io::ValueType;
@@ -104,11 +69,6 @@ const viaduct::load::Train& train_of(const viaduct::study::Scenario& sc, const s
     if (t.name == *name) return t;
   }
   throw InputError("no train named '" + *name + "'; the scenario has:" + names);
-}
-
-int threads_of(int threads) {
-  if (threads < 0) throw InputError("threads must be >= 0");
-  return threads == 0 ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency())) : threads;
 }
 
 // One train at one speed: history.csv's columns (names, arrays) and what ran.
@@ -352,4 +312,5 @@ PYBIND11_MODULE(_viaduct, m) {
   });
   viaduct_py::bind(m);
   viaduct_py::bind_ident(m);
+  viaduct_py::bind_fit(m);
 }

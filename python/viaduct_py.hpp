@@ -3,7 +3,12 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <future>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "viaduct/core/error.hpp"
@@ -40,7 +45,50 @@ inline Eigen::Map<const Vector> view(const py::handle& x, ContiguousArray& keep,
   return Eigen::Map<const Vector>(keep.data(), keep.shape(0));
 }
 
-/// The identification functions (frf, modal_fit, decay).
+// Runs `f` on a worker thread; the calling thread reports progress(done, total) and turns Ctrl-C
+// into `cancel` and KeyboardInterrupt once `f` has returned.
+template <class F>
+auto interruptible(F f, const py::object& progress, const std::atomic<std::size_t>& done, const std::atomic<std::size_t>& total,
+                   std::atomic<bool>& cancel) -> decltype(f()) {
+  auto result = std::async(std::launch::async, std::move(f));
+  std::size_t shown = 0;
+  auto finish = [&] {
+    cancel = true;
+    py::gil_scoped_release nogil;
+    result.wait();
+  };
+  for (;;) {
+    bool ready = false;
+    {
+      py::gil_scoped_release nogil;
+      ready = result.wait_for(std::chrono::milliseconds(100)) == std::future_status::ready;
+    }
+    if (PyErr_CheckSignals() != 0) {
+      finish();
+      throw py::error_already_set();
+    }
+    if (!progress.is_none() && done.load() != shown) {
+      shown = done.load();
+      try {
+        progress(shown, total.load());
+      } catch (...) {
+        finish();
+        throw;
+      }
+    }
+    if (ready) return result.get();
+  }
+}
+
+// --threads as the CLI takes it: 0 is every core.
+inline int threads_of(int threads) {
+  if (threads < 0) throw InputError("threads must be >= 0");
+  return threads == 0 ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency())) : threads;
+}
+
+/// The identification functions (frf, modal_fit, decay, peaks, identify_speed).
 void bind_ident(py::module_& m);
+/// Model updating (fit).
+void bind_fit(py::module_& m);
 
 }  // namespace viaduct_py

@@ -266,6 +266,28 @@ def test_peaks_and_speed(src, cli, tmp_path):
         viaduct.identify_speed(x, rec.fs_hz, 13.14, method="comb")
 
 
+def test_fit_equals_the_cli(src, cli, tmp_path):
+    scenario = src / "scenarios/hslm-simply-supported.toml"
+    run_cli(cli, "run", scenario, "--speed-kmh", 300, "--train", "HSLM-A4", "-q", "--out", tmp_path / "a4")
+    run_cli(cli, "fit", scenario, "--record", tmp_path / "a4/history.csv", "--map", "mid_acc_mps2=mid", "--train", "HSLM-A4",
+            "--speed-kmh", 300, "--param", "bridge.EI=5e9:1e10", "--param", "bridge.damping.ratio=0.005:0.05",
+            "--set", "bridge.EI=7e9", "--set", "bridge.damping.ratio=0.02", "--threads", 2, "-q", "--out", tmp_path / "cli")
+    sc = viaduct.load_scenario(scenario, set={"bridge.EI": 7e9, "bridge.damping.ratio": 0.02})
+    iterations = []
+    r = viaduct.fit(sc, {"bridge.EI": (5e9, 1e10), "bridge.damping.ratio": (0.005, 0.05)},
+                    records=[tmp_path / "a4/history.csv"], map={"mid_acc_mps2": "mid"}, train="HSLM-A4", speed_kmh=300,
+                    threads=2, out=tmp_path / "py", progress=lambda *a: iterations.append(a))
+    ref = read_csv(tmp_path / "cli/fit.csv")
+    assert r["status"] == "converged" and list(r["params"]["key"]) == ref["key"]
+    close_to_printed(r["params"]["estimate"], ref["estimate"], 10)
+    close_to_printed(r["params"]["std_error"], ref["std_error"], 10)
+    assert all(r["params"]["determined"])
+    assert abs(r["params"]["estimate"][0] / 7.694e9 - 1) < 1e-6  # the record's own model
+    assert (tmp_path / "py/fitted.toml").exists() and iterations
+    with pytest.raises(viaduct.InputError, match="bridge.EJ"):
+        viaduct.fit(sc, {"bridge.EJ": (1.0, 2.0)}, records=[tmp_path / "a4/history.csv"], map={"mid_acc_mps2": "mid"})
+
+
 def test_the_example_runs(src, tmp_path):
     p = subprocess.run([sys.executable, str(src / "examples/python/sweep_and_record.py"), "--out", str(tmp_path)],
                        capture_output=True, text=True, cwd=src)

@@ -16,7 +16,7 @@ from . import _viaduct
 from ._viaduct import InputError, SolverError
 
 __all__ = ["Scenario", "load_scenario", "scenario_from_dict", "run", "sweep", "Record", "read_record", "filter",
-           "spectrum", "welch", "compare", "peaks", "identify_speed", "frf", "record_frf", "read_frf", "modal_fit", "decay", "InputError", "SolverError", "version"]
+           "spectrum", "welch", "compare", "peaks", "identify_speed", "frf", "record_frf", "read_frf", "modal_fit", "decay", "fit", "InputError", "SolverError", "version"]
 
 
 def version():
@@ -305,3 +305,38 @@ def identify_speed(x, fs_hz, distance_m, method="spectrum", v_min_kmh=40.0, v_ma
     "peaks" (v = d / the median interval of axle peaks at least ``min_interval_s`` apart). A
     dict: speed_kmh, uncertainty_kmh, frequency_hz, n_used."""
     return _viaduct.identify_speed(x, fs_hz, distance_m, method, v_min_kmh, v_max_kmh, harmonics, min_interval_s)
+
+
+def fit(scenario, params, records=(), map=None, speed_kmh=(), train="", modes=None, modes_method=None, weights=None,
+        starts=None, max_iterations=None, max_time_s=None, spectral_start=True, threads=1, out=None, progress=None):
+    """Model updating, as ``viaduct fit``: scenario keys fitted within bounds so that the model
+    reproduces measured records and identified modes (Levenberg-Marquardt with bounds, Ceres).
+
+    params   {key: (lower, upper)} or {key: (lower, upper, "log" | "linear")}, starting from the
+             scenario's values (scenario.set them first to start elsewhere)
+    records  record files; ``map`` {channel: station} applies to each (also {response: station}
+             for identified shapes); ``speed_kmh`` one speed or one per record; ``train`` a name
+    modes    modal-fit or decay output (directory or file) for the modal and damping objectives
+    weights  {objective: w}: time, peak, envelope, spectrum, modal, damping
+    out      a directory for the CLI's files (fit.csv, fitted.toml, ...); None: none written
+    progress callable(start, stage, iteration, cost, values) after iterations
+
+    A dict: status ("converged", ...), message, "params" (key, unit, initial, estimate,
+    std_error, sensitivity, at_bound, determined: a table), correlation, warnings, shift_s,
+    cost_initial, cost_final, iterations, simulations, wall_s, modal_pairs. Ctrl-C raises
+    KeyboardInterrupt when the solver returns."""
+    specs = []
+    for key, bounds in params.items():
+        if len(bounds) not in (2, 3):
+            raise InputError(f"params['{key}']: expected (lower, upper) or (lower, upper, scale)")
+        specs.append(f"{key}={bounds[0]!r}:{bounds[1]!r}" + (f":{bounds[2]}" if len(bounds) == 3 else ""))
+    if out is not None:
+        import os
+        os.makedirs(out, exist_ok=True)
+    speeds = [float(speed_kmh)] if isinstance(speed_kmh, (int, float)) else [float(v) for v in speed_kmh]
+    r = _viaduct.fit(scenario._flat, specs, [str(p) for p in records], [f"{k}={v}" for k, v in (map or {}).items()], speeds,
+                     train, None if modes is None else str(modes), modes_method,
+                     [f"{k}={v!r}" for k, v in (weights or {}).items()], starts, max_iterations, max_time_s,
+                     spectral_start, threads, None if out is None else str(out), progress)
+    r["params"] = _table(r["params"])
+    return r
