@@ -288,6 +288,20 @@ def test_fit_equals_the_cli(src, cli, tmp_path):
         viaduct.fit(sc, {"bridge.EJ": (1.0, 2.0)}, records=[tmp_path / "a4/history.csv"], map={"mid_acc_mps2": "mid"})
 
 
+def test_cmake_install_puts_an_importable_package(tmp_path):
+    build = os.environ.get("VIADUCT_BUILD")
+    if not build:
+        pytest.skip("VIADUCT_BUILD: the build tree (set by CTest)")
+    subprocess.run(["cmake", "--install", build, "--prefix", str(tmp_path)], check=True, capture_output=True)
+    site = tmp_path / f"lib/python{sys.version_info.major}.{sys.version_info.minor}/dist-packages"
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    env["PYTHONPATH"] = str(site)
+    p = subprocess.run([sys.executable, "-c", "import viaduct; print(viaduct.__file__, viaduct.version())"], env=env,
+                       capture_output=True, text=True, cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.startswith(str(site))
+
+
 def test_the_example_runs(src, tmp_path):
     p = subprocess.run([sys.executable, str(src / "examples/python/sweep_and_record.py"), "--out", str(tmp_path)],
                        capture_output=True, text=True, cwd=src)
