@@ -51,33 +51,13 @@ py::object to_python(const viaduct::io::Value& v) {
   }
 }
 
-double speed_of(const viaduct::study::Scenario& sc, const std::optional<double>& speed_kmh) {
-  if (speed_kmh) {
-    const double v = *speed_kmh / 3.6;
-    if (!(v > 0.0) || !std::isfinite(v)) throw InputError("speed_kmh must be > 0");
-    return v;
-  }
-  if (sc.run_speed) return *sc.run_speed;
-  throw InputError("no speed: give speed_kmh or run.speed_kmh in the scenario");
-}
-
-const viaduct::load::Train& train_of(const viaduct::study::Scenario& sc, const std::optional<std::string>& name) {
-  if (!name) return sc.trains.front();
-  std::string names;
-  for (const auto& t : sc.trains) {
-    names += " " + t.name;
-    if (t.name == *name) return t;
-  }
-  throw InputError("no train named '" + *name + "'; the scenario has:" + names);
-}
-
 // One train at one speed: history.csv's columns (names, arrays) and what ran.
 py::tuple run(const viaduct::io::FlatScenario& flat, std::optional<double> speed_kmh, std::optional<std::string> train,
               const py::object& progress) {
   namespace study = viaduct::study;
   study::Scenario sc = viaduct::io::to_scenario(flat);
-  const double speed = speed_of(sc, speed_kmh);
-  const viaduct::load::Train t = train_of(sc, train);
+  const double speed = study::passage_speed(sc, speed_kmh, "speed_kmh");
+  const viaduct::load::Train t = study::passage_train(sc, train);
   std::atomic<std::size_t> done{0}, total{1};
   std::atomic<bool> cancel{false};
   auto r = std::make_shared<study::RunResult>(interruptible(

@@ -460,6 +460,26 @@ PreparedModel prepare_model(const Scenario& sc, bool rail_outputs, bool with_loa
                        with_load_effects);
 }
 
+double passage_speed(const Scenario& sc, const std::optional<double>& speed_kmh, const std::string& option) {
+  if (speed_kmh) {
+    const double v = *speed_kmh / 3.6;
+    if (!(v > 0.0) || !std::isfinite(v)) throw InputError(option + " must be > 0");
+    return v;
+  }
+  if (sc.run_speed) return *sc.run_speed;
+  throw InputError("no speed: give " + option + " or run.speed_kmh in the scenario");
+}
+
+const load::Train& passage_train(const Scenario& sc, const std::optional<std::string>& name) {
+  if (!name) return sc.trains.front();
+  std::string names;
+  for (const auto& t : sc.trains) {
+    names += " " + t.name;
+    if (t.name == *name) return t;
+  }
+  throw InputError("no train named '" + *name + "'; the scenario has:" + names);
+}
+
 RunResult simulate(const PreparedModel& m, const load::Train& train, double speed, const RunSettings& settings) {
   if (settings.vehicle.model != VehicleModel::forces) {
     RunResult r = simulate_vehicles(m, train, speed, settings);

@@ -25,6 +25,13 @@ expect() {
   fi
 }
 
+# same DIR_A DIR_B FILE...: every file byte for byte.
+same() {
+  local a=$1 b=$2 f
+  shift 2
+  for f in "$@"; do expect 0 "" -- cmp "$a/$f" "$b/$f"; done
+}
+
 finish() {
   echo "$n_pass passed, $n_fail failed"
   [ "$n_fail" -eq 0 ]

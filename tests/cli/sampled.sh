@@ -9,11 +9,6 @@ SIZE=${3:-full}
 MPI=${4:-}
 OG=$SRC/scenarios/old-guadiana-sampled.toml
 FILES="samples.csv sample_peaks.csv failures.csv percentiles.csv peak_percentiles.csv"
-same() {  # same DIR_A DIR_B FILE...: every file byte for byte
-  local a=$1 b=$2 f
-  shift 2
-  for f in "$@"; do expect 0 "" -- cmp "$a/$f" "$b/$f"; done
-}
 
 # The study at a glance (lognormal mean 1, sd 0.3: its 1 % quantile exp(-0.04309 - 2.32635 x 0.29356)).
 expect 0 "# sampled study: 64 samples (sobol design) x 60 speeds x 1 trains = 3840 cases" -- "$VIADUCT" check "$OG"

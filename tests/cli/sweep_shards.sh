@@ -4,11 +4,6 @@
 # sweep with vehicle models, all merge into the files of one process byte for byte, with its exit
 # code; a missing, repeated or foreign shard is an error naming it.
 . "$(dirname "$0")/lib.sh"
-same() {  # same DIR_A DIR_B FILE...: every file byte for byte
-  local a=$1 b=$2 f
-  shift 2
-  for f in "$@"; do expect 0 "" -- cmp "$a/$f" "$b/$f"; done
-}
 # shards NAME N CODE [sweep arguments...]: the sweep in one process and in N shards (exit code
 # CODE each, 0 for an empty shard), then the merge (exit code CODE).
 shards() {

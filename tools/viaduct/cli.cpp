@@ -182,23 +182,11 @@ void print_import_report(const std::string& path, const io::ImportReport& rep, c
 }
 
 double speed_of(const study::Scenario& sc, const std::optional<double>& speed_kmh) {
-  if (speed_kmh) {
-    const double v = *speed_kmh / 3.6;
-    if (!(v > 0.0) || !std::isfinite(v)) throw InputError("--speed-kmh must be > 0");
-    return v;
-  }
-  if (sc.run_speed) return *sc.run_speed;
-  throw InputError("no speed: give --speed-kmh or run.speed_kmh in the scenario");
+  return study::passage_speed(sc, speed_kmh, "--speed-kmh");
 }
 
 const load::Train& train_of(const study::Scenario& sc, const std::optional<std::string>& name) {
-  if (!name) return sc.trains.front();
-  std::string names;
-  for (const auto& t : sc.trains) {
-    names += " " + t.name;
-    if (t.name == *name) return t;
-  }
-  throw InputError("no train named '" + *name + "'; the scenario has:" + names);
+  return study::passage_train(sc, name);
 }
 
 std::size_t station_index(const study::Scenario& sc, const std::string& name, const std::string& who) {

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -179,6 +180,13 @@ PreparedModel prepare_model(const Scenario& sc, bool rail_outputs = true, bool w
 /// The same from a built structure.
 PreparedModel prepare_model(model::Structure s, const std::vector<StationSpec>& stations,
                             const RunSettings& settings, bool rail_outputs = true, bool with_load_effects = false);
+
+/// The speed of a one-passage command [m/s]: `speed_kmh` when given (> 0 and finite), else the
+/// scenario's run.speed_kmh; InputError naming `option` (how the caller calls speed_kmh: the
+/// CLI's "--speed-kmh", the Python package's "speed_kmh") otherwise.
+double passage_speed(const Scenario& sc, const std::optional<double>& speed_kmh, const std::string& option);
+/// The train called `name`, else the scenario's first; InputError listing the scenario's trains.
+const load::Train& passage_train(const Scenario& sc, const std::optional<std::string>& name);
 
 /// Runs `train` at `speed` [m/s] from the entry of its first axle until free_vibration_s after
 /// the last axle has left, with settings.method, and records every station at every step.
