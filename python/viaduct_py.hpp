@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "viaduct/core/cancel.hpp"
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/types.hpp"
 
@@ -46,16 +47,21 @@ inline Eigen::Map<const Vector> view(const py::handle& x, ContiguousArray& keep,
 }
 
 // Runs `f` on a worker thread; the calling thread reports progress(done, total) and turns Ctrl-C
-// into `cancel` and KeyboardInterrupt once `f` has returned.
+// into `cancel` and the process-wide cancellation request (viaduct/core/cancel.hpp), then into
+// KeyboardInterrupt once `f` has stopped.
 template <class F>
 auto interruptible(F f, const py::object& progress, const std::atomic<std::size_t>& done, const std::atomic<std::size_t>& total,
                    std::atomic<bool>& cancel) -> decltype(f()) {
   auto result = std::async(std::launch::async, std::move(f));
   std::size_t shown = 0;
   auto finish = [&] {
-    cancel = true;
-    py::gil_scoped_release nogil;
-    result.wait();
+    cancel = true;                  // a sweep skips the cases not started
+    viaduct::request_cancel(true);  // the running time-stepping loops stop
+    {
+      py::gil_scoped_release nogil;
+      result.wait();
+    }
+    viaduct::request_cancel(false);
   };
   for (;;) {
     bool ready = false;

@@ -138,8 +138,8 @@ def _progress_printer(what):
 def run(scenario, speed_kmh=None, train=None, progress=None):
     """One train at one speed: history.csv's columns (t_s, per station disp, acc, filtered acc,
     then the load effects) as a DataFrame or dict of numpy arrays. ``train``: a train name
-    (default the first); ``speed_kmh`` defaults to run.speed_kmh. Ctrl-C raises KeyboardInterrupt
-    when the run returns."""
+    (default the first); ``speed_kmh`` defaults to run.speed_kmh. Ctrl-C stops the time stepping
+    and raises KeyboardInterrupt."""
     names, columns, info = _viaduct.run(scenario._flat, speed_kmh, train, progress)
     table = _table(dict(zip(names, columns)))
     try:
@@ -152,8 +152,8 @@ def run(scenario, speed_kmh=None, train=None, progress=None):
 def sweep(scenario, threads=1, load_effects=False, progress=False):
     """Speeds x trains x variants: envelope.csv's columns (variant, KEY_factor per varied key,
     train, speed_kmh, station, max_abs_acc_mps2, max_abs_disp_m). ``threads`` as the CLI's (0: all
-    cores). ``progress``: True prints to stderr, or a callable(done, total). Ctrl-C stops the cases
-    not yet started and raises KeyboardInterrupt. Failed cases are in the table's
+    cores). ``progress``: True prints to stderr, or a callable(done, total). Ctrl-C stops the
+    running cases' time stepping, skips the others and raises KeyboardInterrupt. Failed cases are in the table's
     ``attrs["failures"]`` (a DataFrame) or, without pandas, under the key "failures"."""
     cb = _progress_printer("sweep") if progress is True else (progress or None)
     envelope, failures, governing = _viaduct.sweep(scenario._flat, threads, load_effects, cb)
@@ -323,8 +323,8 @@ def fit(scenario, params, records=(), map=None, speed_kmh=(), train="", modes=No
 
     A dict: status ("converged", ...), message, "params" (key, unit, initial, estimate,
     std_error, sensitivity, at_bound, determined: a table), correlation, warnings, shift_s,
-    cost_initial, cost_final, iterations, simulations, wall_s, modal_pairs. Ctrl-C raises
-    KeyboardInterrupt when the solver returns."""
+    cost_initial, cost_final, iterations, simulations, wall_s, modal_pairs. Ctrl-C stops the
+    simulations and raises KeyboardInterrupt."""
     specs = []
     for key, bounds in params.items():
         if len(bounds) not in (2, 3):

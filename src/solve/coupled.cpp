@@ -13,6 +13,7 @@
 #include "contacts.hpp"
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/options.hpp"
+#include "viaduct/core/cancel.hpp"
 
 namespace viaduct::solve {
 
@@ -334,6 +335,7 @@ CoupledSummary coupled_newmark(const SparseMatrix& M, const SparseMatrix& C, con
   if (observe) observe(0, 0.0, run.state());
   const Index n_steps = grid.n_steps();
   for (Index k = 1; k <= n_steps; ++k) {
+    check_cancel(k);  // the Python package's Ctrl-C
     const double t = k * grid.dt;
     run.k_ = k;
     run.step(t);

@@ -19,6 +19,7 @@
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/options.hpp"
 #include "viaduct/solve/coupled.hpp"
+#include "viaduct/core/cancel.hpp"
 
 namespace viaduct::solve {
 
@@ -284,6 +285,7 @@ class Run {
     std::size_t next = 0;
     double t_now = 0.0;
     for (Index k = 1; k <= n_out; ++k) {
+      check_cancel(k);  // the Python package's Ctrl-C
       const double tout = static_cast<double>(k) * grid_.dt;
       while (next < breaks.size() && breaks[next] <= tout - eps_t) {
         const double tb = breaks[next++];

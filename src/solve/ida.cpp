@@ -18,6 +18,7 @@
 #include "sundials.hpp"
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/options.hpp"
+#include "viaduct/core/cancel.hpp"
 
 namespace viaduct::solve {
 
@@ -232,6 +233,7 @@ Summary ida(const SecondOrderSystem& sys, const TimeGrid& grid, const IdaOptions
   const Index n_out = grid.n_steps();
   double t_now = 0.0;
   for (Index k = 1; k <= n_out; ++k) {
+    check_cancel(k);  // the Python package's Ctrl-C
     const double tout = std::min(k * dt_out, t_end + 0.5 * dt_out);
     // Cross every discontinuity before tout: stop exactly there and restart consistently.
     while (next_event < events.size() && events[next_event] <= tout - eps_t) {

@@ -12,6 +12,7 @@
 #include "checks.hpp"
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/options.hpp"
+#include "viaduct/core/cancel.hpp"
 
 namespace viaduct::solve {
 
@@ -463,6 +464,7 @@ Summary ModalReduction::integrate(ModalForce& force, const TimeGrid& grid, const
   emit(0, 0.0);
   const Index n_steps = grid.n_steps();
   for (Index k = 1; k <= n_steps; ++k) {
+    check_cancel(k);  // the Python package's Ctrl-C
     const double t = k * dt;
     p_prev.swap(p);
     load(t);
@@ -569,6 +571,7 @@ Summary ModalReduction::integrate_complex(ModalForce& force, const TimeGrid& gri
   emit(0, 0.0);
   const Index n_steps = grid.n_steps();
   for (Index step = 1; step <= n_steps; ++step) {
+    check_cancel(step);  // the Python package's Ctrl-C
     const double t = step * h;
     pr.swap(ur);
     pi.swap(ui);

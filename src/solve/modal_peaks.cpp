@@ -19,6 +19,7 @@
 
 #include "lanes.hpp"
 #include "viaduct/core/error.hpp"
+#include "viaduct/core/cancel.hpp"
 
 namespace viaduct::solve::detail {
 
@@ -183,6 +184,7 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
   emit(0);
   const lanes x_start = zero + in.x_start;
   for (Index k = 1; k <= in.n_max; ++k) {
+    check_cancel(k);  // the Python package's Ctrl-C
     for (std::size_t i = 0; i < nm; ++i) pp[i] = f[i];
     cur.advance(nc, nr, x_start + v * (static_cast<double>(k) * in.dt));
     for (std::size_t j = 0; j < no; ++j) dj[j] = aj[j] = zero;
@@ -309,6 +311,7 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
   emit(0);
   const lanes x_start = zero + in.x_start;
   for (Index step = 1; step <= in.n_max; ++step) {
+    check_cancel(step);  // the Python package's Ctrl-C
     for (std::size_t k = 0; k < nch; ++k) pp[k] = f[k];
     cur.advance(nc, nr, x_start + v * (static_cast<double>(step) * in.dt));
     for (std::size_t j = 0; j < no; ++j) dj[j] = aj[j] = zero;

@@ -11,6 +11,7 @@
 #include "lanes.hpp"
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/options.hpp"
+#include "viaduct/core/cancel.hpp"
 
 namespace viaduct::solve {
 
@@ -111,6 +112,7 @@ Summary newmark(const SecondOrderSystem& sys, const TimeGrid& grid, const Newmar
   if (observe) observe(0, 0.0, u, v, a);
 
   for (Index k = 1; k <= n_steps; ++k) {
+    check_cancel(k);  // the Python package's Ctrl-C
     const double t = k * dt;
     f_prev.swap(f);
     sys.force(t, f);
@@ -321,6 +323,7 @@ VIADUCT_ALWAYS_INLINE void batch_loop(BatchRun& R) {
   fill(0.0);
   record(0);
   for (Index k = 1; k <= R.n_max; ++k) {
+    check_cancel(k);  // the Python package's Ctrl-C
     const double t = static_cast<double>(k) * dt;
     if (hht) {  // keep f(t − dt) as fp
       std::swap(f, fp);

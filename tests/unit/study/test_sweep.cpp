@@ -2,6 +2,7 @@
 #include <atomic>
 #include <cmath>
 
+#include "viaduct/core/cancel.hpp"
 #include "viaduct/core/error.hpp"
 #include "viaduct/study/sweep.hpp"
 
@@ -200,4 +201,16 @@ TEST_CASE("a cancelled sweep skips the cases not started and says so") {
   for (const auto& f : r.failures) CHECK((f.message == "cancelled" && !f.input_error));
   cancel = false;
   REQUIRE(run_sweep(v, o).failures.empty());
+}
+
+TEST_CASE("a cancellation request stops the time stepping of every method") {
+  for (const Method m : {Method::newmark, Method::modal, Method::ida}) {
+    Scenario sc = small_sweep_scenario();
+    sc.settings.method = m;
+    const PreparedModel pm = prepare_model(sc);
+    request_cancel(true);
+    CHECK_THROWS_AS(simulate(pm, sc.trains[0], 30.0, sc.settings), Cancelled);
+    request_cancel(false);
+    CHECK(simulate(pm, sc.trains[0], 30.0, sc.settings).t.size() > 0);  // cleared: runs again
+  }
 }
