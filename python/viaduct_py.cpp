@@ -51,6 +51,24 @@ py::object to_python(const viaduct::io::Value& v) {
   }
 }
 
+// A table's columns by name: lists of str, float64 arrays, bool arrays.
+py::dict columns_dict(std::vector<viaduct::io::TableColumn>&& columns) {
+  using Kind = viaduct::io::TableColumn::Kind;
+  py::dict d;
+  for (auto& c : columns) {
+    if (c.kind == Kind::text) {
+      d[py::str(c.name)] = py::cast(c.cells);
+    } else if (c.kind == Kind::number) {
+      d[py::str(c.name)] = to_numpy(std::move(c.values));
+    } else {
+      py::array_t<bool> flags(static_cast<py::ssize_t>(c.flags.size()));
+      for (std::size_t i = 0; i < c.flags.size(); ++i) flags.mutable_at(static_cast<py::ssize_t>(i)) = c.flags[i] != 0;
+      d[py::str(c.name)] = flags;
+    }
+  }
+  return d;
+}
+
 // One train at one speed: history.csv's columns (names, arrays) and what ran.
 py::tuple run(const viaduct::io::FlatScenario& flat, std::optional<double> speed_kmh, std::optional<std::string> train,
               const py::object& progress) {
@@ -77,6 +95,16 @@ py::tuple run(const viaduct::io::FlatScenario& flat, std::optional<double> speed
     columns.append(py::array_t<double>({col->size()}, {static_cast<py::ssize_t>(sizeof(double))}, col->data(), owner));
   }
   py::dict info;
+  const study::VehicleHistory& v = r->vehicles;
+  if (!v.empty()) {  // vehicles.csv's columns: each axle's contact force, each car body's acceleration
+    py::dict vehicles;
+    vehicles["t_s"] = py::array_t<double>({r->t.size()}, {static_cast<py::ssize_t>(sizeof(double))}, r->t.data(), owner);
+    for (Index k = 0; k < v.contact_force.cols(); ++k)
+      vehicles[py::str("a" + std::to_string(k + 1) + "_contact_N")] = to_numpy(Vector(v.contact_force.col(k)));
+    for (std::size_t b = 0; b < v.body_names.size(); ++b)
+      vehicles[py::str(v.body_names[b] + "_acc_mps2")] = to_numpy(Vector(v.body_acc.col(static_cast<Index>(b))));
+    info["vehicles"] = vehicles;
+  }
   info["train"] = t.name;
   info["speed_kmh"] = speed * 3.6;
   info["method"] = viaduct::solve::method_name(sc.settings.method);
@@ -104,17 +132,16 @@ py::tuple sweep(const viaduct::io::FlatScenario& flat, int threads, bool load_ef
     total = n;
   };
   const study::SweepResult r = interruptible([&] { return study::run_sweep(variants, so); }, progress, done, total, cancel);
-  py::dict envelope;
-  for (auto& c : viaduct::io::envelope_columns(r.rows, variants)) {
-    if (c.text) envelope[py::str(c.name)] = py::cast(c.cells);
-    else envelope[py::str(c.name)] = to_numpy(std::move(c.values));
-  }
+  py::dict tables;
+  tables["envelope"] = columns_dict(viaduct::io::envelope_columns(r.rows, variants));
+  if (load_effects) tables["load_effects"] = columns_dict(viaduct::io::quantity_columns(r.quantities, variants));
+  if (!r.vehicles.empty()) tables["vehicles"] = columns_dict(viaduct::io::vehicle_envelope_columns(r.vehicles, variants));
   py::list failures, governing;
   for (const auto& f : r.failures) failures.append(py::make_tuple(f.variant, f.train, f.speed * 3.6, f.message));
   for (const auto& g : study::governing(r.rows))
     governing.append(py::make_tuple(g.station, g.acc.value, g.acc.variant, g.acc.train, g.acc.speed * 3.6, g.disp.value,
                                     g.disp.variant, g.disp.train, g.disp.speed * 3.6));
-  return py::make_tuple(envelope, failures, governing);
+  return py::make_tuple(tables, failures, governing);
 }
 
 viaduct::signal::Cheby1Spec cheby_of(double low_hz, double high_hz, int order, double ripple_db, const std::string& band) {

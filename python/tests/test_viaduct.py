@@ -115,6 +115,37 @@ def test_sweep_equals_envelope_csv_and_threads_agree(src, cli, tmp_path):
     assert len(env.attrs["failures"]) == 0
 
 
+def test_load_effects_and_vehicles_equal_the_cli(src, cli, tmp_path):
+    hslm = src / "scenarios/hslm-simply-supported.toml"
+    sc = viaduct.load_scenario(hslm, set={"sweep.speed_step_kmh": 70.0})
+    env = viaduct.sweep(sc, threads=2, load_effects=True)
+    run_cli(cli, "sweep", hslm, "--set", "sweep.speed_step_kmh=70.0", "--load-effects", "-q", "--out", tmp_path / "le")
+    ref = read_csv(tmp_path / "le/load_effects.csv")
+    le = env.attrs["load_effects"]
+    assert list(le.columns) == list(ref.keys())
+    for name, col in ref.items():
+        if isinstance(col, list):
+            assert list(le[name]) == col
+        else:
+            close_to_printed(le[name], col, 10)
+    veh = src / "scenarios/vehicles-25m.toml"
+    env = viaduct.sweep(viaduct.load_scenario(veh, set={"sweep.speed_step_kmh": 120.0}), threads=2)
+    run_cli(cli, "sweep", veh, "--set", "sweep.speed_step_kmh=120.0", "-q", "--out", tmp_path / "veh")
+    ref = read_csv(tmp_path / "veh/vehicles.csv")
+    v = env.attrs["vehicles"]
+    assert list(v.columns) == list(ref.keys())
+    assert [str(x).lower() for x in v["contact_lost"]] == ref["contact_lost"]
+    close_to_printed(v["min_contact_N"], ref["min_contact_N"], 10)
+    close_to_printed(v["max_body_acc_mps2"], ref["max_body_acc_mps2"], 10)
+    h = viaduct.run(viaduct.load_scenario(veh))
+    run_cli(cli, "run", veh, "-q", "--out", tmp_path / "vrun")
+    ref = read_csv(tmp_path / "vrun/vehicles.csv")
+    vh = h.attrs["vehicles"]
+    assert list(vh.columns) == list(ref.keys())
+    for name in list(ref)[1:]:
+        close_to_printed(vh[name], ref[name], 10)
+
+
 def test_sweep_failures_and_tables_without_pandas(src, monkeypatch):
     sc = viaduct.load_scenario(src / "scenarios/old-guadiana-sensitivity.toml",
                                set={"sweep.n_speeds": 2, "sweep.variants[0].factors": [0.0, 1.0]})

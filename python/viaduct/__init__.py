@@ -137,15 +137,19 @@ def _progress_printer(what):
 
 def run(scenario, speed_kmh=None, train=None, progress=None):
     """One train at one speed: history.csv's columns (t_s, per station disp, acc, filtered acc,
-    then the load effects) as a DataFrame or dict of numpy arrays. ``train``: a train name
-    (default the first); ``speed_kmh`` defaults to run.speed_kmh. Ctrl-C stops the time stepping
+    then the load effects) as a DataFrame or dict of numpy arrays; ``attrs``: train, speed_kmh,
+    method, n_steps, n_modes and, with vehicle models, "vehicles" (vehicles.csv's columns: each
+    axle's contact force, each car body's acceleration) — without pandas under the key "attrs".
+    ``train``: a train name (default the first); ``speed_kmh`` defaults to run.speed_kmh. Ctrl-C stops the time stepping
     and raises KeyboardInterrupt."""
     names, columns, info = _viaduct.run(scenario._flat, speed_kmh, train, progress)
+    if "vehicles" in info:
+        info["vehicles"] = _table(info["vehicles"])
     table = _table(dict(zip(names, columns)))
     try:
         table.attrs.update(info)
     except AttributeError:
-        pass
+        table["attrs"] = info
     return table
 
 
@@ -153,21 +157,24 @@ def sweep(scenario, threads=1, load_effects=False, progress=False):
     """Speeds x trains x variants: envelope.csv's columns (variant, KEY_factor per varied key,
     train, speed_kmh, station, max_abs_acc_mps2, max_abs_disp_m). ``threads`` as the CLI's (0: all
     cores). ``progress``: True prints to stderr, or a callable(done, total). Ctrl-C stops the
-    running cases' time stepping, skips the others and raises KeyboardInterrupt. Failed cases are in the table's
-    ``attrs["failures"]`` (a DataFrame) or, without pandas, under the key "failures"."""
+    running cases' time stepping, skips the others and raises KeyboardInterrupt. The sweep's other
+    files are in the table's ``attrs`` (DataFrames) or, without pandas, under these keys of the
+    dict: "failures" (failures.csv), "governing" (governing.csv), with ``load_effects``
+    "load_effects" (load_effects.csv), with vehicle models "vehicles" (vehicles.csv)."""
     cb = _progress_printer("sweep") if progress is True else (progress or None)
-    envelope, failures, governing = _viaduct.sweep(scenario._flat, threads, load_effects, cb)
+    tables, failures, governing = _viaduct.sweep(scenario._flat, threads, load_effects, cb)
     fail = {"variant": [f[0] for f in failures], "train": [f[1] for f in failures],
             "speed_kmh": [f[2] for f in failures], "error": [f[3] for f in failures]}
     gov_names = ["station", "max_abs_acc_mps2", "acc_variant", "acc_train", "acc_speed_kmh", "max_abs_disp_m",
                  "disp_variant", "disp_train", "disp_speed_kmh"]
     gov = {n: [g[i] for g in governing] for i, n in enumerate(gov_names)}
-    table = _table(envelope)
+    extra = {"failures": fail, "governing": gov}
+    extra.update({k: v for k, v in tables.items() if k != "envelope"})
+    table = _table(tables["envelope"])
     if isinstance(table, dict):
-        table = dict(table, failures=fail, governing=gov)
-    else:
-        table.attrs["failures"] = _table(fail)
-        table.attrs["governing"] = _table(gov)
+        return dict(table, **extra)
+    for k, v in extra.items():
+        table.attrs[k] = _table(v)
     return table
 
 

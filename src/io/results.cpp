@@ -116,29 +116,77 @@ void write_envelope_csv(const std::string& path, const std::vector<study::Envelo
   f.commit();
 }
 
-std::vector<TableColumn> envelope_columns(const std::vector<study::EnvelopeRow>& rows,
-                                         const std::vector<study::Variant>& variants) {
+namespace {
+TableColumn text_column(const std::string& name) { return {name, TableColumn::Kind::text, {}, {}, {}}; }
+TableColumn number_column(const std::string& name) { return {name, TableColumn::Kind::number, {}, {}, {}}; }
+
+// A sweep table: variant, a KEY_factor column per varied key, then `rest`, which `fill` fills
+// from each row (given the first of them).
+template <class Row, class Fill>
+std::vector<TableColumn> sweep_table(const std::vector<Row>& rows, const std::vector<study::Variant>& variants,
+                                     std::vector<TableColumn> rest, Fill fill) {
   const VariantColumns vc(variants);
-  auto text = [](const char* name) { return TableColumn{name, true, {}, {}}; };
-  auto number = [](const std::string& name) { return TableColumn{name, false, {}, {}}; };
-  std::vector<TableColumn> c = {text("variant")};
-  for (const auto& kf : vc.keys()) c.push_back(number(kf.first + "_factor"));
+  std::vector<TableColumn> c = {text_column("variant")};
+  for (const auto& kf : vc.keys()) c.push_back(number_column(kf.first + "_factor"));
   const std::size_t k = c.size();
-  for (auto&& col : {text("train"), number("speed_kmh"), text("station"), number("max_abs_acc_mps2"), number("max_abs_disp_m")})
-    c.push_back(col);
+  for (auto& col : rest) c.push_back(std::move(col));
   for (const auto& r : rows) {
     c[0].cells.push_back(r.variant);
     if (k > 1) {
       const auto& f = vc.factors(r.variant);
       for (std::size_t i = 0; i < f.size(); ++i) c[1 + i].values.push_back(f[i].second);
     }
-    c[k].cells.push_back(r.train);
-    c[k + 1].values.push_back(r.speed * 3.6);
-    c[k + 2].cells.push_back(r.station);
-    c[k + 3].values.push_back(r.max_abs_acc);
-    c[k + 4].values.push_back(r.max_abs_disp);
+    fill(r, &c[k]);
   }
   return c;
+}
+}  // namespace
+
+std::vector<TableColumn> envelope_columns(const std::vector<study::EnvelopeRow>& rows,
+                                         const std::vector<study::Variant>& variants) {
+  return sweep_table(rows, variants,
+                     {text_column("train"), number_column("speed_kmh"), text_column("station"), number_column("max_abs_acc_mps2"),
+                      number_column("max_abs_disp_m")},
+                     [](const study::EnvelopeRow& r, TableColumn* c) {
+                       c[0].cells.push_back(r.train);
+                       c[1].values.push_back(r.speed * 3.6);
+                       c[2].cells.push_back(r.station);
+                       c[3].values.push_back(r.max_abs_acc);
+                       c[4].values.push_back(r.max_abs_disp);
+                     });
+}
+
+std::vector<TableColumn> quantity_columns(const std::vector<study::QuantityRow>& rows, const std::vector<study::Variant>& variants) {
+  std::vector<TableColumn> rest = {text_column("train"), number_column("speed_kmh"), text_column("quantity")};
+  for (const char* n : {"max", "min", "max_abs", "quasi_static_max", "quasi_static_min", "phi_dyn"}) rest.push_back(number_column(n));
+  return sweep_table(rows, variants, std::move(rest), [](const study::QuantityRow& r, TableColumn* c) {
+    c[0].cells.push_back(r.train);
+    c[1].values.push_back(r.speed * 3.6);
+    c[2].cells.push_back(r.quantity);
+    std::size_t j = 3;  // max, then min, max_abs, quasi_static_max, quasi_static_min, phi_dyn
+    for (const double v : {r.dynamic.max, r.dynamic.min, r.dynamic.max_abs(), r.quasi_static.max, r.quasi_static.min, r.phi_dyn()})
+      c[j++].values.push_back(v);
+  });
+}
+
+std::vector<TableColumn> vehicle_envelope_columns(const std::vector<study::VehicleRow>& rows,
+                                                 const std::vector<study::Variant>& variants) {
+  std::vector<TableColumn> rest = {text_column("train"), number_column("speed_kmh"), number_column("min_contact_N"),
+                                   number_column("max_contact_N"), number_column("max_unloading_ratio"),
+                                   {"contact_lost", TableColumn::Kind::flag, {}, {}, {}}, number_column("max_airborne_s"),
+                                   number_column("max_body_acc_mps2"), text_column("body")};
+  return sweep_table(rows, variants, std::move(rest), [](const study::VehicleRow& r, TableColumn* c) {
+    const study::VehiclePeaks& p = r.peaks;
+    c[0].cells.push_back(r.train);
+    c[1].values.push_back(r.speed * 3.6);
+    c[2].values.push_back(p.min_contact);
+    c[3].values.push_back(p.max_contact);
+    c[4].values.push_back(p.max_unloading_ratio);
+    c[5].flags.push_back(p.contact_lost ? 1 : 0);
+    c[6].values.push_back(p.max_airborne_s);
+    c[7].values.push_back(p.max_body_acc);
+    c[8].cells.push_back(p.body);
+  });
 }
 
 void write_vehicle_envelope_csv(const std::string& path, const std::vector<study::VehicleRow>& rows,

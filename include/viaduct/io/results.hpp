@@ -26,17 +26,24 @@ std::vector<std::pair<std::string, const Vector*>> history_columns(const study::
 /// factor of that row's variant on KEY, 1 where it leaves KEY alone).
 void write_envelope_csv(const std::string& path, const std::vector<study::EnvelopeRow>& rows,
                         const std::vector<study::Variant>& variants = {});
-/// One column of a table in memory (the Python package's tables): text cells or numbers.
+/// One column of a table in memory (the Python package's tables): text cells, numbers or flags.
 struct TableColumn {
+  enum class Kind { text, number, flag };
   std::string name;
-  bool text = false;
-  std::vector<std::string> cells;  ///< when text
-  std::vector<double> values;      ///< otherwise
+  Kind kind = Kind::number;
+  std::vector<std::string> cells;  ///< text
+  std::vector<double> values;      ///< number
+  std::vector<char> flags;         ///< flag (0 or 1)
 };
 /// envelope.csv's columns, in its order and with its names (write_envelope_csv), the numbers
 /// unrounded (speed_kmh = speed × 3.6).
 std::vector<TableColumn> envelope_columns(const std::vector<study::EnvelopeRow>& rows,
                                          const std::vector<study::Variant>& variants = {});
+/// load_effects.csv's columns (write_quantities_csv): phi_dyn NaN where it is empty there.
+std::vector<TableColumn> quantity_columns(const std::vector<study::QuantityRow>& rows, const std::vector<study::Variant>& variants);
+/// vehicles.csv's columns of a sweep (write_vehicle_envelope_csv); contact_lost a flag.
+std::vector<TableColumn> vehicle_envelope_columns(const std::vector<study::VehicleRow>& rows,
+                                                 const std::vector<study::Variant>& variants);
 /// load_effects.csv of a sweep with load effects: variant (KEY_factor columns as envelope.csv),
 /// train, speed_kmh, quantity (its unit in its name), max, min, max_abs over the run,
 /// quasi_static_max/min (the train crawling), phi_dyn (empty when the quasi-static is 0).
