@@ -16,11 +16,12 @@ from . import _viaduct
 from ._viaduct import InputError, SolverError
 
 __all__ = ["Scenario", "load_scenario", "scenario_from_dict", "run", "sweep", "Record", "read_record", "filter",
-           "spectrum", "welch", "compare", "peaks", "identify_speed", "frf", "record_frf", "read_frf", "modal_fit", "decay", "fit", "InputError", "SolverError", "version"]
+           "spectrum", "welch", "compare", "peaks", "identify_speed", "frf", "record_frf", "read_frf", "modal_fit",
+           "decay", "fit", "InputError", "SolverError", "version"]
 
 
 def version():
-    """The viaduct version string ("viaduct x.y.z")."""
+    """viaduct's version ("x.y.z", as in manifest.toml)."""
     return _viaduct.version()
 
 
@@ -35,7 +36,8 @@ def _toml(value, key):
             raise InputError(f"key '{key}': {value} is not a finite number")
         return repr(value)
     if isinstance(value, str):
-        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+        escaped = value.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n").replace("\t", "\\t")
+        return '"' + escaped + '"'
     if hasattr(value, "tolist"):  # numpy scalars and arrays
         return _toml(value.tolist(), key)
     if isinstance(value, (list, tuple)):
@@ -77,7 +79,8 @@ class Scenario:
 
     def set(self, key, value):
         """Sets a key (checked as ``--set key=value``: type, constraint, cross-key rules); returns self."""
-        overrides = self._overrides + [f"{key}={_toml(value, key)}"]
+        # The key's earlier override replaced: a loop of sets does not pile them up.
+        overrides = [o for o in self._overrides if o.split("=", 1)[0] != key] + [f"{key}={_toml(value, key)}"]
         self._flat = _viaduct.load_flat(self._path, overrides)  # raises and leaves the scenario as it was
         self._overrides = overrides
         return self

@@ -349,9 +349,7 @@ void write_shard_toml(const std::string& path, int k, int n, Index begin, Index 
 
 ShardInfo read_shard_toml(const std::string& dir) {
   const std::string path = dir + "/shard.toml";
-  if (!fs::exists(path)) throw InputError(SourceLocation{path, 1, ""}, "not a shard: " + dir + " has no shard.toml (viaduct sweep --shard K/N writes one)");
-  const auto tf = detail::parse_toml_file(path);
-  const toml::value& v = tf.root;
+  const toml::value v = detail::read_shard_file(dir);
   ShardInfo s;
   s.dir = dir;
   s.k = detail::find_in<int>(v, "shard", "k", path);

@@ -1,7 +1,9 @@
 // What the shards of sampled studies and of sweeps share (shard_files.hpp).
 #include "shard_files.hpp"
+#include "toml_file.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 
 namespace viaduct::io::detail {
@@ -21,6 +23,22 @@ std::string g17(double x) {
   std::string s = b;
   if (s.find_first_of(".eni") == std::string::npos) s += ".0";
   return s;
+}
+
+toml::value read_shard_file(const std::string& dir) {
+  const std::string path = dir + "/shard.toml";
+  if (!std::filesystem::exists(path))
+    throw InputError(SourceLocation{path, 1, ""}, "not a shard: " + dir + " has no shard.toml (viaduct sweep --shard K/N writes one)");
+  try {
+    toml::value root = parse_toml_file(path).root;
+    if (!root.contains("shard") || !root.at("shard").is_table())
+      throw InputError(SourceLocation{path, 1, "shard"}, "not a shard: no [shard] table");
+    return root;
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(std::string("shard.toml: ") + e.what());
+  }
 }
 
 void check_shards_join(std::vector<ShardPart>& parts, const std::string& what) {

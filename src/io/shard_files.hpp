@@ -27,6 +27,10 @@ T find_in(const toml::value& v, const std::string& table, const std::string& key
   }
 }
 
+/// DIR/shard.toml parsed: InputError when it is missing ("not a shard"), is not TOML or has no
+/// [shard] table (toml11's message, with the file and line).
+toml::value read_shard_file(const std::string& dir);
+
 /// One shard as its shard.toml says: part k of n, items [begin, end) of n_total.
 struct ShardPart {
   std::string dir;

@@ -2,20 +2,17 @@
 #include "viaduct/io/sweep_shard.hpp"
 
 #include <algorithm>
-#include <filesystem>
 #include <sstream>
 
 #include <toml.hpp>
 
 #include "atomic_file.hpp"
 #include "shard_files.hpp"
-#include "toml_file.hpp"
 #include "viaduct/core/error.hpp"
 #include "viaduct/io/results.hpp"
 
 namespace viaduct::io {
 
-namespace fs = std::filesystem;
 
 std::pair<std::size_t, std::size_t> sweep_shard_range(int k, int n, std::size_t n_total) {
   const auto part = [&](int i) { return std::size_t(i) * n_total / std::size_t(n); };
@@ -44,12 +41,10 @@ void write_sweep_shard_toml(const SweepShard& s) {
 }
 
 std::string shard_kind(const std::string& dir) {
-  const std::string path = dir + "/shard.toml";
-  if (!fs::exists(path))
-    throw InputError(SourceLocation{path, 1, ""}, "not a shard: " + dir + " has no shard.toml (viaduct sweep --shard K/N writes one)");
-  const auto tf = detail::parse_toml_file(path);
-  const toml::value& shard = toml::find(tf.root, "shard");
-  return shard.contains("kind") ? toml::find<std::string>(shard, "kind") : "sample";
+  const toml::value root = detail::read_shard_file(dir);
+  const toml::value& shard = root.at("shard");
+  if (!shard.contains("kind")) return "sample";
+  return detail::find_in<std::string>(root, "shard", "kind", dir + "/shard.toml");
 }
 
 namespace {
@@ -68,8 +63,7 @@ study::GoverningCase governing_case(const toml::value& item, const std::string& 
 SweepShard read_sweep_shard_toml(const std::string& dir) {
   using detail::find_in;
   const std::string path = dir + "/shard.toml";
-  const auto tf = detail::parse_toml_file(path);
-  const toml::value& v = tf.root;
+  const toml::value v = detail::read_shard_file(dir);
   SweepShard s;
   s.dir = dir;
   s.k = find_in<int>(v, "shard", "k", path);
@@ -86,9 +80,11 @@ SweepShard read_sweep_shard_toml(const std::string& dir) {
   s.n_failed_input = find_in<std::size_t>(v, "shard", "n_failed_input", path);
   if (v.contains("governing")) {
     if (!v.at("governing").is_array()) throw InputError(SourceLocation{path, 1, "governing"}, "expected an array of tables");
-    for (const auto& item : v.at("governing").as_array())
-      s.governing.push_back({toml::find<std::string>(item, "station"), governing_case(item, "acc", path),
-                             governing_case(item, "disp", path)});
+    for (const auto& item : v.at("governing").as_array()) {
+      if (!item.is_table() || !item.contains("station") || !item.at("station").is_string())
+        throw InputError(SourceLocation{path, 1, "governing.station"}, "missing or of the wrong type");
+      s.governing.push_back({item.at("station").as_string().str, governing_case(item, "acc", path), governing_case(item, "disp", path)});
+    }
   }
   if (s.k < 1 || s.k > s.n || s.end < s.begin || s.end > s.n_total || s.n_failed_input > s.n_failed)
     throw InputError(SourceLocation{path, 1, "shard"}, "inconsistent shard (k, n, begin, end, n_failed)");

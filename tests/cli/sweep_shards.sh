@@ -82,6 +82,11 @@ sed -e 's/mode = "one-at-a-time"/mode = "sample"\nn_samples = 2/' -e 's/factors 
 expect 0 "" -- "$VIADUCT" sweep "$WORK/sampled.toml" -q --shard 1/3 --out "$WORK/sampled-3-1"
 expect 2 "sampled-3-1 is a shard of a sampled study, $WORK/variants-3-2 of a sweep" -- \
   "$VIADUCT" merge "$WORK/variants-3-2" "$WORK/sampled-3-1" --out "$WORK/bad"
+# A damaged shard.toml is an input error naming it, not a crash.
+cp -r "$WORK/hslm-2-1" "$WORK/damaged" && echo "garbage = = " >> "$WORK/damaged/shard.toml"
+expect 2 "damaged/shard.toml" -- "$VIADUCT" merge "$WORK/damaged" "$WORK/hslm-2-2" --out "$WORK/bad"
+sed -i 's/^station = /statio = /' "$WORK/hslm-2-2/shard.toml"
+expect 2 "key 'governing.station': missing or of the wrong type" -- "$VIADUCT" merge "$WORK/hslm-2-1" "$WORK/hslm-2-2" --out "$WORK/bad"
 expect 2 "has no shard.toml" -- "$VIADUCT" merge "$WORK/hslm-one" --out "$WORK/bad"
 expect 2 "expected K/N with 1 <= K <= N, got '3/2'" -- "$VIADUCT" sweep "${HSLM[@]}" --shard 3/2 --out "$WORK/bad"
 expect 2 "--resume applies to sampled studies" -- "$VIADUCT" sweep "${HSLM[@]}" --resume --out "$WORK/bad"
