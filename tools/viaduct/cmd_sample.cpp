@@ -197,11 +197,11 @@ Command merge_command() {
       "missing, repeated or unfinished shard, or one of another study, is an error naming it: rerun\n"
       "that shard alone. See docs/sampled.md for SLURM job arrays and GNU parallel.\n\n"
       "Sample runs:\n"
-      "  viaduct sweep scenarios/old-guadiana-sampled.toml --set sweep.n_samples=4 --set sweep.n_speeds=3 --shard 1/2 --out out/og-shard-1\n"
-      "  viaduct sweep scenarios/old-guadiana-sampled.toml --set sweep.n_samples=4 --set sweep.n_speeds=3 --shard 2/2 --out out/og-shard-2\n"
+      "  viaduct sweep scenarios/old-guadiana-sampled.toml --set sweep.n_samples=2 --set sweep.n_speeds=3 --shard 1/2 --out out/og-shard-1\n"
+      "  viaduct sweep scenarios/old-guadiana-sampled.toml --set sweep.n_samples=2 --set sweep.n_speeds=3 --shard 2/2 --out out/og-shard-2\n"
       "  viaduct merge out/og-shard-1 out/og-shard-2 --out out/og-merged\n"
-      "  viaduct sweep scenarios/hslm-simply-supported.toml --set sweep.speed_step_kmh=40 --shard 1/2 --out out/hslm-shard-1\n"
-      "  viaduct sweep scenarios/hslm-simply-supported.toml --set sweep.speed_step_kmh=40 --shard 2/2 --out out/hslm-shard-2\n"
+      "  viaduct sweep scenarios/hslm-simply-supported.toml --set sweep.speed_step_kmh=70 --shard 1/2 --out out/hslm-shard-1\n"
+      "  viaduct sweep scenarios/hslm-simply-supported.toml --set sweep.speed_step_kmh=70 --shard 2/2 --out out/hslm-shard-2\n"
       "  viaduct merge out/hslm-shard-1 out/hslm-shard-2 --out out/hslm-merged\n";
   bind(c, sample_cli::declare_merge, sample_cli::run_merge);
   return c;

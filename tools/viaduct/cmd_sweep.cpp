@@ -80,7 +80,7 @@ Command sweep_command() {
       "  viaduct sweep scenarios/hslm-simply-supported.toml --set 'train.files=[\"data/trains/hslm/A1.toml\"]' --set sweep.speed_step_kmh=20 --out out/hslm\n"
       "  viaduct sweep scenarios/old-guadiana-sensitivity.toml --set sweep.speed_min_mps=90 --set sweep.n_speeds=1 --threads 0 --out out/og\n"
       "  viaduct sweep scenarios/vehicles-25m.toml --set sweep.speed_step_kmh=120 --out out/vehicles-sweep\n"
-      "  viaduct sweep scenarios/old-guadiana-sampled.toml --set sweep.n_samples=8 --set sweep.n_speeds=4 --threads 0 --out out/og-sampled\n";
+      "  viaduct sweep scenarios/old-guadiana-sampled.toml --set sweep.n_samples=4 --set sweep.n_speeds=3 --threads 0 --out out/og-sampled\n";
   bind(c, declare_sweep, run_sweep_command);
   return c;
 }
