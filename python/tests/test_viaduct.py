@@ -48,6 +48,7 @@ def test_scenario_get_set_and_the_cli_messages(src, cli, tmp_path):
     sc.set("sweep.speed_step_kmh", 20.0)
     assert sc.get("sweep.speed_step_kmh") == 20.0
     assert sc.where("sweep.speed_step_kmh")[0] == "--set"
+    assert "sweep.speed_step_kmh = 20.0   # [km/h] --set" in sc.describe()  # as viaduct check prints it
     with pytest.raises(viaduct.InputError) as e:
         sc.set("bridge.EI", -1.0)
     cli_error = run_cli(cli, "check", src / "scenarios/hslm-simply-supported.toml", "--set", "bridge.EI=-1.0", code=2).stderr
@@ -203,6 +204,8 @@ def test_read_record_every_format(src):
     assert mat.data.shape[0] > 0 and mat.fs_hz > 0
     uff = viaduct.read_record(src / "tests/fuzz/corpus/uff/two-channels.uff")
     assert uff.data.shape[1] == 2
+    with pytest.raises(viaduct.InputError, match="no channel 'nope' in the record; it has: deck_disp_m, deck_acc_mps2"):
+        csv_rec["nope"]
     with pytest.raises(viaduct.InputError, match="no-such.csv"):
         viaduct.read_record(src / "data/records/no-such.csv")
 

@@ -97,6 +97,10 @@ class Scenario:
         """(file, line) where a key's value comes from ("--set" for overrides, "default")."""
         return self._flat.where(key)
 
+    def describe(self):
+        """The resolved scenario as ``viaduct check`` prints it: key = value  # unit, origin."""
+        return self._flat.describe()
+
     def to_toml(self):
         """The resolved scenario as TOML (as in manifest.toml)."""
         return self._flat.resolved_toml()
@@ -196,6 +200,8 @@ class Record:
 
     def __getitem__(self, channel):
         """A channel's samples (a view, no copy)."""
+        if channel not in self.channels:
+            raise InputError(f"no channel '{channel}' in the record; it has: {', '.join(self.channels)}")
         return self.data[:, self.channels.index(channel)]
 
     def to_frame(self):
