@@ -13,7 +13,6 @@
 
 namespace viaduct::io {
 
-
 std::pair<std::size_t, std::size_t> sweep_shard_range(int k, int n, std::size_t n_total) {
   const auto part = [&](int i) { return std::size_t(i) * n_total / std::size_t(n); };
   return {part(k - 1), part(k)};
@@ -73,6 +72,9 @@ SweepShard read_sweep_shard_toml(const std::string& dir) {
   s.n_total = find_in<std::size_t>(v, "shard", "n_total", path);
   s.fingerprint = find_in<std::string>(v, "shard", "fingerprint", path);
   s.files = find_in<std::vector<std::string>>(v, "shard", "files", path);
+  for (const auto& f : s.files)  // only a sweep's own files: merge writes them into its --out
+    if (f != "envelope.csv" && f != "failures.csv" && f != "load_effects.csv" && f != "vehicles.csv")
+      throw InputError(SourceLocation{path, 1, "shard.files"}, "'" + f + "' is not a file a sweep writes");
   s.load_effects = find_in<bool>(v, "shard", "load_effects", path);
   s.n_variants = find_in<std::size_t>(v, "shard", "n_variants", path);
   s.n_rows = find_in<std::size_t>(v, "shard", "n_rows", path);
