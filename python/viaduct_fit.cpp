@@ -39,12 +39,7 @@ py::dict result_dict(const study::FitProblem& problem, const study::FitResult& r
   params["at_bound"] = r.at_bound;
   params["determined"] = r.determined;
   d["params"] = params;
-  const auto n = static_cast<py::ssize_t>(r.correlation.rows());
-  py::array_t<double> corr({n, static_cast<py::ssize_t>(r.correlation.cols())});
-  auto c = corr.mutable_unchecked<2>();
-  for (py::ssize_t i = 0; i < n; ++i)
-    for (py::ssize_t j = 0; j < corr.shape(1); ++j) c(i, j) = r.correlation(i, j);
-  d["correlation"] = corr;
+  d["correlation"] = matrix_to_numpy(Matrix(r.correlation));
   d["warnings"] = r.warnings;
   d["shift_s"] = r.shift_s;
   d["cost_initial"] = r.cost_initial;

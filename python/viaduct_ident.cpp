@@ -40,20 +40,8 @@ const char* quantity_name(ident::FrfQuantity q) {
 py::dict frf_dict(const ident::Frf& f) {
   py::dict d;
   d["frequency_hz"] = to_numpy(Vector(f.frequency_hz));
-  py::array_t<std::complex<double>> h({f.h.rows(), f.h.cols()});
-  auto hv = h.mutable_unchecked<2>();
-  for (Index i = 0; i < f.h.rows(); ++i)
-    for (Index j = 0; j < f.h.cols(); ++j) hv(i, j) = f.h(i, j);
-  d["h"] = h;
-  if (f.coherence.size() > 0) {
-    py::array_t<double> c({f.coherence.rows(), f.coherence.cols()});
-    auto cv = c.mutable_unchecked<2>();
-    for (Index i = 0; i < f.coherence.rows(); ++i)
-      for (Index j = 0; j < f.coherence.cols(); ++j) cv(i, j) = f.coherence(i, j);
-    d["coherence"] = c;
-  } else {
-    d["coherence"] = py::none();
-  }
+  d["h"] = matrix_to_numpy(ident::ComplexMatrix(f.h));
+  d["coherence"] = f.coherence.size() > 0 ? py::object(matrix_to_numpy(Matrix(f.coherence))) : py::object(py::none());
   py::list q, units;
   for (auto x : f.quantity) {
     q.append(quantity_name(x));

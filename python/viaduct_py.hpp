@@ -9,6 +9,8 @@
 #include <future>
 #include <string>
 #include <thread>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "viaduct/core/cancel.hpp"
@@ -34,6 +36,18 @@ inline py::array_t<double> to_numpy(std::vector<double>&& v) {
   auto* p = new std::vector<double>(std::move(v));
   py::capsule owner(p, [](void* q) { delete static_cast<std::vector<double>*>(q); });
   return py::array_t<double>({static_cast<py::ssize_t>(p->size())}, {static_cast<py::ssize_t>(sizeof(double))}, p->data(), owner);
+}
+
+// A matrix handed to numpy without a copy: moved to the heap, seen as a Fortran-ordered array
+// (Eigen's column-major storage), freed with it. Complex matrices need pybind11/complex.h.
+template <class M>
+py::array_t<typename M::Scalar> matrix_to_numpy(M&& m) {
+  using Owned = std::decay_t<M>;
+  auto* p = new Owned(std::forward<M>(m));
+  py::capsule owner(p, [](void* q) { delete static_cast<Owned*>(q); });
+  const auto rows = static_cast<py::ssize_t>(p->rows()), cols = static_cast<py::ssize_t>(p->cols());
+  const auto s = static_cast<py::ssize_t>(sizeof(typename M::Scalar));
+  return py::array_t<typename M::Scalar>({rows, cols}, {s, s * rows}, p->data(), owner);
 }
 
 // A 1-D float64 array as an Eigen vector: in place when contiguous (any other array is converted

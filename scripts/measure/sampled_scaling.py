@@ -64,9 +64,9 @@ def main():
             odir = os.path.join(tmp, "n%d" % n)
             wall, rss = run([base + ["--set", "sweep.n_samples=%d" % n, "--threads", "1", "--out", odir]])
             with open(os.path.join(odir, "sample_peaks.csv")) as f:
-                lines = f.readlines()[1:]
-            rows = len(lines)
-            stations = len({line.split(",")[3] for line in lines})
+                peaks = f.readlines()[1:]  # not `lines`: that name holds the page
+            rows = len(peaks)
+            stations = len({line.split(",")[3] for line in peaks})
             cases = rows // max(1, stations)
             out("| %d | %d | %.1f | %.2f | %.0f |" % (n, cases, wall, 1e3 * wall / cases, rss))
         n = a.scaling_samples

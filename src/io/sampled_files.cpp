@@ -202,15 +202,15 @@ SampleStream SampleStream::resume(const std::string& dir, Index begin, Index end
   const std::string path = dir + "/sample_progress.toml";
   if (!fs::exists(path))
     throw InputError("--resume: nothing to resume in " + dir + " (no sample_progress.toml: no sampled run was interrupted there)");
-  const auto tf = detail::parse_toml_file(path);
+  const toml::value root = detail::read_state_toml(path, "progress");
   SampleStream s;
   s.dir_ = dir;
-  s.fingerprint_ = detail::find_in<std::string>(tf.root, "progress", "fingerprint", path);
-  s.begin_ = detail::find_in<Index>(tf.root, "progress", "begin", path);
-  s.end_ = detail::find_in<Index>(tf.root, "progress", "end", path);
-  s.done_ = detail::find_in<Index>(tf.root, "progress", "done", path);
-  s.peaks_bytes_ = detail::find_in<long long>(tf.root, "progress", "peaks_bytes", path);
-  s.failures_bytes_ = detail::find_in<long long>(tf.root, "progress", "failures_bytes", path);
+  s.fingerprint_ = detail::find_in<std::string>(root, "progress", "fingerprint", path);
+  s.begin_ = detail::find_in<Index>(root, "progress", "begin", path);
+  s.end_ = detail::find_in<Index>(root, "progress", "end", path);
+  s.done_ = detail::find_in<Index>(root, "progress", "done", path);
+  s.peaks_bytes_ = detail::find_in<long long>(root, "progress", "peaks_bytes", path);
+  s.failures_bytes_ = detail::find_in<long long>(root, "progress", "failures_bytes", path);
   if (s.fingerprint_ != fingerprint)
     throw InputError(SourceLocation{path, 1, "fingerprint"}, "the interrupted run in " + dir +
                                                                  " is of another study (the scenario or a --set differs)");

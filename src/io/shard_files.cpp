@@ -25,20 +25,24 @@ std::string g17(double x) {
   return s;
 }
 
-toml::value read_shard_file(const std::string& dir) {
-  const std::string path = dir + "/shard.toml";
-  if (!std::filesystem::exists(path))
-    throw InputError(SourceLocation{path, 1, ""}, "not a shard: " + dir + " has no shard.toml (viaduct sweep --shard K/N writes one)");
+toml::value read_state_toml(const std::string& path, const std::string& table) {
   try {
     toml::value root = parse_toml_file(path).root;
-    if (!root.contains("shard") || !root.at("shard").is_table())
-      throw InputError(SourceLocation{path, 1, "shard"}, "not a shard: no [shard] table");
+    if (!root.contains(table) || !root.at(table).is_table())
+      throw InputError(SourceLocation{path, 1, table}, "no [" + table + "] table: not a file viaduct wrote, or a damaged one");
     return root;
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {
-    throw InputError(std::string("shard.toml: ") + e.what());
+    throw InputError(path + ": " + e.what());
   }
+}
+
+toml::value read_shard_file(const std::string& dir) {
+  const std::string path = dir + "/shard.toml";
+  if (!std::filesystem::exists(path))
+    throw InputError(SourceLocation{path, 1, ""}, "not a shard: " + dir + " has no shard.toml (viaduct sweep --shard K/N writes one)");
+  return read_state_toml(path, "shard");
 }
 
 void check_shards_join(std::vector<ShardPart>& parts, const std::string& what) {

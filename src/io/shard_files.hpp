@@ -27,8 +27,11 @@ T find_in(const toml::value& v, const std::string& table, const std::string& key
   }
 }
 
-/// DIR/shard.toml parsed: InputError when it is missing ("not a shard"), is not TOML or has no
-/// [shard] table (toml11's message, with the file and line).
+/// A state file viaduct wrote (shard.toml, sample_progress.toml) parsed: InputError when it is
+/// not TOML or has no [table] (toml11's message, with the file and line), so that a damaged file
+/// is an input error (exit 2), not an exception from the parser.
+toml::value read_state_toml(const std::string& path, const std::string& table);
+/// DIR/shard.toml by read_state_toml; InputError "not a shard" when it is missing.
 toml::value read_shard_file(const std::string& dir);
 
 /// One shard as its shard.toml says: part k of n, items [begin, end) of n_total.

@@ -122,6 +122,8 @@ expect 2 "sweep.variants[1].low" -- "$VIADUCT" sweep "$OG" --set sweep.variants[
 expect 2 "violated constraint low < high" -- "$VIADUCT" sweep "$OG" --set sweep.variants[1].low=3.0 --out "$WORK/bad"
 expect 2 "expected K/N with 1 <= K <= N, got '3/2'" -- "$VIADUCT" sweep "$OG" --shard 3/2 --out "$WORK/bad"
 expect 2 "nothing to resume" -- "$VIADUCT" sweep "$OG" --resume --out "$WORK/empty"
+mkdir -p "$WORK/damaged" && echo "done = = 3" > "$WORK/damaged/sample_progress.toml"
+expect 2 "damaged/sample_progress.toml" -- "$VIADUCT" sweep "$OG" --resume --out "$WORK/damaged"
 expect 2 "--load-effects is not available for sampled studies" -- "$VIADUCT" sweep "$OG" --load-effects --out "$WORK/bad"
 expect 2 "--resume applies to sampled studies" -- "$VIADUCT" sweep "$SRC/scenarios/old-guadiana-sensitivity.toml" --resume --out "$WORK/bad"
 
