@@ -216,7 +216,7 @@ std::vector<KeySpec> analysis_keys() {  // analysis
        [](S& sc, const V& v) { sc.settings.modal.n_modes = static_cast<Index>(v.x); }},
       {"modal.max_frequency_hz", T::number, "0.0", "Hz", ">= 0", "modal: keep the modes up to this frequency (0: no frequency limit).",
        [](S& sc, const V& v) { sc.settings.modal.max_frequency_hz = v.x; }},
-      {"modal.static_correction", T::boolean, "true", "", "", "modal: add the quasi-static response of the dropped modes to displacements (mode-acceleration method).",
+      {"modal.static_correction", T::boolean, "true", "", "", "modal: add the quasi-static response of the dropped modes to displacements and load effects (mode-acceleration method); with vehicles (modal and ida) also to the rail under each wheel.",
        [](S& sc, const V& v) { sc.settings.modal.static_correction = v.b; }},
       {"modal.damping_vectors", T::integer, "1", "-", "[0, 3]", "modal: blocks of damping-correction vectors (K⁻¹ − ΦΩ⁻²Φᵀ)Cφ appended to the modes when discrete dashpots couple them (the part of the low complex modes that the undamped modes miss; 0: the modes alone; docs/accuracy.md).",
        [](S& sc, const V& v) { sc.settings.modal.damping_vectors = static_cast<int>(v.x); }},

@@ -165,6 +165,7 @@ class CoupledRun {
     // The previous step's contact loads (its positions, P0 + p) for α's share, then today's static ones.
     if (al != 0.0) contact_loads(force_, f_old_);
     ct_.read(path_, t, n_);
+    flex_ = path_.residual_flexibility(t, Fr_);
     contact_loads(veh_.static_load, f_);
     rhs_.noalias() = w * f_;
     rhs_.noalias() -= C_ * (w * vt_ - al * v_);
@@ -207,7 +208,9 @@ class CoupledRun {
       for (std::size_t j = 0; j < ct_.dof[q].size(); ++j) f[ct_.dof[q][j]] += P[static_cast<Index>(q)] * ct_.weight[q][j];
   }
 
-  // The contact forces p from (springs + G + N X) p = gap / c_eff, with X = S⁻¹ Nᵀ (cached columns).
+  // The contact forces p from (springs + G + N X + F/c_eff) p = gap / c_eff, with X = S⁻¹ Nᵀ
+  // (cached columns) and F the static correction's flexibility between the wheels (its share of the
+  // static loads P0 moved to the gap).
   void solve_contacts(Index k, double c_eff) {
     const double c = b_ * dt_ * dt_;
     for (std::size_t q = 0; q < nw_; ++q) {
@@ -226,6 +229,10 @@ class CoupledRun {
         A_(qi, ji) = G_(qi, ji) + (on_[q] && on_[j] ? ct_.rail(q, X_.col(ji)) : 0.0);
       }
       A_(qi, qi) += spring_[qi];
+      if (flex_) {
+        gap_[qi] -= Fr_.row(qi).dot(veh_.static_load) / c_eff;
+        A_.row(qi) += Fr_.row(qi) / c_eff;
+      }
     }
     if (!veh_.release) {
       la_.compute(A_);
@@ -294,7 +301,8 @@ class CoupledRun {
   InverseColumns cols_;
   Eigen::LLT<Matrix> lv_;
   Eigen::LDLT<Matrix> la_;
-  Matrix Y_, G_, X_, A_;
+  Matrix Y_, G_, X_, A_, Fr_;
+  bool flex_ = false;  // Fr_ holds the path's residual flexibility at this step
   Vector spring_, u_, v_, a_, f_, f_old_, rhs_, ut_, vt_, as_, z_, zv_, za_, zt_, zvt_, av_, force_, p_, gap_;
   std::vector<bool> on_;
   std::vector<bool> active_ = std::vector<bool>(nw_, true);  // wheels on the rail (unilateral contact)
@@ -388,6 +396,8 @@ Vector coupled_static(const SparseMatrix& K, const LinearVehicle& veh, const Con
   Matrix F(nwi, nwi);
   for (Index w = 0; w < nwi; ++w)
     for (Index q = 0; q < nwi; ++q) F(w, q) = ct.rail(static_cast<std::size_t>(w), X.col(q));
+  Matrix Fr;  // a modal structure's static correction
+  if (path.residual_flexibility(t, Fr)) F += Fr;
   // [K_v  B; Bᵀ  −(D + F)] [z; p] = [0; r + F P0].
   Matrix S = Matrix::Zero(nv + nwi, nv + nwi);
   Vector rhs = Vector::Zero(nv + nwi);

@@ -52,6 +52,14 @@ struct Problem {
   Vector kd;
   double cj = 0.0;
   Vector bu, bz, ru, rz, xu, xz;
+  // Static correction (ContactPath::residual_flexibility): the flexibility F between the wheels
+  // couples their contact laws, (1/k + F)_AA P_A = P0_A/k + g_A over the wheels A on the rail of
+  // the structure (g = z − y − r); the Jacobian's Kj (contact_stiffness_matrix()) replaces diag(k).
+  bool flex = false;
+  Matrix Fr, Ca, Kj;  // Kj: the contacts' stiffness at the last Jacobian (the linear solves use it)
+  Vector g, ga, pa, wt;
+  std::vector<Index> act;
+  Eigen::LDLT<Matrix> lc;
   std::exception_ptr error;
   std::string last_message;
   LogSink log;
@@ -60,13 +68,61 @@ struct Problem {
   // The contacts at t and the forces of state y.
   void forces(double t, const double* y) {
     ct.read(*path, t, n);
+    flex = path->residual_flexibility(t, Fr);
     const Eigen::Map<const Vector> u(y, n), z(y + 2 * n, nv);
+    if (flex) return coupled_forces(u, z);
     for (std::size_t w = 0; w < nw; ++w) {
       const Index wi = static_cast<Index>(w);
       const double k = veh->contact_stiffness[wi];
       would[wi] = veh->static_load[wi] + k * (z[veh->wheel_dof[w]] - ct.rail(w, u) - ct.r[wi]);
       force[wi] = on[w] ? would[wi] : 0.0;
     }
+  }
+
+  // The same with the static correction: the wheels on the rail of the structure solved together
+  // (F couples them; a wheel on rigid ground or off the rail keeps its own law), and a wheel off
+  // the rail would carry P0 + k (g − Σ F P), the rail under it bent by the others.
+  void coupled_forces(const Eigen::Map<const Vector>& u, const Eigen::Map<const Vector>& z) {
+    const Vector& k = veh->contact_stiffness;
+    g.resize(static_cast<Index>(nw));
+    act.clear();
+    for (std::size_t w = 0; w < nw; ++w) {
+      const Index wi = static_cast<Index>(w);
+      g[wi] = z[veh->wheel_dof[w]] - ct.rail(w, u) - ct.r[wi];
+      force[wi] = on[w] ? veh->static_load[wi] + k[wi] * g[wi] : 0.0;
+      if (on[w] && !ct.dof[w].empty()) act.push_back(wi);
+    }
+    const Index na = static_cast<Index>(act.size());
+    if (na > 0) {
+      Ca.resize(na, na);
+      ga.resize(na);
+      for (Index i = 0; i < na; ++i) {
+        const Index a = act[static_cast<std::size_t>(i)];
+        for (Index j = 0; j < na; ++j) Ca(i, j) = Fr(a, act[static_cast<std::size_t>(j)]);
+        Ca(i, i) += 1.0 / k[a];
+        ga[i] = veh->static_load[a] / k[a] + g[a];
+      }
+      lc.compute(Ca);
+      pa = lc.solve(ga);
+      for (Index i = 0; i < na; ++i) force[act[static_cast<std::size_t>(i)]] = pa[i];
+    }
+    for (std::size_t w = 0; w < nw; ++w) {
+      const Index wi = static_cast<Index>(w);
+      would[wi] = on[w] ? force[wi] : veh->static_load[wi] + k[wi] * (g[wi] - Fr.row(wi).dot(force));
+    }
+  }
+
+  // The contacts' stiffness matrix of the last forces(): k on the diagonal of the wheels on the
+  // rail, ((1/k + F)_AA)⁻¹ over those on the structure (coupled_forces()).
+  void contact_stiffness_matrix(Matrix& Kc) {
+    const Index nwi = static_cast<Index>(nw), na = static_cast<Index>(act.size());
+    Kc.setZero(nwi, nwi);
+    for (Index w = 0; w < nwi; ++w)
+      if (on[static_cast<std::size_t>(w)]) Kc(w, w) = veh->contact_stiffness[w];
+    if (na == 0) return;
+    const Matrix inv = lc.solve(Matrix::Identity(na, na));
+    for (Index i = 0; i < na; ++i)
+      for (Index j = 0; j < na; ++j) Kc(act[static_cast<std::size_t>(i)], act[static_cast<std::size_t>(j)]) = inv(i, j);
   }
 };
 
@@ -134,14 +190,31 @@ int jacobian(realtype t, realtype cj, N_Vector yy, N_Vector, N_Vector, SUNMatrix
     Vector& kd = P->kd;  // k on the rail, 0 off it
     for (Index w = 0; w < nw; ++w) kd[w] = P->on[static_cast<std::size_t>(w)] ? veh.contact_stiffness[w] : 0.0;
     SparseMatrix D = P->Kv + cj * P->Cv + (cj * cj) * P->Mv;
-    for (Index w = 0; w < nw; ++w) D.coeffRef(veh.wheel_dof[static_cast<std::size_t>(w)], veh.wheel_dof[static_cast<std::size_t>(w)]) += kd[w];
+    auto wd = [&](Index w) { return veh.wheel_dof[static_cast<std::size_t>(w)]; };
+    if (P->flex) {  // E Kj Eᵀ couples the wheels of every coach on the bridge
+      P->contact_stiffness_matrix(P->Kj);
+      std::vector<Eigen::Triplet<double>> tk;
+      for (Index a = 0; a < nw; ++a)
+        for (Index b = 0; b < nw; ++b)
+          if (P->Kj(a, b) != 0.0) tk.emplace_back(wd(a), wd(b), P->Kj(a, b));
+      SparseMatrix EKE(nv, nv);
+      EKE.setFromTriplets(tk.begin(), tk.end());
+      D += EKE;
+    } else {
+      for (Index w = 0; w < nw; ++w) D.coeffRef(wd(w), wd(w)) += kd[w];
+    }
     P->ld.compute(D);
     if (P->ld.info() != Eigen::Success) return 1;  // recoverable: IDA retries with a smaller step
     P->E.setZero(nv, nw);
-    for (Index w = 0; w < nw; ++w) P->E(veh.wheel_dof[static_cast<std::size_t>(w)], w) = 1.0;
+    for (Index w = 0; w < nw; ++w) P->E(wd(w), w) = 1.0;
     P->DE = P->ld.solve(P->E);  // D⁻¹ E
-    Matrix H = -(kd.asDiagonal() * (P->E.transpose() * P->DE) * kd.asDiagonal());
-    H.diagonal() += kd;
+    Matrix H;
+    if (P->flex) {
+      H = P->Kj - P->Kj * (P->E.transpose() * P->DE) * P->Kj;
+    } else {
+      H = -(kd.asDiagonal() * (P->E.transpose() * P->DE) * kd.asDiagonal());
+      H.diagonal() += kd;
+    }
     P->W.setZero(n, nw);
     for (Index w = 0; w < nw; ++w)
       for (std::size_t q = 0; q < P->ct.dof[static_cast<std::size_t>(w)].size(); ++q)
@@ -174,12 +247,24 @@ int ls_solve(SUNLinearSolver LS, SUNMatrix, N_Vector x, N_Vector b, realtype) {
   P->rz.noalias() += P->Cv * P->bz;
   P->rz.noalias() += cj * (P->Mv * P->bz);
   P->xz = P->ld.solve(P->rz);  // D⁻¹ r_z
-  for (std::size_t w = 0; w < P->nw; ++w)  // r_u − B D⁻¹ r_z
-    P->ru.noalias() += (P->kd[static_cast<Index>(w)] * P->xz[veh.wheel_dof[w]]) * P->W.col(static_cast<Index>(w));
-  P->xu = P->la.solve(P->ru);
-  P->rz.setZero();  // −Bᵀ x_u, at the wheels
-  for (std::size_t w = 0; w < P->nw; ++w)
-    P->rz[veh.wheel_dof[w]] = P->kd[static_cast<Index>(w)] * P->W.col(static_cast<Index>(w)).dot(P->xu);
+  const Index nw = static_cast<Index>(P->nw);
+  if (P->flex) {  // B = −W Kc Eᵀ
+    Vector& at = P->wt;
+    at.resize(nw);
+    for (Index w = 0; w < nw; ++w) at[w] = P->xz[veh.wheel_dof[static_cast<std::size_t>(w)]];
+    P->ru.noalias() += P->W * (P->Kj * at);
+    P->xu = P->la.solve(P->ru);
+    at = P->Kj * (P->W.transpose() * P->xu);
+    P->rz.setZero();
+    for (Index w = 0; w < nw; ++w) P->rz[veh.wheel_dof[static_cast<std::size_t>(w)]] = at[w];
+  } else {
+    for (std::size_t w = 0; w < P->nw; ++w)  // r_u − B D⁻¹ r_z
+      P->ru.noalias() += (P->kd[static_cast<Index>(w)] * P->xz[veh.wheel_dof[w]]) * P->W.col(static_cast<Index>(w));
+    P->xu = P->la.solve(P->ru);
+    P->rz.setZero();  // −Bᵀ x_u, at the wheels
+    for (std::size_t w = 0; w < P->nw; ++w)
+      P->rz[veh.wheel_dof[w]] = P->kd[static_cast<Index>(w)] * P->W.col(static_cast<Index>(w)).dot(P->xu);
+  }
   P->xz.noalias() += P->ld.solve(P->rz);
   if (!(P->xu.allFinite() && P->xz.allFinite())) return SUNLS_PACKAGE_FAIL_REC;  // IDA retries, new Jacobian
   double* xp = N_VGetArrayPointer(x);

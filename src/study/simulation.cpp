@@ -444,7 +444,7 @@ PreparedModel prepare_model(model::Structure s, const std::vector<StationSpec>& 
     // Vehicles: the coupled kernel on every DOF or on the modes (the fast path), and the profile.
     m.profile = rail_profile(m.structure, settings.irregularity);
     if (settings.method == Method::modal || settings.method == Method::ida) {  // IDA: on the modes too
-      m.vehicle_modal = vehicle_modal_basis(m.structure, settings.modal);
+      m.vehicle_modal = vehicle_modal_basis(m.structure, settings.modal, vehicle_outputs(m.stations, m.effects));
       m.modal_frequency_hz = m.vehicle_modal->frequency_hz;
     }
   } else if (settings.method == Method::modal) {

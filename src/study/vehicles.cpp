@@ -44,7 +44,67 @@ VehiclePeaks vehicle_peaks(const RunResult& r) {
   return p;
 }
 
-std::shared_ptr<const VehicleModalBasis> vehicle_modal_basis(const model::Structure& s, const ModalSettings& ms) {
+std::vector<solve::Functional> vehicle_outputs(const std::vector<ResolvedStation>& stations,
+                                               const std::vector<LoadEffect>& effects) {
+  std::vector<solve::Functional> out;
+  for (const auto& stn : stations) out.push_back(functional_of(stn.has_deck ? stn.deck : stn.rail));
+  for (const auto& stn : stations)
+    out.push_back(stn.has_deck && stn.has_rail ? functional_of(stn.rail) : solve::Functional{});
+  for (const auto& e : effects) out.push_back(e.functional);
+  return out;
+}
+
+namespace {
+
+// The static correction of the fast path: R = K⁻¹ − Φ Ω⁻² Φᵀ at the load path's DOFs (columns)
+// and at the path's DOFs and the outputs (rows), computed a block of columns at a time.
+void add_static_correction(VehicleModalBasis& b, const model::Structure& s,
+                           const std::vector<solve::Functional>& outputs) {
+  const Index n = s.K.rows();
+  b.path_slot.assign(static_cast<std::size_t>(n), -1);
+  std::vector<Index> dofs;
+  for (const model::PathElement& e : s.load_path())
+    for (const Index d : e.dofs)
+      if (d >= 0 && b.path_slot[static_cast<std::size_t>(d)] < 0) {
+        b.path_slot[static_cast<std::size_t>(d)] = static_cast<Index>(dofs.size());
+        dofs.push_back(d);
+      }
+  const Index np = static_cast<Index>(dofs.size()), no = static_cast<Index>(outputs.size());
+  if (np > kMaxResidualPathDofs)
+    throw InputError("modal.static_correction = true: the vehicle fast path's correction stores the flexibility between the "
+                     "load path's " + std::to_string(np) + " DOFs, more than the " + std::to_string(kMaxResidualPathDofs) +
+                     " it takes (set modal.static_correction = false, or use analysis.method = \"newmark\")");
+  Eigen::SimplicialLDLT<SparseMatrix> lk(s.K);
+  if (lk.info() != Eigen::Success)
+    throw SolverError("static correction: K cannot be factored (is the structure supported?)");
+  const Matrix flex = b.shapes * b.omega.cwiseInverse().cwiseAbs2().asDiagonal();  // Φ Ω⁻²
+  b.residual.resize(np, np);
+  b.output_residual = Matrix::Zero(np, no);
+  constexpr Index kBlock = 256;
+  for (Index c0 = 0; c0 < np; c0 += kBlock) {
+    const Index nc = std::min(kBlock, np - c0);
+    Matrix E = Matrix::Zero(n, nc), Phi_c(nc, b.shapes.cols());
+    for (Index j = 0; j < nc; ++j) {
+      E(dofs[static_cast<std::size_t>(c0 + j)], j) = 1.0;
+      Phi_c.row(j) = b.shapes.row(dofs[static_cast<std::size_t>(c0 + j)]);
+    }
+    Matrix X = lk.solve(E);
+    if (lk.info() != Eigen::Success || !X.allFinite())
+      throw SolverError("static correction: K is singular (is the structure supported?)");
+    X.noalias() -= flex * Phi_c.transpose();
+    for (Index i = 0; i < np; ++i) b.residual.block(i, c0, 1, nc) = X.row(dofs[static_cast<std::size_t>(i)]);
+    for (Index o = 0; o < no; ++o)
+      for (std::size_t q = 0; q < outputs[static_cast<std::size_t>(o)].dof.size(); ++q)
+        b.output_residual.col(o).segment(c0, nc) +=
+            outputs[static_cast<std::size_t>(o)].weight[q] * X.row(outputs[static_cast<std::size_t>(o)].dof[q]).transpose();
+  }
+  b.residual = 0.5 * (b.residual + b.residual.transpose()).eval();  // symmetric to rounding
+}
+
+}  // namespace
+
+std::shared_ptr<const VehicleModalBasis> vehicle_modal_basis(const model::Structure& s, const ModalSettings& ms,
+                                                             const std::vector<solve::Functional>& outputs) {
   if (ms.n_modes < 0) throw InputError("modal.n_modes must be >= 0");
   require_non_negative(ms.max_frequency_hz, "modal.max_frequency_hz [Hz]");
   const model::Modes modes = model::compute_modes_up_to(s, ms.n_modes, ms.max_frequency_hz);
@@ -64,6 +124,7 @@ std::shared_ptr<const VehicleModalBasis> vehicle_modal_basis(const model::Struct
   b->K.setFromTriplets(kt.begin(), kt.end());
   // Φᵀ C Φ in full (0.5 (A + Aᵀ) against rounding): classical damping leaves it diagonal.
   b->C = (0.5 * (Cm + Cm.transpose())).sparseView(0.0, 0.0);
+  if (ms.static_correction) add_static_correction(*b, s, outputs);
   return b;
 }
 
@@ -207,13 +268,20 @@ class TrainContacts : public solve::ContactPath {
   double x_from_, taper_, t_start_, transition_;
 };
 
-// The same contacts in modal coordinates: a rail point's weights on every mode.
+// The same contacts in modal coordinates: a rail point's weights on every mode, and the dropped
+// modes' flexibility between the wheels when the basis has the static correction.
 class ModalContacts : public solve::ContactPath {
  public:
-  ModalContacts(const TrainContacts& full, const Matrix& shapes) : full_(full), phi_(shapes) {}
+  ModalContacts(const solve::ContactPath& full, const VehicleModalBasis& basis, std::size_t n_wheels)
+      : full_(full), phi_(basis.shapes), basis_(basis), fd_(n_wheels), fw_(n_wheels) {}
   std::vector<double> breaks(double t_end) const override { return full_.breaks(t_end); }
   void contact(std::size_t w, double t, std::vector<Index>& dof, std::vector<double>& weight, double& r) const override {
     full_.contact(w, t, d_, w_, r);
+    if (basis_.static_correction()) {  // the path's rows of wheel w, for residual_flexibility()
+      fd_[w].clear();
+      fw_[w] = w_;
+      for (const Index d : d_) fd_[w].push_back(basis_.path_slot[static_cast<std::size_t>(d)]);
+    }
     dof.clear();
     weight.clear();
     if (d_.empty()) return;
@@ -227,12 +295,30 @@ class ModalContacts : public solve::ContactPath {
       weight[static_cast<std::size_t>(j)] = s;
     }
   }
+  bool residual_flexibility(double, Matrix& F) const override {
+    if (!basis_.static_correction()) return false;
+    const Index nw = static_cast<Index>(fd_.size());
+    F.setZero(nw, nw);
+    for (Index a = 0; a < nw; ++a)
+      for (Index b = 0; b <= a; ++b) {
+        const auto &da = fd_[static_cast<std::size_t>(a)], &db = fd_[static_cast<std::size_t>(b)];
+        const auto &wa = fw_[static_cast<std::size_t>(a)], &wb = fw_[static_cast<std::size_t>(b)];
+        double f = 0.0;
+        for (std::size_t i = 0; i < da.size(); ++i)
+          for (std::size_t j = 0; j < db.size(); ++j) f += wa[i] * wb[j] * basis_.residual(da[i], db[j]);
+        F(a, b) = F(b, a) = f;
+      }
+    return true;
+  }
 
  private:
-  const TrainContacts& full_;
+  const solve::ContactPath& full_;
   const Matrix& phi_;
+  const VehicleModalBasis& basis_;
   mutable std::vector<Index> d_;
   mutable std::vector<double> w_;
+  mutable std::vector<std::vector<Index>> fd_;  // per wheel: rows of basis_.residual under it
+  mutable std::vector<std::vector<double>> fw_;  // and their weights
 };
 
 }  // namespace
@@ -258,6 +344,11 @@ std::unique_ptr<solve::ContactPath> train_contacts(const model::Structure& s, co
   return std::make_unique<TrainContacts>(s, train, speed, profile, run_in, taper, t_start, transition);
 }
 
+std::unique_ptr<solve::ContactPath> modal_contacts(const solve::ContactPath& full, const VehicleModalBasis& basis,
+                                                   std::size_t n_wheels) {
+  return std::make_unique<ModalContacts>(full, basis, n_wheels);
+}
+
 namespace {
 
 solve::Functional project(const solve::Functional& f, const Matrix* phi) {
@@ -278,6 +369,65 @@ double apply(const solve::Functional& f, const Vector& x) {
   return y;
 }
 
+// The static correction's share of each displacement output of a run (vehicle_outputs() order):
+// the contact forces P through the dropped modes' flexibility from the rail under each wheel.
+class OutputCorrection {
+ public:
+  // `basis` null or without the correction: at() must not be called.
+  OutputCorrection(const TrainContacts& full, const VehicleModalBasis* basis, std::size_t n_wheels, std::size_t n_outputs)
+      : full_(full), basis_(basis), nw_(n_wheels), corr_(Vector::Zero(static_cast<Index>(n_outputs))) {}
+  const Vector& at(double t, const Vector& P) {
+    corr_.setZero();
+    double rw = 0.0;
+    for (std::size_t w = 0; w < nw_; ++w) {
+      full_.contact(w, t, d_, w_, rw);
+      for (std::size_t q = 0; q < d_.size(); ++q)
+        corr_.noalias() += (P[static_cast<Index>(w)] * w_[q]) *
+                           basis_->output_residual.row(basis_->path_slot[static_cast<std::size_t>(d_[q])]).transpose();
+    }
+    return corr_;
+  }
+
+ private:
+  const TrainContacts& full_;
+  const VehicleModalBasis* basis_;
+  std::size_t nw_;
+  Vector corr_;
+  std::vector<Index> d_;
+  std::vector<double> w_;
+};
+
+// A vehicle run's result with its histories sized: the stations (the rail above a deck station
+// when `rail` has its functional), the load effects, the contact forces and car-body accelerations.
+RunResult vehicle_result(const PreparedModel& m, double speed, const RunSettings& st, Index n_samples,
+                         const std::vector<solve::Functional>& rail, const solve::LinearVehicle& veh,
+                         const load::TrainVehicles& tv) {
+  RunResult r;
+  r.speed = speed;
+  r.method = st.method;
+  r.t.resize(n_samples);
+  for (Index k = 0; k < n_samples; ++k) r.t[k] = static_cast<double>(k) * st.dt;
+  for (std::size_t i = 0; i < m.stations.size(); ++i) {
+    StationHistory h;
+    h.name = m.stations[i].name;
+    h.on_deck = m.stations[i].has_deck;
+    h.disp.resize(n_samples);
+    h.acc.resize(n_samples);
+    if (!rail[i].dof.empty()) h.rail_disp.resize(n_samples);
+    r.stations.push_back(std::move(h));
+  }
+  for (const auto& e : m.effects) r.effects.push_back({e.name, Vector(n_samples)});
+  VehicleHistory& vh = r.vehicles;
+  vh.model = vehicle_model_name(st.vehicle.model);
+  vh.static_load = veh.static_load;
+  vh.contact_stiffness = veh.contact_stiffness;
+  vh.contact_force.resize(n_samples, static_cast<Index>(veh.n_contacts()));
+  vh.body_names = tv.body_names;
+  vh.body_acc.resize(n_samples, static_cast<Index>(tv.body_dof.size()));
+  vh.n_dofs = veh.n_dofs();
+  return r;
+}
+
 }  // namespace
 
 RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, double speed, const RunSettings& st) {
@@ -290,7 +440,8 @@ RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, do
   // The modal fast path and IDA integrate the structure's modes with the vehicles physical.
   const bool modal = st.method == Method::modal || st.method == Method::ida;
   std::shared_ptr<const VehicleModalBasis> basis = m.vehicle_modal;
-  if (modal && !basis) basis = vehicle_modal_basis(s, st.modal);
+  if (modal && !basis) basis = vehicle_modal_basis(s, st.modal, vehicle_outputs(m.stations, m.effects));
+  const bool sc = modal && basis->static_correction();
   const Matrix* phi = modal ? &basis->shapes : nullptr;
 
   const double t_end = (s.path_end() - s.path_start() + train.length()) / speed + st.free_vibration_s;
@@ -318,31 +469,13 @@ RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, do
   std::vector<Eff> eff;
   for (const auto& e : m.effects) eff.push_back({project(e.functional, phi), project(e.inertia, phi), project(e.damping, phi)});
 
-  RunResult r;
-  r.speed = speed;
-  r.method = st.method;
-  r.t.resize(n_samples);
-  for (Index k = 0; k < n_samples; ++k) r.t[k] = static_cast<double>(k) * st.dt;
-  for (std::size_t i = 0; i < m.stations.size(); ++i) {
-    StationHistory h;
-    h.name = m.stations[i].name;
-    h.on_deck = m.stations[i].has_deck;
-    h.disp.resize(n_samples);
-    h.acc.resize(n_samples);
-    if (!rail[i].dof.empty()) h.rail_disp.resize(n_samples);
-    r.stations.push_back(std::move(h));
-  }
-  for (const auto& e : m.effects) r.effects.push_back({e.name, Vector(n_samples)});
+  RunResult r = vehicle_result(m, speed, st, n_samples, rail, veh, tv);
   VehicleHistory& vh = r.vehicles;
-  vh.model = vehicle_model_name(st.vehicle.model);
-  vh.static_load = veh.static_load;
-  vh.contact_stiffness = veh.contact_stiffness;
-  vh.contact_force.resize(n_samples, static_cast<Index>(na));
-  vh.body_names = tv.body_names;
-  vh.body_acc.resize(n_samples, static_cast<Index>(nb));
-  vh.n_dofs = veh.n_dofs();
 
-  auto observe = [&](Index step, double, const solve::CoupledState& x) {
+  const TrainContacts full(s, train, speed, m.profile.get(), st.irregularity.run_in, st.irregularity.taper,
+                           static_cast<double>(k0) * st.dt, st.vehicle.end_transition);
+  OutputCorrection correction(full, basis.get(), na, 2 * m.stations.size() + eff.size());
+  auto observe = [&](Index step, double t, const solve::CoupledState& x) {
     if (step < k0) return;
     const Index k = step - k0;
     for (std::size_t i = 0; i < main.size(); ++i) {
@@ -352,14 +485,21 @@ RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, do
     }
     for (std::size_t j = 0; j < eff.size(); ++j)
       r.effects[j].value[k] = apply(eff[j].f, x.u) + apply(eff[j].inertia, x.a) + apply(eff[j].damping, x.v);
+    if (sc) {  // accelerations keep the kept modes' (the correction's would need the forces' second derivative)
+      const Vector& corr = correction.at(t, x.contact_force);
+      const std::size_t ns = m.stations.size();
+      for (std::size_t i = 0; i < main.size(); ++i) {
+        r.stations[i].disp[k] += corr[static_cast<Index>(i)];
+        if (!rail[i].dof.empty()) r.stations[i].rail_disp[k] += corr[static_cast<Index>(ns + i)];
+      }
+      for (std::size_t j = 0; j < eff.size(); ++j) r.effects[j].value[k] += corr[static_cast<Index>(2 * ns + j)];
+    }
     vh.contact_force.row(k) = x.contact_force.transpose();
     for (std::size_t b = 0; b < nb; ++b) vh.body_acc(k, static_cast<Index>(b)) = x.za[tv.body_dof[b]];
   };
-  const TrainContacts full(s, train, speed, m.profile.get(), st.irregularity.run_in, st.irregularity.taper,
-                           static_cast<double>(k0) * st.dt, st.vehicle.end_transition);
   solve::CoupledSummary cs;
   if (modal) {
-    const ModalContacts mc(full, basis->shapes);
+    const ModalContacts mc(full, *basis, na);
     if (st.method == Method::ida) {
       cs = solve::coupled_ida(basis->M, basis->C, basis->K, veh, mc, grid, st.ida, observe);
     } else {

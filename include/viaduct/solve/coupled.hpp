@@ -10,7 +10,7 @@
 /// the irregularity there (positive down: a dip), or rigid (k_w = ∞: z_w = y_w + r_w, p_w a
 /// Lagrange multiplier). Each step solves the contact forces first, from a small dense system
 /// (wheels × wheels: flexibility of the structure between the contacts, of the vehicles, and of
-/// the springs), then the structure and vehicles; the structure's effective matrix is factored
+/// the springs, plus a modal structure's static correction, ContactPath::residual_flexibility), then the structure and vehicles; the structure's effective matrix is factored
 /// once and its inverse columns at the rail DOFs the wheels cross are cached, so a step costs one
 /// sparse solve, as without vehicles, plus the columns of newly reached DOFs. A wheel off the
 /// structure (before the path, after it) rolls on rigid ground and still sees the irregularity.
@@ -61,6 +61,14 @@ class ContactPath {
   /// entering or leaving the structure or a transition, an irregularity's taper starting or
   /// ending): the adaptive kernel (coupled_ida) stops and restarts there. May be empty.
   virtual std::vector<double> breaks(double /*t_end*/) const { return {}; }
+  /// The static correction of a truncated modal structure: writes F [m/N] (n_wheels², symmetric),
+  /// the quasi-static deflection of the rail under wheel a per unit force at wheel b that the
+  /// structure's coordinates leave out — N_a (K⁻¹ − Φ Ω⁻² Φᵀ) N_bᵀ for the dropped modes, rows and
+  /// columns of wheels off the structure zero — and returns true; or returns false (the default:
+  /// the coordinates are complete). The rail under wheel a is then N_a u + Σ_b F_ab P_b, P the
+  /// total contact forces. Called right after contact() was called for every wheel at the same t.
+  /// Must not allocate once F has its size.
+  virtual bool residual_flexibility(double /*t*/, Matrix& /*F*/) const { return false; }
 };
 
 /// The coupled state after each step, valid during the call: structure u, v, a; vehicles z, ż, z̈;

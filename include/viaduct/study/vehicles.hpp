@@ -3,8 +3,9 @@
 /// chooses, the rail profile the wheels see, and runs of the coupled system through
 /// solve::coupled_newmark — on every DOF (Method::newmark) or with the structure in modal
 /// coordinates and the vehicles in physical ones (Method::modal, the fast path: the modes up to
-/// modal.max_frequency_hz / modal.n_modes, without static correction) — or through
-/// solve::coupled_ida on the same modal system (Method::ida: adaptive, contact events as roots).
+/// modal.max_frequency_hz / modal.n_modes, with the dropped modes' static correction at the
+/// contacts and the outputs when modal.static_correction) — or through solve::coupled_ida on the
+/// same modal system (Method::ida: adaptive, contact events as roots).
 
 #include <memory>
 
@@ -21,11 +22,32 @@ struct VehicleModalBasis {
   Vector omega;             ///< [rad/s]
   SparseMatrix M, C, K;     ///< I, Φᵀ C Φ, Ω²
   Vector frequency_hz;      ///< [Hz]
+  /// Static correction (empty without): the dropped modes' flexibility R = K⁻¹ − Φ Ω⁻² Φᵀ between
+  /// the load path's DOFs (`residual`, n_path², dense) and from them to each output functional
+  /// (`output_residual`, n_path × n_outputs); `path_slot` maps a structure DOF to its row (−1: off
+  /// the path).
+  std::vector<Index> path_slot;
+  Matrix residual, output_residual;
+  bool static_correction() const { return residual.size() > 0; }
 };
 
-/// The modes `settings.modal` selects, reduced for the vehicle fast path. InputError when none
-/// is kept; SolverError from the eigensolver.
-std::shared_ptr<const VehicleModalBasis> vehicle_modal_basis(const model::Structure& s, const ModalSettings& settings);
+/// Most load-path DOFs the static correction of the vehicle fast path takes (its dense residual
+/// flexibility: 8 n_path² bytes, 128 MiB here).
+constexpr Index kMaxResidualPathDofs = 4096;
+
+/// The modes `settings.modal` selects, reduced for the vehicle fast path, with the static
+/// correction (settings.static_correction) at the load path and at `outputs` (functionals of the
+/// structure's DOFs; those simulate_vehicles() records: vehicle_outputs()). InputError when no mode
+/// is kept or the path has more than kMaxResidualPathDofs DOFs for the correction; SolverError
+/// from the eigensolver or a singular K.
+std::shared_ptr<const VehicleModalBasis> vehicle_modal_basis(const model::Structure& s, const ModalSettings& settings,
+                                                             const std::vector<solve::Functional>& outputs = {});
+
+/// The displacement outputs of a vehicle run, in the structure's DOFs and in this order: each
+/// station's main point (the deck, or the rail without a deck), the rail above each deck station
+/// (empty when it has none), each load effect's functional.
+std::vector<solve::Functional> vehicle_outputs(const std::vector<ResolvedStation>& stations,
+                                               const std::vector<LoadEffect>& effects);
 
 /// [N/m] linearised Hertz stiffness of one axle (both wheels) of static load `axle_load` [N]:
 /// 2 · 1.5 (P/2)^{1/3} / G, G = 4.57e-8 R^-0.149 m/N^{2/3} (Zhai's conical tread), R [m].
@@ -61,6 +83,13 @@ double irregularity_at(const load::RailProfile* profile, double x, double x_from
 std::unique_ptr<solve::ContactPath> train_contacts(const model::Structure& s, const load::Train& train, double speed,
                                                    const load::RailProfile* profile, double run_in, double taper,
                                                    double t_start = 0.0, double transition = 10.0);
+
+/// The contacts of `full` (a path of the structure's DOFs, which must outlive the result) in the
+/// modal coordinates of `basis`: each rail point's weights on the modes, and with the basis's
+/// static correction the dropped modes' flexibility between the `n_wheels` wheels
+/// (ContactPath::residual_flexibility). What simulate_vehicles() integrates on Method::modal / ida.
+std::unique_ptr<solve::ContactPath> modal_contacts(const solve::ContactPath& full, const VehicleModalBasis& basis,
+                                                   std::size_t n_wheels);
 
 /// InputError when a track's end transition [m] is negative or reaches the bridge.
 void require_transition(const model::Structure& s, double transition);
