@@ -16,6 +16,10 @@ constexpr double kMaxEdgeStepRatio = 0.1;
 /// Below this many steps per crossing of the shortest span the sampled load misses the peaks.
 constexpr double kMinStepsPerCrossing = 20.0;
 
+/// With vehicles on a track's modes (analysis.method modal or ida) the modes must reach this many
+/// times the rail's resonance on its pads for the contact forces (measured at 0.75 and 1.5 x).
+constexpr double kMinVehicleCutPerPad = 1.5;
+
 /// [Hz] The rail's resonance on its pads, sqrt(k_pad / (sleeper spacing · rail mass per m)) / 2π:
 /// below the modal basis' cut-off the basis truncates the rail's bending modes that then carry
 /// the load to the deck (measured +6 % to +22 % with preset "default", docs/reliability.md).

@@ -87,3 +87,28 @@ TEST_CASE("a two-rail track on the whole deck: the half-deck model's responses, 
   REQUIRE(wh.size() == 1);
   CHECK_THAT(wh[0], Catch::Contains("track.rails = \"both\"") && Catch::Contains("load_factor = 0.5"));
 }
+
+TEST_CASE("vehicles on a track's modes: a basis below 1.5 x the rail's resonance on its pads warns") {
+  // Old Guadiana's pads: 265 Hz. Modes to 200 Hz leave the wheels a massless track (measured:
+  // contact forces 69 % of the static load off); 400 Hz is in the measured region, and so is
+  // Newmark on every DOF. The soft-pad warning of moving loads does not apply to vehicles.
+  const std::vector<std::string> veh = {"train.files=[\"" + src + "/data/trains/ave-s103-8.toml\"]", "train.vehicle=\"multibody\""};
+  auto with = [&](std::vector<std::string> more) {
+    more.insert(more.begin(), veh.begin(), veh.end());
+    return shipped("old-guadiana-talgo", more);
+  };
+  for (const char* method : {"modal", "ida"}) {
+    INFO(method);
+    const study::Scenario low = with({std::string("analysis.method=\"") + method + "\"", "modal.max_frequency_hz=200"});
+    const auto w = study::accuracy_warnings(low, {*low.run_speed});
+    REQUIRE(w.size() == 1);
+    CHECK_THAT(w[0], Catch::Contains("modal.max_frequency_hz = 200 Hz stops the modes below 1.5 x the rail's resonance on its pads (265 Hz)") &&
+                         Catch::Contains("take modal.max_frequency_hz >= 397 Hz"));
+    const study::Scenario high = with({std::string("analysis.method=\"") + method + "\"", "modal.max_frequency_hz=400"});
+    CHECK(study::accuracy_warnings(high, {*high.run_speed}).empty());
+  }
+  const study::Scenario full = with({"analysis.method=\"newmark\"", "modal.max_frequency_hz=200"});
+  CHECK(study::accuracy_warnings(full, {*full.run_speed}).empty());
+  const study::Scenario forces = shipped("old-guadiana-talgo", {"analysis.method=\"modal\"", "modal.max_frequency_hz=200"});
+  CHECK(study::accuracy_warnings(forces, {*forces.run_speed}).empty());
+}
