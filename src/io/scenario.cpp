@@ -199,6 +199,7 @@ void check_constraint(const KeySpec& spec, const Value& v) {
     else if (c == ">= 0.5") ok = x >= 0.5;
     else if (c == "[0, 1)") ok = x >= 0 && x < 1;
     else if (c == "[0, 1]") ok = x >= 0 && x <= 1;
+    else if (c == "(0, 1]") ok = x > 0 && x <= 1;
     else if (c == "[-1/3, 0]") ok = x >= -1.0 / 3.0 - 1e-15 && x <= 0;
     else if (c == "[1e-12, 0.1]") ok = x >= 1e-12 && x <= 0.1;
     else if (c == "[1, 5]") ok = x >= 1 && x <= 5;

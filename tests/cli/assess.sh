@@ -123,4 +123,42 @@ print("\n".join(bad) if bad else "continuous numbers ok")
 PY
 )
 expect 0 "continuous numbers ok" -- echo "$out"
+# The HSLM trains as sprung masses (1.8 t unsprung, 1 MN/m and 10 kN s/m per axle) at 380 and
+# 420 km/h: vehicles.csv, and the comfort and unloading rows with the limits the keys give
+# (assess.comfort_level "good": 1.3 m/s2), their values the extremes of vehicles.csv and their
+# verdicts the comparisons; the report names the limits and what the acceleration is.
+VE=$WORK/assess-vehicles
+expect 0 "passenger comfort (car body)" -- "$VIADUCT" assess "$HS" --set assess.speed_min_kmh=380 --set assess.speed_step_kmh=40 \
+  --set assess.refine_band=0 --set 'train.vehicle="sprung"' --set train.unsprung_mass_kg=1800 \
+  --set train.suspension_stiffness_N_m=1e6 --set train.suspension_damping_Ns_m=1e4 --set 'assess.comfort_level="good"' \
+  --set assess.unloading_ratio_limit=0.999 --no-plots --out "$VE"
+for s in "**Vehicle limits**: car-body vertical acceleration b_v 1.3 m/s² (comfort level good" "below 0.999 (assess.unloading_ratio_limit)" \
+         "each body's bounce at its centre" "vehicles.csv (the vehicles' extremes per case)"; do
+  expect 0 "$s" -- cat "$VE/report.md"
+done
+expect 1 "" -- grep -q "Passenger comfort and wheel unloading are checked with vehicle models only" "$VE/report.md"
+expect 0 "Passenger comfort and wheel unloading are checked with vehicle models only" -- cat "$O/report.md"
+out=$(python3 - "$VE" <<'PY' 2>&1
+import csv, sys
+O = sys.argv[1]
+checks = {r["check"]: r for r in csv.DictReader(open(O + "/checks.csv"))}
+veh = list(csv.DictReader(open(O + "/vehicles.csv")))
+n_cases = int([l for l in open(O + "/manifest.toml") if l.startswith("n_cases")][0].split("=")[1].strip().strip('"'))
+bad = []
+c, u = checks.get("passenger comfort (car body)"), checks.get("wheel unloading (P0 - Pmin)/P0")
+if not c or not u or len(veh) != n_cases or n_cases < 20:  # a row per case: 10 trains x (2 speeds + resonances)
+    bad.append("rows: %s %s, %d vehicle rows" % (c, u, len(veh)))
+else:
+    top = max(veh, key=lambda r: float(r["max_body_acc_mps2"]))
+    if float(c["value"]) != float(top["max_body_acc_mps2"]) or c["train"] != top["train"] or c["quantity"] != top["body"] + "_acc_mps2":
+        bad.append("comfort row %s against the largest of vehicles.csv %s" % (c, top))
+    if float(c["limit"]) != 1.3 or c["result"] != ("pass" if float(c["value"]) <= 1.3 else "FAIL"):
+        bad.append("comfort limit or verdict: %s" % c)
+    worst = max(float(r["max_unloading_ratio"]) for r in veh)
+    if float(u["value"]) != worst or float(u["limit"]) != 0.999 or u["result"] != ("pass" if worst < 0.999 else "FAIL"):
+        bad.append("unloading row %s against %g" % (u, worst))
+print("\n".join(bad) if bad else "vehicle checks ok")
+PY
+)
+expect 0 "vehicle checks ok" -- echo "$out"
 finish

@@ -52,7 +52,19 @@ struct Config {
   bool careful = true;
   double deflection_ratio = 600.0, rotation_limit = 6.5e-3;
   std::optional<double> determinant_length;  // [m] assess.determinant_length_m: Lφ of every quantity
+  // With vehicle models (train.vehicle sprung or multibody): passenger comfort and wheel unloading.
+  std::string comfort_level = "very-good";
+  double comfort_limit = 1.0;     // [m/s²] b_v, EN 1990 A2.4.4.3.1 Table A2.9 (to confirm)
+  double unloading_limit = 1.0;   // [-] (P0 − P_min)/P0: 1, the wheels keep contact
 };
+
+// [m/s²] The vertical acceleration inside the coach b_v of a level of comfort (EN 1990
+// A2.4.4.3.1, Table A2.9; to confirm against the text).
+double comfort_limit_of(const std::string& level) {
+  if (level == "very-good") return 1.0;
+  if (level == "good") return 1.3;
+  return 2.0;  // "acceptable" (the schema admits no other)
+}
 
 // What the assessment decided before running: damping, cut-off, trains, masses (for the report).
 struct Plan {
@@ -108,6 +120,9 @@ Config read_config(const io::FlatScenario& flat, const std::string& scenario) {
   c.deflection_ratio = flat.at("assess.deflection_limit_ratio").x;
   c.rotation_limit = flat.at("assess.end_rotation_limit_rad").x;
   if (flat.has("assess.determinant_length_m")) c.determinant_length = flat.at("assess.determinant_length_m").x;
+  c.comfort_level = flat.at("assess.comfort_level").s;
+  c.comfort_limit = number_or(flat, "assess.comfort_limit_mps2", comfort_limit_of(c.comfort_level));
+  c.unloading_limit = flat.at("assess.unloading_ratio_limit").x;
   return c;
 }
 
@@ -397,6 +412,28 @@ void quantity_checks(std::size_t q, const Statics& st, const std::vector<Increme
   }
 }
 
+// With vehicle models: the largest car-body acceleration against the comfort limit, and the
+// largest wheel unloading against its limit (a lost contact is an unloading of 1), each with the
+// case that governs it.
+void vehicle_checks(const study::SweepResult& r, const Config& c, std::vector<Check>& out) {
+  const study::VehicleRow *body = nullptr, *unload = nullptr;
+  for (const auto& v : r.vehicles) {
+    if (!v.peaks.present) continue;
+    if (!body || v.peaks.max_body_acc > body->peaks.max_body_acc) body = &v;
+    if (!unload || v.peaks.max_unloading_ratio > unload->peaks.max_unloading_ratio) unload = &v;
+  }
+  if (!body) return;
+  Check b{"passenger comfort (car body)", body->peaks.body + "_acc_mps2", body->peaks.max_body_acc, c.comfort_limit, "",
+          body->variant, body->train, body->speed, "EN 1990 A2.4.4.3.1, Table A2.9 " + c.comfort_level + " (to confirm)"};
+  b.verdict = b.value <= b.limit ? "pass" : "FAIL";
+  out.push_back(b);
+  Check u{"wheel unloading (P0 - Pmin)/P0", "unloading_ratio", unload->peaks.max_unloading_ratio, c.unloading_limit, "",
+          unload->variant, unload->train, unload->speed,
+          c.unloading_limit < 1.0 ? "assess.unloading_ratio_limit (the project's)" : "contact kept (1: a wheel leaves the rail)"};
+  u.verdict = u.value < u.limit ? "pass" : "FAIL";
+  out.push_back(u);
+}
+
 std::vector<Check> all_checks(const study::SweepResult& r, const Statics& st, const std::vector<Increment>& inc,
                               const study::Scenario& sc, const Config& c, const Plan& p) {
   std::vector<Check> out;
@@ -408,6 +445,7 @@ std::vector<Check> all_checks(const study::SweepResult& r, const Statics& st, co
     out.push_back(a);
   }
   for (std::size_t q = 0; q < st.il.names.size(); ++q) quantity_checks(q, st, inc, r.quantities, sc, c, p, out);
+  vehicle_checks(r, c, out);
   return out;
 }
 
@@ -530,6 +568,11 @@ void report_inputs(std::ostringstream& o, const ReportInput& in) {
         : in.nominal.bridge.continuous ? fmt(determinant_length("", in.nominal, c)) + " m (Table 6.2, continuous over n spans: to confirm)"
                                        : std::string("each quantity's span length (Table 6.2)"))
     << ".\n";
+  if (in.nominal.settings.vehicle.model != study::VehicleModel::forces)
+    o << "- **Vehicle limits**: car-body vertical acceleration b_v " << fmt(c.comfort_limit) << " m/s² (comfort level "
+      << c.comfort_level << ", EN 1990 A2.4.4.3.1 Table A2.9: to confirm; assess.comfort_limit_mps2 overrides); wheel unloading "
+      << "(P0 − Pmin)/P0 below " << fmt(c.unloading_limit)
+      << (c.unloading_limit < 1.0 ? " (assess.unloading_ratio_limit)" : " (every wheel keeps contact with the rail)") << ".\n";
   o << "- **Model and method**: " << in.nominal.bridge.spans.size() << (in.nominal.bridge.continuous ? " span(s) of one continuous deck, " : " span(s), ")
     << (in.nominal.track ? "with" : "without")
     << " track; " << (in.nominal.settings.method == study::Method::modal ? "modal superposition" : "direct integration") << ", dt = "
@@ -569,9 +612,16 @@ void report_notes(std::ostringstream& o, const ReportInput& in) {
   for (const auto& n : in.p.notes) o << "- " << n << "\n";
   o << "- To confirm against the text of the standard: φ″ (Annex C) in the design effect; the deflection and end-rotation "
        "limits (given by assess.deflection_limit_ratio and assess.end_rotation_limit_rad).\n";
+  if (in.nominal.settings.vehicle.model == study::VehicleModel::forces)
+    o << "- Passenger comfort and wheel unloading are checked with vehicle models only (train.vehicle = \"sprung\" or "
+         "\"multibody\", docs/vehicles.md): with moving forces there are no car bodies and no contact forces.\n";
+  else
+    o << "- The car-body acceleration checked is each body's bounce at its centre (multibody coaches) or each sprung mass's, "
+         "unfiltered; a coach's pitch adds towards its ends. To confirm: the comfort limits of Table A2.9.\n";
   if (!in.r.failures.empty()) o << "- **" << in.r.failures.size() << " case(s) failed** (failures.csv): the checks above leave them out.\n";
   o << "\n## Provenance\n\nScenario `" << in.flat.path << "`; " << io::version() << " (commit " << io::git_commit() << "); command `"
-    << in.command_line << "`. Tables: checks.csv, envelope.csv, load_effects.csv, phi_dyn.csv, mass_cases.csv, governing.csv, failures.csv; "
+    << in.command_line << "`. Tables: checks.csv, envelope.csv, load_effects.csv, phi_dyn.csv, mass_cases.csv, governing.csv, failures.csv"
+    << (in.r.vehicles.empty() ? "" : ", vehicles.csv (the vehicles' extremes per case)") << "; "
        "manifest.toml holds the resolved scenario and the checksums of its files.\n";
 }
 
@@ -715,6 +765,7 @@ int run_assess(const Common& o, const AssessOptions& opts) {
   write_checks_csv(o.out + "/checks.csv", checks);
   write_increments_csv(o.out + "/phi_dyn.csv", inc);
   write_mass_cases_csv(o.out + "/mass_cases.csv", p);
+  if (!r.vehicles.empty()) io::write_vehicle_envelope_csv(o.out + "/vehicles.csv", r.vehicles, p.variants);
   io::Manifest m = start_manifest(o, "assess");
   m.as_run = io::settings_as_run(nominal.settings);
   m.extra = {{"acceleration_limit_mps2", format_number(c.acc_limit)}, {"cutoff_hz", format_number(p.f_cut)},
@@ -764,7 +815,9 @@ Command assess_command() {
       "frequency cut-off max(30 Hz, 1.5 f1, f3). Writes OUT/report.md (with PNGs by\n"
       "scripts/plot/plot_assess.py), checks.csv (value, limit, utilisation, governing case, clause),\n"
       "envelope.csv, load_effects.csv, phi_dyn.csv, mass_cases.csv (what each mass case sets), governing.csv,\n"
-      "failures.csv and manifest.toml.\n"
+      "failures.csv and manifest.toml. With vehicle models (train.vehicle = sprung or multibody) also\n"
+      "vehicles.csv and two more checks: passenger comfort (car-body acceleration against\n"
+      "assess.comfort_level's b_v, EN 1990 A2.4.4.3.1) and wheel unloading (assess.unloading_ratio_limit).\n"
       "The scenario's damping, filter and sweep keys are replaced by the assessment's.\n\n"
       "Sample runs:\n"
       "  viaduct assess scenarios/hslm-simply-supported.toml --set assess.speed_step_kmh=20 --set assess.refine_band=0 --no-plots --out out/assess-hslm\n";

@@ -42,7 +42,7 @@ struct KeySpec {
   ValueType type;
   std::string default_toml;  ///< TOML literal; empty: no default
   std::string unit;          ///< SI unit, "-" for dimensionless, "" for text
-  std::string constraint;    ///< "> 0", ">= 0", "[0, 1)", "[0, 1]", ">= 1", "a|b|c", or ""
+  std::string constraint;    ///< "> 0", ">= 0", "[0, 1)", "[0, 1]", "(0, 1]", ">= 1", "a|b|c", or ""
   std::string doc;           ///< one line; "(required)" marks a key without default that must be given
   /// The study::Scenario field the key sets; null for keys read by hand (several keys to one
   /// field, arrays, files) or not read into the scenario (notes, fit sections).
