@@ -178,7 +178,9 @@ int roots(realtype t, N_Vector yy, N_Vector, realtype* g, void* user) {
 // B = −W k E (E: the wheels' rows of the vehicles), D = K_v + c_j C_v + c_j² M_v + Eᵀ k E, symmetric
 // positive definite. D is sparse (the coaches do not touch each other): factored sparse; then the
 // Schur complement A − B D⁻¹ Bᵀ = K + c_j C + c_j² M + W (k − k G k) Wᵀ, G = E D⁻¹ Eᵀ the vehicles'
-// flexibility at the wheels, dense n × n (the structure's modes). IDA's own matrix (a 1 × 1
+// flexibility at the wheels, dense n × n (the structure's modes). With the static correction the
+// contacts' stiffness matrix Kj (Problem::contact_stiffness_matrix) stands for diag(k) throughout:
+// D gets E Kj Eᵀ, the Schur complement W (Kj − Kj G Kj) Wᵀ. IDA's own matrix (a 1 × 1
 // placeholder) is not used.
 int jacobian(realtype t, realtype cj, N_Vector yy, N_Vector, N_Vector, SUNMatrix, void* user, N_Vector, N_Vector,
              N_Vector) {

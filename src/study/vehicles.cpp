@@ -280,7 +280,14 @@ class ModalContacts : public solve::ContactPath {
     if (basis_.static_correction()) {  // the path's rows of wheel w, for residual_flexibility()
       fd_[w].clear();
       fw_[w] = w_;
-      for (const Index d : d_) fd_[w].push_back(basis_.path_slot[static_cast<std::size_t>(d)]);
+      for (const Index d : d_) {
+        const bool in = d >= 0 && static_cast<std::size_t>(d) < basis_.path_slot.size();
+        const Index slot = in ? basis_.path_slot[static_cast<std::size_t>(d)] : -1;
+        if (slot < 0)
+          throw InputError("static correction: wheel " + std::to_string(w) + " touches DOF " + std::to_string(d) +
+                           ", which is not on the structure's load path");
+        fd_[w].push_back(slot);
+      }
     }
     dof.clear();
     weight.clear();

@@ -123,12 +123,12 @@ print("\n".join(bad) if bad else "continuous numbers ok")
 PY
 )
 expect 0 "continuous numbers ok" -- echo "$out"
-# The HSLM trains as sprung masses (1.8 t unsprung, 1 MN/m and 10 kN s/m per axle) at 380 and
-# 420 km/h: vehicles.csv, and the comfort and unloading rows with the limits the keys give
+# The HSLM trains as sprung masses (1.8 t unsprung, 1 MN/m and 10 kN s/m per axle) at 420 km/h
+# (10 cases: 70 s under the sanitizers at 380 and 420): vehicles.csv, and the comfort and unloading rows with the limits the keys give
 # (assess.comfort_level "good": 1.3 m/s2), their values the extremes of vehicles.csv and their
 # verdicts the comparisons; the report names the limits and what the acceleration is.
 VE=$WORK/assess-vehicles
-expect 0 "passenger comfort (car body)" -- "$VIADUCT" assess "$HS" --set assess.speed_min_kmh=380 --set assess.speed_step_kmh=40 \
+expect 0 "passenger comfort (car body)" -- "$VIADUCT" assess "$HS" --set assess.speed_min_kmh=420 --set assess.speed_step_kmh=40 \
   --set assess.refine_band=0 --set 'train.vehicle="sprung"' --set train.unsprung_mass_kg=1800 \
   --set train.suspension_stiffness_N_m=1e6 --set train.suspension_damping_Ns_m=1e4 --set 'assess.comfort_level="good"' \
   --set assess.unloading_ratio_limit=0.999 --no-plots --out "$VE"
@@ -146,7 +146,7 @@ veh = list(csv.DictReader(open(O + "/vehicles.csv")))
 n_cases = int([l for l in open(O + "/manifest.toml") if l.startswith("n_cases")][0].split("=")[1].strip().strip('"'))
 bad = []
 c, u = checks.get("passenger comfort (car body)"), checks.get("wheel unloading (P0 - Pmin)/P0")
-if not c or not u or len(veh) != n_cases or n_cases < 20:  # a row per case: 10 trains x (2 speeds + resonances)
+if not c or not u or len(veh) != n_cases or n_cases != 10:  # a row per case: 10 trains at 420 km/h
     bad.append("rows: %s %s, %d vehicle rows" % (c, u, len(veh)))
 else:
     top = max(veh, key=lambda r: float(r["max_body_acc_mps2"]))

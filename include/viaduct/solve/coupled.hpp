@@ -118,13 +118,16 @@ CoupledSummary coupled_newmark(const SparseMatrix& M, const SparseMatrix& C, con
 /// every DOF of a FE model the error test would follow its kHz modes anyway). Hertz contacts only (a rigid contact under a mass is an index-3 constraint: InputError), and every vehicle DOF
 /// needs mass (M positive definite). Outputs at k·grid.dt (IDA's interpolant). Summary: internal
 /// steps, Jacobians, rejected steps, restarts (breaks and events); CoupledSummary::events with
-/// the root times (to IDA's tolerances, not the recording step).
+/// the root times (to IDA's tolerances, not the recording step). With the path's static
+/// correction (ContactPath::residual_flexibility) the wheels on the structure's rail are solved
+/// together, (1/k + F) P = P0/k + z − y − r, and the Newton matrix takes that coupling.
 CoupledSummary coupled_ida(const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K,
                            const LinearVehicle& vehicle, const ContactPath& path, const TimeGrid& grid,
                            const IdaOptions& opt, const CoupledObserver& observe);
 
 /// Static equilibrium of the structure (K) and the vehicles standing with the contacts `path`
-/// gives at time t: K u = Σ Nᵀ(P0 + p), K_v z = −B p, with the contact law. Returns u and writes
+/// gives at time t: K u = Σ Nᵀ(P0 + p), K_v z = −B p, with the contact law and the path's static
+/// correction (the rail under a wheel N u + F P). Returns u (the coordinates' share) and writes
 /// z and the total contact forces. SolverError when the system is singular (a structure without
 /// supports, a vehicle that is a mechanism on its wheels).
 Vector coupled_static(const SparseMatrix& K, const LinearVehicle& vehicle, const ContactPath& path, double t,
