@@ -174,7 +174,8 @@ std::vector<TableColumn> vehicle_envelope_columns(const std::vector<study::Vehic
   std::vector<TableColumn> rest = {text_column("train"), number_column("speed_kmh"), number_column("min_contact_N"),
                                    number_column("max_contact_N"), number_column("max_unloading_ratio"),
                                    {"contact_lost", TableColumn::Kind::flag, {}, {}, {}}, number_column("max_airborne_s"),
-                                   number_column("max_body_acc_mps2"), text_column("body")};
+                                   number_column("max_body_acc_mps2"), text_column("body"),
+                                   number_column("max_floor_acc_mps2"), text_column("floor_body")};
   return sweep_table(rows, variants, std::move(rest), [](const study::VehicleRow& r, TableColumn* c) {
     const study::VehiclePeaks& p = r.peaks;
     c[0].cells.push_back(r.train);
@@ -186,6 +187,8 @@ std::vector<TableColumn> vehicle_envelope_columns(const std::vector<study::Vehic
     c[6].values.push_back(p.max_airborne_s);
     c[7].values.push_back(p.max_body_acc);
     c[8].cells.push_back(p.body);
+    c[9].values.push_back(p.max_floor_acc);
+    c[10].cells.push_back(p.floor_body);
   });
 }
 
@@ -194,13 +197,14 @@ void write_vehicle_envelope_csv(const std::string& path, const std::vector<study
   const VariantColumns vc(variants);
   AtomicFile f(path);
   vc.header(f.get());
-  std::fprintf(f.get(), ",train,speed_kmh,min_contact_N,max_contact_N,max_unloading_ratio,contact_lost,max_airborne_s,max_body_acc_mps2,body\n");
+  std::fprintf(f.get(), ",train,speed_kmh,min_contact_N,max_contact_N,max_unloading_ratio,contact_lost,max_airborne_s,max_body_acc_mps2,body,max_floor_acc_mps2,"
+               "floor_body\n");
   for (const auto& r : rows) {
     vc.row(f.get(), r.variant, "vehicles.csv");
     const study::VehiclePeaks& p = r.peaks;
-    std::fprintf(f.get(), ",%s,%.10g,%.10g,%.10g,%.10g,%s,%.10g,%.10g,%s\n", csv_text(r.train).c_str(), r.speed * 3.6,
+    std::fprintf(f.get(), ",%s,%.10g,%.10g,%.10g,%.10g,%s,%.10g,%.10g,%s,%.10g,%s\n", csv_text(r.train).c_str(), r.speed * 3.6,
                  p.min_contact, p.max_contact, p.max_unloading_ratio, p.contact_lost ? "true" : "false", p.max_airborne_s,
-                 p.max_body_acc, csv_text(p.body).c_str());
+                 p.max_body_acc, csv_text(p.body).c_str(), p.max_floor_acc, csv_text(p.floor_body).c_str());
   }
   f.commit();
 }

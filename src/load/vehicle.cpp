@@ -66,6 +66,8 @@ TrainVehicles sprung_vehicles(const Train& t, const SprungSpec& s, double g) {
     v.wheel_dof.push_back(wheel);
     v.body_dof.push_back(body);
     v.body_names.push_back(a);
+    v.body_pitch_dof.push_back(-1);
+    v.body_arm.push_back(0.0);
   }
   return v;
 }
@@ -118,6 +120,8 @@ TrainVehicles articulated_vehicles(const Train& t) {
     }
     v.body_dof.push_back(body);
     v.body_names.push_back("c" + std::to_string(k + 1));
+    v.body_pitch_dof.push_back(body + 1);
+    v.body_arm.push_back(c.bogie_spacing / 2.0);
   }
   // DOF names in DOF order: bodies, bogies, wheelsets.
   std::vector<std::string> names;
@@ -173,6 +177,8 @@ TrainVehicles multibody_vehicles(const Train& t) {
     for (Index i = 0; i < 4; ++i) v.wheel_dof.push_back(o + 6 + i);
     v.body_dof.push_back(body);
     v.body_names.push_back(ck);
+    v.body_pitch_dof.push_back(body + 1);
+    v.body_arm.push_back(half_s);
   }
   return v;
 }

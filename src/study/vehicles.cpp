@@ -40,6 +40,8 @@ VehiclePeaks vehicle_peaks(const RunResult& r) {
   for (Index b = 0; b < v.body_acc.cols(); ++b) {
     const double a = v.body_acc.col(b).cwiseAbs().maxCoeff();
     if (a > p.max_body_acc) p.max_body_acc = a, p.body = v.body_names[static_cast<std::size_t>(b)];
+    if (b < v.max_floor_acc.size() && v.max_floor_acc[b] > p.max_floor_acc)
+      p.max_floor_acc = v.max_floor_acc[b], p.floor_body = v.body_names[static_cast<std::size_t>(b)];
   }
   return p;
 }
@@ -431,6 +433,7 @@ RunResult vehicle_result(const PreparedModel& m, double speed, const RunSettings
   vh.contact_force.resize(n_samples, static_cast<Index>(veh.n_contacts()));
   vh.body_names = tv.body_names;
   vh.body_acc.resize(n_samples, static_cast<Index>(tv.body_dof.size()));
+  vh.max_floor_acc = Vector::Zero(static_cast<Index>(tv.body_dof.size()));
   vh.n_dofs = veh.n_dofs();
   return r;
 }
@@ -502,7 +505,12 @@ RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, do
       for (std::size_t j = 0; j < eff.size(); ++j) r.effects[j].value[k] += corr[static_cast<Index>(2 * ns + j)];
     }
     vh.contact_force.row(k) = x.contact_force.transpose();
-    for (std::size_t b = 0; b < nb; ++b) vh.body_acc(k, static_cast<Index>(b)) = x.za[tv.body_dof[b]];
+    for (std::size_t b = 0; b < nb; ++b) {
+      const double a = x.za[tv.body_dof[b]], pitch = tv.body_pitch_dof[b] >= 0 ? x.za[tv.body_pitch_dof[b]] : 0.0;
+      vh.body_acc(k, static_cast<Index>(b)) = a;
+      vh.max_floor_acc[static_cast<Index>(b)] =
+          std::max(vh.max_floor_acc[static_cast<Index>(b)], std::abs(a) + tv.body_arm[b] * std::abs(pitch));
+    }
   };
   solve::CoupledSummary cs;
   if (modal) {

@@ -467,4 +467,15 @@ TEST_CASE("with the static correction the vehicle fast path's load effects follo
   // 3.0e-4 against 1.1e-3. The bounds: 1.5x the measured ratios and errors.
   CHECK(worst_with < 0.2);
   CHECK(disp(with) < 0.5 * disp(without));
+  // The coaches pitch: the floor above a bogie moves more than the body's centre (the comfort
+  // check's value, VehicleHistory::max_floor_acc), never less.
+  const study::VehicleHistory& v = ref.vehicles;
+  REQUIRE(v.max_floor_acc.size() == v.body_acc.cols());
+  double gain = 0.0;
+  for (Index b = 0; b < v.body_acc.cols(); ++b) {
+    CHECK(v.max_floor_acc[b] >= v.body_acc.col(b).cwiseAbs().maxCoeff());
+    gain = std::max(gain, v.max_floor_acc[b] / v.body_acc.col(b).cwiseAbs().maxCoeff());
+  }
+  std::printf("  car bodies: the floor above a bogie up to %.2f times the centre's acceleration\n", gain);
+  CHECK(gain > 1.01);
 }

@@ -412,18 +412,18 @@ void quantity_checks(std::size_t q, const Statics& st, const std::vector<Increme
   }
 }
 
-// With vehicle models: the largest car-body acceleration against the comfort limit, and the
+// With vehicle models: the largest car-body floor acceleration against the comfort limit, and the
 // largest wheel unloading against its limit (a lost contact is an unloading of 1), each with the
 // case that governs it.
 void vehicle_checks(const study::SweepResult& r, const Config& c, std::vector<Check>& out) {
   const study::VehicleRow *body = nullptr, *unload = nullptr;
   for (const auto& v : r.vehicles) {
     if (!v.peaks.present) continue;
-    if (!body || v.peaks.max_body_acc > body->peaks.max_body_acc) body = &v;
+    if (!body || v.peaks.max_floor_acc > body->peaks.max_floor_acc) body = &v;
     if (!unload || v.peaks.max_unloading_ratio > unload->peaks.max_unloading_ratio) unload = &v;
   }
   if (!body) return;
-  Check b{"passenger comfort (car body)", body->peaks.body + "_acc_mps2", body->peaks.max_body_acc, c.comfort_limit, "",
+  Check b{"passenger comfort (car body)", body->peaks.floor_body + "_floor_acc_mps2", body->peaks.max_floor_acc, c.comfort_limit, "",
           body->variant, body->train, body->speed, "EN 1990 A2.4.4.3.1, Table A2.9 " + c.comfort_level + " (to confirm)"};
   b.verdict = b.value <= b.limit ? "pass" : "FAIL";
   out.push_back(b);
@@ -616,8 +616,9 @@ void report_notes(std::ostringstream& o, const ReportInput& in) {
     o << "- Passenger comfort and wheel unloading are checked with vehicle models only (train.vehicle = \"sprung\" or "
          "\"multibody\", docs/vehicles.md): with moving forces there are no car bodies and no contact forces.\n";
   else
-    o << "- The car-body acceleration checked is each body's bounce at its centre (multibody coaches) or each sprung mass's, "
-         "unfiltered; a coach's pitch adds towards its ends. To confirm: the comfort limits of Table A2.9.\n";
+    o << "- The car-body acceleration checked is the largest on each body's floor at its centre and above its bogie centres "
+         "(EN 12299's floor positions: bounce plus pitch times the half bogie spacing; a sprung mass's own), unfiltered. "
+         "To confirm: the comfort limits of Table A2.9.\n";
   if (!in.r.failures.empty()) o << "- **" << in.r.failures.size() << " case(s) failed** (failures.csv): the checks above leave them out.\n";
   o << "\n## Provenance\n\nScenario `" << in.flat.path << "`; " << io::version() << " (commit " << io::git_commit() << "); command `"
     << in.command_line << "`. Tables: checks.csv, envelope.csv, load_effects.csv, phi_dyn.csv, mass_cases.csv, governing.csv, failures.csv"

@@ -92,16 +92,18 @@ std::vector<std::string> describe_vehicles(const study::RunResult& r, bool quiet
                          "that is not physical");
   }
   if (!quiet) {
-    double acc = 0.0;
-    std::string body;
+    double acc = 0.0, floor = 0.0;
+    std::string body, floor_body;
     for (Index b = 0; b < v.body_acc.cols(); ++b) {
       const double a = v.body_acc.col(b).cwiseAbs().maxCoeff();
       if (a > acc) acc = a, body = v.body_names[static_cast<std::size_t>(b)];
+      if (v.max_floor_acc[b] > floor) floor = v.max_floor_acc[b], floor_body = v.body_names[static_cast<std::size_t>(b)];
     }
     std::printf("vehicles: %s, %ld DOFs; contact force %.1f to %.1f kN (static %.1f to %.1f), largest unloading ratio %.3f; "
-                "car body max |acc| %.4f m/s² (%s, unfiltered)\n",
+                "car body max |acc| %.4f m/s² (%s, unfiltered; %.4f over the floor above the bogies, %s)\n",
                 v.model.c_str(), static_cast<long>(v.n_dofs), v.min_contact.minCoeff() / 1e3, v.max_contact.maxCoeff() / 1e3,
-                v.static_load.minCoeff() / 1e3, v.static_load.maxCoeff() / 1e3, v.max_unloading_ratio(), acc, body.c_str());
+                v.static_load.minCoeff() / 1e3, v.static_load.maxCoeff() / 1e3, v.max_unloading_ratio(), acc, body.c_str(), floor,
+                floor_body.c_str());
   }
   return warnings;
 }

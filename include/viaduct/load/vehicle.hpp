@@ -29,6 +29,11 @@ struct TrainVehicles {
   /// sprung mass of each axle), with its name ("c1", "a1").
   std::vector<Index> body_dof;
   std::vector<std::string> body_names;
+  /// Per body: its pitch DOF (−1: none, a sprung mass) and the distance [m] from its centre to the
+  /// floor above each bogie centre, where a coach pitching adds to its bounce (EN 12299's floor
+  /// positions: the centre and above the bogie centres); 0 without pitch.
+  std::vector<Index> body_pitch_dof;
+  std::vector<double> body_arm;
   Index n_dofs() const { return M.rows(); }
 };
 

@@ -113,6 +113,9 @@ struct VehicleHistory {
   Matrix contact_force;       ///< [N] n_samples × n_axles, P0 + p, compression positive
   std::vector<std::string> body_names;  ///< "c1" … per coach, "a1" … per sprung axle
   Matrix body_acc;            ///< [m/s²] n_samples × n_bodies, car-body bounce (positive down)
+  /// [m/s²] per body: the largest |acceleration| of its floor at the centre and above the bogie
+  /// centres, max over time of |bounce| + arm·|pitch| (load::TrainVehicles::body_arm); unfiltered.
+  Vector max_floor_acc;
   Vector min_contact, max_contact;  ///< [N] per axle over the run
   /// [s] per axle: time off the rail (unilateral contact), the run-in included; 0 without release.
   Vector airborne_s;
@@ -258,6 +261,8 @@ struct VehiclePeaks {
   double max_unloading_ratio = 0.0;  ///< (P0 − P_min)/P0, largest over the axles
   double max_body_acc = 0.0;     ///< [m/s²] largest |car-body acceleration|, unfiltered
   std::string body;              ///< where ("c3", "a5")
+  double max_floor_acc = 0.0;    ///< [m/s²] largest VehicleHistory::max_floor_acc (the comfort check's)
+  std::string floor_body;        ///< whose
   double max_airborne_s = 0.0;   ///< [s] longest time an axle spent off the rail
   bool contact_lost = false;     ///< VehicleHistory::contact_lost()
 };

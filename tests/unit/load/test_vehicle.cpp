@@ -141,3 +141,28 @@ TEST_CASE("articulated coaches share their bogies: loads, free motions and the s
   const Vector reaction = -Kwf * Kff.ldlt().solve(F);
   for (Index w = 0; w < 8; ++w) CHECK(reaction[w] == Approx(t.load[static_cast<std::size_t>(w)] - 1800 * 9.81).epsilon(1e-10));
 }
+
+TEST_CASE("car-body floor points: the pitch DOF and the arm to the bogie centres, where the secondary springs act") {
+  // The comfort check's floor positions (above the bogie centres) must be the points the model's
+  // secondary suspension acts at: a body pitching alone stretches its two springs by ± arm, so
+  // K(pitch, pitch) = 2 k2 arm², conventional and articulated alike. Sprung masses do not pitch.
+  const load::CoachSpec c = ave();
+  for (const load::Train& t : {load::coach_train("2 AVE", c, 2), load::articulated_train("3 on 4", c, 3)}) {
+    INFO(t.name);
+    const load::TrainVehicles v = load::multibody_vehicles(t);
+    REQUIRE(v.body_pitch_dof.size() == v.body_dof.size());
+    REQUIRE(v.body_arm.size() == v.body_dof.size());
+    for (std::size_t b = 0; b < v.body_dof.size(); ++b) {
+      const Index p = v.body_pitch_dof[b];
+      REQUIRE(p >= 0);
+      CHECK(v.dof_names[static_cast<std::size_t>(p)] == v.body_names[b] + "_body_pitch");
+      CHECK(v.body_arm[b] == c.bogie_spacing / 2.0);
+      CHECK(v.K(p, p) == Approx(2.0 * c.secondary_k * v.body_arm[b] * v.body_arm[b]).epsilon(1e-14));
+    }
+  }
+  const load::TrainVehicles s = load::sprung_vehicles(load::regular_train("4", 4, 3.0, 170e3), load::SprungSpec{1800.0, 1e6, 1e4});
+  for (std::size_t b = 0; b < s.body_dof.size(); ++b) {
+    CHECK(s.body_pitch_dof[b] == -1);
+    CHECK(s.body_arm[b] == 0.0);
+  }
+}
