@@ -353,6 +353,15 @@ study::Scenario to_scenario(const FlatScenario& f) {
     }
   }
 
+  // The comfort check's low-pass, designed as the filter's (study::VehicleHistory::max_floor_acc).
+  if (st.vehicle.model != study::VehicleModel::forces && st.vehicle.comfort_lowpass_hz > 0.0) {
+    signal::Cheby1Spec spec = st.filter.cheby;
+    spec.band = signal::BandType::lowpass;
+    spec.high_hz = st.vehicle.comfort_lowpass_hz;
+    std::string why;
+    if (!spec.is_valid(1.0 / st.dt, &why)) throw InputError(f.at("train.comfort_lowpass_hz").where, why);
+  }
+
   sc.stations = stations_of(f, sc.bridge, has_track);
   if (sc.stations.empty()) throw InputError(SourceLocation{f.path, 0, "stations"}, "at least one [[stations]] entry is required");
 

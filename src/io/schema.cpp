@@ -155,6 +155,8 @@ std::vector<KeySpec> train_keys() {  // trains
        [](S& sc, const V& v) { sc.settings.vehicle.model = vehicle_of(v.s); }},
       {"train.contact", T::string, "\"hertz\"", "", "hertz|rigid", "Wheel-rail contact of sprung and multibody vehicles: a linearised Hertz spring per axle, or the wheel following the rail.",
        [](S& sc, const V& v) { sc.settings.vehicle.contact = contact_of(v.s); }},
+      {"train.comfort_lowpass_hz", T::number, "0.0", "Hz", ">= 0", "Sprung and multibody vehicles: the car-body floor accelerations of the comfort check (max_floor_acc_mps2) low-passed at this frequency (zero-phase Chebyshev I of filter.order and filter.ripple_db, from rest); 0: unfiltered.",
+       [](S& sc, const V& v) { sc.settings.vehicle.comfort_lowpass_hz = v.x; }},
       {"train.contact_release", T::boolean, "true", "", "", "Sprung and multibody vehicles: true, a wheel whose contact force would pull leaves the rail and lands again (unilateral contact; the time in the air is reported); false, the linear contact holds it with a tensile force (reported as a lost contact).",
        [](S& sc, const V& v) { sc.settings.vehicle.release = v.b; }},
       {"train.contact_stiffness_N_m", T::number, "", "N/m", "> 0", "Contact stiffness per axle, both rails (default: linearised Hertz at the static wheel load, 3 P^(1/3)/G with G = 4.57e-8 R^-0.149, Zhai's conical tread).",

@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/options.hpp"
 #include "viaduct/model/beam_element.hpp"
 #include "viaduct/model/modes.hpp"
+#include "viaduct/signal/iir.hpp"
 
 namespace viaduct::study {
 
@@ -406,6 +408,40 @@ class OutputCorrection {
   std::vector<double> w_;
 };
 
+// [m/s²] per body: the largest |acceleration| of its floor at the centre and above the bogie
+// centres (bounce ∓ arm × pitch), low-passed zero-phase from rest when
+// st.vehicle.comfort_lowpass_hz > 0 (the filter's order and ripple); InputError when that
+// frequency is not below Nyquist.
+Vector floor_accelerations(const Matrix& bounce, const Matrix& pitch, const std::vector<double>& arm, const RunSettings& st) {
+  const Index nb = bounce.cols();
+  Vector out = Vector::Zero(nb);
+  const double f = st.vehicle.comfort_lowpass_hz;
+  require_non_negative(f, "train.comfort_lowpass_hz [Hz]");
+  std::optional<signal::Sos> sos;
+  if (f > 0.0) {
+    signal::Cheby1Spec spec;
+    spec.order = st.filter.cheby.order;
+    spec.ripple_db = st.filter.cheby.ripple_db;
+    spec.band = signal::BandType::lowpass;
+    spec.high_hz = f;
+    std::string why;
+    if (!spec.is_valid(1.0 / st.dt, &why))
+      throw InputError("train.comfort_lowpass_hz = " + format_number(f, 6) + " Hz at analysis.dt = " + format_number(st.dt, 6) +
+                       " s: " + why);
+    sos = signal::cheby1(spec, 1.0 / st.dt);
+  }
+  for (Index b = 0; b < nb; ++b) {
+    const double h = arm[static_cast<std::size_t>(b)];
+    for (const double side : {0.0, 1.0, -1.0}) {
+      if (side != 0.0 && h == 0.0) continue;
+      Vector a = bounce.col(b) + (side * h) * pitch.col(b);
+      if (sos) a = signal::filtfilt_from_rest(*sos, a);
+      out[b] = std::max(out[b], a.cwiseAbs().maxCoeff());
+    }
+  }
+  return out;
+}
+
 // A vehicle run's result with its histories sized: the stations (the rail above a deck station
 // when `rail` has its functional), the load effects, the contact forces and car-body accelerations.
 RunResult vehicle_result(const PreparedModel& m, double speed, const RunSettings& st, Index n_samples,
@@ -433,7 +469,6 @@ RunResult vehicle_result(const PreparedModel& m, double speed, const RunSettings
   vh.contact_force.resize(n_samples, static_cast<Index>(veh.n_contacts()));
   vh.body_names = tv.body_names;
   vh.body_acc.resize(n_samples, static_cast<Index>(tv.body_dof.size()));
-  vh.max_floor_acc = Vector::Zero(static_cast<Index>(tv.body_dof.size()));
   vh.n_dofs = veh.n_dofs();
   return r;
 }
@@ -462,7 +497,7 @@ RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, do
   const solve::TimeGrid grid{st.dt, static_cast<double>(n_samples - 1 + k0) * st.dt};
   const std::size_t na = train.n_axles(), nb = tv.body_dof.size();
   const double bytes = static_cast<double>(n_samples) *
-                       static_cast<double>(1 + 4 * m.stations.size() + 2 * m.effects.size() + na + nb) * sizeof(double);
+                       static_cast<double>(1 + 4 * m.stations.size() + 2 * m.effects.size() + na + 2 * nb) * sizeof(double);
   if (bytes > kMaxHistoryBytes)
     throw InputError("a run of " + format_number(t_end, 6) + " s at dt = " + format_number(st.dt, 6) + " s would record " +
                      format_number(bytes / (1 << 30), 3) + " GiB of histories: raise the speed or analysis.dt");
@@ -485,6 +520,7 @@ RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, do
   const TrainContacts full(s, train, speed, m.profile.get(), st.irregularity.run_in, st.irregularity.taper,
                            static_cast<double>(k0) * st.dt, st.vehicle.end_transition);
   OutputCorrection correction(full, basis.get(), na, 2 * m.stations.size() + eff.size());
+  Matrix pitch_acc(n_samples, static_cast<Index>(nb));  // [rad/s²] the bodies' pitch
   auto observe = [&](Index step, double t, const solve::CoupledState& x) {
     if (step < k0) return;
     const Index k = step - k0;
@@ -506,10 +542,8 @@ RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, do
     }
     vh.contact_force.row(k) = x.contact_force.transpose();
     for (std::size_t b = 0; b < nb; ++b) {
-      const double a = x.za[tv.body_dof[b]], pitch = tv.body_pitch_dof[b] >= 0 ? x.za[tv.body_pitch_dof[b]] : 0.0;
-      vh.body_acc(k, static_cast<Index>(b)) = a;
-      vh.max_floor_acc[static_cast<Index>(b)] =
-          std::max(vh.max_floor_acc[static_cast<Index>(b)], std::abs(a) + tv.body_arm[b] * std::abs(pitch));
+      vh.body_acc(k, static_cast<Index>(b)) = x.za[tv.body_dof[b]];
+      pitch_acc(k, static_cast<Index>(b)) = tv.body_pitch_dof[b] >= 0 ? x.za[tv.body_pitch_dof[b]] : 0.0;
     }
   };
   solve::CoupledSummary cs;
@@ -532,6 +566,7 @@ RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, do
   vh.n_cached_columns = cs.n_cached_columns;
   vh.released = veh.release;
   vh.airborne_s = cs.airborne_s;
+  vh.max_floor_acc = floor_accelerations(vh.body_acc, pitch_acc, tv.body_arm, st);
   vh.first_loss_s = Vector::Constant(static_cast<Index>(na), std::numeric_limits<double>::quiet_NaN());
   for (const solve::ContactEvent& e : cs.events)
     if (!e.landed && std::isnan(vh.first_loss_s[static_cast<Index>(e.wheel)]))

@@ -224,6 +224,7 @@ expect 2 "timber.toml:11: key 'assess.deck_type': must be one of steel|composite
 expect 2 "nodeck.toml:10: key 'assess.deck_type': viaduct assess needs this key" -- "$VIADUCT" assess "$(scen nodeck '[assess]\nline_speed_kmh = 200.0\n')" --no-plots --out "$WORK/o"
 expect 2 "--set: key 'assess.deflection_limit_ratio': must be > 0, got -600" -- "$VIADUCT" assess "$(scen dneg "$AS")" --set assess.deflection_limit_ratio=-600 --no-plots --out "$WORK/o"
 expect 2 "comfort.toml:12: key 'assess.comfort_level': must be one of very-good|good|acceptable, got 'excellent'" -- "$VIADUCT" assess "$(scen comfort "${AS}comfort_level = \"excellent\"\n")" --no-plots --out "$WORK/o"
+expect 2 "--set: key 'train.comfort_lowpass_hz': Cheby1Spec::high_hz = 600: violated constraint high_hz in (0, fs/2 = 500) Hz" -- "$VIADUCT" run "$SRC/scenarios/vehicles-25m.toml" --set train.comfort_lowpass_hz=600 --out "$WORK/o"
 expect 2 "--set: key 'assess.unloading_ratio_limit': must be (0, 1], got 1.2" -- "$VIADUCT" assess "$(scen unl "$AS")" --set assess.unloading_ratio_limit=1.2 --no-plots --out "$WORK/o"
 expect 2 "asks for HSLM-B; give assess.hslm_b_n and assess.hslm_b_spacing_m" -- "$VIADUCT" assess "$(scen short "$AS")" --set "bridge.span_lengths=[5.0]" --no-plots --out "$WORK/o"
 expect 2 "lneg.toml:12: key 'assess.determinant_length_m': must be > 0 [m], got -24" -- "$VIADUCT" assess "$(scen lneg "${AS}determinant_length_m = -24.0\n")" --no-plots --out "$WORK/o"

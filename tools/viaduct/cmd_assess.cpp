@@ -617,8 +617,11 @@ void report_notes(std::ostringstream& o, const ReportInput& in) {
          "\"multibody\", docs/vehicles.md): with moving forces there are no car bodies and no contact forces.\n";
   else
     o << "- The car-body acceleration checked is the largest on each body's floor at its centre and above its bogie centres "
-         "(EN 12299's floor positions: bounce plus pitch times the half bogie spacing; a sprung mass's own), unfiltered. "
-         "To confirm: the comfort limits of Table A2.9.\n";
+         "(EN 12299's floor positions: bounce plus pitch times the half bogie spacing; a sprung mass's own), "
+      << (in.nominal.settings.vehicle.comfort_lowpass_hz > 0.0
+              ? "low-passed at " + fmt(in.nominal.settings.vehicle.comfort_lowpass_hz) + " Hz (train.comfort_lowpass_hz)"
+              : std::string("unfiltered (train.comfort_lowpass_hz sets a low-pass)"))
+      << ". To confirm: the comfort limits of Table A2.9.\n";
   if (!in.r.failures.empty()) o << "- **" << in.r.failures.size() << " case(s) failed** (failures.csv): the checks above leave them out.\n";
   o << "\n## Provenance\n\nScenario `" << in.flat.path << "`; " << io::version() << " (commit " << io::git_commit() << "); command `"
     << in.command_line << "`. Tables: checks.csv, envelope.csv, load_effects.csv, phi_dyn.csv, mass_cases.csv, governing.csv, failures.csv"

@@ -103,6 +103,10 @@ struct VehicleSettings {
   /// passes gradually between rigid ground and the rail (study::train_contacts); shorter than the
   /// approach and exit track.
   double end_transition = 10.0;
+  /// [Hz] >= 0: the car-body floor accelerations (VehicleHistory::max_floor_acc, the comfort
+  /// check's) low-passed at this frequency, zero-phase Chebyshev I of the filter's order and
+  /// ripple, from rest; 0: unfiltered.
+  double comfort_lowpass_hz = 0.0;
 };
 
 /// Rail irregularities seen by vehicle models (a dip positive in the coupled equations).

@@ -515,7 +515,8 @@ TEST_CASE("each scenario key is declared once: its schema entry sets its field, 
            t.shear.c != u.shear.c || t.subgrade.k != u.subgrade.k || t.subgrade.c != u.subgrade.c ||
            t.subgrade_on_bridge.k != u.subgrade_on_bridge.k || t.subgrade_on_bridge.c != u.subgrade_on_bridge.c ||
            a.run_speed != ref.run_speed || x.vehicle.contact_stiffness != y.vehicle.contact_stiffness ||
-           x.vehicle.wheel_radius != y.vehicle.wheel_radius || x.vehicle.end_transition != y.vehicle.end_transition || x.irregularity.seed != y.irregularity.seed ||
+           x.vehicle.wheel_radius != y.vehicle.wheel_radius || x.vehicle.end_transition != y.vehicle.end_transition ||
+           x.vehicle.comfort_lowpass_hz != y.vehicle.comfort_lowpass_hz || x.irregularity.seed != y.irregularity.seed ||
            x.irregularity.lambda_min != y.irregularity.lambda_min || x.irregularity.lambda_max != y.irregularity.lambda_max ||
            x.irregularity.dx != y.irregularity.dx || x.irregularity.run_in != y.irregularity.run_in ||
            x.irregularity.taper != y.irregularity.taper;
