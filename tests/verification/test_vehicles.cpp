@@ -70,6 +70,16 @@ double max_error(const Vector& got, double dt, const std::vector<double>& t, con
   return e / scale;
 }
 
+// REFERENCE.md §8: the AVE S103 intermediate coach (25 m long: assumed, the reference gives none).
+load::CoachSpec ave_coach() {
+  load::CoachSpec c;
+  c.name = "AVE S103";
+  c.body_mass = 47800, c.body_pitch_inertia = 1957888, c.bogie_spacing = 17.375, c.bogie_mass = 3500;
+  c.bogie_pitch_inertia = 1715, c.wheelbase = 2.5, c.wheelset_mass = 1800, c.primary_k = 2.4e6, c.primary_c = 2e4;
+  c.secondary_k = 7e5, c.secondary_c = 4e4, c.length = 25.0;
+  return c;
+}
+
 double peak(const std::vector<double>& x) {
   double p = 0.0;
   for (double v : x) p = std::max(p, std::abs(v));
@@ -157,11 +167,7 @@ TEST_CASE("a standing train gives the static contact forces and deflections exac
   // wheels on a 25 m span and some behind it on rigid ground, on an FRA class 4 profile: whatever
   // the wheels' heights, each carries its static load, and the span deflects as under those loads.
   const model::Structure s = model::build_structure(vt::span(kBeamL, kBeamEI, kBeamMass, 0.5), std::nullopt);
-  load::CoachSpec c;
-  c.name = "AVE S103";
-  c.body_mass = 47800, c.body_pitch_inertia = 1957888, c.bogie_spacing = 17.375, c.bogie_mass = 3500;
-  c.bogie_pitch_inertia = 1715, c.wheelbase = 2.5, c.wheelset_mass = 1800, c.primary_k = 2.4e6, c.primary_c = 2e4;
-  c.secondary_k = 7e5, c.secondary_c = 4e4, c.length = 25.0;
+  const load::CoachSpec c = ave_coach();
   REQUIRE(load::coach_train("2 x AVE", c, 2).load[0] == Approx(152055.0).epsilon(1e-12));  // REFERENCE.md §8
   study::RunSettings rs;
   rs.vehicle.model = study::VehicleModel::multibody;
@@ -423,11 +429,7 @@ TEST_CASE("with the static correction the vehicle fast path's load effects follo
   // shear, the reactions and the moment are where truncated modes show (a moving load's local
   // shape); the correction adds the dropped modes' quasi-static share of the contact forces.
   const model::Structure s = model::build_structure(vt::span(kBeamL, kBeamEI, kBeamMass, 0.5), std::nullopt);
-  load::CoachSpec c;
-  c.name = "AVE S103";
-  c.body_mass = 47800, c.body_pitch_inertia = 1957888, c.bogie_spacing = 17.375, c.bogie_mass = 3500;
-  c.bogie_pitch_inertia = 1715, c.wheelbase = 2.5, c.wheelset_mass = 1800, c.primary_k = 2.4e6, c.primary_c = 2e4;
-  c.secondary_k = 7e5, c.secondary_c = 4e4, c.length = 25.0;
+  const load::CoachSpec c = ave_coach();
   const load::Train train = load::coach_train("8 x AVE", c, 8);
   auto run = [&](study::Method method, bool sc) {
     study::RunSettings rs;
@@ -487,11 +489,7 @@ TEST_CASE("the comfort check's floor acceleration, unfiltered and low-passed (tr
   // one at 0.5 Hz, below it, removes most. A sprung mass's floor value is its own acceleration's,
   // filtered as the deck's accelerations are (filtfilt from rest).
   const model::Structure s = model::build_structure(vt::span(kBeamL, kBeamEI, kBeamMass, 0.5), std::nullopt);
-  load::CoachSpec c;
-  c.name = "AVE S103";
-  c.body_mass = 47800, c.body_pitch_inertia = 1957888, c.bogie_spacing = 17.375, c.bogie_mass = 3500;
-  c.bogie_pitch_inertia = 1715, c.wheelbase = 2.5, c.wheelset_mass = 1800, c.primary_k = 2.4e6, c.primary_c = 2e4;
-  c.secondary_k = 7e5, c.secondary_c = 4e4, c.length = 25.0;
+  const load::CoachSpec c = ave_coach();
   auto run = [&](const load::Train& train, study::VehicleModel model, double lowpass) {
     study::RunSettings rs;
     rs.filter.enabled = false;
