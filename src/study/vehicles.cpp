@@ -484,8 +484,10 @@ RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, do
   const solve::LinearVehicle veh = linear_vehicle(train, st, &tv);
   // The modal fast path and IDA integrate the structure's modes with the vehicles physical.
   const bool modal = st.method == Method::modal || st.method == Method::ida;
+  // The displacement outputs in vehicle_outputs()' order, the order of the static correction's.
+  const std::vector<solve::Functional> outs = vehicle_outputs(m.stations, m.effects);
   std::shared_ptr<const VehicleModalBasis> basis = m.vehicle_modal;
-  if (modal && !basis) basis = vehicle_modal_basis(s, st.modal, vehicle_outputs(m.stations, m.effects));
+  if (modal && !basis) basis = vehicle_modal_basis(s, st.modal, outs);
   const bool sc = modal && basis->static_correction();
   const Matrix* phi = modal ? &basis->shapes : nullptr;
 
@@ -503,23 +505,25 @@ RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, do
                      format_number(bytes / (1 << 30), 3) + " GiB of histories: raise the speed or analysis.dt");
 
   // Outputs: each station's main point (and the rail above a deck station), the load effects.
+  const std::size_t ns = m.stations.size();
   std::vector<solve::Functional> main, rail;
-  for (const auto& stn : m.stations) {
-    main.push_back(project(functional_of(stn.has_deck ? stn.deck : stn.rail), phi));
-    rail.push_back(stn.has_deck && stn.has_rail ? project(functional_of(stn.rail), phi) : solve::Functional{});
+  for (std::size_t i = 0; i < ns; ++i) {
+    main.push_back(project(outs[i], phi));
+    rail.push_back(outs[ns + i].dof.empty() ? solve::Functional{} : project(outs[ns + i], phi));
   }
   struct Eff {
     solve::Functional f, inertia, damping;
   };
   std::vector<Eff> eff;
-  for (const auto& e : m.effects) eff.push_back({project(e.functional, phi), project(e.inertia, phi), project(e.damping, phi)});
+  for (std::size_t j = 0; j < m.effects.size(); ++j)
+    eff.push_back({project(outs[2 * ns + j], phi), project(m.effects[j].inertia, phi), project(m.effects[j].damping, phi)});
 
   RunResult r = vehicle_result(m, speed, st, n_samples, rail, veh, tv);
   VehicleHistory& vh = r.vehicles;
 
   const TrainContacts full(s, train, speed, m.profile.get(), st.irregularity.run_in, st.irregularity.taper,
                            static_cast<double>(k0) * st.dt, st.vehicle.end_transition);
-  OutputCorrection correction(full, basis.get(), na, 2 * m.stations.size() + eff.size());
+  OutputCorrection correction(full, basis.get(), na, outs.size());
   Matrix pitch_acc(n_samples, static_cast<Index>(nb));  // [rad/s²] the bodies' pitch
   auto observe = [&](Index step, double t, const solve::CoupledState& x) {
     if (step < k0) return;
@@ -533,7 +537,6 @@ RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, do
       r.effects[j].value[k] = apply(eff[j].f, x.u) + apply(eff[j].inertia, x.a) + apply(eff[j].damping, x.v);
     if (sc) {  // accelerations keep the kept modes' (the correction's would need the forces' second derivative)
       const Vector& corr = correction.at(t, x.contact_force);
-      const std::size_t ns = m.stations.size();
       for (std::size_t i = 0; i < main.size(); ++i) {
         r.stations[i].disp[k] += corr[static_cast<Index>(i)];
         if (!rail[i].dof.empty()) r.stations[i].rail_disp[k] += corr[static_cast<Index>(ns + i)];

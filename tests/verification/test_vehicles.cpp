@@ -8,6 +8,7 @@
 #include "helpers.hpp"
 #include <Eigen/SparseCholesky>
 
+#include "viaduct/io/scenario.hpp"
 #include "viaduct/load/moving_loads.hpp"
 #include "viaduct/study/vehicles.hpp"
 
@@ -70,15 +71,10 @@ double max_error(const Vector& got, double dt, const std::vector<double>& t, con
   return e / scale;
 }
 
-// REFERENCE.md §8: the AVE S103 intermediate coach (25 m long: assumed, the reference gives none).
-load::CoachSpec ave_coach() {
-  load::CoachSpec c;
-  c.name = "AVE S103";
-  c.body_mass = 47800, c.body_pitch_inertia = 1957888, c.bogie_spacing = 17.375, c.bogie_mass = 3500;
-  c.bogie_pitch_inertia = 1715, c.wheelbase = 2.5, c.wheelset_mass = 1800, c.primary_k = 2.4e6, c.primary_c = 2e4;
-  c.secondary_k = 7e5, c.secondary_c = 4e4, c.length = 25.0;
-  return c;
-}
+// The shipped AVE S103 intermediate coach (REFERENCE.md §8; 25 m long: assumed, the reference
+// gives none). tests/unit/load/test_vehicle.cpp holds its numbers against the reference, the
+// standing-train test below its static axle load.
+load::CoachSpec ave_coach() { return io::read_coach_file(vt::source("data/vehicles/ave-s103.toml")); }
 
 double peak(const std::vector<double>& x) {
   double p = 0.0;
@@ -524,4 +520,18 @@ TEST_CASE("the comfort check's floor acceleration, unfiltered and low-passed (tr
     const double want = signal::filtfilt_from_rest(sos, Vector(sprung.body_acc.col(b))).cwiseAbs().maxCoeff();
     CHECK(sprung.max_floor_acc[b] == Approx(want).epsilon(1e-12));
   }
+}
+
+TEST_CASE("the static correction refuses a load path beyond its dense flexibility's size, naming the key") {
+  // Three 25 m spans in 2.5 cm elements (1000 per span, the most a span takes): about 6000 path DOFs
+  // against kMaxResidualPathDofs (4096, 128 MiB).
+  model::BridgeParams b = vt::span(kBeamL, kBeamEI, kBeamMass, 0.025);
+  b.spans = {b.spans[0], b.spans[0], b.spans[0]};
+  const model::Structure s = model::build_structure(b, std::nullopt);
+  study::ModalSettings ms;
+  ms.n_modes = 1;
+  CHECK_THROWS_WITH(study::vehicle_modal_basis(s, ms), Catch::Contains("modal.static_correction = true") &&
+                                                           Catch::Contains("more than the 4096 it takes"));
+  ms.static_correction = false;  // without it the basis is built
+  CHECK(study::vehicle_modal_basis(s, ms)->shapes.cols() == 1);
 }
