@@ -385,7 +385,22 @@ FlatScenario load_flat(const std::string& path, const std::vector<std::string>& 
       }
     }
   }
+  derive_defaults(fsn);
   return fsn;
+}
+
+void derive_defaults(FlatScenario& flat) {
+  // HHT-α's own β = (1 − α)²/4 and γ = (1 − 2α)/2 for the one of them not given (NewmarkOptions::hht):
+  // plain Newmark's 1/4 and 1/2 with α < 0 amplify every step (solve/options.hpp).
+  auto alpha = flat.values.find("analysis.alpha");
+  if (alpha == flat.values.end()) return;
+  const double a = alpha->second.x;
+  const std::pair<const char*, double> derived[] = {{"analysis.beta", (1.0 - a) * (1.0 - a) / 4.0},
+                                                     {"analysis.gamma", (1.0 - 2.0 * a) / 2.0}};
+  for (const auto& [key, value] : derived) {
+    auto it = flat.values.find(key);
+    if (it != flat.values.end() && flat.defaulted.count(key)) it->second.x = value;
+  }
 }
 
 void scale_key(FlatScenario& flat, const std::string& key, double factor, const SourceLocation& declared) {
@@ -404,6 +419,7 @@ void scale_key(FlatScenario& flat, const std::string& key, double factor, const 
       throw InputError(declared, "factor " + num(factor) + " breaks the rule of " + e.what());
     }
   }
+  derive_defaults(flat);
 }
 
 void set_number(FlatScenario& flat, const std::string& key, double value) {
@@ -417,6 +433,7 @@ void set_number(FlatScenario& flat, const std::string& key, double value) {
   if (const KeySpec* spec = find_spec(key)) check_constraint(*spec, v);  // before anything changes
   it->second = v;
   flat.defaulted.erase(key);
+  derive_defaults(flat);
 }
 
 const KeySpec* find_key_spec(const std::string& key) { return find_spec(key); }

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <sstream>
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <Eigen/SparseCholesky>
 
 #include "checks.hpp"
@@ -28,14 +30,44 @@ NewmarkOptions NewmarkOptions::hht(double alpha) {
 }
 
 bool NewmarkOptions::unconditionally_stable() const {
-  return gamma >= 0.5 && 2.0 * beta >= gamma - 1e-14;
+  constexpr double tol = 1e-12;  // hht()'s (1 - 2α)/2 and (1 - α)²/4 in floating point
+  return alpha >= -1.0 / 3.0 - 1e-15 && alpha <= 0.0 && gamma >= 0.5 - alpha - tol && 2.0 * beta >= gamma - tol;
+}
+
+double NewmarkOptions::spectral_radius(double omega_dt, double xi) const {
+  // One step of M a₁ + (1+α)(C v₁ + K u₁) − α(C v₀ + K u₀) = 0 with u₁ = u₀ + v₀ + (½ − β) a₀ + β a₁,
+  // v₁ = v₀ + (1 − γ) a₀ + γ a₁ in units of dt (v·dt, a·dt²): A x₁ = B x₀, x = (u, v, a).
+  const double W = omega_dt, al = alpha;
+  Eigen::Matrix3d A, B;
+  if (std::isinf(W)) {  // the equation of motion divided by Ω², Ω → ∞: (1+α) u₁ = α u₀
+    A.row(0) << 1.0 + al, 0.0, 0.0;
+    B.row(0) << al, 0.0, 0.0;
+  } else {
+    A.row(0) << (1.0 + al) * W * W, (1.0 + al) * 2.0 * xi * W, 1.0;
+    B.row(0) << al * W * W, al * 2.0 * xi * W, 0.0;
+  }
+  A.row(1) << 1.0, 0.0, -beta;
+  B.row(1) << 1.0, 1.0, 0.5 - beta;
+  A.row(2) << 0.0, 1.0, -gamma;
+  B.row(2) << 0.0, 1.0, 1.0 - gamma;
+  const Eigen::Matrix3d amp = A.fullPivLu().solve(B);
+  return amp.eigenvalues().cwiseAbs().maxCoeff();
 }
 
 bool NewmarkOptions::is_valid(std::string* why) const {
   OptionsCheck c("NewmarkOptions", why);
-  return c.require(beta > 0.0, "beta", beta, "beta > 0") &&
-         c.require(gamma >= 0.5, "gamma", gamma, "gamma >= 0.5 (gamma < 0.5 adds negative damping)") &&
-         c.require(alpha >= -1.0 / 3.0 - 1e-15 && alpha <= 0.0, "alpha", alpha, "HHT alpha in [-1/3, 0]");
+  if (!(c.require(beta > 0.0, "beta", beta, "beta > 0") &&
+        c.require(gamma >= 0.5, "gamma", gamma, "gamma >= 0.5 (gamma < 0.5 adds negative damping)") &&
+        c.require(alpha >= -1.0 / 3.0 - 1e-15 && alpha <= 0.0, "alpha", alpha, "HHT alpha in [-1/3, 0]")))
+    return false;
+  if (alpha == 0.0 || unconditionally_stable()) return true;
+  // HHT outside its stable set amplifies the highest modes at every step (spectral radius > 1):
+  // 1.2e24 m of deflection in a run that exits 0, never a result.
+  const std::string hht = " with alpha = " + format_number(alpha, 6) + " (HHT is unstable at every step size otherwise; alpha's own are beta = (1 - alpha)²/4 = " +
+                          format_number((1.0 - alpha) * (1.0 - alpha) / 4.0, 6) + ", gamma = (1 - 2 alpha)/2 = " +
+                          format_number((1.0 - 2.0 * alpha) / 2.0, 6) + ")";
+  if (gamma < 0.5 - alpha - 1e-12) return c.fail("gamma", format_number(gamma, 6), "gamma >= 1/2 - alpha = " + format_number(0.5 - alpha, 6) + hht);
+  return c.fail("beta", format_number(beta, 6), "2 beta >= gamma = " + format_number(gamma, 6) + hht);
 }
 
 double estimate_max_omega(const SparseMatrix& M, const SparseMatrix& K) {

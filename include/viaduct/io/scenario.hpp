@@ -68,6 +68,10 @@ struct FlatScenario {
 /// InputError.
 FlatScenario load_flat(const std::string& path, const std::vector<std::string>& overrides = {},
                        const std::vector<std::string>& unset = {});
+/// The defaults that follow from other keys, recomputed from the values now in `flat` (load_flat
+/// calls it; call it again after changing such a key): analysis.beta and analysis.gamma not given
+/// take HHT-α's own, (1 − α)²/4 and (1 − 2α)/2 (0.25 and 0.5 at α = 0).
+void derive_defaults(FlatScenario& flat);
 /// Converts to plain data, checking cross-key rules (required keys, physics). Throws InputError
 /// with the key and where it was set.
 study::Scenario to_scenario(const FlatScenario& flat);

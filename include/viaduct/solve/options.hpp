@@ -19,20 +19,32 @@ enum class Method {
 const char* method_name(Method m);
 
 /// The scheme; the step and duration are the run's (TimeGrid).
+///
+/// HHT-α (alpha < 0) is unconditionally stable only with gamma >= 1/2 − alpha and 2 beta >= gamma
+/// (the spectral radius of one step is then <= 1 at every ω·dt; tests/unit/solve/test_newmark.cpp
+/// computes it). With plain Newmark's beta = 1/4, gamma = 1/2 every alpha < 0 amplifies the highest
+/// modes at every step, so that scheme is refused, never run: take hht(alpha) (the scenario's
+/// loader does when analysis.beta and analysis.gamma are not given).
 struct NewmarkOptions {
   double beta = 0.25;   ///< [-] > 0; 0.25 with gamma 0.5 = constant average acceleration
-  double gamma = 0.5;   ///< [-] >= 0.5 (smaller values add negative numerical damping)
-  /// [-] HHT-α in [-1/3, 0]; 0 is plain Newmark. With alpha != 0 use beta = (1 - alpha)²/4 and
-  /// gamma = (1 - 2 alpha)/2 for second order and unconditional stability (see hht()).
+  double gamma = 0.5;   ///< [-] >= 0.5 (smaller values add negative numerical damping); >= 1/2 − alpha with HHT
+  /// [-] HHT-α in [-1/3, 0]; 0 is plain Newmark. With alpha != 0: beta = (1 - alpha)²/4 and
+  /// gamma = (1 - 2 alpha)/2 for second order and unconditional stability (hht()).
   double alpha = 0.0;
   /// Throw SolverError when the state stops being finite.
   bool check_finite = true;
 
   /// Options for HHT-α with its standard β and γ.
   static NewmarkOptions hht(double alpha);
-  /// True when 2β >= γ >= 1/2: stable for any step on a linear system.
+  /// True when the scheme is stable for any step on a linear system: alpha in [-1/3, 0],
+  /// gamma >= 1/2 − alpha and 2β >= γ (plain Newmark: 2β >= γ >= 1/2).
   bool unconditionally_stable() const;
+  /// [-] Spectral radius of one step of the scheme on ü + 2ξω u̇ + ω² u = 0 at Ω = ω·dt (>= 0,
+  /// +infinity for the limit Ω → ∞) and ξ >= 0: the largest |eigenvalue| of the amplification
+  /// matrix of (u, dt·v, dt²·a). > 1 means the step amplifies that frequency.
+  double spectral_radius(double omega_dt, double xi = 0.0) const;
   /// *why: "NewmarkOptions::FIELD = VALUE: violated constraint ..." (the struct, field and rule).
+  /// With alpha != 0 a scheme outside the unconditionally stable set is invalid (beta, gamma named).
   bool is_valid(std::string* why) const;
 };
 

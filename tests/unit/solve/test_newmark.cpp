@@ -215,3 +215,90 @@ TEST_CASE("HHT-alpha damps high frequencies and leaves low ones") {
   REQUIRE(decay(2 * M_PI * 2000, -0.1) < 0.01);  // ω dt = 12.6: strongly damped
   REQUIRE(decay(2 * M_PI * 2000, 0.0) > 0.999);  // plain average acceleration: none
 }
+
+namespace {
+// Largest spectral radius of one step over Ω = ω·dt from 1e-3 to 1e6 (40 points a decade) and
+// the limit Ω → ∞.
+double max_radius(const NewmarkOptions& o, double xi = 0.0) {
+  double r = o.spectral_radius(INFINITY, xi);
+  for (int i = 0; i <= 360; ++i) r = std::max(r, o.spectral_radius(std::pow(10.0, -3.0 + i / 40.0), xi));
+  return r;
+}
+// The amplitude of a free vibration of one DOF (ω = 1, from u = 1 at rest) after `steps` steps at
+// Ω = ω·dt. The scheme is run on purpose outside its stable set, which newmark() refuses: the
+// step is repeated here by hand (the algebra of the kernel's step on one DOF).
+double run_growth(const NewmarkOptions& o, double omega_dt, int steps) {
+  const double dt = omega_dt, b = o.beta, g = o.gamma, al = o.alpha;
+  double u = 1.0, v = 0.0, a = -u;
+  for (int k = 0; k < steps; ++k) {
+    const double ut = u + dt * v + dt * dt * (0.5 - b) * a, vt = v + dt * (1 - g) * a;
+    // a1 + (1+α)(ut + β dt² a1) − α u = 0
+    const double a1 = -((1 + al) * ut - al * u) / (1 + (1 + al) * b * dt * dt);
+    u = ut + b * dt * dt * a1;
+    v = vt + g * dt * a1;
+    a = a1;
+  }
+  return std::sqrt(u * u + v * v);
+}
+}  // namespace
+
+TEST_CASE("HHT-alpha: the spectral radius over omega*dt is <= 1 exactly on the accepted set") {
+  // Plain Newmark's beta = 1/4, gamma = 1/2 with alpha < 0 (the schema's defaults before #36):
+  // radius > 1 at every step size large enough to reach the highest modes: 1.2e24 m in a run.
+  for (double alpha : {-0.01, -0.05, -0.1, -1.0 / 3.0}) {
+    NewmarkOptions o;
+    o.alpha = alpha;
+    CHECK(max_radius(o) > 1.0 + 1e-4);
+    CHECK_FALSE(o.unconditionally_stable());
+    std::string why;
+    CHECK_FALSE(o.is_valid(&why));
+    CHECK_THAT(why, Catch::Contains("NewmarkOptions::gamma = 0.5: violated constraint gamma >= 1/2 - alpha"));
+    // Its own beta and gamma: <= 1 at every Ω (1e-12: rounding of the 3 x 3 eigenvalues), < 1
+    // at Ω → ∞ (the numerical damping HHT is chosen for).
+    const NewmarkOptions h = NewmarkOptions::hht(alpha);
+    CHECK(h.unconditionally_stable());
+    CHECK(h.is_valid(nullptr));
+    CHECK(max_radius(h) <= 1.0 + 1e-12);
+    CHECK(h.spectral_radius(INFINITY) < 1.0 - 1e-3);
+  }
+  // The accepted set (gamma >= 1/2 − alpha, 2 beta >= gamma) against the computed radius on a grid
+  // of (alpha, gamma, beta): stable exactly where accepted (damped or not).
+  int n_accepted = 0, n_refused = 0;
+  for (double alpha : {0.0, -0.02, -0.1, -0.2, -1.0 / 3.0})
+    for (double gamma = 0.45; gamma <= 1.0; gamma += 0.05)
+      for (double beta = 0.1; beta <= 0.6; beta += 0.025) {
+        NewmarkOptions o;
+        o.alpha = alpha, o.beta = beta, o.gamma = gamma;
+        const bool accepted = o.unconditionally_stable();
+        const double r = max_radius(o);
+        INFO("alpha " << alpha << " beta " << beta << " gamma " << gamma << " radius " << r);
+        // 1e-7: at the set's edge (2 beta = gamma) the radius tends to 1 from below as Ω → ∞ slowly.
+        CHECK(accepted == (r <= 1.0 + 1e-7));
+        CHECK(max_radius(o, 0.05) <= (accepted ? 1.0 + 1e-7 : 1e300));
+        (accepted ? n_accepted : n_refused)++;
+      }
+  CHECK(n_accepted > 50);
+  CHECK(n_refused > 50);
+}
+
+TEST_CASE("HHT-alpha outside its stable set is refused naming the field, and the radius predicts the growth") {
+  NewmarkOptions o;
+  o.alpha = -0.05;  // beta 1/4, gamma 1/2: what `--set analysis.alpha=-0.05` ran before #36
+  Oscillator osc(1.0, 0.0, 1.0);
+  REQUIRE_THROWS_WITH(newmark(osc, TimeGrid{0.1, 1.0}, o, {}),
+                      Catch::Contains("NewmarkOptions::gamma = 0.5") && Catch::Contains("gamma = (1 - 2 alpha)/2 = 0.55"));
+  o.gamma = 0.55;  // gamma right, beta below gamma/2
+  o.beta = 0.25;
+  REQUIRE_THROWS_WITH(newmark(osc, TimeGrid{0.1, 1.0}, o, {}),
+                      Catch::Contains("NewmarkOptions::beta = 0.25: violated constraint 2 beta >= gamma"));
+  // The step repeated by hand at Ω = 10 grows by the radius per step: measured over steps 1000 to
+  // 2000 (the norm of (u, v) wobbles with the phase of the complex pair by a bounded factor, a
+  // few 1e-5 on the rate over 1000 steps).
+  NewmarkOptions bad;
+  bad.alpha = -0.05;
+  const double r = bad.spectral_radius(10.0);
+  REQUIRE(r > 1.0);
+  const double rate = std::pow(run_growth(bad, 10.0, 2000) / run_growth(bad, 10.0, 1000), 1.0 / 1000.0);
+  REQUIRE(rate == Approx(r).epsilon(1e-4));
+  REQUIRE(run_growth(NewmarkOptions::hht(-0.05), 10.0, 400) < 1.0);  // alpha's own beta, gamma: damped
+}
