@@ -341,6 +341,24 @@ study::Scenario to_scenario(const FlatScenario& f) {
     if (!given("modal.static_correction")) st.modal.static_correction = p.modal.static_correction;
     if (!given("modal.damping_vectors")) st.modal.damping_vectors = p.modal.damping_vectors;
   }
+  // (a massless wheel's rigid contact is an algebraic equation, which takes the correction)
+  const bool wheel_mass = st.vehicle.model == study::VehicleModel::multibody ||
+                          (st.vehicle.sprung ? st.vehicle.sprung->unsprung_mass > 0.0 : true);
+  if (st.vehicle.model != study::VehicleModel::forces && st.vehicle.contact == study::ContactModel::rigid && wheel_mass &&
+      st.method == study::Method::modal && st.modal.static_correction)
+    bad(f.at("train.contact"), "rigid under a wheel with mass on the modal fast path takes no static correction (the rail under a wheel that follows it "
+                               "would need the contact forces' second derivative): set modal.static_correction = false, or use "
+                               "\"hertz\" or analysis.method = \"newmark\"");
+  {
+    // The scheme's rules at the key they blame (NewmarkOptions::is_valid names beta, gamma or alpha).
+    std::string why;
+    if (!st.newmark.is_valid(&why)) {
+      std::string key = "analysis.alpha";
+      for (const char* field : {"beta", "gamma"})
+        if (why.rfind(std::string("NewmarkOptions::") + field + " ", 0) == 0) key = std::string("analysis.") + field;
+      throw InputError(f.at(key).where, why);
+    }
+  }
   if (st.filter.enabled) {
     std::string why;
     if (!st.filter.cheby.is_valid(1.0 / st.dt, &why)) {

@@ -89,6 +89,23 @@ double RailProfile::at(double x) const {
   return (2 * t3 - 3 * t2 + 1) * z[i] + (t3 - 2 * t2 + t) * m0 + (-2 * t3 + 3 * t2) * z[i + 1] + (t3 - t2) * m1;
 }
 
+void RailProfile::slopes(double x, double& dz, double& d2z) const {
+  const double s = (x - x0) / dx;
+  const auto n = z.size();
+  if (!(s >= -1e-9) || s > static_cast<double>(n - 1) + 1e-9 || n < 2)
+    throw InputError("rail profile: x = " + format_number(x) + " m is outside the profile [" + format_number(x0) + ", " + format_number(end()) +
+                     "] m");
+  const Index i = std::min<Index>(static_cast<Index>(std::floor(std::max(s, 0.0))), n - 2);
+  const double t = std::clamp(s - static_cast<double>(i), 0.0, 1.0);
+  auto slope = [&](Index k) { return k == 0 ? z[1] - z[0] : k == n - 1 ? z[n - 1] - z[n - 2] : 0.5 * (z[k + 1] - z[k - 1]); };
+  const double m0 = slope(i), m1 = slope(i + 1), t2 = t * t;
+  // d/dt and d²/dt² of at()'s cubic, then per metre (t = (x − x0)/dx − i).
+  const double d1 = (6 * t2 - 6 * t) * z[i] + (3 * t2 - 4 * t + 1) * m0 + (-6 * t2 + 6 * t) * z[i + 1] + (3 * t2 - 2 * t) * m1;
+  const double d2 = (12 * t - 6) * z[i] + (6 * t - 4) * m0 + (-12 * t + 6) * z[i + 1] + (6 * t - 2) * m1;
+  dz = d1 / dx;
+  d2z = d2 / (dx * dx);
+}
+
 RailProfile random_profile(const ProfileSpec& spec) {
   std::string why;
   if (!spec.is_valid(&why)) throw InputError("rail irregularity: " + why);

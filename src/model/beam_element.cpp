@@ -28,6 +28,11 @@ std::array<double, 4> hermite_shape(double xi, double h) {
           h * (x3 - x2)};
 }
 
+std::array<double, 4> hermite_slope(double xi, double h) {
+  const double x2 = xi * xi;
+  return {(6.0 * x2 - 6.0 * xi) / h, 1.0 - 4.0 * xi + 3.0 * x2, (6.0 * xi - 6.0 * x2) / h, 3.0 * x2 - 2.0 * xi};
+}
+
 std::array<double, 4> hermite_curvature(double xi, double h) {
   return {(12.0 * xi - 6.0) / (h * h), (6.0 * xi - 4.0) / h, (6.0 - 12.0 * xi) / (h * h), (6.0 * xi - 2.0) / h};
 }

@@ -33,6 +33,34 @@ struct Contacts {
       r[static_cast<Index>(w)] = rw;
     }
   }
+  // Rigid wheels (ContactPath::contact_rates): the weights' and the irregularity's time derivatives.
+  std::vector<std::vector<double>> dweight, ddweight;
+  Vector dr, ddr;
+  // Reads the rates of the wheels with rigid[w], after read() at the same t.
+  void read_rates(const ContactPath& path, double t, const std::vector<bool>& rigid) {
+    if (dweight.size() != dof.size()) {
+      dweight.resize(dof.size());
+      ddweight.resize(dof.size());
+      dr = ddr = Vector::Zero(static_cast<Index>(dof.size()));
+    }
+    for (std::size_t w = 0; w < dof.size(); ++w) {
+      if (!rigid[w]) continue;
+      double r1 = 0.0, r2 = 0.0;
+      if (!path.contact_rates(w, t, dweight[w], ddweight[w], r1, r2))
+        throw InputError("a rigid contact needs the rates of the rail under the wheel, which this contact path does not give");
+      if (dweight[w].size() != dof[w].size() || ddweight[w].size() != dof[w].size())
+        throw InputError("ContactPath: wheel " + std::to_string(w) + "'s rates do not match its weights");
+      dr[static_cast<Index>(w)] = r1;
+      ddr[static_cast<Index>(w)] = r2;
+    }
+  }
+  template <class V>
+  double rate(std::size_t w, const V& u, int order) const {
+    const auto& wt = order == 1 ? dweight[w] : ddweight[w];
+    double y = 0.0;
+    for (std::size_t q = 0; q < dof[w].size(); ++q) y += wt[q] * u[dof[w][q]];
+    return y;
+  }
   template <class V>
   double rail(std::size_t w, const V& u) const {
     double y = 0.0;

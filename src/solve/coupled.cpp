@@ -131,8 +131,15 @@ class CoupledRun {
     for (Index q = 0; q < nwi; ++q) G_.row(q) = Y_.row(veh.wheel_dof[static_cast<std::size_t>(q)]);
     const double c = w * b_ * dt * dt;
     spring_.resize(nwi);  // 1/((1+α) k β dt²): the contact springs' share (0 for rigid contacts)
-    for (Index q = 0; q < nwi; ++q)
-      spring_[q] = std::isinf(veh.contact_stiffness[q]) ? 0.0 : 1.0 / (veh.contact_stiffness[q] * c);
+    rigid_.assign(nw_, false);
+    for (Index q = 0; q < nwi; ++q) {
+      const bool rigid = std::isinf(veh.contact_stiffness[q]);
+      // A rigid wheel with mass follows the rail (acceleration rows); a massless one keeps the
+      // displacement row, an algebraic equation of the springs above it (no multiplier to amplify).
+      rigid_[static_cast<std::size_t>(q)] = rigid && veh.M(veh.wheel_dof[static_cast<std::size_t>(q)], veh.wheel_dof[static_cast<std::size_t>(q)]) > 0.0;
+      any_rigid_ = any_rigid_ || rigid_[static_cast<std::size_t>(q)];
+      spring_[q] = rigid ? 0.0 : 1.0 / (veh.contact_stiffness[q] * c);
+    }
     u_ = v_ = a_ = f_ = f_old_ = rhs_ = ut_ = vt_ = as_ = Vector::Zero(n_);
     z_ = zv_ = za_ = zt_ = zvt_ = av_ = Vector::Zero(nv_);
     force_ = veh.static_load;
@@ -165,7 +172,12 @@ class CoupledRun {
     // The previous step's contact loads (its positions, P0 + p) for α's share, then today's static ones.
     if (al != 0.0) contact_loads(force_, f_old_);
     ct_.read(path_, t, n_);
+    if (any_rigid_) ct_.read_rates(path_, t, rigid_);
     flex_ = path_.residual_flexibility(t, Fr_);
+    if (flex_ && any_rigid_)
+      throw InputError("coupled Newmark: a rigid contact under a wheel with mass on a structure with a static correction "
+                       "(ContactPath::residual_flexibility) is not supported: the correction's share of the rail would need the "
+                       "contact forces' second derivative");
     contact_loads(veh_.static_load, f_);
     rhs_.noalias() = w * f_;
     rhs_.noalias() -= C_ * (w * vt_ - al * v_);
@@ -180,7 +192,7 @@ class CoupledRun {
     if (al != 0.0)
       for (std::size_t q = 0; q < nw_; ++q) rv_[veh_.wheel_dof[q]] += al * p_[static_cast<Index>(q)];
     av_ = lv_.solve(rv_);
-    solve_contacts(k_, w * c);
+    solve_contacts(k_, w, c);
     for (std::size_t q = 0; q < nw_; ++q)
       if (on_[q]) as_ += (w * p_[static_cast<Index>(q)]) * X_.col(static_cast<Index>(q));
     av_.noalias() -= w * (Y_ * p_);
@@ -190,6 +202,7 @@ class CoupledRun {
     v_ = vt_ + (g * dt) * a_;
     z_ = zt_ + c * za_;
     zv_ = zvt_ + (g * dt) * za_;
+    if (any_rigid_) follow_rail(t);
     force_ = veh_.static_load + p_;
     if (check_ && !(u_.allFinite() && z_.allFinite() && p_.allFinite()))
       throw SolverError("coupled Newmark: state became non-finite at t = " + cnum(t) + " s");
@@ -211,8 +224,12 @@ class CoupledRun {
   // The contact forces p from (springs + G + N X + F/c_eff) p = gap / c_eff, with X = S⁻¹ Nᵀ
   // (cached columns) and F the static correction's flexibility between the wheels (its share of the
   // static loads P0 moved to the gap).
-  void solve_contacts(Index k, double c_eff) {
-    const double c = b_ * dt_ * dt_;
+  //
+  // A rigid wheel's row is its constraint on the accelerations, z̈ = N ü + 2 Ṅ u̇ + N̈ u + r̈ at the
+  // step's end, with u = ũ + β dt² ü and u̇ = ṽ + γ dt ü: (G + Ñ X) p = (z̈_free − Ñ a_free − 2 Ṅ ṽ
+  // − N̈ ũ − r̈)/(1+α), Ñ = N + 2γ dt Ṅ + β dt² N̈ (no 1/dt² in it: the force converges as dt → 0).
+  void solve_contacts(Index k, double w, double c) {
+    const double c_eff = w * c;
     for (std::size_t q = 0; q < nw_; ++q) {
       on_[q] = !ct_.dof[q].empty();
       if (!on_[q]) continue;
@@ -220,9 +237,19 @@ class CoupledRun {
       xq.setZero();
       for (std::size_t j = 0; j < ct_.dof[q].size(); ++j) xq += ct_.weight[q][j] * cols_.get(ct_.dof[q][j], k);
     }
+    const double g2 = 2.0 * g_ * dt_;
     for (std::size_t q = 0; q < nw_; ++q) {
       const Index qi = static_cast<Index>(q);
       const Index d = veh_.wheel_dof[q];
+      if (rigid_[q]) {
+        auto tilde = [&](const auto& x) { return ct_.rail(q, x) + g2 * ct_.rate(q, x, 1) + c * ct_.rate(q, x, 2); };
+        gap_[qi] = (av_[d] - (on_[q] ? tilde(as_) + 2.0 * ct_.rate(q, vt_, 1) + ct_.rate(q, ut_, 2) : 0.0) - ct_.ddr[qi]) / w;
+        for (std::size_t j = 0; j < nw_; ++j) {
+          const Index ji = static_cast<Index>(j);
+          A_(qi, ji) = G_(qi, ji) + (on_[q] && on_[j] ? tilde(X_.col(ji)) : 0.0);
+        }
+        continue;
+      }
       gap_[qi] = (zt_[d] + c * av_[d] - ct_.rail(q, ut_) - c * ct_.rail(q, as_) - ct_.r[qi]) / c_eff;
       for (std::size_t j = 0; j < nw_; ++j) {
         const Index ji = static_cast<Index>(j);
@@ -235,6 +262,12 @@ class CoupledRun {
       }
     }
     if (!veh_.release) {
+      if (any_rigid_) {  // the acceleration rows make A unsymmetric
+        lu_.compute(A_);
+        p_ = lu_.solve(gap_);
+        if (!p_.allFinite()) throw SolverError("coupled Newmark: the contact system is singular");
+        return;
+      }
       la_.compute(A_);
       if (la_.info() != Eigen::Success) throw SolverError("coupled Newmark: the contact system is singular");
       p_ = la_.solve(gap_);
@@ -268,9 +301,15 @@ class CoupledRun {
             if (!active_[static_cast<std::size_t>(q)]) ra[i] -= A_(act_[static_cast<std::size_t>(i)], q) * p_[q];
           for (Index j = 0; j < na; ++j) Aa(i, j) = A_(act_[static_cast<std::size_t>(i)], act_[static_cast<std::size_t>(j)]);
         }
-        la_.compute(Aa);
-        if (la_.info() != Eigen::Success) throw SolverError("coupled Newmark: the contact system is singular");
-        pa_ = la_.solve(ra);
+        if (any_rigid_) {  // the acceleration rows make A unsymmetric
+          lu_.compute(Aa);
+          pa_ = lu_.solve(ra);
+          if (!pa_.allFinite()) throw SolverError("coupled Newmark: the contact system is singular");
+        } else {
+          la_.compute(Aa);
+          if (la_.info() != Eigen::Success) throw SolverError("coupled Newmark: the contact system is singular");
+          pa_ = la_.solve(ra);
+        }
         for (Index i = 0; i < na; ++i) p_[act_[static_cast<std::size_t>(i)]] = pa_[i];
       }
       bool released = false, landed = false;
@@ -282,10 +321,33 @@ class CoupledRun {
           // The compression the step would leave, relative to the static one, over c_eff.
           double d = gap_[q];
           for (Index j = 0; j < nwi; ++j) d -= (A_(q, j) - (j == q ? spring_[q] : 0.0)) * p_[j];
-          const bool presses = spring_[q] == 0.0 ? d > 0.0 : veh_.static_load[q] + d / spring_[q] > 0.0;
+          // (a rigid wheel with mass in the air never lands here: follow_rail() refuses its impact)
+          const bool presses = !rigid_[static_cast<std::size_t>(q)] &&
+                               (spring_[q] == 0.0 ? d > 0.0 : veh_.static_load[q] + d / spring_[q] > 0.0);
           if (presses) active_[static_cast<std::size_t>(q)] = true, landed = true;
         }
       if (!released && !landed) return;
+    }
+  }
+
+  // Rigid wheels on the rail take its position and velocity (the acceleration rows keep them there
+  // to the step's accuracy; this removes the drift). A rigid wheel in the air that reaches the rail
+  // lands with an impact, whose force the model cannot resolve: SolverError.
+  void follow_rail(double t) {
+    for (std::size_t q = 0; q < nw_; ++q) {
+      if (!rigid_[q]) continue;
+      const Index qi = static_cast<Index>(q), d = veh_.wheel_dof[q];
+      const double level = ct_.rail(q, u_) + ct_.r[qi];
+      if (!active_[q]) {
+        if (z_[d] > level)
+          throw SolverError("coupled Newmark: wheel " + std::to_string(q + 1) + " lands on the rail again at t = " + cnum(t) +
+                            " s after leaving it: with a rigid contact the landing is an impact whose force grows without "
+                            "bound as the step shrinks; use a Hertz contact (train.contact = \"hertz\"), or keep the wheels on the rail "
+                            "(train.contact_release = false: a tensile force is then reported as a lost contact)");
+        continue;
+      }
+      z_[d] = level;
+      zv_[d] = ct_.rail(q, v_) + ct_.rate(q, u_, 1) + ct_.dr[qi];
     }
   }
 
@@ -301,6 +363,9 @@ class CoupledRun {
   InverseColumns cols_;
   Eigen::LLT<Matrix> lv_;
   Eigen::LDLT<Matrix> la_;
+  Eigen::PartialPivLU<Matrix> lu_;  // the contact system with rigid wheels' acceleration rows
+  std::vector<bool> rigid_;         // per wheel: k = ∞ under a wheel with mass (follows the rail)
+  bool any_rigid_ = false;
   Matrix Y_, G_, X_, A_, Fr_;
   bool flex_ = false;  // Fr_ holds the path's residual flexibility at this step
   Vector spring_, u_, v_, a_, f_, f_old_, rhs_, ut_, vt_, as_, z_, zv_, za_, zt_, zvt_, av_, force_, p_, gap_;
@@ -318,7 +383,7 @@ class CoupledRun {
 
 CoupledSummary coupled_newmark(const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K,
                                const LinearVehicle& veh, const ContactPath& path, const TimeGrid& grid,
-                               const NewmarkOptions& opt, const CoupledObserver& observe) {
+                               const NewmarkOptions& opt, const CoupledObserver& observe, const DivergenceBound* bound) {
   const auto wall0 = std::chrono::steady_clock::now();
   require_valid(grid, "coupled Newmark");
   require_valid(opt, "coupled Newmark");
@@ -327,12 +392,6 @@ CoupledSummary coupled_newmark(const SparseMatrix& M, const SparseMatrix& C, con
                      ": only unconditionally stable schemes (2 beta >= gamma >= 1/2) with vehicles");
   require_vehicle(veh, "coupled Newmark");
   const Index n = detail::require_square_system(M, C, K, "coupled Newmark");
-  if (opt.alpha == 0.0 && opt.gamma == 0.5)
-    for (std::size_t q = 0; q < veh.n_contacts(); ++q)
-      if (std::isinf(veh.contact_stiffness[static_cast<Index>(q)]) && veh.M(veh.wheel_dof[q], veh.wheel_dof[q]) > 0.0)
-        throw InputError("coupled Newmark: a rigid contact under a wheel with mass (contact " + std::to_string(q) +
-                         ") is an index-3 constraint, whose force plain Newmark (alpha = 0, gamma = 0.5) does not damp: "
-                         "use HHT (analysis.alpha < 0) or a Hertz contact");
   CoupledRun run(M, C, K, veh, path, grid.dt, opt);
   run.start();
   CoupledSummary out;
@@ -347,6 +406,13 @@ CoupledSummary coupled_newmark(const SparseMatrix& M, const SparseMatrix& C, con
     const double t = k * grid.dt;
     run.k_ = k;
     run.step(t);
+    if (bound)
+      for (std::size_t q = 0; q < veh.n_contacts(); ++q)
+        check_contact(*bound, q, run.force()[static_cast<Index>(q)], t, [&] {
+          return "the wheel-rail contact (" + std::string(std::isinf(veh.contact_stiffness[static_cast<Index>(q)]) ? "rigid" : "Hertz") +
+                 ") or the time integration (Newmark/HHT beta = " + cnum(opt.beta) + ", gamma = " + cnum(opt.gamma) +
+                 ", alpha = " + cnum(opt.alpha) + " at dt = " + cnum(grid.dt) + " s)";
+        });
     out.min_contact_force = out.min_contact_force.cwiseMin(run.force());
     out.max_contact_force = out.max_contact_force.cwiseMax(run.force());
     for (std::size_t q = 0; q < veh.n_contacts(); ++q) {

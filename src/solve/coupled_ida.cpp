@@ -520,7 +520,7 @@ class Run {
 
 CoupledSummary coupled_ida(const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K, const LinearVehicle& veh,
                            const ContactPath& path, const TimeGrid& grid, const IdaOptions& opt,
-                           const CoupledObserver& observe) {
+                           const CoupledObserver& observe, const DivergenceBound* bound) {
   const auto wall0 = std::chrono::steady_clock::now();
   coupled_ida_impl::require_inputs(M, C, K, veh, grid, opt);
   const double eps_t = 1e-9 * std::max(1.0, grid.t_end);
@@ -529,7 +529,15 @@ CoupledSummary coupled_ida(const SparseMatrix& M, const SparseMatrix& C, const S
   breaks.erase(std::remove_if(breaks.begin(), breaks.end(), [&](double e) { return !(e > eps_t && e < grid.t_end); }),
                breaks.end());
   breaks.erase(std::unique(breaks.begin(), breaks.end(), [&](double a, double b) { return b - a <= eps_t; }), breaks.end());
-  coupled_ida_impl::Run run(M, C, K, veh, path, grid, opt, observe);
+  // The guard's contact bound on every recorded sample, then the caller's observer.
+  const CoupledObserver guarded = [&](Index k, double t, const CoupledState& x) {
+    if (bound)
+      for (Index q = 0; q < x.contact_force.size(); ++q)
+        check_contact(*bound, static_cast<std::size_t>(q), x.contact_force[q], t,
+                      [&] { return "IDA's error control (ida.rtol = " + coupled_ida_impl::tnum(opt.rtol) + ") on the wheel-rail contact"; });
+    if (observe) observe(k, t, x);
+  };
+  coupled_ida_impl::Run run(M, C, K, veh, path, grid, opt, guarded);
   CoupledSummary out = run.run(breaks);
   out.summary.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return out;

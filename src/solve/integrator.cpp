@@ -114,7 +114,7 @@ const SecondOrderSystem& system_of(const LoadCase& c, const char* who) {
 // evaluated and recorded. kernel(sys, grid, observer) runs it and returns its Summary.
 template <class Kernel>
 CaseResult run_full_state(const LoadCase& c, double dt, const std::vector<Functional>& outputs, const Recording& rec,
-                          const char* who, Kernel&& kernel) {
+                          const char* who, const std::string& cause, Kernel&& kernel) {
   const SecondOrderSystem& sys = system_of(c, who);
   const TimeGrid g{dt, c.t_end};
   require_valid(g, who);
@@ -122,9 +122,12 @@ CaseResult run_full_state(const LoadCase& c, double dt, const std::vector<Functi
   CaseResult r;
   allocate(r, g, outputs.size(), rec);
   const Sampler put{&r};
-  r.summary = kernel(sys, g, [&](Index k, double, const Vector& u, const Vector&, const Vector& a) {
-    for (std::size_t j = 0; j < outputs.size(); ++j)
-      put(k, static_cast<Index>(j), eval(outputs[j], u), eval(outputs[j], a));
+  r.summary = kernel(sys, g, [&](Index k, double t, const Vector& u, const Vector&, const Vector& a) {
+    for (std::size_t j = 0; j < outputs.size(); ++j) {
+      const double d = eval(outputs[j], u);
+      if (c.bound) check_output(*c.bound, static_cast<Index>(j), d, t, cause);
+      put(k, static_cast<Index>(j), d, eval(outputs[j], a));
+    }
   });
   return r;
 }
@@ -137,7 +140,7 @@ class NewmarkIntegrator : public Integrator {
   std::size_t batch_width() const override { return kNewmarkBatch; }
 
   CaseResult run(const LoadCase& c, const Recording& rec) const override {
-    return run_full_state(c, dt_, outputs_, rec, "Newmark",
+    return run_full_state(c, dt_, outputs_, rec, "Newmark", cause(),
                           [&](const SecondOrderSystem& sys, const TimeGrid& g, const StepObserver& observe) {
                             return newmark(sys, g, opt_, observe);
                           });
@@ -167,6 +170,7 @@ class NewmarkIntegrator : public Integrator {
         if (rec.disp_history) r.disp = std::move(h[l].disp);
         if (rec.acc_history) r.acc = std::move(h[l].acc);
         r.summary = h[l].summary;
+        if (cases[first + l].bound) check_maxima(*cases[first + l].bound, r.max_abs_disp, cause());
         out.push_back(std::move(r));
       }
     }
@@ -174,6 +178,12 @@ class NewmarkIntegrator : public Integrator {
   }
 
  private:
+  // What most likely diverged, for the guard's message.
+  std::string cause() const {
+    return "the time integration, Newmark/HHT with beta = " + format_number(opt_.beta, 6) + ", gamma = " +
+           format_number(opt_.gamma, 6) + ", alpha = " + format_number(opt_.alpha, 6) + " at dt = " + format_number(dt_, 6) +
+           " s (a scheme or step outside its stability), or a structure that is not held (a mechanism)";
+  }
   double dt_;
   NewmarkOptions opt_;
 };
@@ -186,6 +196,8 @@ class IdaIntegrator : public Integrator {
 
   CaseResult run(const LoadCase& c, const Recording& rec) const override {
     return run_full_state(c, dt_, outputs_, rec, "IDA",
+                          "IDA's error control (ida.rtol = " + format_number(opt_.rtol, 6) +
+                              ", ida.atol_disp, ida.atol_vel), or a structure that is not held (a mechanism)",
                           [&](const SecondOrderSystem& sys, const TimeGrid& g, const StepObserver& observe) {
                             return ida(sys, g, opt_, observe);
                           });
@@ -210,9 +222,10 @@ class ModalIntegrator : public Integrator {
     CaseResult r;
     allocate(r, g, n_out_, rec);
     const Sampler put{&r};
-    auto observe = [&](Index k, double, const Vector& disp, const Vector& acc) {
+    auto observe = [&](Index k, double t, const Vector& disp, const Vector& acc) {
       for (std::size_t j = 0; j < n_out_; ++j) {
         const auto jj = static_cast<Index>(j);
+        if (c.bound) check_output(*c.bound, jj, disp[jj], t, [this] { return cause(); });
         put(k, jj, disp[jj], acc[jj]);
       }
     };
@@ -239,12 +252,17 @@ class ModalIntegrator : public Integrator {
       out[i].max_abs_acc = std::move(pr[i].max_abs_acc);
       out[i].acc = std::move(pr[i].acc);
       out[i].summary = std::move(pr[i].summary);
+      if (cases[i].bound) check_maxima(*cases[i].bound, out[i].max_abs_disp, cause());
     }
     return out;
   }
 
  private:
   static bool peaks_only(const LoadCase& c, const Recording& rec) { return c.moving && !rec.disp_history; }
+  std::string cause() const {
+    return "the modal model (a mode or static correction that is not the structure's) or the load sampling at dt = " +
+           format_number(dt_, 6) + " s";
+  }
   double dt_;
   ModalOptions opt_;
   std::size_t n_out_;

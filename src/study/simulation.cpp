@@ -11,6 +11,7 @@
 #include "viaduct/study/vehicles.hpp"
 #include "viaduct/signal/iir.hpp"
 #include "viaduct/signal/peaks.hpp"
+#include "divergence.hpp"
 #include "modal_path_table.hpp"
 #include "viaduct/core/options.hpp"
 
@@ -213,6 +214,16 @@ std::vector<solve::Functional> station_functionals(const std::vector<ResolvedSta
   return out;
 }
 
+// Their names, in the same order (the divergence guard's messages).
+std::vector<std::string> station_output_names(const std::vector<ResolvedStation>& stations, bool rail) {
+  std::vector<std::string> out;
+  for (const auto& st : stations) out.push_back(st.name + (st.has_deck ? " deflection [m]" : " rail deflection [m]"));
+  if (rail)
+    for (const auto& st : stations)
+      if (st.has_deck && st.has_rail) out.push_back(st.name + " rail deflection [m]");
+  return out;
+}
+
 std::shared_ptr<const solve::ModalReduction> make_modal(const model::Structure& s,
                                                         const std::vector<ResolvedStation>& stations,
                                                         const ModalSettings& ms, bool rail, Vector* kept_hz,
@@ -284,6 +295,7 @@ void apply_filter(RunResult& r, const RunSettings& settings) {
 // Load effects follow (effect_out: the column of the first).
 struct OutputMap {
   std::vector<solve::Functional> outputs;
+  std::vector<std::string> names;  // per output, for the divergence guard's messages
   std::vector<Index> rail_out;
   struct Effect {
     std::string name;
@@ -297,6 +309,7 @@ struct OutputMap {
 OutputMap output_map(const std::vector<ResolvedStation>& stations, bool rail, const std::vector<LoadEffect>& effects) {
   OutputMap o;
   o.outputs = station_functionals(stations, rail);
+  o.names = station_output_names(stations, rail);
   Index next = static_cast<Index>(stations.size());
   o.rail_out.assign(stations.size(), -1);
   for (std::size_t i = 0; i < stations.size(); ++i)
@@ -310,6 +323,9 @@ OutputMap output_map(const std::vector<ResolvedStation>& stations, bool rail, co
     if (!e.inertia.dof.empty()) m.inertia = col++;
     if (!e.damping.dof.empty()) m.damping = col++;
     for (auto& f : effect_outputs(e)) o.outputs.push_back(std::move(f));
+    o.names.push_back(e.name);
+    if (m.inertia >= 0) o.names.push_back(e.name + " (its inertia part)");
+    if (m.damping >= 0) o.names.push_back(e.name + " (its damping part)");
     o.effects.push_back(m);
   }
   return o;
@@ -360,6 +376,8 @@ struct CaseOutputs {
   const std::vector<ResolvedStation>& stations;
   bool modal_rails = true;
   const std::vector<LoadEffect>& effects;
+  const model::Structure& structure;
+  const StaticFactor* statics = nullptr;  // K factored (null: factored for the guard here)
 };
 
 RunResult integrate(const CaseOutputs& out,
@@ -380,6 +398,9 @@ RunResult integrate(const CaseOutputs& out,
     force = std::make_unique<MovingModalForce>(*path, train, speed, settings.load_factor);
     c.modal_force = force.get();
   }
+  const solve::DivergenceBound bound =
+      divergence_bound(influence_maxima(out.structure, map.outputs, out.statics), map.names, train, settings.load_factor);
+  c.bound = &bound;
   solve::Recording rec;
   rec.max_history_bytes = kMaxHistoryBytes;
   take_histories(integrator->run(c, rec), map, r);
@@ -440,6 +461,7 @@ PreparedModel prepare_model(model::Structure s, const std::vector<StationSpec>& 
   m.stations = resolve_stations(m.structure, stations);
   if (with_load_effects) m.effects = load_effects(m.structure, stations);
   m.modal_rails = rail_outputs;
+  m.statics = factor_statics(m.structure);
   if (settings.vehicle.model != VehicleModel::forces) {
     // Vehicles: the coupled kernel on every DOF or on the modes (the fast path), and the profile.
     m.profile = rail_profile(m.structure, settings.irregularity);
@@ -486,8 +508,8 @@ RunResult simulate(const PreparedModel& m, const load::Train& train, double spee
     apply_filter(r, settings);
     return r;
   }
-  RunResult r = simulate_impl(m.structure, {m.stations, m.modal_rails, m.effects}, m.modal, m.modal_path.get(), train,
-                              speed, settings);
+  RunResult r = simulate_impl(m.structure, {m.stations, m.modal_rails, m.effects, m.structure, m.statics.get()}, m.modal,
+                              m.modal_path.get(), train, speed, settings);
   apply_filter(r, settings);
   return r;
 }
@@ -507,7 +529,7 @@ RunResult simulate(const model::Structure& s, const std::vector<ResolvedStation>
     modal = make_modal(s, stations, settings.modal, true, nullptr, settings.dt);
     path = make_path_table(s, *modal);
   }
-  RunResult r = simulate_impl(s, {stations, true, {}}, modal, path.get(), train, speed, settings);
+  RunResult r = simulate_impl(s, {stations, true, {}, s}, modal, path.get(), train, speed, settings);
   apply_filter(r, settings);
   return r;
 }
@@ -524,6 +546,8 @@ std::vector<RunResult> simulate_batch(const PreparedModel& m, const load::Train&
   const OutputMap map = output_map(m.stations, true, m.effects);
   const auto integrator = solve::make_integrator(settings.integration(), map.outputs);
   const std::size_t width = integrator->batch_width();
+  const solve::DivergenceBound bound =
+      divergence_bound(influence_maxima(m.structure, map.outputs, m.statics.get()), map.names, train, settings.load_factor);
   solve::Recording rec;
   rec.max_history_bytes = kMaxHistoryBytes;
   for (std::size_t first = 0; first < speeds.size(); first += width) {
@@ -540,6 +564,7 @@ std::vector<RunResult> simulate_batch(const PreparedModel& m, const load::Train&
       solve::LoadCase c;
       c.system = systems.back().get();
       c.t_end = loads.back()->t_exit() + settings.free_vibration_s;
+      c.bound = &bound;
       cases.push_back(c);
       // refuses oversized runs
       runs.push_back(allocate_histories(m.stations, c.t_end, settings.dt, map.outputs.size() - m.stations.size()));
@@ -584,8 +609,8 @@ std::vector<RunResult> simulate_by_unit_response(const PreparedModel& m, const s
   RunSettings us = settings;
   us.load_factor = 1.0;
   const RunResult unit_run =
-      simulate_impl(m.structure, {m.stations, m.modal_rails, {}}, m.modal, m.modal_path.get(), unit, speed, us,
-                    t_end_max + 3 * dt);
+      simulate_impl(m.structure, {m.stations, m.modal_rails, {}, m.structure, m.statics.get()}, m.modal,
+                    m.modal_path.get(), unit, speed, us, t_end_max + 3 * dt);
   const double unit_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
 
   std::vector<RunResult> out;
@@ -804,8 +829,14 @@ std::vector<CasePeaks> simulate_peaks(const PreparedModel& m, const load::Train&
   const std::size_t n_st = outputs.size();
   if (!m.effects.empty() && !effects_in_kernel(m))
     throw InputError("the peaks kernel cannot take bearing forces with inertia or damping parts: run the cases with histories");
-  for (const auto& e : m.effects) outputs.push_back(e.functional);  // the model's outputs in this order (make_modal)
+  std::vector<std::string> names = station_output_names(m.stations, false);
+  for (const auto& e : m.effects) {  // the model's outputs in this order (make_modal)
+    outputs.push_back(e.functional);
+    names.push_back(e.name);
+  }
   const auto integrator = solve::make_integrator(settings.integration(), outputs, m.modal);
+  const solve::DivergenceBound bound =
+      divergence_bound(influence_maxima(m.structure, outputs, m.statics.get()), names, train, settings.load_factor);
   std::vector<solve::LoadCase> cases;
   for (double v : speeds) {
     require_positive(v, "speed [m/s]");
@@ -814,6 +845,7 @@ std::vector<CasePeaks> simulate_peaks(const PreparedModel& m, const load::Train&
     c.speed = v;
     // The duration of simulate(): until free_vibration_s after the last axle leaves the path.
     c.t_end = folded->t_exit(v) + settings.free_vibration_s;
+    c.bound = &bound;
     cases.push_back(c);
   }
   solve::Recording rec;

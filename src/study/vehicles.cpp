@@ -10,6 +10,7 @@
 #include "viaduct/model/beam_element.hpp"
 #include "viaduct/model/modes.hpp"
 #include "viaduct/signal/iir.hpp"
+#include "divergence.hpp"
 
 namespace viaduct::study {
 
@@ -221,6 +222,31 @@ double irregularity_at(const load::RailProfile* profile, double x, double x_from
 
 namespace {
 
+// d/dx and d²/dx² of irregularity_at() at x (the same ramps and profile).
+void irregularity_slopes(const load::RailProfile* profile, double x, double x_from, double x_end, double taper,
+                         double& d1, double& d2) {
+  d1 = d2 = 0.0;
+  if (!profile || x <= x_from || x >= x_end + taper) return;
+  // r = −w p: w the ramp (1 inside), p the profile.
+  double w = 1.0, w1 = 0.0, w2 = 0.0;
+  if (taper > 0.0) {
+    const double k = M_PI / taper;
+    if (x < x_from + taper) {
+      const double a = k * (x - x_from);
+      w = 0.5 * (1.0 - std::cos(a)), w1 = 0.5 * k * std::sin(a), w2 = 0.5 * k * k * std::cos(a);
+    }
+    if (x > x_end) {
+      const double a = k * (x - x_end), v = 0.5 * (1.0 + std::cos(a));
+      if (v < w) w = v, w1 = -0.5 * k * std::sin(a), w2 = -0.5 * k * k * std::cos(a);
+    }
+  }
+  double p1 = 0.0, p2 = 0.0;
+  profile->slopes(x, p1, p2);
+  const double p = profile->at(x);
+  d1 = -(w1 * p + w * p1);
+  d2 = -(w2 * p + 2.0 * w1 * p1 + w * p2);
+}
+
 // The wheels of a train rolling at a constant speed along the structure's load path: the first
 // at the path's start at t = 0, the others behind it on rigid ground until they reach it.
 class TrainContacts : public solve::ContactPath {
@@ -262,6 +288,35 @@ class TrainContacts : public solve::ContactPath {
         dof.push_back(it->dofs[q]);
         weight.push_back(phi * N[q]);
       }
+  }
+  // d/dt = v d/dx of φ(x) N(x) and of the irregularity, over the DOFs contact() gave.
+  bool contact_rates(std::size_t w, double t, std::vector<double>& dweight, std::vector<double>& ddweight, double& dr,
+                     double& ddr) const override {
+    dweight.clear();
+    ddweight.clear();
+    const double x = x_start_ + speed_ * (t - t_start_) - offset_[w], v = speed_;
+    double r1 = 0.0, r2 = 0.0;
+    irregularity_slopes(profile_, x, x_from_, x_end_, taper_, r1, r2);
+    dr = v * r1;
+    ddr = v * v * r2;
+    if (x < x_start_ || x > x_end_) return true;
+    double phi = 1.0, phi1 = 0.0, phi2 = 0.0;  // the end transition's weight and its x-derivatives
+    const double from_start = x - x_start_, from_end = x_end_ - x;
+    const double s = std::min(from_start, from_end), ds = from_start <= from_end ? 1.0 : -1.0;
+    if (s < transition_) {
+      const double k = M_PI / transition_;
+      phi = 0.5 * (1.0 - std::cos(k * s)), phi1 = ds * 0.5 * k * std::sin(k * s), phi2 = 0.5 * k * k * std::cos(k * s);
+    }
+    auto it = std::upper_bound(path_.begin(), path_.end(), x, [](double v0, const model::PathElement& e) { return v0 < e.x0; });
+    if (it != path_.begin()) --it;
+    const double xi = std::clamp((x - it->x0) / it->h, 0.0, 1.0);
+    const auto N = model::hermite_shape(xi, it->h), N1 = model::hermite_slope(xi, it->h), N2 = model::hermite_curvature(xi, it->h);
+    for (std::size_t q = 0; q < 4; ++q)
+      if (it->dofs[q] >= 0) {
+        dweight.push_back(v * (phi1 * N[q] + phi * N1[q]));
+        ddweight.push_back(v * v * (phi2 * N[q] + 2.0 * phi1 * N1[q] + phi * N2[q]));
+      }
+    return true;
   }
 
  private:
@@ -306,6 +361,25 @@ class ModalContacts : public solve::ContactPath {
       weight[static_cast<std::size_t>(j)] = s;
     }
   }
+  // The full path's rates projected on the modes, as contact() projects its weights.
+  bool contact_rates(std::size_t w, double t, std::vector<double>& dweight, std::vector<double>& ddweight, double& dr,
+                     double& ddr) const override {
+    double r = 0.0;
+    full_.contact(w, t, d_, w_, r);
+    if (!full_.contact_rates(w, t, dw_, ddw_, dr, ddr)) return false;
+    dweight.clear();
+    ddweight.clear();
+    if (d_.empty()) return true;
+    const Index m = phi_.cols();
+    dweight.assign(static_cast<std::size_t>(m), 0.0);
+    ddweight.assign(static_cast<std::size_t>(m), 0.0);
+    for (Index j = 0; j < m; ++j)
+      for (std::size_t q = 0; q < d_.size(); ++q) {
+        dweight[static_cast<std::size_t>(j)] += dw_[q] * phi_(d_[q], j);
+        ddweight[static_cast<std::size_t>(j)] += ddw_[q] * phi_(d_[q], j);
+      }
+    return true;
+  }
   bool residual_flexibility(double, Matrix& F) const override {
     if (!basis_.static_correction()) return false;
     const Index nw = static_cast<Index>(fd_.size());
@@ -327,7 +401,7 @@ class ModalContacts : public solve::ContactPath {
   const Matrix& phi_;
   const VehicleModalBasis& basis_;
   mutable std::vector<Index> d_;
-  mutable std::vector<double> w_;
+  mutable std::vector<double> w_, dw_, ddw_;
   mutable std::vector<std::vector<Index>> fd_;  // per wheel: rows of basis_.residual under it
   mutable std::vector<std::vector<double>> fw_;  // and their weights
 };
@@ -442,6 +516,18 @@ Vector floor_accelerations(const Matrix& bounce, const Matrix& pitch, const std:
   return out;
 }
 
+// The divergence guard of a vehicle run: the stations' deflections and the load effects (`outs`,
+// vehicle_outputs()' order) against their static values under the whole train, the contact forces
+// against the static axle loads.
+solve::DivergenceBound vehicle_bound(const PreparedModel& m, const std::vector<solve::Functional>& outs,
+                                     const load::Train& train, double load_factor) {
+  std::vector<std::string> names;
+  for (const auto& stn : m.stations) names.push_back(stn.name + (stn.has_deck ? " deflection [m]" : " rail deflection [m]"));
+  for (const auto& stn : m.stations) names.push_back(stn.name + " rail deflection [m]");
+  for (const auto& e : m.effects) names.push_back(e.name);
+  return divergence_bound(influence_maxima(m.structure, outs, m.statics.get()), names, train, load_factor, true);
+}
+
 // A vehicle run's result with its histories sized: the stations (the rail above a deck station
 // when `rail` has its functional), the load effects, the contact forces and car-body accelerations.
 RunResult vehicle_result(const PreparedModel& m, double speed, const RunSettings& st, Index n_samples,
@@ -524,6 +610,9 @@ RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, do
   const TrainContacts full(s, train, speed, m.profile.get(), st.irregularity.run_in, st.irregularity.taper,
                            static_cast<double>(k0) * st.dt, st.vehicle.end_transition);
   OutputCorrection correction(full, basis.get(), na, outs.size());
+  const solve::DivergenceBound bound = vehicle_bound(m, outs, train, st.load_factor);
+  const std::string cause = "the wheel-rail contact (train.contact) or the time integration at analysis.dt = " +
+                            format_number(st.dt, 6) + " s";
   Matrix pitch_acc(n_samples, static_cast<Index>(nb));  // [rad/s²] the bodies' pitch
   auto observe = [&](Index step, double t, const solve::CoupledState& x) {
     if (step < k0) return;
@@ -543,6 +632,10 @@ RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, do
       }
       for (std::size_t j = 0; j < eff.size(); ++j) r.effects[j].value[k] += corr[static_cast<Index>(2 * ns + j)];
     }
+    for (std::size_t i = 0; i < ns; ++i) {
+      solve::check_output(bound, static_cast<Index>(i), r.stations[i].disp[k], t, cause);
+      if (!rail[i].dof.empty()) solve::check_output(bound, static_cast<Index>(ns + i), r.stations[i].rail_disp[k], t, cause);
+    }
     vh.contact_force.row(k) = x.contact_force.transpose();
     for (std::size_t b = 0; b < nb; ++b) {
       vh.body_acc(k, static_cast<Index>(b)) = x.za[tv.body_dof[b]];
@@ -553,15 +646,15 @@ RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, do
   if (modal) {
     const ModalContacts mc(full, *basis, na);
     if (st.method == Method::ida) {
-      cs = solve::coupled_ida(basis->M, basis->C, basis->K, veh, mc, grid, st.ida, observe);
+      cs = solve::coupled_ida(basis->M, basis->C, basis->K, veh, mc, grid, st.ida, observe, &bound);
     } else {
-      cs = solve::coupled_newmark(basis->M, basis->C, basis->K, veh, mc, grid, st.newmark, observe);
+      cs = solve::coupled_newmark(basis->M, basis->C, basis->K, veh, mc, grid, st.newmark, observe, &bound);
       cs.summary.kernel = "modal-vehicles";
     }
     cs.summary.n_modes = basis->shapes.cols();
     r.n_modes = cs.summary.n_modes;
   } else {
-    cs = solve::coupled_newmark(s.M, s.C, s.K, veh, full, grid, st.newmark, observe);
+    cs = solve::coupled_newmark(s.M, s.C, s.K, veh, full, grid, st.newmark, observe, &bound);
   }
   r.summary = cs.summary;
   vh.min_contact = cs.min_contact_force;

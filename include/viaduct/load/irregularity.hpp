@@ -54,6 +54,9 @@ struct RailProfile {
   /// The profile at x [m] (cubic Hermite between samples, slopes by central differences: smooth
   /// enough for a wheel's acceleration); InputError outside [x0, end()].
   double at(double x) const;
+  /// Its first and second derivatives d/dx [-] and d²/dx² [1/m] at x, of the same cubics (the
+  /// slope is continuous, the curvature jumps at the samples); InputError outside [x0, end()].
+  void slopes(double x, double& dz, double& d2z) const;
 };
 
 /// Harmonic superposition on the period P = n·dx ≥ length (n a power of two): z(x) =

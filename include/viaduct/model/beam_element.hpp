@@ -17,6 +17,8 @@ Matrix4 beam_mass(double m, double h);
 /// Hermite shape functions at local coordinate xi in [0, 1] of an element of length h:
 /// w(x) = N · (w0, θ0, w1, θ1).
 std::array<double, 4> hermite_shape(double xi, double h);
+/// Their first derivatives dN/dx [1/m, 1] at xi: w'(x) = N' · (w0, θ0, w1, θ1).
+std::array<double, 4> hermite_slope(double xi, double h);
 /// Their second derivatives d²N/dx² [1/m², 1/m] at xi: w''(x) = N'' · (w0, θ0, w1, θ1).
 std::array<double, 4> hermite_curvature(double xi, double h);
 /// Their third derivatives d³N/dx³ [1/m³, 1/m²], constant along the element: w‴ = N‴ · (w0, θ0, w1, θ1).

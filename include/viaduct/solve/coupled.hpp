@@ -8,14 +8,20 @@
 /// P_w = P0_w + p_w, its static load P0_w plus the dynamic part p_w. The contact is a linearised
 /// Hertz spring, p_w = k_w (z_w − y_w − r_w) with y_w the rail's deflection under the wheel and r_w
 /// the irregularity there (positive down: a dip), or rigid (k_w = ∞: z_w = y_w + r_w, p_w a
-/// Lagrange multiplier). Each step solves the contact forces first, from a small dense system
+/// Lagrange multiplier). A rigid wheel follows the rail: its constraint is imposed on the
+/// accelerations, z̈_w = N ü + 2 Ṅ u̇ + N̈ u + r̈ (ContactPath::contact_rates), and its position and
+/// velocity are set on the rail after every step, so that the constraint force is not the
+/// 1/dt²-amplified multiplier of a displacement constraint (an index-3 system, whose forces grew
+/// as the step shrank) and converges as dt → 0; it is the limit of a Hertz spring as k → ∞.
+/// Each step solves the contact forces first, from a small dense system
 /// (wheels × wheels: flexibility of the structure between the contacts, of the vehicles, and of
 /// the springs, plus a modal structure's static correction, ContactPath::residual_flexibility), then the structure and vehicles; the structure's effective matrix is factored
 /// once and its inverse columns at the rail DOFs the wheels cross are cached, so a step costs one
 /// sparse solve, as without vehicles, plus the columns of newly reached DOFs. A wheel off the
 /// structure (before the path, after it) rolls on rigid ground and still sees the irregularity.
 /// A wheel whose total contact force would become tensile leaves the rail and lands again when it
-/// would press into it (an active set per step, LinearVehicle::release); the result counts the
+/// would press into it (an active set per step, LinearVehicle::release; a rigid wheel's landing is
+/// an impact whose force grows without bound as the step shrinks: SolverError); the result counts the
 /// steps each wheel spent in the air. With release off the linear contact keeps a tensile force,
 /// which the result reports (CoupledSummary::min_contact_force) instead of hiding.
 
@@ -24,6 +30,7 @@
 #include <vector>
 
 #include "viaduct/core/types.hpp"
+#include "viaduct/solve/guard.hpp"
 #include "viaduct/solve/options.hpp"
 #include "viaduct/solve/summary.hpp"
 
@@ -69,6 +76,15 @@ class ContactPath {
   /// total contact forces. Called right after contact() was called for every wheel at the same t.
   /// Must not allocate once F has its size.
   virtual bool residual_flexibility(double /*t*/, Matrix& /*F*/) const { return false; }
+  /// For a wheel that follows the rail (a rigid contact): the first and second time derivatives of
+  /// the weights contact() gave for `wheel` at t, in the same order and over the same DOFs (a
+  /// wheel moving at speed v along the path sees v ∂/∂x and v² ∂²/∂x² of its weights), and of the
+  /// irregularity under it [m/s, m/s²]. Called right after contact() for the same wheel and t.
+  /// Returns false when the path cannot give them (the default): a rigid contact is then refused.
+  virtual bool contact_rates(std::size_t /*wheel*/, double /*t*/, std::vector<double>& /*dweight*/,
+                             std::vector<double>& /*ddweight*/, double& /*dr*/, double& /*ddr*/) const {
+    return false;
+  }
 };
 
 /// The coupled state after each step, valid during the call: structure u, v, a; vehicles z, ż, z̈;
@@ -103,9 +119,11 @@ struct CoupledSummary {
 /// Newmark's β and γ (HHT's α must be 0). InputError for invalid options, vehicles or grid, a
 /// non-zero irregularity at t = 0 or a contact DOF out of range; SolverError for an effective
 /// matrix that is not positive definite or a non-finite state (with its time).
+/// `bound` (optional): the divergence guard's contact-force bound (guard.hpp), checked every step.
 CoupledSummary coupled_newmark(const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K,
                                const LinearVehicle& vehicle, const ContactPath& path, const TimeGrid& grid,
-                               const NewmarkOptions& opt, const CoupledObserver& observe);
+                               const NewmarkOptions& opt, const CoupledObserver& observe,
+                               const DivergenceBound* bound = nullptr);
 
 /// The same coupled system integrated by SUNDIALS IDA (variable-order BDF with error control),
 /// meant for the reduced system: the structure in modal coordinates (M, C, K small), the vehicles
@@ -123,7 +141,8 @@ CoupledSummary coupled_newmark(const SparseMatrix& M, const SparseMatrix& C, con
 /// together, (1/k + F) P = P0/k + z − y − r, and the Newton matrix takes that coupling.
 CoupledSummary coupled_ida(const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K,
                            const LinearVehicle& vehicle, const ContactPath& path, const TimeGrid& grid,
-                           const IdaOptions& opt, const CoupledObserver& observe);
+                           const IdaOptions& opt, const CoupledObserver& observe,
+                           const DivergenceBound* bound = nullptr);
 
 /// Static equilibrium of the structure (K) and the vehicles standing with the contacts `path`
 /// gives at time t: K u = Σ Nᵀ(P0 + p), K_v z = −B p, with the contact law and the path's static

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "viaduct/solve/guard.hpp"
 #include "viaduct/solve/ida.hpp"
 #include "viaduct/solve/modal.hpp"
 #include "viaduct/solve/newmark.hpp"
@@ -56,6 +57,9 @@ struct LoadCase {
   const MovingChannels* moving = nullptr;   ///< optional, with speed
   double speed = 0.0;                       ///< [m/s] > 0 with `moving`
   double t_end = 1.0;                       ///< [s] > 0: samples k·dt up to ceil(t_end/dt)
+  /// Optional: bounds no physical response of the case reaches, per output (guard.hpp). A run
+  /// past one stops with a SolverError naming the output, the bound and the likely cause.
+  const DivergenceBound* bound = nullptr;
 };
 
 /// What to keep of each case.

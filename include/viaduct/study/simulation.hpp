@@ -155,6 +155,8 @@ constexpr double kMaxHistoryBytes = 2.0 * (1 << 30);
 struct ModalPathTable;
 /// The modes of the vehicle fast path (study/vehicles.hpp).
 struct VehicleModalBasis;
+/// One factorisation of K (the divergence guard's static responses; src/study/divergence.hpp).
+struct StaticFactor;
 
 /// Everything the cases of one model share, built once (per sweep variant).
 struct PreparedModel {
@@ -172,6 +174,8 @@ struct PreparedModel {
   std::shared_ptr<const load::RailProfile> profile;
   /// Modal basis of the vehicle fast path (vehicle models with Method::modal; opaque).
   std::shared_ptr<const VehicleModalBasis> vehicle_modal;
+  /// K factored once: the divergence guard's bounds of every case (solve/guard.hpp).
+  std::shared_ptr<const StaticFactor> statics;
 };
 
 /// Builds the structure, maps the stations and, for the modal method, solves the eigenproblem

@@ -19,6 +19,14 @@ class FixedContact : public solve::ContactPath {
     r = t >= t_r_ ? r_ : 0.0;
   }
   std::vector<double> breaks(double) const override { return {t_r_}; }
+  // The weight is constant; the rail's step (at t_r) has no rate between samples.
+  bool contact_rates(std::size_t, double, std::vector<double>& dweight, std::vector<double>& ddweight, double& dr,
+                     double& ddr) const override {
+    dweight.assign(1, 0.0);
+    ddweight.assign(1, 0.0);
+    dr = ddr = 0.0;
+    return true;
+  }
 
  private:
   double w_, r_, t_r_;
