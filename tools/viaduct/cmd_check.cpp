@@ -28,7 +28,7 @@ Command check_command() {
     const model::Structure s = model::build_structure(sc.bridge, sc.track);
     std::vector<double> speeds = sc.sweep_speeds;
     if (sc.run_speed) speeds.push_back(*sc.run_speed);
-    print_warnings("check", study::accuracy_warnings(sc, speeds));
+    print_warnings("check", study::scenario_warnings(sc, speeds));
     if (o.quiet) return ok;
     std::cout << io::format_resolved(flat) << "\n# model\n";
     std::cout << "# spans: " << sc.bridge.spans.size() << ", bridge length " << sc.bridge.total_length() << " m\n";

@@ -169,7 +169,12 @@ Command run_command() {
     io::write_history_csv(o.out + "/history.csv", r);
     write_quasi_static(o.out, r, qs);
     io::Manifest m = start_manifest(o, "run");
-    m.warnings = study::accuracy_warnings(sc, {speed});
+    m.warnings = study::scenario_warnings(sc, {speed});
+    {
+      std::vector<double> max_disp;
+      for (const auto& p : study::peaks(r)) max_disp.push_back(p.max_abs_disp);
+      for (auto& w : study::response_warnings(sc, max_disp)) m.warnings.push_back(std::move(w));
+    }
     if (!r.vehicles.empty()) {
       write_vehicles(o.out, r, *train);
       for (auto& w : describe_vehicles(r, o.quiet)) m.warnings.push_back(std::move(w));

@@ -94,7 +94,7 @@ int run_sampled_sweep(const Common& o, const io::FlatScenario& flat, const Sampl
   if (!writer) return ok;
   stream->finish();
   io::Manifest m = start_manifest(o, "sweep");
-  m.warnings = study::accuracy_warnings(reference, reference.sweep_speeds);
+  m.warnings = study::scenario_warnings(reference, reference.sweep_speeds);
   print_warnings("sweep", m.warnings);
   m.as_run = io::settings_as_run(reference.settings);
   if (shard_n) io::write_shard_toml(o.out + "/shard.toml", shard_k, shard_n, begin, end, st);

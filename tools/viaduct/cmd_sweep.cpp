@@ -129,7 +129,18 @@ int run_sweep_command(const Common& o, const SweepOpts& opts) {
     io::write_governing_csv(o.out + "/governing.csv", gov);
     if (shard.n) write_shard(shard, o.out, flat, so, r, gov, variants.size());
     io::Manifest m = start_manifest(o, "sweep");
-    m.warnings = study::accuracy_warnings(variants.front().scenario, variants.front().scenario.sweep_speeds);
+    m.warnings = study::scenario_warnings(variants.front().scenario, variants.front().scenario.sweep_speeds);
+    {
+      // The governing deflection of each station (the reference's stations, the envelope's order).
+      std::vector<double> max_disp;
+      for (const auto& st : variants.front().scenario.stations) {
+        double d = 0.0;
+        for (const auto& g : gov)
+          if (g.station == st.name) d = g.disp.value;
+        max_disp.push_back(d);
+      }
+      for (auto& w : study::response_warnings(variants.front().scenario, max_disp)) m.warnings.push_back(std::move(w));
+    }
     print_warnings("sweep", m.warnings);
     m.as_run = io::settings_as_run(variants.front().scenario.settings);
     m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "viaduct/model/structure.hpp"
 #include "viaduct/study/scenario.hpp"
 
 namespace viaduct::study {
@@ -28,5 +29,39 @@ double rail_on_pad_hz(const model::TrackParams& t);
 /// Warnings for `sc` run at `speeds` [m/s] (the sweep's, or the one speed of a run); empty when
 /// the settings lie in the measured region.
 std::vector<std::string> accuracy_warnings(const Scenario& sc, const std::vector<double>& speeds);
+
+/// Fewer deck elements per span than this misses the deflection and acceleration peaks (measured,
+/// docs/reliability.md: one element -58 % / -66 %, two -3 %, four within 0.5 %).
+constexpr int kMinElementsPerSpan = 4;
+/// Fewer elements than this per half-wave of the highest bending mode of a span inside the band.
+constexpr double kMinElementsPerHalfWave = 1.0;
+/// A deflection beyond span / this is not a railway bridge's (a unit slip, a bearing stiffness
+/// off by orders of magnitude).
+constexpr double kMaxDeflectionRatio = 100.0;
+/// [kg/m] A deck lighter than this per metre is not a railway bridge's (mass in t/m, or the deck
+/// of one girder).
+constexpr double kMinMassPerMetre = 500.0;
+
+/// [Hz] EN 1991-2 6.4.4 Fig. 6.10: the limits of a simply supported span's first natural frequency
+/// for a span of L [m] in [4, 100] (outside: the limits at the nearer end).
+struct FrequencyLimits {
+  double lower = 0.0, upper = 0.0;
+};
+FrequencyLimits fig_6_10_limits(double span_m);
+
+/// Warnings about the model `s` built from `sc` (run at `speeds` [m/s]): a deck too coarse for its
+/// spans or its band, the modal method at speeds where its floor dominates, and the plausibility of
+/// the inputs — each span's f1 against Fig. 6.10 (far outside: the key whose unit to check), its
+/// mass per metre, its static deflection under the heaviest axle against L/100 (a unit slip warned,
+/// never reported as a result). Every warning names the key, the figure and its measured effect.
+std::vector<std::string> model_warnings(const Scenario& sc, const model::Structure& s, const std::vector<double>& speeds);
+
+/// accuracy_warnings() and model_warnings() of `sc` at `speeds` (the model built here): what
+/// check, run, sweep and assess print and keep in the manifest before any result.
+std::vector<std::string> scenario_warnings(const Scenario& sc, const std::vector<double>& speeds);
+
+/// Warnings about results: a deck station whose largest |deflection| [m] (`max_disp`, one per
+/// sc.stations entry, rail stations ignored) exceeds its span / kMaxDeflectionRatio.
+std::vector<std::string> response_warnings(const Scenario& sc, const std::vector<double>& max_disp);
 
 }  // namespace viaduct::study
