@@ -254,7 +254,7 @@ py::dict speed(const py::handle& x, double fs_hz, double distance_m, const std::
   const Vector in = view(x, keep, "identify_speed");
   study::SpeedEstimate e;
   if (method == "spectrum") e = study::speed_from_spectrum(in, fs_hz, distance_m, v_min_kmh / 3.6, v_max_kmh / 3.6, harmonics);
-  else if (method == "peaks") e = study::speed_from_peaks(in, fs_hz, distance_m, min_interval_s);
+  else if (method == "peaks") e = study::speed_from_peaks(in, fs_hz, distance_m, min_interval_s, v_min_kmh / 3.6, v_max_kmh / 3.6);
   else throw InputError("method must be spectrum or peaks, got '" + method + "'");
   py::dict d;
   d["speed_kmh"] = e.speed * 3.6;

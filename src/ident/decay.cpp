@@ -326,6 +326,54 @@ void amplitude_dependence(const DecaySignal& s, double a, double b, double wd, c
 
 }  // namespace
 
+namespace {
+// A step in the raw record inside the decay window [a, b] (record time): the band-pass turns it into
+// a transient at the mode's frequency that passes for the decay (issue #36: a step inside a decay
+// of 2.71 % gave 0.89 %). Over whole periods of the mode the decay averages out: the record's mean
+// per period is its baseline. A step leaves the baseline at another level for good; forcing left in
+// the window or other modes make it wander and come back. So: the split of the periods' means
+// into a before and an after (three periods each at least) whose means differ most for their
+// spread — the MAD about its median of the noisier side: a step leaves both sides flat, forcing
+// that ends leaves one wandering — counted as a step when the difference is 8 times that spread
+// and 2 % of the mode's amplitude.
+void require_no_step(const Vector& x, double fs_hz, double t0_s, double f0, double a, double b, double amplitude) {
+  const auto P = std::max<Index>(2, static_cast<Index>(std::llround(fs_hz / f0)));
+  const Index i0 = std::max<Index>(0, static_cast<Index>(std::floor((a - t0_s) * fs_hz)));
+  const Index i1 = std::min<Index>(x.size(), static_cast<Index>(std::ceil((b - t0_s) * fs_hz)));
+  const Index n = (i1 - i0) / P;  // whole periods
+  if (n < 6) return;
+  std::vector<double> m(static_cast<std::size_t>(n));
+  for (Index k = 0; k < n; ++k) m[static_cast<std::size_t>(k)] = x.segment(i0 + k * P, P).mean();
+  auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  double best = 0.0, spread = 0.0, best_score = 0.0;
+  Index at = -1;
+  for (Index j = 3; j + 3 <= n; ++j) {
+    const std::vector<double> lo(m.begin(), m.begin() + j), hi(m.begin() + j, m.end());
+    double ml = 0.0, mh = 0.0;
+    for (const double v : lo) ml += v / static_cast<double>(lo.size());
+    for (const double v : hi) mh += v / static_cast<double>(hi.size());
+    std::vector<double> dl, dh;
+    for (const double v : lo) dl.push_back(std::abs(v - median(lo)));
+    for (const double v : hi) dh.push_back(std::abs(v - median(hi)));
+    // The noisier side's spread: a step leaves both sides flat, forcing that ends leaves one wandering.
+    const double sp = std::max(median(dl), median(dh)), jump = std::abs(mh - ml);
+    const double score = jump / std::max(sp, 1e-300 * std::max(1.0, jump));
+    if (score > best_score) best_score = score, best = jump, spread = sp, at = j;
+  }
+  if (at < 0 || !(best > 8.0 * spread && best > 0.02 * amplitude)) return;
+  const double t = t0_s + static_cast<double>(i0 + at * P) / fs_hz;
+  throw InputError("decay: the record's baseline steps by " + format_number(best, 3) + " near t = " + format_number(t, 5) +
+                   " s, inside the decay analysed (" + format_number(a, 5) + " to " + format_number(b, 5) + " s; " +
+                   format_number(best / amplitude * 100.0, 3) +
+                   " % of the mode's amplitude there, " + format_number(best / std::max(spread, 1e-300), 3) +
+                   " x the baseline's spread): a zero shift or a glitch of the logger, whose band-passed transient would pass "
+                   "for the decay; cut the record before it or give --end-s");
+}
+}  // namespace
+
 DecayResult analyse_decay(const Vector& x, double fs_hz, double t0_s, const DecayOptions& o) {
   require_positive(fs_hz, "sampling rate [Hz]");
   std::string why;
@@ -376,6 +424,7 @@ DecayResult analyse_decay(const Vector& x, double fs_hz, double t0_s, const Deca
                      " plus " + n(o.skip_cycles) + " cycles skipped) to " + n(b) + " s above the noise, at least " +
                      n(o.min_cycles) + " needed (--min-cycles)");
   }
+  require_no_step(x, fs_hz, t0_s, f0, a, b, s.env[s.index_of(a)]);
   const double wd = damped_frequency(s, a, b);
   if (!(std::isfinite(wd) && wd > 0.0))
     throw InputError("decay: no oscillation of the mode in the decay window (the zero crossings give no period)");

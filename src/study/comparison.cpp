@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+
+#include <Eigen/Dense>
 
 #include "series.hpp"
 #include "viaduct/core/error.hpp"
@@ -24,7 +27,97 @@ double main_peak_hz(const Vector& f, const Vector& amp, double f_max) {
   return p.front().position * (f[1] - f[0]);
 }
 
+std::string cmp_num(double v) { return format_number(v, 4); }
+
+// The record must hold the model's whole response once aligned (|model| >= 5 % of its peak, in
+// record samples [a, b]) and must move while it does.
+void require_coverage(const Vector& record, double fs_record, double t0_record, const Vector& mod, double fs_model,
+                      double lag, const ComparisonOptions& o) {
+  const double peak = mod.cwiseAbs().maxCoeff();
+  if (!(peak > 0.0)) return;
+  Index j0 = 0, j1 = mod.size() - 1;
+  while (j0 < j1 && std::abs(mod[j0]) < 0.05 * peak) ++j0;
+  while (j1 > j0 && std::abs(mod[j1]) < 0.05 * peak) --j1;
+  const double a = static_cast<double>(j0) / fs_model * fs_record + lag, b = static_cast<double>(j1) / fs_model * fs_record + lag;
+  const auto n = static_cast<double>(record.size());
+  auto at = [&](double i) { return cmp_num(t0_record + i / fs_record); };
+  if (a < -0.5 || b > n - 0.5)
+    throw InputError("the record covers t = " + at(0) + " to " + at(n - 1) + " s, but the passage's response (the model above 5 % "
+                     "of its peak, aligned) runs from t = " + at(a) + " to " + at(b) +
+                     " s: the record lost part of the passage, and a comparison over what is left would be wrong");
+  // A stuck channel: one value repeated while the model's response runs.
+  const Index lo = std::max<Index>(0, static_cast<Index>(std::floor(a))), hi = std::min<Index>(record.size() - 1, static_cast<Index>(std::ceil(b)));
+  const Index need = std::max<Index>(16, static_cast<Index>(std::ceil(o.stuck_s * fs_record)));
+  Index run = 1;
+  for (Index i = lo + 1; i <= hi; ++i) {
+    run = record[i] == record[i - 1] ? run + 1 : 1;
+    if (run >= need)
+      throw InputError("the record holds " + cmp_num(record[i]) + " unchanged from t = " + at(static_cast<double>(i - run + 1)) +
+                       " s for " + std::to_string(run) + " samples or more while the passage's response runs (t = " + at(a) +
+                       " to " + at(b) + " s): a stuck channel, not a measurement");
+  }
+}
+
 }  // namespace
+
+ResidualStructure residual_structure(const Vector& record, const Vector& model, double fs_hz) {
+  const Index n = record.size();
+  if (model.size() != n || n < 16) throw InputError("residual_structure: record and model of one size, at least 16 samples");
+  require_positive(fs_hz, "residual_structure: sampling rate [Hz]");
+  const double nn = static_cast<double>(n);
+  // Least squares on the normal equations of a few regressors (the model, and the structure's).
+  auto rss_of = [&](const std::vector<const Vector*>& x, Vector* beta) {
+    const auto p = static_cast<Index>(x.size());
+    Matrix A(p, p);
+    Vector y(p);
+    for (Index i = 0; i < p; ++i) {
+      y[i] = x[static_cast<std::size_t>(i)]->dot(record);
+      for (Index j = 0; j < p; ++j) A(i, j) = x[static_cast<std::size_t>(i)]->dot(*x[static_cast<std::size_t>(j)]);
+    }
+    const Vector b = A.completeOrthogonalDecomposition().solve(y);
+    if (beta) *beta = b;
+    return std::max(0.0, record.squaredNorm() - b.dot(y));
+  };
+  const Vector one = Vector::Ones(n);
+  Vector ramp(n);
+  for (Index i = 0; i < n; ++i) ramp[i] = static_cast<double>(i) / (nn - 1.0) - 0.5;
+  const double rss0 = rss_of({&model}, nullptr);
+  Vector b1, b3;
+  const double rss1 = rss_of({&model, &one}, &b1);
+  const double rss3 = rss_of({&model, &one, &ramp}, &b3);
+  // The step: every position k, with suffix sums (the 3 x 3 normal equations in O(1) each).
+  const double smm = model.squaredNorm(), sm = model.sum(), smr = model.dot(record), sr = record.sum(), srr = record.squaredNorm();
+  double best_rss = rss1, best_c = 0.0;
+  Index best_k = -1;
+  double tm = 0.0, tr = 0.0;  // suffix sums of the model and the record from k on
+  std::vector<double> sm_k(static_cast<std::size_t>(n) + 1, 0.0), sr_k(static_cast<std::size_t>(n) + 1, 0.0);
+  for (Index i = n - 1; i >= 0; --i) {
+    tm += model[i], tr += record[i];
+    sm_k[static_cast<std::size_t>(i)] = tm, sr_k[static_cast<std::size_t>(i)] = tr;
+  }
+  for (Index k = n / 20; k <= n - n / 20; ++k) {
+    const double nk = nn - static_cast<double>(k), mk = sm_k[static_cast<std::size_t>(k)], rk = sr_k[static_cast<std::size_t>(k)];
+    Eigen::Matrix3d A;
+    A << smm, sm, mk, sm, nn, nk, mk, nk, nk;
+    const Eigen::Vector3d y(smr, sr, rk);
+    const Eigen::Vector3d b = A.colPivHouseholderQr().solve(y);
+    const double rss = std::max(0.0, srr - b.dot(y));
+    if (rss < best_rss) best_rss = rss, best_c = b[2], best_k = k;
+  }
+  ResidualStructure out;
+  out.noise_rms = std::sqrt(rss0 / nn);
+  // A structure counts when it halves what the model leaves and stands 6 noise RMS above what it leaves.
+  auto counts = [&](double rss, double size) { return rss < 0.5 * rss0 && std::abs(size) > 6.0 * std::sqrt(rss / nn); };
+  const bool step = best_k >= 0 && counts(best_rss, best_c), drift = counts(rss3, b3[2]);
+  if (step && (!drift || best_rss <= rss3)) {
+    out.kind = "step", out.size = best_c, out.at_s = static_cast<double>(best_k) / fs_hz, out.noise_rms = std::sqrt(best_rss / nn);
+  } else if (drift) {
+    out.kind = "drift", out.size = b3[2], out.noise_rms = std::sqrt(rss3 / nn);
+  } else if (counts(rss1, b1[1])) {
+    out.kind = "offset", out.size = b1[1], out.noise_rms = std::sqrt(rss1 / nn);
+  }
+  return out;
+}
 
 ChannelComparison compare_channel(const Vector& record, double fs_record, double t0_record, const Vector& model,
                                   double fs_model, const ComparisonOptions& o) {
@@ -48,6 +141,7 @@ ChannelComparison compare_channel(const Vector& record, double fs_record, double
   const auto max_lag = static_cast<Index>(std::ceil(o.max_shift_s * fs_record));
   const double lag = signal::best_lag(mod_r, rec, max_lag);
   c.shift_s = t0_record + lag / fs_record;
+  require_coverage(record, fs_record, t0_record, mod, fs_model, lag, o);
   // 4. aligned model on the record grid; overlap where the model exists
   const Index n = record.size();
   c.t.resize(n);

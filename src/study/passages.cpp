@@ -64,9 +64,12 @@ void residual_of(const PassageChannel& ch, const Passage& p, const Vector& model
   while (i0 < i1 && cc.model[i0] == 0.0) ++i0;
   while (i1 > i0 && cc.model[i1] == 0.0) --i1;
   const Vector r = cc.record.segment(i0, i1 - i0 + 1), mo = cc.model.segment(i0, i1 - i0 + 1);
-  const double mm = mo.squaredNorm();
-  const double a = mm > 0 ? r.dot(mo) / mm : 0.0;
-  v.noise_rms = std::sqrt((r - a * mo).squaredNorm() / static_cast<double>(r.size()));
+  // The noise once the model is taken out, and whatever structure the model does not have (an
+  // offset, a step, a drift): counted as noise it would widen the band that judges the peak.
+  const ResidualStructure rs = residual_structure(r, mo, p.fs_hz);
+  v.noise_rms = rs.noise_rms;
+  v.residual = rs.kind;
+  v.residual_size = rs.size;
   v.correlation = cc.correlation;
 }
 
@@ -126,7 +129,9 @@ PassageResult run_passage(const PreparedModel& m, const RunSettings& rs, const F
     v.predicted_high = hi[i];
     v.ratio = pred[i] > 0 ? v.measured / pred[i] : std::numeric_limits<double>::quiet_NaN();
     residual_of(ch, p, station_response(at_v, ch.station, ch.kind), fs_model, f, v);
-    v.within = v.measured >= lo[i] - o.noise_band * v.noise_rms && v.measured <= hi[i] + o.noise_band * v.noise_rms;
+    // A structured residual leaves the peak unjudged: not within (the flag says why).
+    v.within = v.residual == "white" && v.measured >= lo[i] - o.noise_band * v.noise_rms &&
+               v.measured <= hi[i] + o.noise_band * v.noise_rms;
     res.channels.push_back(v);
   }
   return res;

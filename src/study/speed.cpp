@@ -73,13 +73,30 @@ SpeedEstimate speed_from_spectrum(const Vector& x, double fs_hz, double d, doubl
   e.frequency_hz = v / d;
   e.uncertainty = d * df_record / n_harmonics;
   e.n_used = n_harmonics;
+  if (!(A.maxCoeff() > 0.0)) throw InputError("no train found: the channel is constant");
+  // Detection: each line against the spectrum's median over the band its harmonic was searched in.
+  double log_ratio = 0.0;
+  for (int k = 1; k <= n_harmonics; ++k) {
+    const Index i0 = std::min(static_cast<Index>(std::floor(k * v_min / d / df)), A.size() - 1);
+    const Index i1 = std::min(static_cast<Index>(std::ceil(k * v_max / d / df)) + 1, A.size());
+    std::vector<double> band(A.data() + i0, A.data() + std::max(i0 + 1, i1));
+    std::nth_element(band.begin(), band.begin() + static_cast<std::ptrdiff_t>(band.size() / 2), band.end());
+    log_ratio += std::log((amp(k * v / d) + floor) / (band[band.size() / 2] + floor));
+  }
+  e.detection = std::exp(log_ratio / n_harmonics);
+  if (e.detection < kMinSpectralDetection)
+    throw InputError("no train found between " + format_number(v_min * 3.6, 4) + " and " + format_number(v_max * 3.6, 4) +
+                     " km/h: the best speed's " + std::to_string(n_harmonics) + " lines stand " + format_number(e.detection, 3) +
+                     " times above the spectrum's median (a train's: at least " + format_number(kMinSpectralDetection, 3) + ")");
   return e;
 }
 
-SpeedEstimate speed_from_peaks(const Vector& x, double fs_hz, double d, double min_interval_s) {
+SpeedEstimate speed_from_peaks(const Vector& x, double fs_hz, double d, double min_interval_s, double v_min, double v_max) {
   require_positive(fs_hz, "sampling rate [Hz]");
   require_positive(d, "characteristic distance d [m]");
   require_positive(min_interval_s, "minimum interval between axle peaks [s]");
+  if (!(v_min >= 0.0) || !(v_max > v_min)) throw InputError("speed range: need 0 <= v_min < v_max");
+  if (x.size() < 16 || !x.allFinite()) throw InputError("axle passages: need at least 16 finite samples");
   signal::PeakOptions o;
   o.min_distance = std::max<Index>(1, static_cast<Index>(std::ceil(min_interval_s * fs_hz)));
   // Axle passages are the prominent peaks; a free-vibration tail adds many small ones that
@@ -88,9 +105,32 @@ SpeedEstimate speed_from_peaks(const Vector& x, double fs_hz, double d, double m
   double top = 0.0;
   for (const auto& p : all) top = std::max(top, p.prominence);
   std::vector<signal::Peak> peaks;
-  for (const auto& p : all)
+  double dropped = 0.0;  // the largest prominence left out
+  for (const auto& p : all) {
     if (p.prominence >= 0.1 * top) peaks.push_back(p);
+    else dropped = std::max(dropped, p.prominence);
+  }
+  // The noise RMS from the first differences (robust: the median of their magnitudes; white
+  // noise of RMS s has differences of RMS s·√2, whose median magnitude is 0.6745 of that).
+  std::vector<double> diff(static_cast<std::size_t>(x.size() - 1));
+  for (Index i = 1; i < x.size(); ++i) diff[static_cast<std::size_t>(i - 1)] = std::abs(x[i] - x[i - 1]);
+  std::nth_element(diff.begin(), diff.begin() + static_cast<std::ptrdiff_t>(diff.size() / 2), diff.end());
+  const double noise = diff[diff.size() / 2] / (0.6745 * std::sqrt(2.0));
+  if (!(top > 0.0)) throw InputError("no train found: the channel has no peak (constant)");
+  const double detection = noise > 0.0 ? top / noise : std::numeric_limits<double>::infinity();
+  if (detection < kMinPeakDetection)
+    throw InputError("no train found: the largest peak stands " + format_number(detection, 3) + " noise RMS out of the record "
+                     "(axle passages: at least " + format_number(kMinPeakDetection, 3) + ")");
   if (peaks.size() < 3) throw InputError("axle passages: fewer than 3 peaks found");
+  // The axles stand apart from the ripple: the kept peaks' median prominence well above every
+  // peak left out (noise has prominences of every size).
+  std::vector<double> kept;
+  for (const auto& p : peaks) kept.push_back(p.prominence);
+  std::nth_element(kept.begin(), kept.begin() + static_cast<std::ptrdiff_t>(kept.size() / 2), kept.end());
+  if (kept[kept.size() / 2] < kMinPeakSeparation * dropped)
+    throw InputError("no train found: the peaks' median prominence is " + format_number(kept[kept.size() / 2] / dropped, 3) +
+                     " times the largest of the peaks left out (axles stand apart from the ripple: at least " +
+                     format_number(kMinPeakSeparation, 3) + ")");
   std::vector<double> dt;
   for (std::size_t i = 1; i < peaks.size(); ++i) dt.push_back((peaks[i].position - peaks[i - 1].position) / fs_hz);
   std::vector<double> sorted = dt;
@@ -105,6 +145,11 @@ SpeedEstimate speed_from_peaks(const Vector& x, double fs_hz, double d, double m
       ++n;
     }
   if (n < 2) throw InputError("axle passages: fewer than 2 regular intervals between peaks");
+  // A train's axles (or bogies) pass at one spacing: most intervals are regular. Noise, or a
+  // record's own vibration beating, gives intervals all over.
+  if (2 * n < static_cast<int>(dt.size()))
+    throw InputError("no train found: only " + std::to_string(n) + " of the " + std::to_string(dt.size()) +
+                     " intervals between the record's peaks lie within 15 % of their median (a train's axles: most of them)");
   const double mean = sum / n;
   const double sd = std::sqrt(std::max(0.0, (sum2 - n * mean * mean) / (n - 1)));
   SpeedEstimate e;
@@ -112,6 +157,11 @@ SpeedEstimate speed_from_peaks(const Vector& x, double fs_hz, double d, double m
   e.uncertainty = e.speed * (sd / std::sqrt(static_cast<double>(n))) / mean;
   e.frequency_hz = 1.0 / mean;
   e.n_used = n;
+  e.detection = detection;
+  if (e.speed < v_min || e.speed > v_max)
+    throw InputError("no train found between " + format_number(v_min * 3.6, 4) + " and " + format_number(v_max * 3.6, 4) +
+                     " km/h: the peaks' median spacing " + format_number(mean, 4) + " s gives " + format_number(e.speed * 3.6, 5) +
+                     " km/h for d = " + format_number(d, 4) + " m");
   return e;
 }
 
@@ -364,7 +414,12 @@ SignatureMatch match_train_signature(const PreparedModel& m, const RunSettings& 
   so.filter = signature_filter(scenario_filter, kind);
   so.max_shift_s = static_cast<double>(record.size()) / fs_hz + 60.0;
   const std::function<Vector(double)> at = [&](double v) { return station_response(simulate(m, train, v, rs), station, kind); };
-  return match_signature(record, fs_hz, t0_s, at, 1.0 / rs.dt, so);
+  SignatureMatch sm = match_signature(record, fs_hz, t0_s, at, 1.0 / rs.dt, so);
+  if (!(sm.correlation >= kMinSignatureCorrelation))
+    throw InputError("no train found between " + format_number(v_min * 3.6, 4) + " and " + format_number(v_max * 3.6, 4) +
+                     " km/h: the record's best match to " + train.name + "'s signature correlates " + format_number(sm.correlation, 3) +
+                     " (a passage of it: at least " + format_number(kMinSignatureCorrelation, 3) + ")");
+  return sm;
 }
 
 AxleMatch match_axles(const Vector& x, double fs_hz, double t0_s, const load::Train& train, double speed, double speed_se, double entry_s,

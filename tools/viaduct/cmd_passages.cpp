@@ -153,7 +153,8 @@ void write_results(const std::string& out, const study::PassageStudy& r, double 
       rows.push_back({p.name, p.train, cell(p.speed * 3.6), cell(speed_band * p.speed_se * 3.6), p.identified ? "identified" : "given",
                       p.identified ? cell(p.signature_correlation) : "", c.channel, c.station, study::response_name(c.kind),
                       study::response_unit(c.kind), cell(c.measured), cell(c.predicted), cell(c.predicted_low), cell(c.predicted_high),
-                      std::isfinite(c.ratio) ? cell(c.ratio) : "", cell(c.noise_rms), cell(c.correlation), c.within ? "true" : "false"});
+                      std::isfinite(c.ratio) ? cell(c.ratio) : "", cell(c.noise_rms), cell(c.correlation), c.within ? "true" : "false",
+                      c.residual, c.residual == "white" ? "" : cell(c.residual_size)});
       const auto key = std::make_pair(c.station, std::string(study::response_name(c.kind)));
       if (!groups.count(key)) order.push_back(key);
       groups[key].push_back(&c);
@@ -178,7 +179,7 @@ void write_results(const std::string& out, const study::PassageStudy& r, double 
   io::write_table_csv(out + "/passages.csv",
                       {"passage", "train", "speed_kmh", "speed_uncertainty_kmh", "speed_source", "signature_correlation", "channel",
                        "station", "quantity", "unit", "measured", "predicted", "predicted_low", "predicted_high", "ratio", "noise_rms",
-                       "correlation", "within"},
+                       "correlation", "within", "residual", "residual_size"},
                       rows);
   io::write_table_csv(out + "/model_envelope.csv", {"train", "station", "quantity", "unit", "speed_kmh", "peak"}, curves);
   io::write_table_csv(out + "/passages_summary.csv", {"station", "quantity", "n", "ratio_median", "ratio_min", "ratio_max", "n_within"},
@@ -254,6 +255,13 @@ int passages_body(const Common& o, const PassagesOptions& k) {
     if (p.speed < *lo || p.speed > *hi)
       warnings.push_back(p.name + ": " + format_number(p.speed * 3.6, 5) + " km/h is outside the envelope's speeds (sweep.*)");
   }
+  for (const auto& p : r.passages)
+    for (const auto& c : p.channels)
+      if (c.residual != "white")
+        warnings.push_back(p.name + ", " + c.channel + ": the record less the model holds a" +
+                           (c.residual == "offset" ? "n offset" : " " + c.residual) + " of " + format_number(c.residual_size, 4) +
+                           " " + study::response_unit(c.kind) + " (passages.csv residual): the peak is not judged (within = false); "
+                           "zero the channel, or cut the record where it jumps or drifts");
   make_out_dir(o.out);
   write_results(o.out, r, po.speed_band);
   io::Manifest m = start_manifest(o, "passages");

@@ -417,6 +417,14 @@ std::vector<std::string> speed_by_delay(const Common& o, const SpeedOptions& s, 
     throw InputError("--second-channel " + in.channels[b] + " leads " + in.channels[a] + " (delay " + format_number(d.delay_s, 4) +
                      " s): the train passed the second sensor first; swap them");
   const double v = *s.sensor_distance_m / d.delay_s, v_se = v / d.delay_s * d.delay_se;
+  if (d.correlation < study::kMinSignatureCorrelation)
+    throw InputError("no train found: " + in.channels[b] + " against " + in.channels[a] + " delayed correlates " +
+                     format_number(d.correlation, 3) + " at best (one train seen by both: at least " +
+                     format_number(study::kMinSignatureCorrelation, 3) + ")");
+  if (v < s.v_min_kmh / 3.6 || v > s.v_max_kmh / 3.6)
+    throw InputError("no train found between " + format_number(s.v_min_kmh, 4) + " and " + format_number(s.v_max_kmh, 4) +
+                     " km/h: the delay " + format_number(d.delay_s, 4) + " s over " + format_number(*s.sensor_distance_m, 4) +
+                     " m gives " + format_number(v * 3.6, 5) + " km/h");
   auto num = [](double x) { return io::table_cell(x, 8); };
   if (!o.quiet)
     std::printf("%s -> %s: delay %.5f s +- %.5f, %.3f km/h +- %.3f (3 standard errors), correlation %.4f\n", in.channels[a].c_str(),
@@ -501,7 +509,7 @@ Command speed_command() {
     for (std::size_t ch : selected(in, s.channels)) {
       const Vector x = in.data.col(static_cast<Index>(ch));
       const study::SpeedEstimate e =
-          peaks ? study::speed_from_peaks(x, in.fs_hz, d, s.min_interval_s)
+          peaks ? study::speed_from_peaks(x, in.fs_hz, d, s.min_interval_s, s.v_min_kmh / 3.6, s.v_max_kmh / 3.6)
                 : study::speed_from_spectrum(x, in.fs_hz, d, s.v_min_kmh / 3.6, s.v_max_kmh / 3.6, s.harmonics);
       rows.push_back({in.channels[ch], peaks ? "axle-peaks" : "spectral-lines", num(e.speed * 3.6),
                       num(e.uncertainty * 3.6), num(e.frequency_hz), std::to_string(e.n_used), "", "", "", ""});

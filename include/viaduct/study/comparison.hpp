@@ -13,6 +13,9 @@ struct ComparisonOptions {
   FilterSpec filter;           ///< applied to record and model alike (at their own rates)
   double max_shift_s = 60.0;   ///< [s] alignment search range, > 0
   double spectrum_max_hz = 0;  ///< [Hz] upper end of the spectral metrics (0: filter high edge, or fs/2)
+  /// [s] > 0: a record holding one value this long while the model's response moves is a stuck
+  /// channel (InputError); the run must also be at least 16 samples long.
+  double stuck_s = 0.05;
 };
 
 /// One record channel against one model quantity, both in the same unit.
@@ -30,8 +33,31 @@ struct ChannelComparison {
 };
 
 /// `record` sampled at fs_record from t0_record; `model` at fs_model from 0. Throws InputError
-/// for non-finite samples, too short signals or an invalid filter.
+/// for non-finite samples, too short signals or an invalid filter, and when the record cannot
+/// carry the comparison (issue #36): the aligned model's response (where it exceeds 5 % of its
+/// peak) runs past the record's ends — the record lost part of the passage — or the record holds
+/// the same value for ComparisonOptions' stuck run or longer while the model's response moves (a
+/// stuck channel); the message names the record's time span and the passage's.
 ChannelComparison compare_channel(const Vector& record, double fs_record, double t0_record, const Vector& model,
                                   double fs_model, const ComparisonOptions& o);
+
+/// What is left of a record once the model is taken out: white noise, or a structure the model
+/// does not have (a zero offset, a step, a drift) that would otherwise pass for noise and widen
+/// every band set by it (issue #36: a 20 mm step inflated a passage's noise and let a 3.2 x
+/// peak pass as "within").
+struct ResidualStructure {
+  std::string kind = "white";  ///< "white", "offset", "step" or "drift"
+  double size = 0.0;           ///< the offset, the step's height or the drift over the record (unit of the signal)
+  double at_s = 0.0;           ///< [s] from the first sample: where the step is (step only)
+  /// RMS of the residual of the model that explains it best (with the offset, step or drift
+  /// taken out): the noise, not inflated by the structure.
+  double noise_rms = 0.0;
+  bool white() const { return kind == "white"; }
+};
+/// record ≈ a·model (a by least squares), or with an offset b, or b and a step c at one sample
+/// (the best of every position between 5 % and 95 % of the record), or b and a linear drift: the
+/// structure is reported when it explains at least half of what a·model leaves and is at least
+/// 6 times the noise left after it. Same-size vectors of at least 16 samples at fs_hz.
+ResidualStructure residual_structure(const Vector& record, const Vector& model, double fs_hz);
 
 }  // namespace viaduct::study

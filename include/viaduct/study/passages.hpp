@@ -58,11 +58,17 @@ struct ChannelVerdict {
   double predicted_low = 0.0;   ///< smallest and largest predicted peak over the speed's
   double predicted_high = 0.0;  ///< uncertainty (PassageOptions::speed_band)
   double ratio = 0.0;           ///< measured / predicted (NaN when predicted is 0)
-  /// RMS of the filtered record minus the aligned model scaled by least squares, over their
-  /// overlap: the noise, and whatever the model's shape misses.
+  /// RMS of the filtered record minus the aligned model scaled by least squares over their
+  /// overlap, an offset, step or drift taken out first when the residual holds one
+  /// (residual_structure): the noise, and whatever the model's shape misses.
   double noise_rms = 0.0;
+  /// "white", or the structure the residual holds ("offset", "step", "drift"; its size in the
+  /// channel's unit): a record the model cannot judge (a zero offset kept, a step, a drift).
+  std::string residual = "white";
+  double residual_size = 0.0;
   double correlation = 0.0;     ///< of the filtered record and the aligned model
-  bool within = false;          ///< see PassageOptions::noise_band
+  /// See PassageOptions::noise_band; false when the residual is structured.
+  bool within = false;
 };
 
 /// One passage's outcome; `failure` set (and no channels) when it could not be processed.

@@ -4,6 +4,7 @@
 /// k·v/d. Two estimators: the spectral comb, and the spacing of axle-passage peaks.
 
 #include <functional>
+#include <limits>
 
 #include "viaduct/core/types.hpp"
 #include "viaduct/load/train.hpp"
@@ -18,19 +19,42 @@ struct SpeedEstimate {
                              ///< harmonic used; peaks: standard error of the mean spacing
   double frequency_hz = 0.0; ///< spectral: the identified fundamental v/d
   int n_used = 0;            ///< harmonics (spectral) or peak intervals (peaks) used
+  /// How far the train stands above the record's noise: spectral, the geometric mean over the
+  /// harmonics of each line's amplitude over the spectrum's median in its search band; peaks, the
+  /// largest peak's prominence over the noise RMS (of the first differences, robust). Below
+  /// kMinSpectralDetection / kMinPeakDetection no train is found (InputError).
+  double detection = 0.0;
 };
+
+/// A train's lines stand this many times above the spectrum's median: white or low-passed noise
+/// reached 2.6 and 3.8 at its best speed (200 records of 10 s to 2 min), a regular train's
+/// passage 9.8 (tests/unit/study/test_speed.cpp).
+constexpr double kMinSpectralDetection = 5.0;
+/// Axle peaks stand this many noise RMS (from the first differences) out of the record: white
+/// noise reached 8.8, a train's deflection 75. Smooth noise fools the differences; the intervals'
+/// regularity (most within 15 % of their median) catches it.
+constexpr double kMinPeakDetection = 10.0;
+/// The axle peaks' median prominence stands this many times above every smaller peak's.
+constexpr double kMinPeakSeparation = 4.0;
+/// A record whose best match to the train's signature correlates less is no passage of it.
+constexpr double kMinSignatureCorrelation = 0.5;
 
 /// Spectral comb: maximises Σ_k log A(k·v/d), k = 1..n_harmonics, over v in [v_min, v_max] on the
 /// Hann amplitude spectrum A of x (interpolated between bins), refined by a parabola.
-/// d [m] > 0, 0 < v_min < v_max, fs_hz > 0. InputError if the harmonics leave the spectrum.
+/// d [m] > 0, 0 < v_min < v_max, fs_hz > 0. InputError if the harmonics leave the spectrum, and
+/// "no train found" when the channel is constant or the lines do not stand kMinSpectralDetection
+/// times above the spectrum's median (never a speed out of noise).
 SpeedEstimate speed_from_spectrum(const Vector& x, double fs_hz, double d, double v_min, double v_max,
                                   int n_harmonics = 4);
 
 /// Axle passages: the median interval between consecutive peaks of x (e.g. a deflection or
 /// strain under the rails) at least `min_interval_s` apart and with at least 10 % of the
 /// largest prominence, v = d / interval, using only intervals within 15 % of the median.
-/// Needs at least 3 peaks.
-SpeedEstimate speed_from_peaks(const Vector& x, double fs_hz, double d, double min_interval_s);
+/// Needs at least 3 peaks. InputError "no train found" when the largest peak stands less than
+/// kMinPeakDetection noise RMS out, and when the speed lies outside [v_min, v_max] (the range
+/// searched: 0 and +infinity for none).
+SpeedEstimate speed_from_peaks(const Vector& x, double fs_hz, double d, double min_interval_s, double v_min = 0.0,
+                               double v_max = std::numeric_limits<double>::infinity());
 
 /// The speed and timing of a passage from the shape of its signal: the record against the
 /// signal expected at each trial speed (for a train on a bridge model, the station's simulated
@@ -72,7 +96,8 @@ FilterSpec signature_filter(const FilterSpec& scenario_filter, ResponseKind kind
 /// A record channel at a model's station matched to a train's signature: match_signature with
 /// the station's simulated response (`settings`, run unfiltered) as the template, record and
 /// template filtered with signature_filter(), alignment searched over the record's duration + 60 s. `m` holds the station (with load effects for a strain). What
-/// `viaduct speed --model` and `viaduct passages` identify speeds with.
+/// `viaduct speed --model` and `viaduct passages` identify speeds with. InputError "no train
+/// found" when the best match correlates below kMinSignatureCorrelation.
 SignatureMatch match_train_signature(const PreparedModel& m, const RunSettings& settings, const load::Train& train, std::size_t station,
                                      ResponseKind kind, const Vector& record, double fs_hz, double t0_s, const FilterSpec& scenario_filter,
                                      double v_min, double v_max, double grid_step = 0.01);

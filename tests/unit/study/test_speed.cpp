@@ -47,7 +47,31 @@ TEST_CASE("a simulated train's speed is recovered within 0.5 % (spectral lines a
   REQUIRE(pk.n_used >= 10);
   REQUIRE_THROWS_WITH(speed_from_spectrum(r.stations[0].acc, 500.0, d, 20.0, 900.0, 4), Catch::Contains("Nyquist"));
   REQUIRE_THROWS_AS(speed_from_spectrum(r.stations[0].acc, 500.0, 0.0, 20.0, 80.0), InputError);
-  REQUIRE_THROWS_WITH(speed_from_peaks(Vector::Zero(100), 500.0, d, 0.2), Catch::Contains("fewer than 3 peaks"));
+  REQUIRE_THROWS_WITH(speed_from_peaks(Vector::Zero(100), 500.0, d, 0.2), Catch::Contains("no train found"));
+  // Never a speed outside the range searched (issue #36: 36 190 km/h from a 100-200 km/h search).
+  REQUIRE_THROWS_WITH(speed_from_peaks(r2.stations[0].disp, 500.0, d, 0.2, 100 / 3.6, 140 / 3.6),
+                      Catch::Contains("no train found between 100 and 140 km/h") && Catch::Contains("gives 154."));
+  CHECK(speed_from_peaks(r2.stations[0].disp, 500.0, d, 0.2, 100 / 3.6, 200 / 3.6).speed == Approx(pk.speed));
+  CHECK(sp.detection > 1.5 * kMinSpectralDetection);  // a train's lines stand out (measured 9.8; noise at most 3.8)
+  CHECK(pk.detection > 5 * kMinPeakDetection);        // measured 75 (white noise at most 8.8)
+}
+
+TEST_CASE("no train found: a constant channel, a zero one, noise without a train (issue #36)") {
+  const double fs = 500.0, d = 13.14;
+  std::mt19937 rng(36);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  Vector noise(30 * 500);
+  for (Index i = 0; i < noise.size(); ++i) noise[i] = 1e-3 * gauss(rng);
+  for (const Vector& x : {Vector(Vector::Zero(5000)), Vector(Vector::Constant(5000, 3.0)), noise}) {
+    REQUIRE_THROWS_WITH(speed_from_spectrum(x, fs, d, 100 / 3.6, 200 / 3.6, 4), Catch::Contains("no train found"));
+    REQUIRE_THROWS_WITH(speed_from_peaks(x, fs, d, 0.2, 100 / 3.6, 200 / 3.6), Catch::Contains("no train found"));
+  }
+  // Low-passed noise (smooth, so its peaks look like axles to a naive search) stays "no train".
+  signal::Cheby1Spec lp;
+  lp.band = signal::BandType::lowpass;
+  lp.high_hz = 10.0;
+  const Vector smooth = signal::sosfiltfilt(signal::cheby1(lp, fs), noise);
+  REQUIRE_THROWS_WITH(speed_from_spectrum(smooth, fs, d, 100 / 3.6, 200 / 3.6, 4), Catch::Contains("no train found"));
 }
 
 TEST_CASE("delay between two sensors: the lag of a noisy copy within its standard error") {
