@@ -132,6 +132,10 @@ py::tuple sweep(const viaduct::io::FlatScenario& flat, int threads, bool load_ef
     total = n;
   };
   const study::SweepResult r = interruptible([&] { return study::run_sweep(variants, so); }, progress, done, total, cancel);
+  if (r.summary.cancelled) {  // cut without a Ctrl-C reaching this thread: still never a partial table
+    PyErr_SetString(PyExc_KeyboardInterrupt, "the sweep was cancelled: its cases are incomplete");
+    throw py::error_already_set();
+  }
   py::dict tables;
   tables["envelope"] = columns_dict(viaduct::io::envelope_columns(r.rows, variants));
   if (load_effects) tables["load_effects"] = columns_dict(viaduct::io::quantity_columns(r.quantities, variants));
@@ -249,6 +253,8 @@ void bind(py::module_& m) {
         const signal::Cheby1Spec spec = cheby_of(low_hz, high_hz, order, ripple_db, band);
         py::array_t<double, py::array::c_style | py::array::forcecast> keep;
         const Eigen::Map<const Vector> in = view(x, keep, "filter");
+        if (!in.allFinite())  // as every other function: never NaN out for NaN in
+          throw InputError("filter: x holds non-finite samples (NaN or infinity); fill or cut them first");
         const signal::Sos sos = signal::cheby1(spec, fs_hz);
         Vector y;
         {

@@ -54,28 +54,32 @@ py::array_t<typename M::Scalar> matrix_to_numpy(M&& m) {
 // by numpy first, and `keep` holds the converted one).
 inline Eigen::Map<const Vector> view(const py::handle& x, ContiguousArray& keep,
                               const char* what) {
+  // numpy would cast a complex array to its real part, silently (issue #36): refused.
+  const py::array given = py::array::ensure(x);
+  if (given && given.dtype().kind() == 'c')
+    throw InputError(std::string(what) + ": a complex array; pass its real part, magnitude or phase explicitly");
   keep = ContiguousArray::ensure(x);
   if (!keep) throw InputError(std::string(what) + ": expected an array of numbers");
   if (keep.ndim() != 1) throw InputError(std::string(what) + ": expected a 1-D array, got " + std::to_string(keep.ndim()) + " dimensions");
   return Eigen::Map<const Vector>(keep.data(), keep.shape(0));
 }
 
-// Runs `f` on a worker thread; the calling thread reports progress(done, total) and turns Ctrl-C
-// into `cancel` and the process-wide cancellation request (viaduct/core/cancel.hpp), then into
-// KeyboardInterrupt once `f` has stopped.
+// Runs `f` on a worker thread with `cancel` as its cancellation flag (viaduct/core/cancel.hpp:
+// this call's computations and no other's); the calling thread reports progress(done, total) and
+// turns Ctrl-C, or an exception out of the progress callback (KeyboardInterrupt raised in it
+// included), into `cancel`, then rethrows it once `f` has stopped: a cut call always raises.
 template <class F>
 auto interruptible(F f, const py::object& progress, const std::atomic<std::size_t>& done, const std::atomic<std::size_t>& total,
                    std::atomic<bool>& cancel) -> decltype(f()) {
-  auto result = std::async(std::launch::async, std::move(f));
+  auto result = std::async(std::launch::async, [f = std::move(f), &cancel]() mutable {
+    const viaduct::CancelScope scope(&cancel);
+    return f();
+  });
   std::size_t shown = 0;
   auto finish = [&] {
-    cancel = true;                  // a sweep skips the cases not started
-    viaduct::request_cancel(true);  // the running time-stepping loops stop
-    {
-      py::gil_scoped_release nogil;
-      result.wait();
-    }
-    viaduct::request_cancel(false);
+    cancel = true;  // the running time-stepping loops stop, a sweep skips the cases not started
+    py::gil_scoped_release nogil;
+    result.wait();
   };
   for (;;) {
     bool ready = false;

@@ -192,6 +192,55 @@ def test_ctrl_c_stops_a_sweep_and_the_gil_is_free(src):
 
 # Records and signals -----------------------------------------------------------------------------
 
+def test_ctrl_c_in_a_progress_callback_and_cancellation_per_call(src):
+    # A SIGINT while the progress callback runs raises KeyboardInterrupt; so does an exception out
+    # of the callback. The cancellation is the call's: a sweep on another thread at the same time
+    # runs to its end (issue #36: the request was process-wide and cut another thread's sweep).
+    path = os.path.join(src, "scenarios/hslm-simply-supported.toml")
+    sc = viaduct.load_scenario(path, set={"sweep.speed_step_kmh": 10.0})
+
+    def interrupt(done, total):
+        if done >= 2:
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(0.2)
+
+    with pytest.raises(KeyboardInterrupt):
+        viaduct.sweep(sc, threads=1, progress=interrupt)
+
+    results = {}
+
+    def other():
+        results["other"] = viaduct.sweep(sc, threads=1)
+
+    def stopped(done, total):
+        raise KeyboardInterrupt
+
+    t = threading.Thread(target=other)
+    t.start()
+    with pytest.raises(KeyboardInterrupt):
+        viaduct.sweep(sc, threads=1, progress=stopped)
+    t.join()
+    full = viaduct.sweep(sc, threads=1)
+    assert len(results["other"]) == len(full)
+    failures = results["other"].attrs["failures"]
+    assert (len(failures) if hasattr(failures, "columns") else len(failures["variant"])) == 0
+
+
+def test_input_checks_of_the_signal_functions():
+    # Non-finite samples, complex arrays and a one-sample spectrum are input errors (issue #36).
+    x = np.sin(np.linspace(0, 20, 400))
+    bad = x.copy()
+    bad[17] = np.nan
+    with pytest.raises(viaduct.InputError, match="non-finite"):
+        viaduct.filter(bad, 100.0, 1.0, 20.0)
+    with pytest.raises(viaduct.InputError, match="complex"):
+        viaduct.filter(x + 1j * x, 100.0, 1.0, 20.0)
+    with pytest.raises(viaduct.InputError, match="complex"):
+        viaduct.spectrum(x.astype(complex), 100.0)
+    with pytest.raises(viaduct.InputError, match="at least 2 samples"):
+        viaduct.spectrum(np.array([1.0]), 100.0)
+
+
 def test_read_record_every_format(src):
     csv_rec = viaduct.read_record(src / "data/records/synthetic-deck.csv")
     ref = read_csv(src / "data/records/synthetic-deck.csv")

@@ -1,14 +1,15 @@
 #include "viaduct/core/cancel.hpp"
 
-#include <atomic>
-
 namespace viaduct {
 
 namespace {
-std::atomic<bool> g_cancel{false};
+thread_local const std::atomic<bool>* t_flag = nullptr;
 }
 
-void request_cancel(bool on) noexcept { g_cancel.store(on, std::memory_order_relaxed); }
-bool cancel_requested() noexcept { return g_cancel.load(std::memory_order_relaxed); }
+CancelScope::CancelScope(const std::atomic<bool>* flag) noexcept : previous_(t_flag) { t_flag = flag; }
+CancelScope::~CancelScope() { t_flag = previous_; }
+
+const std::atomic<bool>* cancel_flag() noexcept { return t_flag; }
+bool cancel_requested() noexcept { return t_flag && t_flag->load(std::memory_order_relaxed); }
 
 }  // namespace viaduct

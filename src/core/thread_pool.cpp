@@ -5,6 +5,7 @@
 #include <thread>
 #include <vector>
 
+#include "viaduct/core/cancel.hpp"
 #include "viaduct/core/error.hpp"
 
 namespace viaduct {
@@ -17,7 +18,9 @@ void parallel_for(std::size_t n, int n_threads,
     return;
   }
   std::atomic<std::size_t> next{0};
+  const std::atomic<bool>* flag = cancel_flag();  // the caller's cancellation, for every worker
   auto work = [&](int worker) {
+    const CancelScope scope(flag);
     for (std::size_t i = next++; i < n; i = next++) body(i, worker);
   };
   std::vector<std::thread> threads;

@@ -302,6 +302,7 @@ class Sweep {
           const double speed = speeds(v, t)[s];
           if (!o.done) {
             out.failures.push_back({vname, tname, speed, o.error, o.input_error});
+            out.summary.cancelled = out.summary.cancelled || o.error == "cancelled";
             continue;
           }
           out.summary.n_steps_total += o.n_steps;

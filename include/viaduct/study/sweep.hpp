@@ -52,6 +52,9 @@ struct SweepSummary {
   Index n_steps_total = 0;       ///< time steps over all completed cases
   std::vector<Index> n_dofs;     ///< per variant
   std::vector<Index> n_modes;    ///< per variant: modes of the modal method (0 otherwise)
+  /// The sweep was cut by its cancellation (SweepOptions::cancel, or the caller's CancelScope):
+  /// its results are incomplete, and whoever asked for it must say so (the Python package raises).
+  bool cancelled = false;
 };
 
 struct SweepResult {

@@ -1,4 +1,5 @@
 #include <catch2/catch.hpp>
+#include <thread>
 #include <atomic>
 #include <cmath>
 
@@ -208,9 +209,41 @@ TEST_CASE("a cancellation request stops the time stepping of every method") {
     Scenario sc = small_sweep_scenario();
     sc.settings.method = m;
     const PreparedModel pm = prepare_model(sc);
-    request_cancel(true);
-    CHECK_THROWS_AS(simulate(pm, sc.trains[0], 30.0, sc.settings), Cancelled);
-    request_cancel(false);
-    CHECK(simulate(pm, sc.trains[0], 30.0, sc.settings).t.size() > 0);  // cleared: runs again
+    std::atomic<bool> flag{true};
+    {
+      const CancelScope scope(&flag);
+      CHECK_THROWS_AS(simulate(pm, sc.trains[0], 30.0, sc.settings), Cancelled);
+      flag = false;
+      CHECK(simulate(pm, sc.trains[0], 30.0, sc.settings).t.size() > 0);  // cleared: runs again
+      flag = true;
+    }
+    CHECK(simulate(pm, sc.trains[0], 30.0, sc.settings).t.size() > 0);  // out of the scope: not this thread's
   }
+}
+
+TEST_CASE("a cancellation is one call's: another thread's sweep runs to its end (issue #36)") {
+  const std::vector<Variant> v = {{"reference", small_sweep_scenario()}};
+  // Thread A's flag is set before it runs: its cases stop. Thread B, running at the same time
+  // without it, completes every case (before #36 the request was process-wide: B lost cases).
+  std::atomic<bool> a_flag{true};
+  SweepResult a, b;
+  std::thread ta([&] {
+    const CancelScope scope(&a_flag);
+    SweepOptions o;
+    o.threads = 2;  // the flag reaches the pool's workers
+    o.cancel = &a_flag;
+    a = run_sweep(v, o);
+  });
+  std::thread tb([&] {
+    SweepOptions o;
+    o.threads = 2;
+    b = run_sweep(v, o);
+  });
+  ta.join();
+  tb.join();
+  CHECK(a.failures.size() == 8);
+  CHECK(a.summary.cancelled);
+  CHECK(b.failures.empty());
+  CHECK(b.summary.n_cases == 8);
+  CHECK_FALSE(b.summary.cancelled);
 }
