@@ -159,6 +159,7 @@ def main():
     ap.add_argument("dir")
     ap.add_argument("--dpi", type=int, default=110)
     a = ap.parse_args()
+    plotlib.check_outputs(a.dir, "plot_assess")
     env, phi = os.path.join(a.dir, "envelope.csv"), os.path.join(a.dir, "phi_dyn.csv")
     for p in (env, phi):
         plotlib.need(p, "plot_assess", "assess")

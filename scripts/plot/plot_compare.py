@@ -41,6 +41,7 @@ def main():
     ap.add_argument("--out")
     ap.add_argument("--fmax", type=float, default=0.0, help="upper frequency of the spectra [Hz] (default: 1.5 x highest peak)")
     a = ap.parse_args()
+    plotlib.check_outputs(a.dir, "plot_compare")
     th, td = table(os.path.join(a.dir, "compare_time.csv"))
     fh, fd = table(os.path.join(a.dir, "compare_spectrum.csv"))
     with open(os.path.join(a.dir, "compare_metrics.csv"), newline="") as f:

@@ -32,6 +32,7 @@ def main():
     ap.add_argument("dir")
     ap.add_argument("--out")
     a = ap.parse_args()
+    plotlib.check_outputs(a.dir, "plot_decay")
     pts = rows_of(os.path.join(a.dir, "decay_amplitude.csv"))
     recs = rows_of(os.path.join(a.dir, "decay.csv"))
     if not pts:

@@ -88,6 +88,7 @@ def main():
     ap.add_argument("--out", help="output PNG (default DIR/envelope.png)")
     ap.add_argument("--dpi", type=int, default=110, help="resolution of the PNG")
     a = ap.parse_args()
+    plotlib.check_outputs(a.dir, "plot_envelope")
     env = os.path.join(a.dir, "envelope.csv")
     plotlib.need(env, "plot_envelope", "sweep")
     rows = read(env)

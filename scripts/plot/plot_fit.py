@@ -114,6 +114,7 @@ def main():
     ap.add_argument("dir")
     ap.add_argument("--out-prefix", help="path prefix of the PNGs (default: DIR/)")
     a = ap.parse_args()
+    plotlib.check_outputs(a.dir, "plot_fit")
     out = a.out_prefix if a.out_prefix else os.path.join(a.dir, "")
     for p in (plot_time(a.dir, out), plot_trace(a.dir, out)):
         if p:

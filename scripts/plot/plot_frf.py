@@ -45,6 +45,9 @@ def main():
     ap.add_argument("--label", action="append", default=[])
     ap.add_argument("--out")
     a = ap.parse_args()
+    for path in a.files:  # FRF tables from viaduct's runs (a hand-made table in a directory without one too)
+        if os.path.exists(os.path.join(os.path.dirname(path) or ".", "manifest.toml")):
+            plotlib.check_outputs(path, "plot_frf")
     data = [read(p) for p in a.files]
     labels = a.label + [os.path.basename(os.path.dirname(os.path.abspath(p))) for p in a.files[len(a.label):]]
     has_coh = any(c is not None for _, d in data for (_, _, _, c) in d.values())

@@ -25,6 +25,7 @@ def main():
     ap.add_argument("--out", help="output PNG (default DIR/history.png)")
     ap.add_argument("--raw", action="store_true", help="also draw the unfiltered acceleration")
     a = ap.parse_args()
+    plotlib.check_outputs(a.dir, "plot_history")
     path = os.path.join(a.dir, "history.csv")
     if not os.path.exists(path):
         sys.exit("plot_history: %s not found (run viaduct run first)" % path)

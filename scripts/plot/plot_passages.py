@@ -34,6 +34,7 @@ def main():
     ap.add_argument("dir")
     ap.add_argument("--out", help="output PNG (default DIR/passages.png)")
     a = ap.parse_args()
+    plotlib.check_outputs(a.dir, "plot_passages")
     passages = rows(os.path.join(a.dir, "passages.csv"))
     curves = rows(os.path.join(a.dir, "model_envelope.csv"))
     if not passages:

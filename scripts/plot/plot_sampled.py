@@ -162,6 +162,7 @@ def main():
     ap.add_argument("--limit", type=float, default=None, help="acceleration limit [m/s²] (default: the study's)")
     ap.add_argument("--dpi", type=int, default=110)
     a = ap.parse_args()
+    plotlib.check_outputs(a.dir, "plot_sampled")
     path = os.path.join(a.dir, "percentiles.csv")
     plotlib.need(path, TOOL, "sweep on a sampled study")
     rows = read(path)

@@ -46,6 +46,7 @@ def main():
     ap.add_argument("--f-max", type=float, default=0.0, help="highest frequency drawn [Hz] (default: all)")
     ap.add_argument("--out")
     a = ap.parse_args()
+    plotlib.check_outputs(a.dir, "plot_spectrum")
     path = os.path.join(a.dir, "spectrum.csv")
     plotlib.need(path, "plot_spectrum", "spectrum")
     with open(path, newline="") as f:

@@ -35,6 +35,7 @@ def main():
     ap.add_argument("--frf")
     ap.add_argument("--out")
     a = ap.parse_args()
+    plotlib.check_outputs(a.dir, "plot_stabilization")
     poles = rows_of(os.path.join(a.dir, "stabilization.csv"))
     modes = [m for m in rows_of(os.path.join(a.dir, "modes.csv")) if m["method"] == "lscf"]
     fig, ax = plt.subplots(figsize=(9, 5))

@@ -26,6 +26,7 @@ def main():
     ap.add_argument("dir")
     ap.add_argument("--out")
     a = ap.parse_args()
+    plotlib.check_outputs(a.dir, "plot_tradeoff")
     path = os.path.join(a.dir, "tradeoff.csv")
     if not os.path.exists(path):
         sys.exit(f"plot_tradeoff.py: {path} not found (run viaduct tradeoff first)")

@@ -26,6 +26,7 @@ def main():
     ap.add_argument("dir")
     ap.add_argument("--out", help="output PNG (default DIR/vehicles.png)")
     a = ap.parse_args()
+    plotlib.check_outputs(a.dir, "plot_vehicles")
     path = os.path.join(a.dir, "vehicles.csv")
     if not os.path.exists(path):
         sys.exit("plot_vehicles: %s not found (viaduct run with train.vehicle = sprung or multibody writes it)" % path)

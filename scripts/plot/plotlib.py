@@ -78,6 +78,34 @@ def save(fig, path, tool, dpi=110):
     print("wrote", path)
 
 
+def check_outputs(directory, tool):
+    """Exits unless `directory` holds one finished run: its manifest.toml, and every file its
+    [[outputs]] list with the SHA-256 written there (viaduct writes the manifest last; a run
+    killed before leaves none, and files of another run do not match it)."""
+    import hashlib
+    if os.path.isfile(directory):  # a script given one of the directory's files
+        directory = os.path.dirname(directory) or "."
+    if not os.path.isdir(directory):
+        sys.exit("%s: %s not found" % (tool, directory))
+    # viaduct itself may call a script while it is still writing the directory (its manifest last).
+    if os.environ.get("VIADUCT_WRITING") == os.path.abspath(directory):
+        return
+    path = os.path.join(directory, "manifest.toml")
+    if not os.path.exists(path):
+        sys.exit("%s: %s has no manifest.toml: the run that wrote it did not finish; its files are not a "
+                 "result (run the command again)" % (tool, directory))
+    for out in manifest(directory).get("outputs", []):
+        name = out.get("file", "")
+        target = os.path.join(directory, name)
+        if not os.path.exists(target):
+            sys.exit("%s: %s, which %s lists, is missing" % (tool, target, path))
+        with open(target, "rb") as f:
+            if hashlib.sha256(f.read()).hexdigest() != out.get("sha256"):
+                sys.exit("%s: %s changed since the run that wrote %s: the directory holds files of two runs"
+                         % (tool, target, path))
+
+
 def need(path, tool, command):
     if not os.path.exists(path):
         sys.exit("%s: %s not found (run viaduct %s first)" % (tool, path, command))
+    check_outputs(os.path.dirname(path) or ".", tool)  # the files of one finished run

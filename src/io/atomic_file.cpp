@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "viaduct/core/error.hpp"
+#include "viaduct/io/output_dir.hpp"
 
 namespace viaduct::io::detail {
 
@@ -44,6 +45,7 @@ void AtomicFile::commit() {
     throw SolverError("cannot replace " + path_ + ": " + std::strerror(e));
   }
   committed_ = true;
+  note_output(path_);  // listed in the manifest of its output directory (output_dir.hpp)
 }
 
 void write_text_atomically(const std::string& path, const std::string& text) {

@@ -1,4 +1,5 @@
 #include "viaduct/io/results.hpp"
+#include "viaduct/io/output_dir.hpp"
 
 #include <cctype>
 #include <chrono>
@@ -464,6 +465,19 @@ void write_manifest(const std::string& path, const Manifest& m, const FlatScenar
       }
     }
     out << "\n[[inputs]]\nfile = " << q(f) << "\nsha256 = " << q(sum) << "\n";
+  }
+  // The files this run wrote beside the manifest, with their checksums (output_dir.hpp): the
+  // manifest is written last, so a directory whose files do not match it holds two runs.
+  const std::filesystem::path mdir = std::filesystem::path(path).has_parent_path() ? std::filesystem::path(path).parent_path() : ".";
+  for (const auto& f : outputs_written(mdir.string())) {
+    if (std::filesystem::path(f).filename() == std::filesystem::path(path).filename()) continue;
+    std::string sum;
+    try {
+      sum = sha256_file(f);
+    } catch (const InputError&) {
+      continue;  // removed since (a later file of the same run replaced it)
+    }
+    out << "\n[[outputs]]\nfile = " << q(std::filesystem::path(f).filename().string()) << "\nsha256 = " << q(sum) << "\n";
   }
   if (flat) out << "\n[scenario]\n" << resolved_toml(*flat);
   detail::write_text_atomically(path, out.str());

@@ -85,8 +85,13 @@ expect 2 "sampled-3-1 is a shard of a sampled study, $WORK/variants-3-2 of a swe
 # A damaged shard.toml is an input error naming it, not a crash.
 cp -r "$WORK/hslm-2-1" "$WORK/damaged" && echo "garbage = = " >> "$WORK/damaged/shard.toml"
 expect 2 "damaged/shard.toml" -- "$VIADUCT" merge "$WORK/damaged" "$WORK/hslm-2-2" --out "$WORK/bad"
+# A shard.toml edited by hand after its run: its manifest's checksum tells (#36; the keys' own
+# checks are in tests/unit/io/test_sweep_shard.cpp).
 sed -i 's/^station = /statio = /' "$WORK/hslm-2-2/shard.toml"
-expect 2 "key 'governing.station': missing or of the wrong type" -- "$VIADUCT" merge "$WORK/hslm-2-1" "$WORK/hslm-2-2" --out "$WORK/bad"
+expect 2 "hslm-2-2: shard.toml changed since the run that wrote the manifest" -- "$VIADUCT" merge "$WORK/hslm-2-1" "$WORK/hslm-2-2" --out "$WORK/bad"
+# A shard whose run did not finish (no manifest) is no shard.
+cp -r "$WORK/hslm-2-1" "$WORK/unfinished" && rm "$WORK/unfinished/manifest.toml"
+expect 2 "unfinished: no manifest.toml: the run that wrote this directory did not finish" -- "$VIADUCT" merge "$WORK/unfinished" "$WORK/hslm-2-2" --out "$WORK/bad"
 expect 2 "has no shard.toml" -- "$VIADUCT" merge "$WORK/hslm-one" --out "$WORK/bad"
 expect 2 "expected K/N with 1 <= K <= N, got '3/2'" -- "$VIADUCT" sweep "${HSLM[@]}" --shard 3/2 --out "$WORK/bad"
 expect 2 "--resume applies to sampled studies" -- "$VIADUCT" sweep "${HSLM[@]}" --resume --out "$WORK/bad"

@@ -1,4 +1,5 @@
 #include "cli.hpp"
+#include "viaduct/io/output_dir.hpp"
 
 #include <unistd.h>
 
@@ -215,11 +216,7 @@ io::FlatScenario load_scenario(const Common& o) {
   return io::load_flat(o.scenario, o.set, o.unset);
 }
 
-void make_out_dir(const std::string& dir) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw SolverError("cannot create output directory " + dir + ": " + ec.message());
-}
+void make_out_dir(const std::string& dir) { io::begin_outputs(dir); }
 
 ProgressSink progress_printer(const std::string& what, bool quiet, const std::string& unit) {
   if (quiet) return {};

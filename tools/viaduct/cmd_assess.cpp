@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <cstdlib>
 #include <fstream>
 #include <limits>
@@ -724,7 +725,11 @@ bool make_figures(const std::string& out, bool quiet) {
       break;
     }
   if (script.empty() || out.find('\'') != std::string::npos) return false;
-  const std::string cmd = "/usr/bin/python3 '" + script + "' '" + out + "'" + (quiet ? " >/dev/null 2>&1" : " >/dev/null");
+  // The directory is still being written (its manifest comes last): the script need not check it.
+  std::error_code ec;
+  const std::string abs = std::filesystem::absolute(out, ec).lexically_normal().string();
+  const std::string cmd = "VIADUCT_WRITING='" + (abs.size() > 1 && abs.back() == '/' ? abs.substr(0, abs.size() - 1) : abs) +
+                          "' /usr/bin/python3 '" + script + "' '" + out + "'" + (quiet ? " >/dev/null 2>&1" : " >/dev/null");
   return std::system(cmd.c_str()) == 0;
 }
 

@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "cli.hpp"
+#include "viaduct/io/output_dir.hpp"
 #include "viaduct/io/sampled.hpp"
 #include "viaduct/io/sweep_shard.hpp"
 #include "viaduct/study/guards.hpp"
@@ -164,6 +165,8 @@ int run_merge(const Common& o, const MergeOpts&) {
       throw InputError(SourceLocation{d + "/shard.toml", 1, "shard.kind"},
                        d + " is a shard of a " + (kind == "sweep" ? "sampled study" : "sweep") + ", " + dirs.front() + " of a " +
                            (kind == "sweep" ? "sweep" : "sampled study") + ": merge the shards of one study");
+  // Each shard's run finished and its files are the ones it wrote (its manifest's [[outputs]]).
+  for (const auto& d : dirs) io::check_output_dir(d);
   if (kind == "sweep") return merge_sweep(o, dirs, t0);
   const io::StatisticsSpec spec = io::merge_shards(dirs, o.out);
   std::vector<std::string> inputs;

@@ -113,6 +113,15 @@ TEST_CASE("sweep shards: shard.toml reads back to the last bit and the merged go
   io::write_sweep_shard_toml(foreign);
   REQUIRE_THROWS_WITH(io::merge_sweep_shards({s1.dir, s2.dir, s3.dir}, out), Catch::Contains("is of another study than"));
   REQUIRE_THROWS_WITH(io::merge_sweep_shards({s1.dir, s3.dir}, out), Catch::Contains("shard 2/3 is missing"));
+  // A governing case without its station (a hand's edit) is an input error naming the key.
+  {
+    std::string text = read(s3.dir + "/shard.toml");
+    const auto at = text.find("\nstation = ");
+    REQUIRE(at != std::string::npos);
+    text.replace(at, 11, "\nstatio = ");
+    std::ofstream(s3.dir + "/shard.toml") << text;
+  }
+  REQUIRE_THROWS_WITH(io::read_sweep_shard_toml(s3.dir), Catch::Contains("key 'governing.station': missing or of the wrong type"));
 }
 
 }  // namespace sweep_shard_test
