@@ -187,6 +187,9 @@ void check_constraint(const KeySpec& spec, const Value& v) {
       if (opt == v.s) return;
     bad(v.where, "must be one of " + c + ", got '" + v.s + "'");
   }
+  // Integer keys are counts and indices held in an int: beyond its range a value would wrap.
+  if (spec.type == ValueType::integer && !(std::abs(v.x) <= 2147483647.0))
+    bad(v.where, "must be an integer within +-2147483647, got " + (std::abs(v.x) >= 9.2e18 ? std::string("a value beyond 64 bits") : num(v.x)));
   std::vector<double> xs = v.xs;
   if (v.type == ValueType::number || v.type == ValueType::integer) xs = {v.x};
   for (double x : xs) {
@@ -300,6 +303,10 @@ FlatScenario load_flat(const std::string& path, const std::vector<std::string>& 
     flatten(root.root, "", path, root, fsn.values);
   }
   for (const auto& o : overrides) {
+    // One key=value per override: a line break would smuggle a second one in (or drop it).
+    if (o.find_first_of("\n\r") != std::string::npos)
+      throw InputError(SourceLocation{"--set", 0, o.substr(0, o.find_first_of("=\n\r"))},
+                       "holds a line break: give one key=value per --set");
     const auto eq = o.find('=');
     if (eq == std::string::npos || eq == 0)
       throw InputError(SourceLocation{"--set", 0, o}, "expected key=value");

@@ -107,6 +107,8 @@ bool WelchOptions::is_valid(Index n_samples, std::string* why) const {
 
 AmplitudeSpectrum amplitude_spectrum(const Vector& x, double fs_hz, Window w) {
   check_record(x, fs_hz, "amplitude spectrum");
+  // One sample has no spectrum (and a one-point Hann window sums to 0: NaN amplitudes).
+  if (x.size() < 2) throw InputError("amplitude spectrum: at least 2 samples are needed, got " + std::to_string(x.size()));
   const Vector win = make_window(w, x.size());
   const ComplexVector X = rfft(x.cwiseProduct(win));
   AmplitudeSpectrum a;

@@ -41,7 +41,8 @@ void require_coverage(const Vector& record, double fs_record, double t0_record, 
   const double a = static_cast<double>(j0) / fs_model * fs_record + lag, b = static_cast<double>(j1) / fs_model * fs_record + lag;
   const auto n = static_cast<double>(record.size());
   auto at = [&](double i) { return cmp_num(t0_record + i / fs_record); };
-  if (a < -0.5 || b > n - 0.5)
+  // (two samples of slack: a record cut at the response's last sample, resampled, may end a sample short)
+  if (a < -2.0 || b > n + 1.0)
     throw InputError("the record covers t = " + at(0) + " to " + at(n - 1) + " s, but the passage's response (the model above 5 % "
                      "of its peak, aligned) runs from t = " + at(a) + " to " + at(b) +
                      " s: the record lost part of the passage, and a comparison over what is left would be wrong");
@@ -135,11 +136,16 @@ ChannelComparison compare_channel(const Vector& record, double fs_record, double
     mod = signal::sosfiltfilt(signal::cheby1(o.filter.cheby, fs_model), model);
   }
   // 2. model onto the record's rate, then 3. align by cross-correlation
-  const auto n_m = static_cast<Index>(std::floor(static_cast<double>(model.size() - 1) / fs_model * fs_record)) + 1;
+  const double n_resampled = std::floor(static_cast<double>(model.size() - 1) / fs_model * fs_record) + 1;
+  if (!(n_resampled <= 5e7))  // 400 MB of samples, and as many again for the alignment: a wrong rate
+    throw InputError("comparison: the model's " + cmp_num(static_cast<double>(model.size() - 1) / fs_model) +
+                     " s at the record's rate, " + cmp_num(fs_record) + " Hz, would be " + cmp_num(n_resampled) +
+                     " samples: check the record's sampling rate");
+  const auto n_m = static_cast<Index>(n_resampled);
   Vector mod_r(n_m);
   for (Index j = 0; j < n_m; ++j) mod_r[j] = detail::sample_at(mod, fs_model, static_cast<double>(j) / fs_record);
   const auto max_lag = static_cast<Index>(std::ceil(o.max_shift_s * fs_record));
-  const double lag = signal::best_lag(mod_r, rec, max_lag);
+  const double lag = std::isfinite(o.shift_s) ? (o.shift_s - t0_record) * fs_record : signal::best_lag(mod_r, rec, max_lag);
   c.shift_s = t0_record + lag / fs_record;
   require_coverage(record, fs_record, t0_record, mod, fs_model, lag, o);
   // 4. aligned model on the record grid; overlap where the model exists

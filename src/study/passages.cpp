@@ -55,10 +55,11 @@ std::vector<double> model_peaks(const PreparedModel& m, const RunSettings& rs, c
 // The filtered record against the aligned model at the passage's speed: least-squares amplitude
 // over their overlap, then the residual's RMS and the correlation.
 void residual_of(const PassageChannel& ch, const Passage& p, const Vector& model, double fs_model, const FilterSpec& f,
-                 ChannelVerdict& v) {
+                 double shift_s, ChannelVerdict& v) {
   ComparisonOptions co;
   co.filter = f;
   co.max_shift_s = static_cast<double>(ch.x.size()) / p.fs_hz + static_cast<double>(model.size()) / fs_model;
+  co.shift_s = shift_s;  // the identification's, when there is one: an offset cannot pull the alignment
   const ChannelComparison cc = compare_channel(ch.x, p.fs_hz, p.t0_s, model, fs_model, co);
   Index i0 = 0, i1 = cc.model.size() - 1;
   while (i0 < i1 && cc.model[i0] == 0.0) ++i0;
@@ -94,6 +95,7 @@ PassageResult run_passage(const PreparedModel& m, const RunSettings& rs, const F
   res.train = train.name;
   const double fs_model = 1.0 / rs.dt;
   const PassageChannel& first = p.channels.front();
+  double shift_s = std::numeric_limits<double>::quiet_NaN();  // the model's t = 0 in record time, when identified
   if (p.speed > 0.0) {
     res.speed = p.speed;
   } else {
@@ -103,6 +105,7 @@ PassageResult run_passage(const PreparedModel& m, const RunSettings& rs, const F
     res.speed_se = sm.speed_se;
     res.identified = true;
     res.signature_correlation = sm.correlation;
+    shift_s = sm.shift_s;
   }
   std::vector<Need> needs;
   for (const auto& ch : p.channels) needs.push_back({ch.station, ch.kind});
@@ -128,7 +131,7 @@ PassageResult run_passage(const PreparedModel& m, const RunSettings& rs, const F
     v.predicted_low = lo[i];
     v.predicted_high = hi[i];
     v.ratio = pred[i] > 0 ? v.measured / pred[i] : std::numeric_limits<double>::quiet_NaN();
-    residual_of(ch, p, station_response(at_v, ch.station, ch.kind), fs_model, f, v);
+    residual_of(ch, p, station_response(at_v, ch.station, ch.kind), fs_model, f, shift_s, v);
     // A structured residual leaves the peak unjudged: not within (the flag says why).
     v.within = v.residual == "white" && v.measured >= lo[i] - o.noise_band * v.noise_rms &&
                v.measured <= hi[i] + o.noise_band * v.noise_rms;

@@ -2,6 +2,7 @@
 /// \file Simulated against measured: the same filter on both, time alignment, overlays and
 /// metrics (the Old Guadiana paper's comparison, REFERENCE.md §1).
 
+#include <limits>
 #include <string>
 
 #include "viaduct/core/types.hpp"
@@ -16,6 +17,9 @@ struct ComparisonOptions {
   /// [s] > 0: a record holding one value this long while the model's response moves is a stuck
   /// channel (InputError); the run must also be at least 16 samples long.
   double stuck_s = 0.05;
+  /// [s] When finite: the record time of the model's t = 0, known (e.g. from a speed
+  /// identification); no search. A record with an offset or a step biases the search.
+  double shift_s = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// One record channel against one model quantity, both in the same unit.
