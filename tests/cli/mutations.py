@@ -8,7 +8,10 @@ a line deleted, repeated or swapped, the file cut, bytes inserted, a byte-order 
 misspelt), and runs a command on it. Every run must:
   - exit 0, 1 or 2, within the time limit, with no sanitizer report, no uncaught exception;
   - on exit 2 (bad input), name the file or the option it blames and say "error";
-  - leave no output file holding a NaN or an infinity, and no temporary file.
+  - leave no output file holding a NaN or an infinity, and no temporary file;
+  - on exit 0, hold no finite but absurd number that no warning announced (the plausibility
+    oracle: deflections and load effects against the same train crawling, deck deflections against
+    L/100, accelerations against 100 g, contact forces against their static loads; issue #36).
 
   mutations.py VIADUCT SOURCE_DIR [--mutations N] [--seed S] [--timeout SECONDS] [--summary]
 
@@ -183,7 +186,7 @@ def check_unmutated(viaduct, tree):
         out = os.path.join(tree, "out-unmutated")
         args = [viaduct] + [out if a == "OUT" else a for a in command] + ["-q"]
         r = subprocess.run(args, cwd=tree, capture_output=True)
-        problems = outputs_problems(out)
+        problems = outputs_problems(out) + plausibility_problems(out, (r.stdout + r.stderr).decode(errors="replace"))
         shutil.rmtree(out, ignore_errors=True)
         if r.returncode != 0 or problems:
             raise SystemExit(f"the unmutated case fails (exit {r.returncode}): {' '.join(args)}\n"
@@ -209,6 +212,93 @@ def outputs_problems(out):
                 if bad:
                     problems.append(f"{name}:{line_no}: non-finite value {bad[0]!r}")
                     break
+    return problems
+
+
+# The plausibility oracle (issue #36): a run that exits 0 must not hold a finite but absurd number
+# unless it said so (a warning on stderr, or in the manifest). Bounds, from the run's own
+# independent quantities: a deflection or load effect of a passage against the same train
+# crawling (the quasi-static response, K⁻¹ f: another code path than the time stepping), an
+# acceleration against multiples of g, a wheel-rail force against its static load.
+MAX_PHI = 50.0           # |dynamic| / |quasi-static| - 1: resonance of an undamped span under a long train stays below
+MAX_ACC_MPS2 = 100 * 9.81
+MAX_CONTACT_RATIO = 50.0  # |contact force| / static axle load
+
+
+def read_table(path):
+    import csv
+    with open(path, newline="") as f:
+        rows = [r for r in csv.reader(f) if r and not r[0].startswith("#")]
+    return rows[0], rows[1:]
+
+
+def cell(x):
+    try:
+        return abs(float(x))
+    except ValueError:
+        return 0.0
+
+
+# What announces each class: a warning that names the implausible input or response (a unit to
+# check, a deflection beyond L/100), or, for contact forces, the wheels' loss of contact.
+STRUCTURE_WARNINGS = ("L/100", "check the unit")
+CONTACT_WARNINGS = ("left the rail", "lost contact", "would have lost contact")
+
+
+def plausibility_problems(out, message):
+    """Absurd magnitudes in a run's outputs that no warning announced."""
+    text = message
+    if os.path.exists(os.path.join(out, "manifest.toml")):
+        with open(os.path.join(out, "manifest.toml"), "rb") as f:
+            text += f.read().decode("utf-8", "replace")
+    problems = []
+    if any(w in text for w in STRUCTURE_WARNINGS):
+        return problems
+    inc = os.path.join(out, "dynamic_increments.csv")
+    if os.path.exists(inc):
+        head, rows = read_table(inc)
+        for r in rows:
+            phi = cell(r[head.index("phi_dyn")])
+            if not r[0].endswith("_rot_rad") and cell(r[head.index("max_static")]) > 0 and phi > MAX_PHI:
+                problems.append(f"dynamic_increments.csv: {r[0]} phi'dyn = {phi:g} (> {MAX_PHI:g}) without a warning")
+    for name, col_pattern in (("history.csv", "_acc"), ("governing.csv", "max_abs_acc_mps2")):
+        path = os.path.join(out, name)
+        if not os.path.exists(path):
+            continue
+        head, rows = read_table(path)
+        for j, h in enumerate(head):
+            if col_pattern in h and h.endswith("mps2"):
+                top = max((cell(r[j]) for r in rows if j < len(r)), default=0.0)
+                if top > MAX_ACC_MPS2:
+                    problems.append(f"{name}: {h} reaches {top:g} m/s² (> 100 g) without a warning")
+    # A deck deflection beyond the shortest span / 100 (the resolved scenario's spans).
+    spans = []
+    try:
+        import tomllib
+        with open(os.path.join(out, "manifest.toml"), "rb") as f:
+            spans = tomllib.load(f).get("scenario", {}).get("bridge.span_lengths", [])
+    except Exception:  # no manifest, or no tomllib (Python < 3.11): this bound is skipped
+        spans = []
+    if spans:
+        limit = min(spans) / 100.0
+        for name, col_pattern in (("history.csv", "_disp_m"), ("governing.csv", "max_abs_disp_m")):
+            path = os.path.join(out, name)
+            if not os.path.exists(path):
+                continue
+            head, rows = read_table(path)
+            for j, h in enumerate(head):
+                if h.endswith(col_pattern) and "rail" not in h:
+                    top = max((cell(r[j]) for r in rows if j < len(r)), default=0.0)
+                    if top > limit:
+                        problems.append(f"{name}: {h} reaches {top * 1e3:g} mm, beyond L/100 of the shortest span, without a warning")
+    contact = os.path.join(out, "contact.csv")
+    if os.path.exists(contact) and not any(w in text for w in CONTACT_WARNINGS):
+        head, rows = read_table(contact)
+        for r in rows:
+            static = cell(r[head.index("static_N")])
+            top = max(cell(r[head.index("min_N")]), cell(r[head.index("max_N")]))
+            if static > 0 and top > MAX_CONTACT_RATIO * static:
+                problems.append(f"contact.csv: axle {r[0]} {top:g} N, {top / static:g} x its static load, without a warning")
     return problems
 
 
@@ -247,6 +337,8 @@ def run_one(viaduct, tree, i, seed, timeout, keep):
             if not NAMED_FILE.search(message) and "--" not in message:
                 problems.append("exit 2 names no file and no option")
         problems += outputs_problems(out)
+        if rc == 0:
+            problems += plausibility_problems(out, message)
         if (problems or rc == "timeout") and keep:
             os.makedirs(keep, exist_ok=True)
             kept = os.path.join(keep, f"{i}-{os.path.basename(target)}")
