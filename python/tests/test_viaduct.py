@@ -241,6 +241,14 @@ def test_input_checks_of_the_signal_functions():
         viaduct.spectrum(np.array([1.0]), 100.0)
 
 
+def test_a_key_with_a_line_break_sets_nothing(src):
+    # set("analysis.dt=0.002\nanalysis.alpha", -0.1) once set a second key (issue #36).
+    sc = viaduct.load_scenario(src / "scenarios/hslm-simply-supported.toml")
+    with pytest.raises(viaduct.InputError, match="line break"):
+        sc.set("analysis.dt=0.002\nanalysis.alpha", -0.1)
+    assert sc.get("analysis.dt") == 0.001 and sc.get("analysis.alpha") == 0.0
+
+
 def test_read_record_every_format(src):
     csv_rec = viaduct.read_record(src / "data/records/synthetic-deck.csv")
     ref = read_csv(src / "data/records/synthetic-deck.csv")
