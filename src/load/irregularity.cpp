@@ -75,33 +75,43 @@ bool ProfileSpec::is_valid(std::string* why) const {
          c.require(std::isfinite(x0), "x0", x0, "x0 finite");
 }
 
-double RailProfile::at(double x) const {
-  const double s = (x - x0) / dx;
-  const auto n = z.size();
+namespace {
+// The cubic of RailProfile::at() around x: the sample i before x, the fraction t in [0, 1] and the
+// central-difference slopes m0, m1 at samples i and i + 1 (one-sided at the ends), per sample step.
+struct ProfileCubic {
+  Index i = 0;
+  double t = 0.0, m0 = 0.0, m1 = 0.0;
+};
+ProfileCubic profile_cubic(const RailProfile& p, double x) {
+  const double s = (x - p.x0) / p.dx;
+  const auto n = p.z.size();
   if (!(s >= -1e-9) || s > static_cast<double>(n - 1) + 1e-9 || n < 2)
-    throw InputError("rail profile: x = " + format_number(x) + " m is outside the profile [" + format_number(x0) + ", " + format_number(end()) +
-                     "] m");
-  const Index i = std::min<Index>(static_cast<Index>(std::floor(std::max(s, 0.0))), n - 2);
-  const double t = std::clamp(s - static_cast<double>(i), 0.0, 1.0);
-  // Cubic Hermite with central-difference slopes (one-sided at the ends), per sample step.
+    throw InputError("rail profile: x = " + format_number(x) + " m is outside the profile [" + format_number(p.x0) + ", " +
+                     format_number(p.end()) + "] m");
+  ProfileCubic c;
+  c.i = std::min<Index>(static_cast<Index>(std::floor(std::max(s, 0.0))), n - 2);
+  c.t = std::clamp(s - static_cast<double>(c.i), 0.0, 1.0);
+  const Vector& z = p.z;
   auto slope = [&](Index k) { return k == 0 ? z[1] - z[0] : k == n - 1 ? z[n - 1] - z[n - 2] : 0.5 * (z[k + 1] - z[k - 1]); };
-  const double m0 = slope(i), m1 = slope(i + 1), t2 = t * t, t3 = t2 * t;
-  return (2 * t3 - 3 * t2 + 1) * z[i] + (t3 - 2 * t2 + t) * m0 + (-2 * t3 + 3 * t2) * z[i + 1] + (t3 - t2) * m1;
+  c.m0 = slope(c.i), c.m1 = slope(c.i + 1);
+  return c;
+}
+}  // namespace
+
+double RailProfile::at(double x) const {
+  // Cubic Hermite with central-difference slopes (one-sided at the ends), per sample step.
+  const ProfileCubic c = profile_cubic(*this, x);
+  const double t = c.t, t2 = t * t, t3 = t2 * t;
+  return (2 * t3 - 3 * t2 + 1) * z[c.i] + (t3 - 2 * t2 + t) * c.m0 + (-2 * t3 + 3 * t2) * z[c.i + 1] + (t3 - t2) * c.m1;
 }
 
 void RailProfile::slopes(double x, double& dz, double& d2z) const {
-  const double s = (x - x0) / dx;
-  const auto n = z.size();
-  if (!(s >= -1e-9) || s > static_cast<double>(n - 1) + 1e-9 || n < 2)
-    throw InputError("rail profile: x = " + format_number(x) + " m is outside the profile [" + format_number(x0) + ", " + format_number(end()) +
-                     "] m");
-  const Index i = std::min<Index>(static_cast<Index>(std::floor(std::max(s, 0.0))), n - 2);
-  const double t = std::clamp(s - static_cast<double>(i), 0.0, 1.0);
-  auto slope = [&](Index k) { return k == 0 ? z[1] - z[0] : k == n - 1 ? z[n - 1] - z[n - 2] : 0.5 * (z[k + 1] - z[k - 1]); };
-  const double m0 = slope(i), m1 = slope(i + 1), t2 = t * t;
+  const ProfileCubic c = profile_cubic(*this, x);
+  const double t = c.t, t2 = t * t;
+  const Index i = c.i;
   // d/dt and d²/dt² of at()'s cubic, then per metre (t = (x − x0)/dx − i).
-  const double d1 = (6 * t2 - 6 * t) * z[i] + (3 * t2 - 4 * t + 1) * m0 + (-6 * t2 + 6 * t) * z[i + 1] + (3 * t2 - 2 * t) * m1;
-  const double d2 = (12 * t - 6) * z[i] + (6 * t - 4) * m0 + (-12 * t + 6) * z[i + 1] + (6 * t - 2) * m1;
+  const double d1 = (6 * t2 - 6 * t) * z[i] + (3 * t2 - 4 * t + 1) * c.m0 + (-6 * t2 + 6 * t) * z[i + 1] + (3 * t2 - 2 * t) * c.m1;
+  const double d2 = (12 * t - 6) * z[i] + (6 * t - 4) * c.m0 + (-12 * t + 6) * z[i + 1] + (6 * t - 2) * c.m1;
   dz = d1 / dx;
   d2z = d2 / (dx * dx);
 }
