@@ -5,10 +5,14 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
+#include <memory>
+
+#include <Eigen/Eigenvalues>
 
 #include "coupled_fixtures.hpp"
 #include "viaduct/core/error.hpp"
 #include "viaduct/solve/coupled.hpp"
+#include "viaduct/solve/integrator.hpp"
 #include "viaduct/solve/newmark.hpp"
 
 using namespace viaduct;
@@ -116,4 +120,49 @@ TEST_CASE("every Newmark kernel over (alpha, beta, gamma) and the step: bounded 
         }
   CHECK(n_run > 20);
   CHECK(n_refused > 20);
+}
+
+TEST_CASE("the divergence guard stops every kernel past its bound, naming the output and the cause") {
+  // The Spread system's responses reach about 2 static deflections (1 per DOF). A bound of 1.5
+  // on output 2 is passed within the run; 10 is not.
+  const Spread sys;
+  const std::vector<Functional> outputs = {{{0}, {1.0}}, {{1}, {1.0}}, {{2}, {1.0}}};
+  DivergenceBound tight, loose;
+  tight.max_abs = Vector::Constant(3, 1e9);
+  tight.max_abs[2] = 1.5;
+  tight.names = {"a", "b", "c deflection [m]"};
+  tight.basis = "a test's bound";
+  loose.max_abs = Vector::Constant(3, 10.0);
+  // The modal kernel on the system's three exact modes (mass-normalised by the reduction).
+  Eigen::GeneralizedSelfAdjointEigenSolver<Matrix> es{Matrix(sys.stiffness()), Matrix(sys.mass())};
+  auto modal = std::make_shared<const ModalReduction>(sys.mass(), sys.damping(), sys.stiffness(), es.eigenvectors(),
+                                                      Vector(es.eigenvalues().cwiseSqrt()), outputs, false);
+  for (const Method m : {Method::newmark, Method::modal, Method::ida}) {
+    IntegrationSettings s;
+    s.method = m;
+    s.dt = 1e-4;
+    s.ida.rtol = 1e-6;
+    const auto integ = make_integrator(s, outputs, m == Method::modal ? modal : nullptr);
+    LoadCase c;
+    c.system = &sys;
+    c.t_end = 0.05;
+    Recording rec;
+    INFO(method_name(m));
+    c.bound = &loose;
+    CHECK_NOTHROW(integ->run(c, rec));
+    c.bound = &tight;
+    CHECK_THROWS_WITH(integ->run(c, rec), Catch::Contains("the run diverged: c deflection [m] reached") &&
+                                              Catch::Contains("beyond 1.5 (a test's bound)") && Catch::Contains("likely cause"));
+    // Batches (four cases per factorisation for Newmark): the case past its bound stops the batch.
+    CHECK_THROWS_WITH(integ->run_batch({c, c}, rec), Catch::Contains("diverged"));
+  }
+  // The coupled kernel: contact forces past theirs.
+  const solve::LinearVehicle veh = coupled_fixtures::one_wheel(100.0, 1.0, 1e6);
+  const coupled_fixtures::FixedContact path(1.0);
+  DivergenceBound contact;
+  contact.max_contact_force = 0.5;  // below the wheel's static 1 N
+  CHECK_THROWS_WITH(coupled_newmark(sys.mass(), sys.damping(), sys.stiffness(), veh, path, TimeGrid{1e-3, 0.01}, {}, {}, &contact),
+                    Catch::Contains("the contact force of wheel 1 [N] reached") && Catch::Contains("wheel-rail contact"));
+  contact.max_contact_force = 1e3;
+  CHECK_NOTHROW(coupled_newmark(sys.mass(), sys.damping(), sys.stiffness(), veh, path, TimeGrid{1e-3, 0.01}, {}, {}, &contact));
 }
