@@ -5,7 +5,9 @@
 #      UndefinedBehaviorSanitizer on every test but those labelled "long" (bad input must give
 #      clear errors, never a crash, under the sanitizers). The long ones (over 10 s under the
 #      sanitizers, up to minutes) repeat on larger models the code paths that the shorter unit,
-#      verification and CLI tests take under the sanitizers, and run in step 1.
+#      verification and CLI tests take under the sanitizers, and run in step 1; so do the CLI
+#      tests that check results, outputs and sample runs (the bad- and extreme-input ones, the
+#      mutation and fuzz tests run under the sanitizers).
 # Options: --no-sanitize (skip step 2), --jobs N.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -341,14 +341,14 @@ std::vector<std::pair<std::string, std::string>> settings_as_run(const study::Ru
   };
   auto yes = [](bool b) { return std::string(b ? "true" : "false"); };
   std::vector<std::pair<std::string, std::string>> out = {
-      {"method", str(solve::method_name(s.method))},
-      {"dt", num(s.dt)},
-      {"superposition", str(s.superposition == study::Superposition::unit_response ? "unit-response" : "direct")}};
+      {"analysis.method", str(solve::method_name(s.method))},
+      {"analysis.dt", num(s.dt)},
+      {"analysis.superposition", str(s.superposition == study::Superposition::unit_response ? "unit-response" : "direct")}};
   switch (s.method) {
     case study::Method::newmark:
-      out.insert(out.end(), {{"newmark.beta", num(s.newmark.beta)},
-                             {"newmark.gamma", num(s.newmark.gamma)},
-                             {"newmark.alpha", num(s.newmark.alpha)}});
+      out.insert(out.end(), {{"analysis.beta", num(s.newmark.beta)},
+                             {"analysis.gamma", num(s.newmark.gamma)},
+                             {"analysis.alpha", num(s.newmark.alpha)}});
       break;
     case study::Method::modal:
       out.insert(out.end(), {{"modal.n_modes", std::to_string(s.modal.n_modes)},
@@ -365,8 +365,8 @@ std::vector<std::pair<std::string, std::string>> settings_as_run(const study::Ru
   }
   const auto& c = s.filter.cheby;
   out.insert(out.end(),
-             {{"free_vibration_s", num(s.free_vibration_s)},
-              {"load_factor", num(s.load_factor)},
+             {{"analysis.free_vibration_s", num(s.free_vibration_s)},
+              {"train.load_factor", num(s.load_factor)},
               {"filter.enabled", yes(s.filter.enabled)},
               {"filter.band", str(c.band == signal::BandType::lowpass    ? "lowpass"
                                   : c.band == signal::BandType::highpass ? "highpass"
@@ -378,14 +378,15 @@ std::vector<std::pair<std::string, std::string>> settings_as_run(const study::Ru
   if (s.vehicle.model != study::VehicleModel::forces) {
     // Moving forces keep their manifests as they were; vehicles say how they ran.
     const auto& v = s.vehicle;
-    out.insert(out.end(), {{"vehicle.model", str(study::vehicle_model_name(v.model))},
-                           {"vehicle.contact", str(v.contact == study::ContactModel::rigid ? "rigid" : "hertz")},
-                           {"vehicle.contact_stiffness_N_m", v.contact_stiffness > 0.0 ? num(v.contact_stiffness) : str("hertz")},
-                           {"vehicle.contact_release", yes(v.release)},
-                           {"vehicle.end_transition_m", num(v.end_transition)}});
+    out.insert(out.end(), {{"train.vehicle", str(study::vehicle_model_name(v.model))},
+                           {"train.contact", str(v.contact == study::ContactModel::rigid ? "rigid" : "hertz")},
+
+                           {"train.contact_release", yes(v.release)},
+                           {"train.end_transition_m", num(v.end_transition)}});
+    if (v.contact_stiffness > 0.0) out.push_back({"train.contact_stiffness_N_m", num(v.contact_stiffness)});  // else Hertz's law
     const auto& r = s.irregularity;
     if (r.enabled())
-      out.insert(out.end(), {{"irregularity.source", str(r.measured ? r.measured_file : r.spectrum)},
+      out.insert(out.end(), {{r.measured ? "irregularity.profile" : "irregularity.spectrum", str(r.measured ? r.measured_file : r.spectrum)},
                              {"irregularity.seed", std::to_string(r.seed)},
                              {"irregularity.run_in_m", num(r.run_in)},
                              {"irregularity.taper_m", num(r.taper)}});
@@ -396,6 +397,29 @@ std::vector<std::pair<std::string, std::string>> settings_as_run(const study::Ru
 void write_manifest(const std::string& path, const Manifest& m, const FlatScenario& flat) {
   write_manifest(path, m, &flat);
 }
+
+namespace {
+// The scenario with every file it names as an absolute path: [scenario] is read again from the
+// manifest's directory by viaduct replay (io::load_flat), where relative paths would not hold.
+FlatScenario with_absolute_files(const FlatScenario& flat) {
+  FlatScenario f = flat;
+  auto absolute = [](std::string& p) {
+    if (p.empty() || is_builtin_train(p)) return;
+    std::error_code ec;
+    const std::filesystem::path a = std::filesystem::absolute(p, ec);
+    if (!ec) p = a.lexically_normal().string();
+  };
+  for (auto& [key, v] : f.values) {
+    const bool file_key = key == "bridge.file" || key == "track.file" || key == "irregularity.profile" || key == "fit.modes" ||
+                          (key.rfind("fit.records[", 0) == 0 && key.size() > 5 && key.compare(key.size() - 5, 5, ".file") == 0);
+    if (key == "train.files")
+      for (auto& t : v.ss) absolute(t);
+    else if (file_key && v.type == ValueType::string)
+      absolute(v.s);
+  }
+  return f;
+}
+}  // namespace
 
 void write_manifest(const std::string& path, const Manifest& m, const FlatScenario* flat) {
   // Every file read: the scenario, the files its values came from (components), its trains, and
@@ -428,6 +452,18 @@ void write_manifest(const std::string& path, const Manifest& m, const FlatScenar
   out << "[run]\n";
   out << "command = " << q(m.command) << "\n";
   if (!m.command_line.empty()) out << "command_line = " << q(m.command_line) << "\n";
+  if (!m.command_line.empty()) {  // what viaduct replay runs again
+    out << "positional = " << q(m.positional) << "\n";
+    out << "arguments = [";
+    for (std::size_t i = 0; i < m.arguments.size(); ++i) out << (i ? ", " : "") << q(m.arguments[i]);
+    out << "]\n";
+  }
+  if (flat) {  // the keys of [scenario] that took their default (a replay lets them default again)
+    out << "scenario_defaulted = [";
+    bool first = true;
+    for (const auto& k : flat->defaulted) out << (first ? "" : ", ") << q(k), first = false;
+    out << "]\n";
+  }
   if (flat) out << "scenario_file = " << q(flat->path) << "\n";
   out << "finished_utc = " << q(stamp) << "\n";
   out << "wall_s = " << m.wall_s << "\n";
@@ -479,7 +515,7 @@ void write_manifest(const std::string& path, const Manifest& m, const FlatScenar
     }
     out << "\n[[outputs]]\nfile = " << q(std::filesystem::path(f).filename().string()) << "\nsha256 = " << q(sum) << "\n";
   }
-  if (flat) out << "\n[scenario]\n" << resolved_toml(*flat);
+  if (flat) out << "\n[scenario]\n" << resolved_toml(with_absolute_files(*flat));
   detail::write_text_atomically(path, out.str());
 }
 

@@ -130,6 +130,26 @@ void flatten(const toml::value& v, const std::string& prefix, const std::string&
   }
 }
 
+// A viaduct manifest ([run] with a command, and the resolved [scenario]) read as a scenario.
+bool is_manifest(const toml::value& root) {
+  return root.is_table() && root.contains("run") && root.at("run").is_table() && root.at("run").contains("command") &&
+         root.contains("scenario") && root.at("scenario").is_table();
+}
+
+// Its [scenario] table: every resolved key as written there ("stations[0].name" = ...), but those
+// that took their default when it was written ([run] scenario_defaulted): they default again.
+void read_manifest_scenario(const detail::TomlFile& tf, const std::string& path, std::map<std::string, Value>& out) {
+  for (const auto& [key, child] : tf.root.at("scenario").as_table()) {
+    if (child.is_table() || (child.is_array() && !child.as_array().empty() && child.as_array().front().is_table()))
+      bad(loc_of(child, key, path, tf), "a manifest's [scenario] holds flat keys only");
+    out[key] = scalar_from_toml(child, loc_of(child, key, path, tf));
+  }
+  const toml::value& run = tf.root.at("run");
+  if (run.contains("scenario_defaulted") && run.at("scenario_defaulted").is_array())
+    for (const auto& k : run.at("scenario_defaulted").as_array())
+      if (k.is_string()) out.erase(k.as_string());
+}
+
 detail::TomlFile parse_file(const std::string& path, const SourceLocation& referenced_from) {
   if (!fs::exists(path)) throw InputError(referenced_from, "file not found: " + path);
   try {
@@ -300,7 +320,8 @@ FlatScenario load_flat(const std::string& path, const std::vector<std::string>& 
   fsn.path = path;
   if (!path.empty()) {  // empty: every key from the overrides (the Python package's dict)
     const detail::TomlFile root = parse_file(path, SourceLocation{});
-    flatten(root.root, "", path, root, fsn.values);
+    if (is_manifest(root.root)) read_manifest_scenario(root, path, fsn.values);  // viaduct replay
+    else flatten(root.root, "", path, root, fsn.values);
   }
   for (const auto& o : overrides) {
     // One key=value per override: a line break would smuggle a second one in (or drop it).

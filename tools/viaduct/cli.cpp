@@ -91,8 +91,15 @@ int dispatch(const Command& cmd, int argc, char** argv) {
   if (cmd.many_positionals) pos.add("more", -1);
   const std::string prefix = "viaduct " + cmd.name + ": ";
   po::variables_map vm;
+  std::vector<std::string> replay;  // what a replay passes again (Common::replay_arguments)
   try {
-    po::store(po::command_line_parser(argc, argv).options(all).positional(pos).run(), vm);
+    const po::parsed_options parsed = po::command_line_parser(argc, argv).options(all).positional(pos).run();
+    for (const auto& opt : parsed.options) {
+      const bool general = opt.string_key == "set" || opt.string_key == "unset" || opt.string_key == "out" ||
+                           opt.string_key == "threads" || opt.string_key == "quiet" || opt.string_key == "scenario";
+      if (!general) replay.insert(replay.end(), opt.original_tokens.begin(), opt.original_tokens.end());
+    }
+    po::store(parsed, vm);
     po::notify(vm);
   } catch (const po::error& e) {
     std::cerr << prefix << "error: " << e.what() << "\n(see 'viaduct " << cmd.name << " --help')\n";
@@ -118,6 +125,7 @@ int dispatch(const Command& cmd, int argc, char** argv) {
   c.threads = vm["threads"].as<int>();
   c.quiet = vm["quiet"].as<bool>();
   c.command = cmd.name;
+  c.replay_arguments = replay;
   c.command_line = "viaduct " + cmd.name;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -256,6 +264,8 @@ io::Manifest start_manifest(const Common& o, const std::string& command, std::ve
   m.command = command;
   m.inputs = std::move(inputs);
   m.command_line = o.command_line;
+  m.arguments = o.replay_arguments;
+  m.positional = o.scenario;
   m.versions = tool_versions();
   return m;
 }

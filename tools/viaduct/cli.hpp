@@ -34,6 +34,9 @@ struct Common {
   int threads = 1;
   bool quiet = false;
   std::string command_line;  ///< the invocation, for manifests ("viaduct sweep ... --threads 2")
+  /// The invocation's options and further positionals without --set, --unset, --out, --threads,
+  /// --quiet and the first positional: what `viaduct replay` passes again (manifest [run] arguments).
+  std::vector<std::string> replay_arguments;
   io::ReadOptions read;      ///< how to read record files (Command::reads_records)
   std::string command;       ///< the subcommand's name
 };
@@ -179,5 +182,7 @@ Command assess_command();
 Command passages_command();
 Command irregularity_command();
 Command merge_command();
+/// viaduct replay needs the other commands (the one a manifest names).
+Command replay_command(const std::vector<Command>* commands);
 
 }  // namespace viaduct::cli

@@ -99,13 +99,19 @@ struct Manifest {
   std::vector<std::pair<std::string, std::string>> versions;///< more dependency versions (name, version)
   std::vector<std::pair<std::string, std::string>> as_run;  ///< [analysis_as_run] entries (TOML values)
   std::vector<std::string> inputs;  ///< files read besides the scenario's own (records, mode files)
+  /// What `viaduct replay` runs again ([run] positional, arguments): the first positional as given
+  /// (a scenario is replaced by the manifest itself), the options and further positionals but
+  /// --set/--unset (folded into [scenario]), --out, --threads and --quiet.
+  std::string positional;
+  std::vector<std::string> arguments;
 };
 /// Writes the manifest; the scenario's files (the scenario, its components and train files) are
 /// checksummed with `inputs`. `flat` may be null for commands without a scenario. SolverError on
 /// I/O failure.
 void write_manifest(const std::string& path, const Manifest& m, const FlatScenario* flat);
 void write_manifest(const std::string& path, const Manifest& m, const FlatScenario& flat);
-/// The [analysis_as_run] entries of `s`: method, dt, the method's options, the modal basis,
+/// The [analysis_as_run] entries of `s` under their scenario keys (analysis.method, analysis.dt,
+/// the method's options, the modal basis,
 /// superposition, free vibration, load factor, filter.
 std::vector<std::pair<std::string, std::string>> settings_as_run(const study::RunSettings& s);
 

@@ -51,7 +51,7 @@ TEST_CASE("a manifest records the command line, the settings that ran and every 
   REQUIRE(t.find("command_line = ") != std::string::npos);
   REQUIRE(t.find("git_commit = ") != std::string::npos);
   // The preset ran the modal method, though the [scenario] table keeps analysis.method's default.
-  REQUIRE(t.find("[analysis_as_run]\n\"method\" = \"modal\"") != std::string::npos);
+  REQUIRE(t.find("[analysis_as_run]\n\"analysis.method\" = \"modal\"") != std::string::npos);
   REQUIRE(t.find("\"analysis.method\" = \"newmark\"") != std::string::npos);
   // The scenario, its component files, its train and the extra input, each with its checksum.
   for (const std::string& f : {scen, m.inputs.front()}) {
