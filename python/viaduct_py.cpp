@@ -20,6 +20,8 @@
 
 #include "viaduct/core/error.hpp"
 #include "viaduct_py.hpp"
+#include "viaduct/io/assessment.hpp"
+#include "viaduct/io/output_dir.hpp"
 #include "viaduct/io/record.hpp"
 #include "viaduct/io/results.hpp"
 #include "viaduct/io/sampled.hpp"
@@ -27,6 +29,7 @@
 #include "viaduct/signal/iir.hpp"
 #include "viaduct/signal/spectrum.hpp"
 #include "viaduct/study/comparison.hpp"
+#include "viaduct/study/assessment.hpp"
 #include "viaduct/study/sweep.hpp"
 
 namespace py = pybind11;
@@ -148,6 +151,50 @@ py::tuple sweep(const viaduct::io::FlatScenario& flat, int threads, bool load_ef
   return py::make_tuple(tables, failures, governing);
 }
 
+// The dynamic check (viaduct assess): the plan from the scenario's [assess] keys, the runs, the
+// checks; with `out` the CLI's tables and report.md (without figures) there too.
+py::tuple assess(const viaduct::io::FlatScenario& flat_in, int threads, const py::object& progress,
+                 const std::optional<std::string>& out) {
+  namespace study = viaduct::study;
+  namespace io = viaduct::io;
+  io::FlatScenario flat = flat_in;
+  const study::AssessPlan plan = io::plan_assessment(flat, flat.path);
+  std::atomic<std::size_t> done{0}, total{study::count_cases(plan.variants)};
+  std::atomic<bool> cancel{false};
+  study::AssessOptions ao;
+  ao.threads = threads_of(threads);
+  ao.cancel = &cancel;
+  ao.progress = [&](std::size_t d, std::size_t n) {
+    done = d;
+    total = n;
+  };
+  const study::AssessResult r = interruptible([&] { return study::run_assessment(plan, ao); }, progress, done, total, cancel);
+  if (r.sweep.summary.cancelled) {
+    PyErr_SetString(PyExc_KeyboardInterrupt, "the assessment was cancelled: its cases are incomplete");
+    throw py::error_already_set();
+  }
+  const std::string report = io::assessment_report(r, flat, "viaduct.assess (Python)", false);
+  if (out) {
+    io::begin_outputs(*out);
+    io::write_assessment_tables(*out, r);
+    io::write_text_file(*out + "/report.md", report);
+  }
+  py::dict tables;
+  tables["envelope"] = columns_dict(io::envelope_columns(r.sweep.rows, r.plan.variants));
+  tables["load_effects"] = columns_dict(io::quantity_columns(r.sweep.quantities, r.plan.variants));
+  tables["phi_dyn"] = columns_dict(io::assessment_increment_columns(r.increments));
+  py::dict info;
+  info["f1_hz"] = r.plan.f1;
+  info["f3_hz"] = r.plan.f3;
+  info["cutoff_hz"] = r.plan.f_cut;
+  info["damping_ratio"] = r.plan.zeta;
+  info["n_cases"] = r.sweep.summary.n_cases;
+  info["n_failed"] = r.sweep.summary.n_failed;
+  info["notes"] = r.plan.notes;
+  info["report"] = report;
+  return py::make_tuple(columns_dict(io::assessment_check_columns(r.checks)), tables, info);
+}
+
 viaduct::signal::Cheby1Spec cheby_of(double low_hz, double high_hz, int order, double ripple_db, const std::string& band) {
   viaduct::signal::Cheby1Spec spec;
   spec.order = order;
@@ -232,6 +279,8 @@ void bind(py::module_& m) {
         py::arg("progress") = py::none());
   m.def("sweep", &sweep, py::arg("flat"), py::arg("threads") = 1, py::arg("load_effects") = false,
         py::arg("progress") = py::none());
+  m.def("assess", &assess, py::arg("flat"), py::arg("threads") = 1, py::arg("progress") = py::none(),
+        py::arg("out") = py::none());
   m.def(
       "read_record",
       [](const std::string& path, const std::string& time_column, std::optional<double> fs_hz) {

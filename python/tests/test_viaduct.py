@@ -412,3 +412,22 @@ def test_the_example_runs(src, tmp_path):
     assert p.returncode == 0, p.stderr
     assert (tmp_path / "envelope.png").stat().st_size > 10000
     assert (tmp_path / "record.png").stat().st_size > 10000
+
+
+def test_assess_equals_the_cli(src, cli, tmp_path):
+    # viaduct.assess runs the CLI's plan, runs and checks (io/study assessment): the same checks.
+    path = src / "scenarios/hslm-simply-supported.toml"
+    sets = {"assess.speed_step_kmh": 40.0, "assess.refine_band": 0.0}
+    run_cli(cli, "assess", path, "--set", "assess.speed_step_kmh=40", "--set", "assess.refine_band=0", "--no-plots",
+            "--out", tmp_path / "cli", "-q")
+    checks = viaduct.assess(viaduct.load_scenario(path, set=sets), threads=2, out=tmp_path / "py")
+    with open(tmp_path / "cli/checks.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == len(checks["check"])
+    for i, row in enumerate(rows):
+        assert row["check"] == list(checks["check"])[i] and row["result"] == list(checks["result"])[i]
+        assert float(row["value"]) == pytest.approx(float(list(checks["value"])[i]), rel=1e-9)
+    info = checks.attrs if hasattr(checks, "attrs") else checks["attrs"]
+    assert info["cutoff_hz"] > 30.0 and "# Dynamic assessment" in info["report"]
+    for name in ("checks.csv", "phi_dyn.csv", "envelope.csv", "load_effects.csv"):  # out= writes the CLI's files
+        assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()

@@ -15,7 +15,7 @@ import math
 from . import _viaduct
 from ._viaduct import InputError, SolverError
 
-__all__ = ["Scenario", "load_scenario", "scenario_from_dict", "run", "sweep", "Record", "read_record", "filter",
+__all__ = ["Scenario", "load_scenario", "scenario_from_dict", "run", "sweep", "assess", "Record", "read_record", "filter",
            "spectrum", "welch", "compare", "peaks", "identify_speed", "frf", "record_frf", "read_frf", "modal_fit",
            "decay", "fit", "InputError", "SolverError", "version"]
 
@@ -140,6 +140,25 @@ def _progress_printer(what):
             sys.stderr.write("\n")
         sys.stderr.flush()
     return show
+
+
+def assess(scenario, threads=1, progress=False, out=None):
+    """The EN 1991-2 dynamic check of the scenario's bridge, as ``viaduct assess`` (docs/assess.md):
+    HSLM-A1…A10 and the scenario's trains at speeds to 1.2 x assess.line_speed_kmh, damping of
+    Table 6.6, the mass bounds, the frequency cut-off, every check. Returns checks.csv's columns
+    (check, quantity, value, limit, utilisation, result, variant, train, speed_kmh, clause);
+    ``attrs``: "envelope", "load_effects", "phi_dyn" (tables), f1_hz, f3_hz, cutoff_hz,
+    damping_ratio, n_cases, n_failed, notes and "report" (report.md's text). ``out``: a directory
+    for the CLI's tables and report.md (no figures). Ctrl-C stops it and raises KeyboardInterrupt."""
+    cb = _progress_printer("assess") if progress is True else (progress or None)
+    checks, tables, info = _viaduct.assess(scenario._flat, threads, cb, None if out is None else str(out))
+    info.update({k: _table(v) for k, v in tables.items()})
+    table = _table(checks)
+    try:
+        table.attrs.update(info)
+    except AttributeError:
+        table["attrs"] = info
+    return table
 
 
 def run(scenario, speed_kmh=None, train=None, progress=None):

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "viaduct/core/error.hpp"
+#include "viaduct/model/modes.hpp"
 
 namespace viaduct::study {
 
@@ -84,6 +85,38 @@ double phi_irregularities(double L, double v, double n0) {
 }
 
 double cutoff_frequency(double f1, double f3) { return std::max({30.0, 1.5 * f1, f3}); }
+
+namespace {
+// f1 and f3 of one model's deck: its first bending mode and its first of order 3 (the third deck
+// bending mode when the orders cannot be told).
+MemberFrequencies member_of(const model::Structure& s, int span) {
+  MemberFrequencies m;
+  m.span = span;
+  const std::vector<model::DeckMode> modes = model::deck_bending_modes(s, 8);
+  if (modes.empty()) throw SolverError("assess: a member without a deck bending mode (span " + std::to_string(span) + ")");
+  m.f1 = modes.front().frequency_hz;
+  for (const auto& d : modes)
+    if (d.bending.order == 3) {
+      m.f3 = d.frequency_hz, m.f3_order = 3;
+      break;
+    }
+  if (m.f3_order == 0 && modes.size() >= 3) m.f3 = modes[2].frequency_hz, m.f3_order = modes[2].bending.order;
+  m.cutoff = cutoff_frequency(m.f1, m.f3);
+  return m;
+}
+}  // namespace
+
+std::vector<MemberFrequencies> member_frequencies(const model::BridgeParams& bridge, const std::optional<model::TrackParams>& track) {
+  if (bridge.spans.empty()) throw InputError("assess: a bridge without spans");
+  if (bridge.continuous || bridge.spans.size() == 1) return {member_of(model::build_structure(bridge, track), bridge.continuous ? 0 : 1)};
+  std::vector<MemberFrequencies> out;
+  for (std::size_t k = 0; k < bridge.spans.size(); ++k) {
+    model::BridgeParams one = bridge;
+    one.spans = {bridge.spans[k]};
+    out.push_back(member_of(model::build_structure(one, track), static_cast<int>(k + 1)));
+  }
+  return out;
+}
 
 std::vector<double> assessment_speeds(double v_min, double v_max, double step, double fine_step,
                                       const std::vector<double>& resonances, double band) {

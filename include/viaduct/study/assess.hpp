@@ -4,8 +4,11 @@
 /// interaction, dynamic factors, the frequency cut-off, and the speeds to run. `viaduct assess`
 /// puts them together; each function names its clause.
 
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "viaduct/model/structure.hpp"
 
 namespace viaduct::study {
 
@@ -44,6 +47,23 @@ double phi_irregularities(double length_m, double speed_mps, double n0_hz);
 
 /// The frequencies to consider (A2.4.4.2.1(4)): max(30 Hz, 1.5 f1, f3) [Hz].
 double cutoff_frequency(double f1_hz, double f3_hz);
+
+/// The frequencies of one member (A2.4.4.2.1(4): f3 is the third mode of the member).
+struct MemberFrequencies {
+  int span = 0;            ///< 1-based; 0: the whole continuous deck
+  double f1 = 0.0;         ///< [Hz] the member's first bending frequency
+  double f3 = 0.0;         ///< [Hz] its third bending mode (0 when the model has no third)
+  int f3_order = 0;        ///< the bending order of the mode taken as f3 (3; another when no third was found)
+  double cutoff = 0.0;     ///< [Hz] max(30, 1.5 f1, f3)
+};
+
+/// Each member's f1, f3 and cut-off. A chain of simply supported spans: each span is a member,
+/// modelled alone on its bearings with the track over it (its own third bending mode, whatever
+/// its neighbours: among identical spans the structure's third mode is another span's first).
+/// A continuous deck (bridge.continuous): one member, the deck, its third bending mode (docs/
+/// assess.md states this reading). SolverError from the eigensolver.
+std::vector<MemberFrequencies> member_frequencies(const model::BridgeParams& bridge,
+                                                  const std::optional<model::TrackParams>& track);
 
 /// Speeds [m/s] of an assessment: v_min, v_min + step, ... up to v_max (v_max included), plus
 /// every fine_step within ±band (a fraction) of each resonance speed, sorted, without duplicates

@@ -1,0 +1,444 @@
+// The dynamic check's plan from the [assess] keys, and its tables and report (assessment.hpp).
+#include "viaduct/io/assessment.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <sstream>
+
+#include "viaduct/io/results.hpp"
+#include "viaduct/load/train.hpp"
+#include "viaduct/model/modes.hpp"
+
+namespace viaduct::io {
+
+namespace {
+
+std::string rfmt(double x, int sig = 4) { return study::shown_number(x, sig); }
+
+double number_or(const FlatScenario& f, const std::string& key, double fallback) {
+  return f.has(key) ? f.at(key).x : fallback;
+}
+
+// Where a key that is not set belongs: the line of another [assess] key given in the scenario, else
+// the scenario itself.
+SourceLocation assess_location(const FlatScenario& flat, const std::string& scenario, const std::string& key) {
+  for (const auto& [k, v] : flat.values)
+    if (key_is_under(k, "assess") && !flat.defaulted.count(k) && v.where.line > 0) return {v.where.file, v.where.line, key};
+  return {scenario, 0, key};
+}
+
+study::AssessConfig read_assess_config(const FlatScenario& flat, const std::string& scenario) {
+  study::AssessConfig c;
+  for (const char* key : {"assess.line_speed_kmh", "assess.deck_type"})
+    if (!flat.has(key))
+      throw InputError(assess_location(flat, scenario, key),
+                       "viaduct assess needs this key (the line's maximum speed and the deck type of EN 1991-2 Table 6.6)");
+  c.line_speed = flat.at("assess.line_speed_kmh").x / 3.6;
+  c.deck = study::deck_type_of(flat.at("assess.deck_type").s);
+  c.track = flat.at("assess.track").s;
+  c.acc_limit = number_or(flat, "assess.acceleration_limit_mps2", c.track == "direct" ? 5.0 : 3.5);
+  c.v_max = 1.2 * c.line_speed;
+  c.v_min = number_or(flat, "assess.speed_min_kmh", std::min(100.0, 0.5 * c.line_speed * 3.6)) / 3.6;
+  if (c.v_min > c.v_max)
+    throw InputError(flat.at("assess.speed_min_kmh").where,
+                     "the lowest speed is above 1.2 times the line speed (" + format_number(c.v_max * 3.6, 6) + " km/h)");
+  c.step = flat.at("assess.speed_step_kmh").x / 3.6;
+  c.fine_step = flat.at("assess.refine_step_kmh").x / 3.6;
+  c.band = flat.at("assess.refine_band").x;
+  c.harmonics = static_cast<int>(flat.at("assess.harmonics").x);
+  if (flat.has("assess.damping_ratio")) c.damping_ratio = flat.at("assess.damping_ratio").x;
+  c.interaction_damping = flat.at("assess.interaction_damping").b;
+  c.ballast = number_or(flat, "assess.ballast_mass_per_m", -1.0);
+  c.ballast_lower = flat.at("assess.ballast_lower_factor").x;
+  c.ballast_upper = flat.at("assess.ballast_upper_factor").x;
+  if (c.ballast_lower > c.ballast_upper)
+    throw InputError(flat.at("assess.ballast_lower_factor").where, "the lower-bound factor is above the upper-bound one");
+  c.alpha = flat.at("assess.lm71_alpha").x;
+  c.careful = flat.at("assess.track_maintenance").s == "careful";
+  c.deflection_ratio = flat.at("assess.deflection_limit_ratio").x;
+  c.rotation_limit = flat.at("assess.end_rotation_limit_rad").x;
+  if (flat.has("assess.determinant_length_m")) c.determinant_length = flat.at("assess.determinant_length_m").x;
+  c.comfort_level = flat.at("assess.comfort_level").s;
+  c.comfort_limit = number_or(flat, "assess.comfort_limit_mps2", study::comfort_limit_of(c.comfort_level));
+  c.unloading_limit = flat.at("assess.unloading_ratio_limit").x;
+  return c;
+}
+
+void set_string(FlatScenario& flat, const std::string& key, const std::string& value) {
+  Value v;
+  v.type = ValueType::string;
+  v.s = value;
+  v.where = SourceLocation{"assess", 0, key};
+  flat.values[key] = v;
+  flat.defaulted.erase(key);
+}
+
+// Adds `delta` [kg/m] to every span's mass per metre; InputError when a span's mass would not be positive.
+void add_mass(FlatScenario& flat, double delta) {
+  Value v = flat.at("bridge.mass_per_m");
+  if (v.type == ValueType::number_list) {
+    for (double& m : v.xs) m += delta;
+  } else {
+    v.x += delta;
+  }
+  const std::vector<double> ms = v.type == ValueType::number_list ? v.xs : std::vector<double>{v.x};
+  for (double m : ms)
+    if (!(m > 0.0))
+      throw InputError(flat.has("assess.ballast_mass_per_m") ? flat.at("assess.ballast_mass_per_m").where
+                                                              : assess_location(flat, flat.path, "assess.ballast_lower_factor"),
+                       "the lower-bound mass of a span would not be positive: the ballast is more than the deck's mass");
+  flat.values["bridge.mass_per_m"] = v;
+}
+
+// The nominal model's deck bending modes (the first six).
+std::vector<model::DeckMode> deck_modes_of(const study::Scenario& sc) {
+  return model::deck_bending_modes(model::build_structure(sc.bridge, sc.track), 6);
+}
+
+// Damping (Table 6.6 + Δζ, or the key), the cut-off and filter, on the flat scenario.
+void plan_damping_and_cutoff(FlatScenario& flat, const study::AssessConfig& c, study::AssessPlan& p) {
+  const study::Scenario nominal = to_scenario(flat);
+  double longest = 0.0;
+  for (const auto& s : nominal.bridge.spans) longest = std::max(longest, s.length);
+  p.span_for_damping = longest;
+  p.zeta_table = study::damping_lower_bound(c.deck, longest);
+  p.zeta_extra = c.interaction_damping ? study::additional_damping(longest) : 0.0;
+  p.zeta_given = c.damping_ratio.has_value();
+  p.zeta = p.zeta_given ? *c.damping_ratio : p.zeta_table + p.zeta_extra;
+  set_string(flat, "bridge.damping.kind", "modal");
+  set_number(flat, "bridge.damping.ratio", p.zeta);
+  p.deck_modes = deck_modes_of(nominal);
+  if (p.deck_modes.empty()) throw SolverError("assess: the model has no deck bending mode");
+  p.f1 = p.deck_modes.front().frequency_hz;
+  p.f3 = p.deck_modes.size() >= 3 ? p.deck_modes[2].frequency_hz : 0.0;
+  if (p.deck_modes.size() < 3) p.notes.push_back("fewer than three deck bending modes found: f3 not used in the cut-off");
+  p.f_cut = study::cutoff_frequency(p.f1, p.f3);
+  set_string(flat, "filter.band", "lowpass");
+  flat.values["filter.enabled"].b = true;
+  set_number(flat, "filter.high_hz", p.f_cut);
+}
+
+// HSLM-A1…A10, HSLM-B for spans under 7 m (N and d from the keys), then the scenario's other trains.
+std::vector<load::Train> assessment_trains(const FlatScenario& flat, const study::Scenario& sc, study::AssessPlan& p) {
+  std::vector<load::Train> out;
+  for (int i = 1; i <= 10; ++i) out.push_back(load::hslm_a("HSLM-A" + std::to_string(i), load::hslm_a_row(i)));
+  double shortest = std::numeric_limits<double>::infinity();
+  for (const auto& s : sc.bridge.spans) shortest = std::min(shortest, s.length);
+  if (sc.bridge.continuous && shortest < 7.0)
+    p.notes.push_back("HSLM-B not run: EN 1991-2 6.4.6.1.1 asks for it on simply supported spans under 7 m; this deck is continuous "
+                      "(HSLM-A1…A10 cover it)");
+  if (!sc.bridge.continuous && shortest < 7.0) {
+    if (!flat.has("assess.hslm_b_n") || !flat.has("assess.hslm_b_spacing_m"))
+      throw InputError(assess_location(flat, flat.path, "assess.hslm_b_n"),
+                       "a span of " + format_number(shortest, 4) +
+                           " m is under 7 m: EN 1991-2 6.4.6.1.1 asks for HSLM-B; give assess.hslm_b_n and "
+                           "assess.hslm_b_spacing_m read from Fig. E.4 for this span (viaduct does not carry the figure)");
+    const int n = static_cast<int>(flat.at("assess.hslm_b_n").x);
+    out.push_back(load::regular_train("HSLM-B", n, flat.at("assess.hslm_b_spacing_m").x, 170e3));
+    p.notes.push_back("HSLM-B: " + std::to_string(n) + " forces of 170 kN every " +
+                      format_number(flat.at("assess.hslm_b_spacing_m").x, 4) + " m (from the scenario, Fig. E.4)");
+  }
+  for (const auto& t : sc.trains) {
+    const bool listed = std::any_of(out.begin(), out.end(), [&](const load::Train& x) { return x.name == t.name; });
+    if (!listed) {
+      out.push_back(t);
+      p.real_trains.push_back(t.name);
+    }
+  }
+  return out;
+}
+
+// The mass variants (lower and upper bound, or one nominal case), each with every train and its speeds.
+void plan_variants(FlatScenario& flat, const study::AssessConfig& c, study::AssessPlan& p) {
+  const study::Scenario nominal = to_scenario(flat);
+  double ballast = c.ballast;
+  if (ballast < 0.0) {  // not given: the modelled track's ballast, or none
+    ballast = nominal.track ? nominal.track->ballast_mass / nominal.track->sleeper_spacing : 0.0;
+    p.notes.push_back(nominal.track ? "ballast mass per metre taken from the track model: " + format_number(ballast, 6) + " kg/m"
+                                    : "no ballast mass given (assess.ballast_mass_per_m): one mass case, not bounded");
+  }
+  const std::vector<load::Train> trains = assessment_trains(flat, nominal, p);
+  std::vector<std::pair<std::string, double>> bounds = {{"nominal", 1.0}};
+  if (ballast > 0.0 && c.ballast_lower != c.ballast_upper)
+    bounds = {{"mass lower", c.ballast_lower}, {"mass upper", c.ballast_upper}};
+  const double m0 = nominal.bridge.spans.front().mass_per_m;
+  for (const auto& [label, factor] : bounds) {
+    FlatScenario f = flat;
+    if (factor != 1.0) add_mass(f, (factor - 1.0) * ballast);
+    study::Variant v;
+    v.label = label;
+    v.scenario = to_scenario(f);
+    v.scenario.trains = trains;
+    v.factors = {{"mass", v.scenario.bridge.spans.front().mass_per_m / m0}};
+    v.train_speeds = study::assessment_train_speeds(trains, v.scenario, c, p.f_cut);
+    v.scenario.sweep_speeds = v.train_speeds.front();
+    p.variants.push_back(std::move(v));
+  }
+}
+
+void write_checks_csv(const std::string& path, const std::vector<study::AssessCheck>& checks) {
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& k : checks)
+    rows.push_back({k.check, k.quantity, table_cell(k.value), table_cell(k.limit), table_cell(k.utilisation(), 6),
+                    k.verdict, k.variant, k.train, table_cell(k.speed * 3.6, 6), k.clause});
+  write_table_csv(path, {"check", "quantity", "value", "limit", "utilisation", "result", "variant", "train", "speed_kmh", "clause"},
+                      rows);
+}
+
+void write_increments_csv(const std::string& path, const std::vector<study::AssessIncrement>& inc) {
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& i : inc)
+    rows.push_back({i.variant, i.train, i.quantity, table_cell(i.dynamic), table_cell(i.quasi_static),
+                    table_cell(i.phi(), 6), table_cell(i.speed * 3.6, 6)});
+  write_table_csv(path, {"variant", "train", "quantity", "max_abs_dynamic", "max_abs_quasi_static", "phi_dyn", "speed_kmh"}, rows);
+}
+
+
+// mass_cases.csv: what each mass case sets, so that any of its cases can be run again alone
+// (viaduct run --set bridge.mass_per_m=... --set bridge.damping.ratio=... --set filter.high_hz=...).
+void write_mass_cases_csv(const std::string& path, const study::AssessPlan& p) {
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& v : p.variants)
+    for (std::size_t k = 0; k < v.scenario.bridge.spans.size(); ++k)
+      rows.push_back({v.label, std::to_string(k + 1), table_cell(v.scenario.bridge.spans[k].mass_per_m),
+                      table_cell(p.zeta), table_cell(p.f_cut)});
+  write_table_csv(path, {"variant", "span", "mass_per_m_kgpm", "damping_ratio", "cutoff_hz"}, rows);
+}
+
+struct ReportInput {
+  const study::AssessConfig& c;
+  const study::AssessPlan& p;
+  const study::SweepResult& r;
+  const std::vector<study::AssessCheck>& checks;
+  const std::vector<study::AssessIncrement>& inc;
+  const FlatScenario& flat;
+  const study::Scenario& nominal;
+  std::string command_line;
+  bool figures = false;
+  const study::LayoutSensitivity* layout = nullptr;
+};
+
+void report_summary(std::ostringstream& o, const ReportInput& in) {
+  std::size_t fails = 0, dyn = 0;
+  for (const auto& k : in.checks) fails += k.verdict == "FAIL" || k.verdict == "UPLIFT", dyn += k.verdict == "dynamic governs";
+  o << "## Summary\n\n";
+  if (in.checks.empty()) o << "**No check could be made: every case failed to run (failures.csv).**";
+  else o << (fails ? "**" + std::to_string(fails) + " check(s) fail.**" : std::string("**Every limit check passes.**"));
+  if (!in.r.failures.empty() && !in.checks.empty())
+    o << " **" << in.r.failures.size() << " case(s) failed to run (failures.csv): the checks leave them out.**";
+  if (dyn) o << " In " << dyn << " quantit" << (dyn > 1 ? "ies" : "y") << " the dynamic effect of the trains exceeds Φ × LM71: design with it (6.4.6.5(3)).";
+  o << "\n\n| check | quantity | value | limit | utilisation | result | governing train | speed [km/h] | mass | clause |\n"
+       "|---|---|---:|---:|---:|---|---|---:|---|---|\n";
+  for (const auto& k : in.checks)
+    o << "| " << k.check << " | " << k.quantity << " | " << study::shown_value(k.quantity, k.value) << " | " << study::shown_value(k.quantity, k.limit)
+      << " | " << rfmt(k.utilisation(), 3) << " | " << k.verdict << " | " << (k.train.empty() ? "—" : k.train) << " | "
+      << rfmt(k.speed * 3.6, 4) << " | " << (k.variant.empty() ? "—" : k.variant) << " | " << k.clause << " |\n";
+  if (in.figures) o << "\n![Peak deck acceleration against speed, every train, with the limit](acc_vs_speed.png)\n";
+}
+
+// How the trains ran: the vehicle model, its contact and the rail profile (docs/vehicles.md).
+std::string vehicle_line(const study::RunSettings& st) {
+  const study::VehicleSettings& v = st.vehicle;
+  if (v.model == study::VehicleModel::forces) return "as moving axle loads (train.vehicle = \"forces\")";
+  std::string s = std::string("as ") + study::vehicle_model_name(v.model) + " vehicles (docs/vehicles.md), " +
+                  (v.contact == study::ContactModel::rigid ? "rigid" : "Hertz") + " contact" +
+                  (v.release ? " released when it would pull" : " held (tensile forces reported)");
+  const study::IrregularitySettings& irr = st.irregularity;
+  if (irr.measured) s += ", measured rail profile " + irr.measured_file;
+  else if (!irr.spectrum.empty()) s += ", random rail profile " + irr.spectrum + " (seed " + std::to_string(irr.seed) + ")";
+  else s += ", smooth rail";
+  if (st.method == study::Method::ida) s += ", IDA on the modes with the contact events located";
+  return s;
+}
+
+void report_inputs(std::ostringstream& o, const ReportInput& in) {
+  const study::AssessConfig& c = in.c;
+  const study::AssessPlan& p = in.p;
+  std::size_t n_cases = in.r.summary.n_cases;
+  o << "\n## Inputs of the check\n\n";
+  o << "- **Trains** (EN 1991-2 6.4.6.1.1, Annex E): HSLM-A1…A10";
+  for (const auto& t : p.real_trains) o << ", " << t;
+  o << ". Axle loads × " << rfmt(in.nominal.settings.load_factor) << " (train.load_factor).\n";
+  o << "- **Speeds** (6.4.6.2): " << rfmt(c.v_min * 3.6) << " to " << rfmt(c.v_max * 3.6) << " km/h (1.2 × the line speed "
+    << rfmt(c.line_speed * 3.6) << " km/h) every " << rfmt(c.step * 3.6) << " km/h, refined to " << rfmt(c.fine_step * 3.6)
+    << " km/h within ±" << rfmt(100 * c.band) << " % of each resonance speed f·d/j (j ≤ " << c.harmonics
+    << ", f each deck bending frequency below the cut-off, d the train's characteristic distance): " << n_cases << " cases.\n";
+  if (p.zeta_given)
+    o << "- **Damping**: ζ = " << rfmt(100 * p.zeta) << " % (assess.damping_ratio, instead of Table 6.6).\n";
+  else
+    o << "- **Damping** (Table 6.6, " << study::deck_type_name(c.deck) << ", L = " << rfmt(p.span_for_damping) << " m, the longest span): "
+      << rfmt(100 * p.zeta_table) << " %" << (p.zeta_extra > 0 ? " + Δζ = " + rfmt(100 * p.zeta_extra) + " % (Fig. 6.8, Eq. 6.13: interaction not modelled)" : "")
+      << " = **" << rfmt(100 * p.zeta) << " %** in every deck mode.\n";
+  o << "- **Mass** (6.4.6.3.2):";
+  for (const auto& v : p.variants) o << " " << v.label << " " << rfmt(v.scenario.bridge.spans.front().mass_per_m, 6) << " kg/m;";
+  o << " the lower bound governs accelerations, the upper bound the lowest resonance speeds.\n";
+  o << "- **Frequencies** (EN 1990 A2.4.4.2.1(4)): f1 = " << rfmt(p.f1) << " Hz, f3 = " << rfmt(p.f3) << " Hz: cut-off max(30, 1.5 f1, f3) = **"
+    << rfmt(p.f_cut) << " Hz**, applied as a Chebyshev I low-pass to accelerations.\n";
+  o << "- **Limits**: deck acceleration " << rfmt(c.acc_limit) << " m/s² (" << c.track << " track); deflection span/"
+    << rfmt(c.deflection_ratio) << "; end rotation " << rfmt(c.rotation_limit * 1e3) << " mrad; LM71 α = " << rfmt(c.alpha) << ", "
+    << (c.careful ? "Φ2 (careful maintenance)" : "Φ3 (standard maintenance)") << " with Lφ = "
+    << (c.determinant_length ? rfmt(*c.determinant_length) + " m (assess.determinant_length_m)"
+        : in.nominal.bridge.continuous ? rfmt(study::assessment_determinant_length("", in.nominal, c)) + " m (Table 6.2, continuous over n spans: to confirm)"
+                                       : std::string("each quantity's span length (Table 6.2)"))
+    << ".\n";
+  if (in.nominal.settings.vehicle.model != study::VehicleModel::forces)
+    o << "- **Vehicle limits**: car-body vertical acceleration b_v " << rfmt(c.comfort_limit) << " m/s² (comfort level "
+      << c.comfort_level << ", EN 1990 A2.4.4.3.1 Table A2.9: to confirm; assess.comfort_limit_mps2 overrides); wheel unloading "
+      << "(P0 − Pmin)/P0 below " << rfmt(c.unloading_limit)
+      << (c.unloading_limit < 1.0 ? " (assess.unloading_ratio_limit)" : " (every wheel keeps contact with the rail)") << ".\n";
+  o << "- **Model and method**: " << in.nominal.bridge.spans.size() << (in.nominal.bridge.continuous ? " span(s) of one continuous deck, " : " span(s), ")
+    << (in.nominal.track ? "with" : "without")
+    << " track; " << (in.nominal.settings.method == study::Method::modal ? "modal superposition" : "direct integration") << ", dt = "
+    << rfmt(in.nominal.settings.dt * 1e3) << " ms; trains " << vehicle_line(in.nominal.settings) << ".\n";
+}
+
+void report_details(std::ostringstream& o, const ReportInput& in) {
+  o << "\n## Deck acceleration per train (A2.4.4.2.1(4))\n\n| train | max acc. [m/s²] | station | speed [km/h] | mass |\n|---|---:|---|---:|---|\n";
+  std::map<std::string, const study::EnvelopeRow*> worst;
+  std::vector<std::string> order;
+  for (const auto& row : in.r.rows) {
+    auto& w = worst[row.train];
+    if (!w) order.push_back(row.train);
+    if (!w || row.max_abs_acc > w->max_abs_acc) w = &row;
+  }
+  for (const auto& t : order)
+    o << "| " << t << " | " << rfmt(worst[t]->max_abs_acc) << " | " << worst[t]->station << " | " << rfmt(worst[t]->speed * 3.6)
+      << " | " << worst[t]->variant << " |\n";
+  if (in.figures) o << "\n![Envelope over trains and masses, the governing train at each peak](envelope.png)\n";
+  o << "\n## Dynamic increments φ′dyn (6.4.6.5)\n\nThe largest over trains, speeds and masses, per quantity "
+       "(every train in phi_dyn.csv):\n\n| quantity | φ′dyn | train | speed [km/h] | mass | max dynamic | max quasi-static |\n|---|---:|---|---:|---|---:|---:|\n";
+  std::map<std::string, const study::AssessIncrement*> top;
+  std::vector<std::string> qs;
+  for (const auto& i : in.inc) {
+    auto& t = top[i.quantity];
+    if (!t) qs.push_back(i.quantity);
+    if (!t || i.phi() > t->phi()) t = &i;
+  }
+  for (const auto& q : qs)
+    o << "| " << q << " | " << rfmt(top[q]->phi(), 3) << " | " << top[q]->train << " | " << rfmt(top[q]->speed * 3.6) << " | "
+      << top[q]->variant << " | " << study::shown_value(q, top[q]->dynamic) << " | " << study::shown_value(q, top[q]->quasi_static) << " |\n";
+  if (in.figures) o << "\n![φ′dyn per quantity](phi_dyn.png)\n";
+}
+
+void report_notes(std::ostringstream& o, const ReportInput& in) {
+  o << "\n## Notes and items to confirm\n\n";
+  for (const auto& n : in.p.notes) o << "- " << n << "\n";
+  o << "- To confirm against the text of the standard: φ″ (Annex C) in the design effect; the deflection and end-rotation "
+       "limits (given by assess.deflection_limit_ratio and assess.end_rotation_limit_rad).\n";
+  if (in.nominal.settings.vehicle.model == study::VehicleModel::forces)
+    o << "- Passenger comfort and wheel unloading are checked with vehicle models only (train.vehicle = \"sprung\" or "
+         "\"multibody\", docs/vehicles.md): with moving forces there are no car bodies and no contact forces.\n";
+  else
+    o << "- The car-body acceleration checked is the largest on each body's floor at its centre and above its bogie centres "
+         "(EN 12299's floor positions: bounce plus pitch times the half bogie spacing; a sprung mass's own), "
+      << (in.nominal.settings.vehicle.comfort_lowpass_hz > 0.0
+              ? "low-passed at " + rfmt(in.nominal.settings.vehicle.comfort_lowpass_hz) + " Hz (train.comfort_lowpass_hz)"
+              : std::string("unfiltered (train.comfort_lowpass_hz sets a low-pass)"))
+      << ". To confirm: the comfort limits of Table A2.9.\n";
+  if (!in.r.failures.empty()) o << "- **" << in.r.failures.size() << " case(s) failed** (failures.csv): the checks above leave them out.\n";
+  o << "\n## Provenance\n\nScenario `" << in.flat.path << "`; " << version() << " (commit " << git_commit() << "); command `"
+    << in.command_line << "`. Tables: checks.csv, envelope.csv, load_effects.csv, phi_dyn.csv, mass_cases.csv, governing.csv, failures.csv"
+    << (in.r.vehicles.empty() ? "" : ", vehicles.csv (the vehicles' extremes per case)") << "; "
+       "manifest.toml holds the resolved scenario and the checksums of its files.\n";
+}
+
+void report_layout(std::ostringstream& o, const study::LayoutSensitivity& ls, const study::Scenario& sc) {
+  if (!ls.near) return;
+  o << "\n## Sleeper layout at the joints (docs/model.md)\n\nSpans " << ls.span_a << " and " << ls.span_b
+    << " have bending modes of the same order " << rfmt(100 * ls.split, 2)
+    << " % apart: coupled through the track, which span dominates the lower mode depends on where the sleepers sit at the "
+       "joints, and the per-span peaks with it (their sum and the resonance speeds do not). The governing acceleration case ("
+    << ls.train << ", " << rfmt(ls.speed * 3.6) << " km/h, " << ls.variant << ") with the sleepers moved (track.first_sleeper_offset):\n\n| offset [m] |";
+  for (const auto& st : sc.stations) o << " " << st.name << " [m/s²] |";
+  o << "\n|---:|";
+  for (std::size_t i = 0; i < sc.stations.size(); ++i) o << "---:|";
+  o << "\n";
+  for (std::size_t k = 0; k < ls.offsets.size(); ++k) {
+    o << "| " << rfmt(ls.offsets[k], 3) << " |";
+    for (double a : ls.peaks[k]) o << " " << rfmt(a) << " |";
+    o << "\n";
+  }
+  o << "| spread |";
+  for (std::size_t j = 0; j < sc.stations.size(); ++j) {
+    double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
+    for (const auto& row : ls.peaks) lo = std::min(lo, row[j]), hi = std::max(hi, row[j]);
+    o << " " << rfmt(100 * (hi / lo - 1), 3) << " % |";
+  }
+  o << "\n\nA check near its limit should hold for every layout: give the built one with track.first_sleeper_offset.\n";
+}
+
+std::string report_text(const ReportInput& in) {
+  std::ostringstream o;
+  o << "# Dynamic assessment (EN 1991-2 6.4, EN 1990 A2): " << (in.nominal.title.empty() ? in.flat.path : in.nominal.title) << "\n\n";
+  report_summary(o, in);
+  report_inputs(o, in);
+  report_details(o, in);
+  if (in.layout) report_layout(o, *in.layout, in.nominal);
+  report_notes(o, in);
+  return o.str();
+}
+
+}  // namespace
+
+study::AssessPlan plan_assessment(FlatScenario& flat, const std::string& scenario) {
+  study::AssessPlan p;
+  p.config = read_assess_config(flat, scenario);
+  plan_damping_and_cutoff(flat, p.config, p);
+  plan_variants(flat, p.config, p);
+  return p;
+}
+
+void write_assessment_tables(const std::string& out, const study::AssessResult& r) {
+  const auto& variants = r.plan.variants;
+  write_envelope_csv(out + "/envelope.csv", r.sweep.rows, variants);
+  write_quantities_csv(out + "/load_effects.csv", r.sweep.quantities, variants);
+  write_governing_csv(out + "/governing.csv", study::governing(r.sweep.rows));
+  write_failures_csv(out + "/failures.csv", r.sweep.failures);
+  write_checks_csv(out + "/checks.csv", r.checks);
+  write_increments_csv(out + "/phi_dyn.csv", r.increments);
+  write_mass_cases_csv(out + "/mass_cases.csv", r.plan);
+  if (!r.sweep.vehicles.empty()) write_vehicle_envelope_csv(out + "/vehicles.csv", r.sweep.vehicles, variants);
+}
+
+// Columns named `names`, of the kinds `kinds` ('t' text, 'n' number).
+std::vector<TableColumn> assess_columns(const std::vector<std::string>& names, const std::string& kinds) {
+  std::vector<TableColumn> c(names.size());
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    c[i].name = names[i];
+    c[i].kind = kinds[i] == 't' ? TableColumn::Kind::text : TableColumn::Kind::number;
+  }
+  return c;
+}
+
+std::vector<TableColumn> assessment_check_columns(const std::vector<study::AssessCheck>& checks) {
+  std::vector<TableColumn> c = assess_columns(
+      {"check", "quantity", "value", "limit", "utilisation", "result", "variant", "train", "speed_kmh", "clause"}, "ttnnntttnt");
+  for (const auto& k : checks) {
+    c[0].cells.push_back(k.check), c[1].cells.push_back(k.quantity), c[2].values.push_back(k.value);
+    c[3].values.push_back(k.limit), c[4].values.push_back(k.utilisation()), c[5].cells.push_back(k.verdict);
+    c[6].cells.push_back(k.variant), c[7].cells.push_back(k.train), c[8].values.push_back(k.speed * 3.6);
+    c[9].cells.push_back(k.clause);
+  }
+  return c;
+}
+
+std::vector<TableColumn> assessment_increment_columns(const std::vector<study::AssessIncrement>& inc) {
+  std::vector<TableColumn> c = assess_columns(
+      {"variant", "train", "quantity", "max_abs_dynamic", "max_abs_quasi_static", "phi_dyn", "speed_kmh"}, "tttnnnn");
+  for (const auto& i : inc) {
+    c[0].cells.push_back(i.variant), c[1].cells.push_back(i.train), c[2].cells.push_back(i.quantity);
+    c[3].values.push_back(i.dynamic), c[4].values.push_back(i.quasi_static), c[5].values.push_back(i.phi());
+    c[6].values.push_back(i.speed * 3.6);
+  }
+  return c;
+}
+
+std::string assessment_report(const study::AssessResult& r, const FlatScenario& flat, const std::string& command_line,
+                              bool figures) {
+  ReportInput in{r.plan.config, r.plan, r.sweep, r.checks, r.increments, flat, r.nominal(), command_line, figures, &r.layout};
+  return report_text(in);
+}
+
+}  // namespace viaduct::io
