@@ -112,9 +112,21 @@ void plan_damping_and_cutoff(FlatScenario& flat, const study::AssessConfig& c, s
   p.deck_modes = deck_modes_of(nominal);
   if (p.deck_modes.empty()) throw SolverError("assess: the model has no deck bending mode");
   p.f1 = p.deck_modes.front().frequency_hz;
-  p.f3 = p.deck_modes.size() >= 3 ? p.deck_modes[2].frequency_hz : 0.0;
-  if (p.deck_modes.size() < 3) p.notes.push_back("fewer than three deck bending modes found: f3 not used in the cut-off");
-  p.f_cut = study::cutoff_frequency(p.f1, p.f3);
+  // f3 of the member (A2.4.4.2.1(4)): each span of a chain on its own, a continuous deck whole;
+  // the cut-off the largest of the members' (one filter for every station: the conservative one).
+  p.members = study::member_frequencies(nominal.bridge, nominal.track);
+  const study::MemberFrequencies* gov = &p.members.front();
+  for (const auto& m : p.members) {
+    if (m.cutoff > gov->cutoff) gov = &m;
+    if (m.f3_order != 3)
+      p.notes.push_back((m.span ? "span " + std::to_string(m.span) : std::string("the deck")) +
+                        (m.f3_order == 0 ? ": fewer than three bending modes found, f3 not used in its cut-off"
+                                         : ": no third bending mode told apart; its third deck mode (order " +
+                                               std::to_string(m.f3_order) + ") taken as f3"));
+  }
+  p.f3 = gov->f3;
+  p.f3_span = gov->span;
+  p.f_cut = std::max(study::cutoff_frequency(p.f1, 0.0), gov->cutoff);
   set_string(flat, "filter.band", "lowpass");
   flat.values["filter.enabled"].b = true;
   set_number(flat, "filter.high_hz", p.f_cut);
@@ -274,8 +286,15 @@ void report_inputs(std::ostringstream& o, const ReportInput& in) {
   o << "- **Mass** (6.4.6.3.2):";
   for (const auto& v : p.variants) o << " " << v.label << " " << rfmt(v.scenario.bridge.spans.front().mass_per_m, 6) << " kg/m;";
   o << " the lower bound governs accelerations, the upper bound the lowest resonance speeds.\n";
-  o << "- **Frequencies** (EN 1990 A2.4.4.2.1(4)): f1 = " << rfmt(p.f1) << " Hz, f3 = " << rfmt(p.f3) << " Hz: cut-off max(30, 1.5 f1, f3) = **"
-    << rfmt(p.f_cut) << " Hz**, applied as a Chebyshev I low-pass to accelerations.\n";
+  o << "- **Frequencies** (EN 1990 A2.4.4.2.1(4)): f1 = " << rfmt(p.f1) << " Hz (the structure); f3 = " << rfmt(p.f3)
+    << " Hz, the third bending mode of the member (" << (p.f3_span ? "span " + std::to_string(p.f3_span) + " modelled alone on its bearings with its track" : std::string("the continuous deck"))
+    << "): cut-off max(30, 1.5 f1, f3) = **" << rfmt(p.f_cut) << " Hz**, applied as a Chebyshev I low-pass to accelerations.";
+  if (p.members.size() > 1) {
+    o << " Members:";
+    for (const auto& m : p.members) o << " span " << m.span << " f1 " << rfmt(m.f1) << " Hz, f3 " << rfmt(m.f3) << " Hz;";
+    o << " the highest cut-off filters every station.";
+  }
+  o << "\n";
   o << "- **Limits**: deck acceleration " << rfmt(c.acc_limit) << " m/s² (" << c.track << " track); deflection span/"
     << rfmt(c.deflection_ratio) << "; end rotation " << rfmt(c.rotation_limit * 1e3) << " mrad; LM71 α = " << rfmt(c.alpha) << ", "
     << (c.careful ? "Φ2 (careful maintenance)" : "Φ3 (standard maintenance)") << " with Lφ = "

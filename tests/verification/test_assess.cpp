@@ -5,9 +5,13 @@
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 #include "helpers.hpp"
+#include "viaduct/io/assessment.hpp"
 #include "viaduct/study/assess.hpp"
+#include "viaduct/study/assessment.hpp"
 #include "viaduct/study/influence.hpp"
 #include "viaduct/study/quasi_static.hpp"
 #include "viaduct/study/sweep.hpp"
@@ -244,4 +248,49 @@ TEST_CASE("the modal peaks kernel keeps the signed extremes of load effects as t
     CHECK(x.dynamic.min == Approx(y.dynamic.min).margin(1e-9 * scale));
   }
   for (std::size_t i = 0; i < a.rows.size(); ++i) CHECK(a.rows[i].max_abs_acc == Approx(b.rows[i].max_abs_acc).epsilon(1e-8));
+}
+
+// EN 1990 A2.4.4.2.1(4): f3 is the third mode of the member. A 25 m span on elastic bearings with
+// the Old Guadiana track alone and the same span between two identical spans: the same member f3
+// and the same cut-off, whereas the chain's third deck mode is another span's first bending
+// (the unconservative reading this replaced, issue #38 item 1).
+TEST_CASE("the cut-off takes f3 of the member: one span alone and among identical spans agree") {
+  const std::vector<std::string> common = {"bridge.EI=4.0e10", "bridge.mass_per_m=16000", "bridge.mass_includes_track=false",
+                                           "assess.speed_min_kmh=300", "assess.speed_step_kmh=40"};
+  // The shipped scenario's stations name span 2: a scenario of its own with one mid-span station.
+  const std::string path = (std::filesystem::temp_directory_path() / "viaduct-member-f3.toml").string();
+  {
+    std::ofstream f(path);
+    f << "[bridge]\nfile = \"" << vt::source("data/bridges/old-guadiana.toml") << "\"\n"
+      << "[track]\nfile = \"" << vt::source("data/tracks/old-guadiana-ballasted.toml") << "\"\n"
+      << "[train]\nfiles = [\"" << vt::source("data/trains/talgo-altaria.csv") << "\"]\nload_factor = 0.5\n[analysis]\npreset = \"default\"\n"
+      << "[[stations]]\nname = \"S1_mid\"\nspan = 1\nat = 0.5\n"
+      << "[assess]\nline_speed_kmh = 300.0\ndeck_type = \"prestressed\"\ntrack = \"ballasted\"\n";
+  }
+  auto plan_for = [&](const std::string& spans) {
+    std::vector<std::string> set = common;
+    set.push_back("bridge.span_lengths=" + spans);
+    io::FlatScenario flat = io::load_flat(path, set);
+    return io::plan_assessment(flat, "viaduct-member-f3.toml");
+  };
+  const study::AssessPlan one = plan_for("[25.0]");
+  const study::AssessPlan chain = plan_for("[25.0, 25.0, 25.0]");
+  REQUIRE(one.members.size() == 1);
+  REQUIRE(chain.members.size() == 3);
+  for (const auto& m : chain.members) {
+    CHECK(m.f3_order == 3);
+    // each member is modelled alone, with the same mesh and track: the same eigenproblem
+    CHECK(m.f3 == Approx(one.members.front().f3).epsilon(1e-9));
+    CHECK(m.f1 == Approx(one.members.front().f1).epsilon(1e-9));
+  }
+  CHECK(chain.f3 == Approx(one.f3).epsilon(1e-9));
+  CHECK(chain.f_cut == Approx(one.f_cut).epsilon(1e-9));
+  // The member's f3 is near 9 f1 of the span (on bearings and under a track: within 25 %),
+  // the chain's third deck bending mode is the first of a neighbour (within 10 % of f1).
+  const double f1 = one.members.front().f1;
+  CHECK(one.f3 > 6.75 * f1);
+  CHECK(one.f3 < 11.25 * f1);
+  REQUIRE(chain.deck_modes.size() >= 3);
+  CHECK(chain.deck_modes[2].frequency_hz < 1.1 * f1);
+  CHECK(chain.f_cut > chain.deck_modes[2].frequency_hz);
 }

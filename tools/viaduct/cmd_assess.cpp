@@ -89,7 +89,8 @@ int run_assess(const Common& o, const AssessOptions& opts) {
   io::Manifest m = start_manifest(o, "assess");
   m.as_run = io::settings_as_run(r.nominal().settings);
   m.extra = {{"acceleration_limit_mps2", format_number(p.config.acc_limit)}, {"cutoff_hz", format_number(p.f_cut)},
-             {"damping_ratio", format_number(p.zeta)}, {"line_speed_kmh", format_number(p.config.line_speed * 3.6)},
+             {"damping_ratio", format_number(p.zeta)}, {"f3_hz", format_number(p.f3)},
+             {"f3_span", std::to_string(p.f3_span)}, {"line_speed_kmh", format_number(p.config.line_speed * 3.6)},
              {"n_cases", std::to_string(r.sweep.summary.n_cases)}, {"n_failed", std::to_string(r.sweep.summary.n_failed)},
              {"threads", std::to_string(o.threads)}};
   m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
