@@ -63,6 +63,7 @@ study::AssessConfig read_assess_config(const FlatScenario& flat, const std::stri
   c.comfort_level = flat.at("assess.comfort_level").s;
   c.comfort_limit = number_or(flat, "assess.comfort_limit_mps2", study::comfort_limit_of(c.comfort_level));
   c.unloading_limit = flat.at("assess.unloading_ratio_limit").x;
+  if (flat.has("assess.comfort_deflection_ratio")) c.comfort_deflection_ratio = flat.at("assess.comfort_deflection_ratio").x;
   return c;
 }
 
@@ -193,9 +194,9 @@ void plan_variants(FlatScenario& flat, const study::AssessConfig& c, study::Asse
 void write_checks_csv(const std::string& path, const std::vector<study::AssessCheck>& checks) {
   std::vector<std::vector<std::string>> rows;
   for (const auto& k : checks)
-    rows.push_back({k.check, k.quantity, table_cell(k.value), table_cell(k.limit), table_cell(k.utilisation(), 6),
-                    k.verdict, k.variant, k.train, table_cell(k.speed * 3.6, 6), k.clause});
-  write_table_csv(path, {"check", "quantity", "value", "limit", "utilisation", "result", "variant", "train", "speed_kmh", "clause"},
+    rows.push_back({k.check, k.quantity, table_cell(k.value), table_cell(k.limit), study::quantity_unit(k.quantity),
+                    table_cell(k.utilisation(), 6), k.verdict, k.variant, k.train, table_cell(k.speed * 3.6, 6), k.clause});
+  write_table_csv(path, {"check", "quantity", "value", "limit", "unit", "utilisation", "result", "variant", "train", "speed_kmh", "clause"},
                       rows);
 }
 
@@ -232,6 +233,55 @@ struct ReportInput {
   const study::LayoutSensitivity* layout = nullptr;
 };
 
+// How a verdict ranks in the summary: what fails first, what is not checked last.
+int verdict_rank(const std::string& v) {
+  if (v == "FAIL" || v == "UPLIFT") return 0;
+  if (v == "dynamic governs") return 1;
+  if (v.rfind("limit to give", 0) == 0) return 2;
+  if (v.rfind("not checked", 0) == 0) return 4;
+  return 3;
+}
+
+// A force, moment, shear or reaction of a half-deck model carries one rail line's share.
+bool per_rail_line(const std::string& quantity, double load_factor) {
+  if (load_factor == 1.0) return false;
+  for (const char* s : {"_moment_Nm", "_shear_N", "_reaction_N"}) {
+    const std::string suffix(s);
+    if (quantity.size() >= suffix.size() && quantity.compare(quantity.size() - suffix.size(), suffix.size(), suffix) == 0)
+      return true;
+  }
+  return false;
+}
+
+// One line per check type, the failing ones first (the table follows in the same order).
+void report_verdict_lines(std::ostringstream& o, const std::vector<const study::AssessCheck*>& sorted) {
+  for (std::size_t i = 0; i < sorted.size();) {
+    std::size_t j = i, fails = 0;
+    const study::AssessCheck* worst = sorted[i];
+    for (; j < sorted.size() && sorted[j]->check == sorted[i]->check; ++j) {
+      fails += verdict_rank(sorted[j]->verdict) == 0;
+      const double u = sorted[j]->utilisation(), w = worst->utilisation();
+      if (verdict_rank(sorted[j]->verdict) < verdict_rank(worst->verdict) || (std::isfinite(u) && (!std::isfinite(w) || u > w)))
+        worst = sorted[j];
+    }
+    const std::size_t n = j - i;
+    o << "- **" << sorted[i]->verdict << "**: " << sorted[i]->check;
+    if (verdict_rank(worst->verdict) == 4) {
+      o << " (" << worst->clause << ")\n";
+    } else {
+      o << ": " << (fails ? std::to_string(fails) + " of " + std::to_string(n) + " fail" : std::to_string(n) + " row" + (n > 1 ? "s" : ""))
+        << "; the " << (fails ? "worst " : "largest ") << worst->quantity << " = " << study::shown_value(worst->quantity, worst->value);
+      if (std::isfinite(worst->limit))
+        o << " against " << study::shown_value(worst->quantity, worst->limit) << " (utilisation " << rfmt(worst->utilisation(), 3) << ")";
+      if (!worst->train.empty()) o << ", " << worst->train;
+      if (std::isfinite(worst->speed)) o << " at " << rfmt(worst->speed * 3.6) << " km/h";
+      if (!worst->variant.empty()) o << ", " << worst->variant;
+      o << ".\n";
+    }
+    i = j;
+  }
+}
+
 void report_summary(std::ostringstream& o, const ReportInput& in) {
   std::size_t fails = 0, dyn = 0;
   for (const auto& k : in.checks) fails += k.verdict == "FAIL" || k.verdict == "UPLIFT", dyn += k.verdict == "dynamic governs";
@@ -241,12 +291,34 @@ void report_summary(std::ostringstream& o, const ReportInput& in) {
   if (!in.r.failures.empty() && !in.checks.empty())
     o << " **" << in.r.failures.size() << " case(s) failed to run (failures.csv): the checks leave them out.**";
   if (dyn) o << " In " << dyn << " quantit" << (dyn > 1 ? "ies" : "y") << " the dynamic effect of the trains exceeds Φ × LM71: design with it (6.4.6.5(3)).";
-  o << "\n\n| check | quantity | value | limit | utilisation | result | governing train | speed [km/h] | mass | clause |\n"
+  o << "\n\n";
+  // Check types in the order of their worst verdict, rows within a type as formed.
+  std::vector<std::string> types;
+  std::map<std::string, int> rank;
+  for (const auto& k : in.checks) {
+    if (!rank.count(k.check)) types.push_back(k.check), rank[k.check] = 9;
+    rank[k.check] = std::min(rank[k.check], verdict_rank(k.verdict));
+  }
+  std::stable_sort(types.begin(), types.end(), [&](const std::string& a, const std::string& b) { return rank[a] < rank[b]; });
+  std::vector<const study::AssessCheck*> sorted;
+  for (const auto& t : types)
+    for (const auto& k : in.checks)
+      if (k.check == t) sorted.push_back(&k);
+  report_verdict_lines(o, sorted);
+  const double lf = in.nominal.settings.load_factor;
+  o << "\n| check | quantity | value | limit | utilisation | result | governing train | speed [km/h] | mass | clause |\n"
        "|---|---|---:|---:|---:|---|---|---:|---|---|\n";
-  for (const auto& k : in.checks)
-    o << "| " << k.check << " | " << k.quantity << " | " << study::shown_value(k.quantity, k.value) << " | " << study::shown_value(k.quantity, k.limit)
-      << " | " << rfmt(k.utilisation(), 3) << " | " << k.verdict << " | " << (k.train.empty() ? "—" : k.train) << " | "
-      << rfmt(k.speed * 3.6, 4) << " | " << (k.variant.empty() ? "—" : k.variant) << " | " << k.clause << " |\n";
+  for (const study::AssessCheck* k : sorted) {
+    const std::string mark = per_rail_line(k->quantity, lf) ? " †" : "";
+    o << "| " << k->check << " | " << k->quantity << " | " << study::shown_value(k->quantity, k->value) << mark << " | "
+      << study::shown_value(k->quantity, k->limit) << mark << " | " << rfmt(k->utilisation(), 3) << " | " << k->verdict << " | "
+      << (k->train.empty() ? "—" : k->train) << " | " << rfmt(k->speed * 3.6, 4) << " | " << (k->variant.empty() ? "—" : k->variant)
+      << " | " << k->clause << " |\n";
+  }
+  if (lf != 1.0)
+    o << "\n† per rail line / half deck: the model carries one rail line with each axle load × " << rfmt(lf)
+      << " (train.load_factor); a whole deck under both rails carries " << rfmt(1.0 / lf) << " × these forces and moments. "
+      << "Deflections, rotations and accelerations are the deck's.\n";
   if (in.figures) o << "\n![Peak deck acceleration against speed, every train, with the limit](acc_vs_speed.png)\n";
 }
 
@@ -311,6 +383,79 @@ void report_inputs(std::ostringstream& o, const ReportInput& in) {
     << (in.nominal.track ? "with" : "without")
     << " track; " << (in.nominal.settings.method == study::Method::modal ? "modal superposition" : "direct integration") << ", dt = "
     << rfmt(in.nominal.settings.dt * 1e3) << " ms; trains " << vehicle_line(in.nominal.settings) << ".\n";
+}
+
+// The model as run: spans, bearings, track, damping and the half-deck convention.
+void report_model(std::ostringstream& o, const ReportInput& in) {
+  const study::Scenario& sc = in.nominal;
+  const model::BridgeParams& b = sc.bridge;
+  o << "\n## Model\n\n" << (b.continuous ? "One continuous deck over " + std::to_string(b.spans.size()) + " spans"
+                                           : std::to_string(b.spans.size()) + " simply supported span(s)")
+    << ", Bernoulli–Euler beam elements of about " << rfmt(b.element_size) << " m.\n\n"
+    << "| span | L [m] | EI [N·m²] | mass [kg/m] | mass includes the track |\n|---:|---:|---:|---:|---|\n";
+  for (std::size_t k = 0; k < b.spans.size(); ++k)
+    o << "| " << k + 1 << " | " << rfmt(b.spans[k].length) << " | " << rfmt(b.spans[k].EI) << " | " << rfmt(b.spans[k].mass_per_m, 6)
+      << " | " << (sc.track ? (b.mass_includes_track ? "yes (the track's mass taken off the deck)" : "no (the track's added)") : "no track modelled")
+      << " |\n";
+  o << "\n- **Bearings**: "
+    << (b.bearings.rigid ? std::string("rigid") : "k = " + rfmt(b.bearings.k) + " N/m, c = " + rfmt(b.bearings.c) + " N·s/m")
+    << (b.bearings.rotational_k > 0 ? ", rotational spring " + rfmt(b.bearings.rotational_k) + " N·m/rad at the ends" : std::string())
+    << (b.added_mass_per_m > 0 ? "; added mass " + rfmt(b.added_mass_per_m) + " kg/m" : std::string()) << ".\n";
+  if (sc.track) {
+    const model::TrackParams& t = *sc.track;
+    o << "- **Track** (discrete, three layers): rail EI " << rfmt(t.rail_EI) << " N·m², " << rfmt(t.rail_mass_per_m) << " kg/m; sleepers every "
+      << rfmt(t.sleeper_spacing) << " m, " << rfmt(t.sleeper_mass) << " kg per rail seat; ballast " << rfmt(t.ballast_mass)
+      << " kg per rail seat; pad k " << rfmt(t.pad.k) << " N/m, c " << rfmt(t.pad.c) << " N·s/m; ballast k " << rfmt(t.ballast.k)
+      << " N/m, c " << rfmt(t.ballast.c) << " N·s/m; on the deck k " << rfmt(t.subgrade_on_bridge.k) << " N/m, c "
+      << rfmt(t.subgrade_on_bridge.c) << " N·s/m; " << rfmt(t.mass_per_m(), 5) << " kg/m in all.\n";
+  } else {
+    o << "- **Track**: not modelled (the axle loads act on the deck).\n";
+  }
+  o << "- **Damping**: ζ = " << rfmt(100 * in.p.zeta) << " % in every deck mode ("
+    << (in.p.zeta_given ? std::string("assess.damping_ratio") : "EN 1991-2 Table 6.6" + std::string(in.p.zeta_extra > 0 ? " + Eq. 6.13" : ""))
+    << ")" << (sc.track ? "; the track's dashpots besides" : "") << ".\n";
+  const double lf = sc.settings.load_factor;
+  o << "- **Convention**: "
+    << (lf == 1.0 ? std::string("the model carries whole axle loads (train.load_factor = 1): forces and moments are the deck's.")
+                  : "the model is " + std::string(lf == 0.5 ? "half a deck under one rail line" : "a share of the deck") +
+                        " (train.load_factor = " + rfmt(lf) + "): every force, moment, shear and reaction is per rail line / half deck (†).")
+    << "\n";
+}
+
+// The deck modes of the nominal model, and the resonance speeds v = f·d/j of each train.
+void report_modes(std::ostringstream& o, const ReportInput& in) {
+  o << "\n## Deck modes and resonance speeds\n\n| mode | f [Hz] | kind | span | bending order | deck mass share | below the cut-off |\n"
+       "|---:|---:|---|---:|---:|---:|---|\n";
+  for (std::size_t m = 0; m < in.p.deck_modes.size(); ++m) {
+    const model::DeckMode& d = in.p.deck_modes[m];
+    o << "| " << m + 1 << " | " << rfmt(d.frequency_hz) << " | " << model::mode_kind(d.deck_share) << " | " << d.bending.span << " | "
+      << d.bending.order << " | " << rfmt(d.deck_share, 3) << " | " << (d.frequency_hz <= in.p.f_cut ? "yes" : "no") << " |\n";
+  }
+  const std::vector<study::ResonanceSpeed> rs = study::resonance_speeds(in.p);
+  o << "\nResonance speeds v = f·d/j (6.4.6.2) within " << rfmt(in.c.v_min * 3.6) << "–" << rfmt(in.c.v_max * 3.6)
+    << " km/h, d the train's characteristic distance, j ≤ " << in.c.harmonics << " (mode: j):\n\n| train | d [m] | speeds [km/h] |\n|---|---:|---|\n";
+  for (std::size_t i = 0; i < rs.size();) {
+    std::size_t j = i;
+    o << "| " << rs[i].train << " | " << rfmt(rs[i].distance) << " | ";
+    for (; j < rs.size() && rs[j].train == rs[i].train; ++j)
+      o << (j > i ? ", " : "") << rfmt(rs[j].speed * 3.6) << " (" << rs[j].mode << ": " << rs[j].harmonic << ")";
+    o << " |\n";
+    i = j;
+  }
+  if (rs.empty()) o << "| — | — | none in the range |\n";
+}
+
+// EN 1991-2 Fig. 6.9 answered for the bridge, with Fig. 6.10's limits per member.
+void report_flow(std::ostringstream& o, const ReportInput& in) {
+  const study::DynamicAnalysisNeed d = study::dynamic_analysis_need(in.p, in.nominal);
+  o << "\n## Is a dynamic analysis required? (EN 1991-2 6.4.4, Fig. 6.9; to confirm against the text)\n\n";
+  for (const auto& s : d.steps) o << "1. " << s.question << " — " << s.answer << "\n";
+  o << "\n**" << d.conclusion << ".**\n\nFig. 6.10's limits of the first natural frequency n0 (6.4.4):\n\n"
+       "| member | L [m] | n0 [Hz] | lower [Hz] | upper [Hz] | within |\n|---|---:|---:|---:|---:|---|\n";
+  for (const auto& m : d.members)
+    o << "| " << (m.span ? "span " + std::to_string(m.span) : std::string("deck (L = Lφ, to confirm)")) << " | " << rfmt(m.length) << " | " << rfmt(m.f1)
+      << " | " << rfmt(m.lower) << " | " << rfmt(m.upper) << " | "
+      << (m.length < 4.0 || m.length > 100.0 ? "outside the figure's 4–100 m" : m.within() ? "yes" : "no") << " |\n";
 }
 
 void report_details(std::ostringstream& o, const ReportInput& in) {
@@ -393,6 +538,9 @@ std::string report_text(const ReportInput& in) {
   o << "# Dynamic assessment (EN 1991-2 6.4, EN 1990 A2): " << (in.nominal.title.empty() ? in.flat.path : in.nominal.title) << "\n\n";
   report_summary(o, in);
   report_inputs(o, in);
+  report_model(o, in);
+  report_modes(o, in);
+  report_flow(o, in);
   report_details(o, in);
   if (in.layout) report_layout(o, *in.layout, in.nominal);
   report_notes(o, in);
@@ -433,12 +581,13 @@ std::vector<TableColumn> assess_columns(const std::vector<std::string>& names, c
 
 std::vector<TableColumn> assessment_check_columns(const std::vector<study::AssessCheck>& checks) {
   std::vector<TableColumn> c = assess_columns(
-      {"check", "quantity", "value", "limit", "utilisation", "result", "variant", "train", "speed_kmh", "clause"}, "ttnnntttnt");
+      {"check", "quantity", "value", "limit", "unit", "utilisation", "result", "variant", "train", "speed_kmh", "clause"},
+      "ttnntntttnt");
   for (const auto& k : checks) {
     c[0].cells.push_back(k.check), c[1].cells.push_back(k.quantity), c[2].values.push_back(k.value);
-    c[3].values.push_back(k.limit), c[4].values.push_back(k.utilisation()), c[5].cells.push_back(k.verdict);
-    c[6].cells.push_back(k.variant), c[7].cells.push_back(k.train), c[8].values.push_back(k.speed * 3.6);
-    c[9].cells.push_back(k.clause);
+    c[3].values.push_back(k.limit), c[4].cells.push_back(study::quantity_unit(k.quantity)), c[5].values.push_back(k.utilisation());
+    c[6].cells.push_back(k.verdict), c[7].cells.push_back(k.variant), c[8].cells.push_back(k.train);
+    c[9].values.push_back(k.speed * 3.6), c[10].cells.push_back(k.clause);
   }
   return c;
 }

@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "viaduct/core/error.hpp"
+#include "viaduct/study/guards.hpp"
 
 namespace viaduct::study {
 
@@ -60,11 +61,118 @@ std::size_t span_of(const std::string& quantity, const Scenario& sc) {
   return 0;
 }
 
+}  // namespace
+
+namespace {
+
+std::string flow_num(double x, int sig = 4) { return format_number(x, sig); }
+
+// The boxes of Fig. 6.9 after "V <= 200 km/h? yes" for a chain of simply supported spans.
+void simple_spans_flow(DynamicAnalysisNeed& d, const Scenario& sc) {
+  auto ask = [&](const std::string& q, const std::string& a) { d.steps.push_back({q, a}); };
+  ask("Simple structure (note 1)?", "taken as yes: simply supported beams (skew and the bearings' flexibility to confirm)");
+  std::string shorter;
+  for (std::size_t i = 0; i < sc.bridge.spans.size(); ++i)
+    if (sc.bridge.spans[i].length < 40.0) shorter += (shorter.empty() ? "" : ", ") + std::to_string(i + 1);
+  if (shorter.empty()) {
+    ask("L >= 40 m?", "yes: every span");
+    d.required = false;
+    d.conclusion = "a dynamic analysis is not required by the chart (every span is 40 m or longer): use Φ with the static "
+                   "analysis; the dynamic analysis below is a check beyond it";
+    return;
+  }
+  ask("L >= 40 m?", "no: span(s) " + shorter + " shorter");
+  std::string outside, inside;
+  for (const auto& m : d.members) {
+    const std::string what = "span " + std::to_string(m.span) + " n0 = " + flow_num(m.f1) + " Hz in [" + flow_num(m.lower) + ", " +
+                             flow_num(m.upper) + "] Hz";
+    std::string& into = m.within() ? inside : outside;
+    into += (into.empty() ? "" : "; ") + (m.within() ? what : "span " + std::to_string(m.span) + " n0 = " + flow_num(m.f1) +
+                                                                   " Hz outside [" + flow_num(m.lower) + ", " + flow_num(m.upper) + "] Hz");
+  }
+  if (!outside.empty()) {
+    ask("n0 within the limits of Fig. 6.10?", "no: " + outside);
+    d.required = true;
+    d.conclusion = "a dynamic analysis is required (6.4.4: n0 outside the limits of Fig. 6.10)";
+    return;
+  }
+  ask("n0 within the limits of Fig. 6.10?", "yes: " + inside);
+  ask("n_T > 1.2 n0 (first torsional frequency, note 4)?", "not answered: a 2D model has no torsion");
+  ask("v/n0 <= (v/n0)lim (Annex F, notes 2 and 3)?", "not answered: Annex F's tables are not carried");
+  d.required = true;
+  d.conclusion = "not decided: the chart's torsion and Annex F boxes are beyond a 2D model; the dynamic analysis below answers "
+                 "for them";
+}
+
+}  // namespace
+
+DynamicAnalysisNeed dynamic_analysis_need(const AssessPlan& p, const Scenario& sc) {
+  DynamicAnalysisNeed d;
+  for (const auto& m : p.members) {
+    DynamicAnalysisNeed::Member x;
+    x.span = m.span;
+    x.f1 = m.f1;
+    // a continuous deck: its determinant length (our reading of 6.4.4 for other than simply
+    // supported spans; to confirm)
+    x.length = m.span > 0 ? sc.bridge.spans[static_cast<std::size_t>(m.span - 1)].length
+                          : assessment_determinant_length("", sc, p.config);
+    const FrequencyLimits lim = fig_6_10_limits(x.length);
+    x.lower = lim.lower, x.upper = lim.upper;
+    d.members.push_back(x);
+  }
+  const double v = p.config.line_speed * 3.6;
+  if (v > 200.0) {
+    d.steps.push_back({"V <= 200 km/h?", "no: the line speed is " + flow_num(v) + " km/h"});
+    d.required = true;
+    d.conclusion = "a dynamic analysis is required (6.4.6): the line speed exceeds 200 km/h";
+    return d;
+  }
+  d.steps.push_back({"V <= 200 km/h?", "yes: the line speed is " + flow_num(v) + " km/h"});
+  if (sc.bridge.continuous) {
+    d.steps.push_back({"Continuous bridge (note 5)?", "yes"});
+    d.required = false;
+    d.conclusion = "a dynamic analysis is not required by the chart for a continuous bridge at V <= 200 km/h (note 5: to "
+                   "confirm against the text); the dynamic analysis below is a check beyond it";
+    return d;
+  }
+  d.steps.push_back({"Continuous bridge (note 5)?", "no: " + std::to_string(sc.bridge.spans.size()) + " simply supported span(s)"});
+  simple_spans_flow(d, sc);
+  return d;
+}
+
+std::vector<ResonanceSpeed> resonance_speeds(const AssessPlan& p) {
+  std::vector<ResonanceSpeed> out;
+  if (p.variants.empty()) return out;
+  const AssessConfig& c = p.config;
+  for (const auto& t : p.variants.front().scenario.trains) {
+    const double d = load::characteristic_distance(t);
+    if (!(d > 0.0)) continue;
+    for (std::size_t m = 0; m < p.deck_modes.size(); ++m) {
+      const double f = p.deck_modes[m].frequency_hz;
+      if (f > p.f_cut) continue;
+      for (int j = 1; j <= c.harmonics; ++j) {
+        const double v = f * d / j;
+        if (v >= c.v_min * (1 - 1e-12) && v <= c.v_max * (1 + 1e-12))
+          out.push_back({t.name, d, f, static_cast<int>(m + 1), j, v});
+      }
+    }
+  }
+  return out;
+}
+
+std::string quantity_unit(const std::string& quantity) {
+  static const std::vector<std::pair<std::string, std::string>> units = {
+      {"_acc_mps2", "m/s2"}, {"_disp_m", "m"}, {"_moment_Nm", "N m"}, {"_reaction_N", "N"}, {"_shear_N", "N"},
+      {"_rot_rad", "rad"},   {"_strain_ue", "ue"}, {"_hz", "Hz"},     {"_mm_per_3m", "mm/3m"}};
+  for (const auto& [suffix, unit] : units)
+    if (quantity.size() >= suffix.size() && quantity.compare(quantity.size() - suffix.size(), suffix.size(), suffix) == 0)
+      return unit;
+  return "-";
+}
+
 // Lφ of a quantity (6.4.5.3, Table 6.2): assess.determinant_length_m when given; on a continuous
 // deck Table 6.2 for girders continuous over n spans (k × the mean span, not below the longest;
 // to confirm); else its span's length.
-}  // namespace
-
 double assessment_determinant_length(const std::string& quantity, const Scenario& sc, const AssessConfig& c) {
   if (c.determinant_length) return *c.determinant_length;
   if (sc.bridge.continuous) {
@@ -196,6 +304,45 @@ void vehicle_checks(const SweepResult& r, const AssessConfig& c, std::vector<Ass
   out.push_back(u);
 }
 
+// Passenger comfort by deck deflection (EN 1990 A2.4.4.3.2): per span, the largest deflection
+// under LM71 × Φ with α = 1 against L / (L/δ), L/δ the figure's value (the key) times 0.7 for one
+// or two simply supported spans or two continuous spans, 0.9 for three or more continuous spans,
+// divided by the comfort level's b_v (to confirm against the text).
+void comfort_deflection_checks(const Statics& st, const Scenario& sc, const AssessConfig& c, std::vector<AssessCheck>& out) {
+  const std::size_t n = sc.bridge.spans.size();
+  const double factor = n >= 3 ? (sc.bridge.continuous ? 0.9 : 1.0) : 0.7;
+  const double b_v = c.comfort_limit;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double L = sc.bridge.spans[k].length;
+    AssessCheck a{"passenger comfort, deck deflection", "", -1.0, std::numeric_limits<double>::quiet_NaN(), "", "", "LM71 x Phi, alpha = 1",
+                  std::numeric_limits<double>::quiet_NaN(), "EN 1990 A2.4.4.3.2, Fig. A2.3 (to confirm)"};
+    for (std::size_t q = 0; q < st.il.names.size(); ++q) {
+      const std::string& name = st.il.names[q];
+      if (!ends_with(name, "_disp_m") || span_of(name, sc) != k || on_rigid_support(name.substr(0, name.size() - 7), sc)) continue;
+      const double L_phi = assessment_determinant_length(name, sc, c);
+      const double delta = (c.careful ? phi2(L_phi) : phi3(L_phi)) * st.lm71[q].max_abs() / c.alpha;
+      if (delta > a.value) a.value = delta, a.quantity = name;
+    }
+    if (a.quantity.empty()) continue;  // no deflection station on this span
+    if (c.comfort_deflection_ratio) {
+      a.limit = L * b_v / (*c.comfort_deflection_ratio * factor);
+      a.verdict = a.value <= a.limit ? "pass" : "FAIL";
+    } else {
+      a.verdict = "limit to give (assess.comfort_deflection_ratio)";
+    }
+    out.push_back(a);
+  }
+}
+
+// What a 2D model cannot check, said rather than left out (EN 1990 A2.4.4.2.2 and A2.4.4.2.4).
+void unchecked_rows(std::vector<AssessCheck>& out) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  out.push_back({"deck twist", "deck_twist_mm_per_3m", nan, nan, "not checked (2D model)", "", "", nan,
+                 "EN 1990 A2.4.4.2.2, Table A2.7 (to confirm)"});
+  out.push_back({"lateral vibration, first lateral frequency", "lateral_f1_hz", nan, 1.2, "not checked (2D model)", "", "", nan,
+                 "EN 1990 A2.4.4.2.4(3): at least 1.2 Hz (to confirm)"});
+}
+
 std::vector<AssessCheck> all_checks(const SweepResult& r, const Statics& st, const std::vector<AssessIncrement>& inc,
                               const Scenario& sc, const AssessConfig& c, const AssessPlan& p) {
   std::vector<AssessCheck> out;
@@ -207,7 +354,9 @@ std::vector<AssessCheck> all_checks(const SweepResult& r, const Statics& st, con
     out.push_back(a);
   }
   for (std::size_t q = 0; q < st.il.names.size(); ++q) quantity_checks(q, st, inc, r.quantities, sc, c, p, out);
+  comfort_deflection_checks(st, sc, c, out);
   vehicle_checks(r, c, out);
+  unchecked_rows(out);
   return out;
 }
 
@@ -280,7 +429,8 @@ std::string shown_number(double x, int significant) { return std::isfinite(x) ? 
 std::string shown_value(const std::string& quantity, double x) {
   static const std::vector<std::tuple<std::string, double, std::string>> units = {
       {"_acc_mps2", 1.0, " m/s²"}, {"_disp_m", 1e3, " mm"}, {"_moment_Nm", 1e-3, " kN·m"},
-      {"_reaction_N", 1e-3, " kN"}, {"_shear_N", 1e-3, " kN"}, {"_rot_rad", 1e3, " mrad"}, {"_strain_ue", 1.0, " µε"}};
+      {"_reaction_N", 1e-3, " kN"}, {"_shear_N", 1e-3, " kN"}, {"_rot_rad", 1e3, " mrad"}, {"_strain_ue", 1.0, " µε"}, {"_hz", 1.0, " Hz"}};
+  if (!std::isfinite(x)) return shown_number(x);
   for (const auto& [suffix, factor, unit] : units)
     if (ends_with(quantity, suffix)) return shown_number(x * factor) + unit;
   return shown_number(x);

@@ -6,13 +6,15 @@
 HS=$SRC/scenarios/hslm-simply-supported.toml
 O=$WORK/assess
 expect 0 "assessment:" -- "$VIADUCT" assess "$HS" --set assess.speed_min_kmh=300 --set assess.speed_step_kmh=20 \
-  --set assess.refine_band=0.01 --no-plots --out "$O"
+  --set assess.refine_band=0.01 --set assess.comfort_deflection_ratio=1500 --no-plots --out "$O"
 for f in report.md checks.csv envelope.csv load_effects.csv phi_dyn.csv mass_cases.csv governing.csv failures.csv manifest.toml; do
   if [ -s "$O/$f" ]; then n_pass=$((n_pass + 1)); else echo "FAIL: $O/$f missing or empty"; n_fail=$((n_fail + 1)); fi
 done
 for s in "## Summary" "## Inputs of the check" "Table 6.6" "HSLM-A1…A10" "max(30, 1.5 f1, f3)" "## Dynamic increments" \
          "trains as moving axle loads (train.vehicle = \"forces\")" \
-         "no ballast mass given" "## Provenance"; do
+         "no ballast mass given" "## Provenance" "## Model" "| 1 | 15 |" "## Deck modes and resonance speeds" \
+         "| HSLM-A1 | 18 |" "Fig. 6.9" "Fig. 6.10's limits" "passenger comfort, deck deflection" "not checked (2D model)" \
+         "whole axle loads (train.load_factor = 1)"; do
   expect 0 "$s" -- cat "$O/report.md"
 done
 out=$(python3 - "$O" <<'PY' 2>&1
@@ -59,6 +61,24 @@ kinds = {r["check"] for r in checks}
 for k in ["vertical deflection, trains (dynamic)", "vertical deflection, LM71 x Phi", "deck end rotation, trains (dynamic)", "bearing uplift"]:
     if k not in kinds:
         bad.append("no row: " + k)
+# Comfort by deflection (EN 1990 A2.4.4.3.2): LM71 x Phi2 with alpha = 1 (the default alpha: the
+# deflection row's value), against L / (1500 x 0.7), one span, b_v = 1 m/s2 (very-good).
+cd = [r for r in checks if r["check"] == "passenger comfort, deck deflection"]
+lm = [r for r in checks if r["check"] == "vertical deflection, LM71 x Phi" and r["quantity"] == "mid_disp_m"]
+if len(cd) != 1 or len(lm) != 1:
+    bad.append("comfort-deflection rows %s, LM71 deflection rows %s" % (cd, lm))
+else:
+    near("comfort deflection", float(cd[0]["value"]), float(lm[0]["value"]), 1e-9)
+    near("comfort deflection limit", float(cd[0]["limit"]), L / (1500 * 0.7), 1e-9)
+    if cd[0]["result"] != ("pass" if float(cd[0]["value"]) <= float(cd[0]["limit"]) else "FAIL"):
+        bad.append("comfort-deflection verdict " + cd[0]["result"])
+units = {"_acc_mps2": "m/s2", "_disp_m": "m", "_moment_Nm": "N m", "_shear_N": "N", "_reaction_N": "N", "_rot_rad": "rad", "_hz": "Hz", "_mm_per_3m": "mm/3m"}
+for r in checks:
+    want = [u for s, u in units.items() if r["quantity"].endswith(s)]
+    if r["unit"] != (want[0] if want else "-"):
+        bad.append("unit of %s: %s" % (r["quantity"], r["unit"]))
+if sorted(r["check"] for r in checks if r["result"] == "not checked (2D model)") != ["deck twist", "lateral vibration, first lateral frequency"]:
+    bad.append("the 2D model's unchecked rows are not both there")
 phi = list(csv.DictReader(open(O + "/phi_dyn.csv")))
 trains = {r["train"] for r in phi}
 if trains != {"HSLM-A%d" % i for i in range(1, 11)}:
@@ -76,7 +96,8 @@ expect 0 "numbers ok" -- echo "$out"
 CO=$WORK/assess-continuous
 expect 0 "assessment:" -- "$VIADUCT" assess "$SRC/scenarios/continuous-two-span.toml" --set assess.speed_min_kmh=300 \
   --set assess.speed_step_kmh=20 --set assess.refine_band=0.01 --no-plots --out "$CO"
-for s in "of one continuous deck" "Lφ = 24 m (Table 6.2, continuous" "station pier sits on a rigid bearing"; do
+for s in "of one continuous deck" "Lφ = 24 m (Table 6.2, continuous" "station pier sits on a rigid bearing" \
+         "limit to give (assess.comfort_deflection_ratio)" "One continuous deck over 2 spans" "| deck (L = Lφ, to confirm) | 24 |"; do
   expect 0 "$s" -- cat "$CO/report.md"
 done
 out=$(python3 - "$CO" <<'PY' 2>&1

@@ -39,6 +39,9 @@ struct AssessConfig {
   std::string comfort_level = "very-good";
   double comfort_limit = 1.0;    ///< [m/s²] b_v, EN 1990 A2.4.4.3.1 Table A2.9 (to confirm)
   double unloading_limit = 1.0;  ///< [-] (P0 − Pmin)/P0
+  /// L/δ of EN 1990 Fig. A2.3 for the span and speed at b_v = 1 m/s² (not carried: unset, the
+  /// comfort-by-deflection rows say the limit is to be given).
+  std::optional<double> comfort_deflection_ratio;
 };
 
 /// [m/s²] b_v of a level of comfort (EN 1990 A2.4.4.3.1 Table A2.9, to confirm): very-good 1.0,
@@ -117,6 +120,47 @@ struct AssessResult {
 /// (influence lines, LM71, permanent bearing loads), every check, the layout sensitivity.
 /// InputError/SolverError as the sweep's; failed cases are in sweep.failures.
 AssessResult run_assessment(AssessPlan plan, const AssessOptions& options);
+
+/// One box of EN 1991-2 Fig. 6.9 (is a dynamic analysis required?), answered for the bridge.
+struct FlowAnswer {
+  std::string question, answer;
+};
+
+/// Fig. 6.9 as far as a 2D model answers it (REFERENCE.md §9; to confirm against the text): the
+/// boxes passed, whether the chart requires a dynamic analysis, and Fig. 6.10's limits per member.
+struct DynamicAnalysisNeed {
+  std::vector<FlowAnswer> steps;
+  bool required = true;  ///< false only when the chart's boxes that were answered exempt the bridge
+  std::string conclusion;
+  struct Member {
+    int span = 0;  ///< 1-based; 0: the continuous deck
+    /// [m] the span (a continuous deck: its determinant length Lφ, to confirm), [Hz] n0 and Fig. 6.10's limits
+    double length = 0.0, f1 = 0.0, lower = 0.0, upper = 0.0;
+    bool within() const { return f1 >= lower && f1 <= upper; }
+  };
+  std::vector<Member> members;
+};
+
+/// Fig. 6.9 for the plan's line speed, deck (continuous or a chain) and members' f1.
+DynamicAnalysisNeed dynamic_analysis_need(const AssessPlan& p, const Scenario& nominal);
+
+/// A resonance speed v = f·d/j of one train (6.4.6.2; the speeds are refined around them).
+struct ResonanceSpeed {
+  std::string train;
+  double distance = 0.0;     ///< [m] the train's characteristic distance d
+  double frequency_hz = 0.0;  ///< [Hz] f of the deck mode
+  int mode = 0;               ///< 1-based index among the plan's deck modes
+  int harmonic = 1;           ///< j
+  double speed = 0.0;         ///< [m/s]
+};
+
+/// Every f·d/j within the plan's speed range, for the nominal model's deck modes below the
+/// cut-off and j up to config.harmonics, per train in the order run.
+std::vector<ResonanceSpeed> resonance_speeds(const AssessPlan& p);
+
+/// The SI unit of a quantity from its name's suffix, as checks.csv states it ("m/s2", "m", "N m",
+/// "N", "rad", "ue", "Hz", "mm/3m"; "-" for a ratio).
+std::string quantity_unit(const std::string& quantity);
 
 /// Lφ of a quantity (6.4.5.3, Table 6.2): AssessConfig::determinant_length when given; on a
 /// continuous deck Table 6.2 for girders continuous over n spans (to confirm); else the length of
