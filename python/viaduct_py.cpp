@@ -21,6 +21,7 @@
 #include "viaduct/core/error.hpp"
 #include "viaduct_py.hpp"
 #include "viaduct/io/assessment.hpp"
+#include "viaduct/io/report_html.hpp"
 #include "viaduct/io/output_dir.hpp"
 #include "viaduct/io/record.hpp"
 #include "viaduct/io/results.hpp"
@@ -178,6 +179,7 @@ py::tuple assess(const viaduct::io::FlatScenario& flat_in, int threads, const py
     io::begin_outputs(*out);
     io::write_assessment_tables(*out, r);
     io::write_text_file(*out + "/report.md", report);
+    io::write_text_file(*out + "/report.html", io::report_html(report, r.nominal().title, *out));
   }
   py::dict tables;
   tables["envelope"] = columns_dict(io::envelope_columns(r.sweep.rows, r.plan.variants));

@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian packages viaduct needs, only those that are missing.
 # Needs root (or sudo) when something is missing; does nothing otherwise.
+#   --tests: also what only the tests need (scripts/test.sh passes it): Chromium and pdftotext,
+#            which render assess's report.html and read its report.pdf (tests/cli/report_html.sh).
+#            viaduct assess prints report.pdf with Chromium when it is there.
 set -euo pipefail
 
 packages=(
@@ -21,6 +24,9 @@ packages=(
   python3-dev python3-pybind11  # the Python package (issue #17: python/, docs/python.md)
   python3-pytest python3-pandas  # its tests (tables as DataFrames when pandas is there)
 )
+if [ "${1:-}" = "--tests" ]; then
+  packages+=(chromium poppler-utils)  # report.html rendered headless, report.pdf's text (tests only)
+fi
 
 missing=()
 for p in "${packages[@]}"; do

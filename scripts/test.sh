@@ -24,7 +24,7 @@ while [ $# -gt 0 ]; do
   shift
 done
 
-scripts/setup.sh
+scripts/setup.sh --tests
 
 run_preset() {
   local preset=$1

@@ -12,6 +12,7 @@
 
 #include "cli.hpp"
 #include "viaduct/io/assessment.hpp"
+#include "viaduct/io/report_html.hpp"
 #include "viaduct/io/results.hpp"
 
 #ifndef VIADUCT_SOURCE_DIR
@@ -27,6 +28,7 @@ namespace {
 
 struct AssessOptions {
   bool plots = true;
+  bool pdf = true;
 };
 
 // The figures, by scripts/plot/plot_assess.py (Python with matplotlib); false when it cannot run.
@@ -58,7 +60,8 @@ void print_checks(const std::vector<study::AssessCheck>& checks) {
 
 void declare_assess(po::options_description& d, AssessOptions& a) {
   d.add_options()("no-plots", po::bool_switch()->notifier([&a](bool v) { a.plots = !v; }),
-                  "write report.md without running scripts/plot/plot_assess.py");
+                  "write report.md without running scripts/plot/plot_assess.py")(
+      "no-pdf", po::bool_switch()->notifier([&a](bool v) { a.pdf = !v; }), "write report.html without printing report.pdf");
 }
 
 void print_layout(const study::LayoutSensitivity& layout) {
@@ -96,19 +99,30 @@ int run_assess(const Common& o, const AssessOptions& opts) {
   m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   io::write_manifest(o.out + "/manifest.toml", m, flat);
   const bool figures = opts.plots && make_figures(o.out, o.quiet);
-  io::write_text_file(o.out + "/report.md", io::assessment_report(r, flat, o.command_line, figures));
+  const std::string report = io::assessment_report(r, flat, o.command_line, figures);
+  io::write_text_file(o.out + "/report.md", report);
+  io::write_text_file(o.out + "/report.html",
+                      io::report_html(report, r.nominal().title.empty() ? o.scenario : r.nominal().title, o.out));
+  std::vector<std::string> pdf_warnings;
+  if (opts.pdf) {
+    const std::string chromium = io::find_chromium();
+    const std::string err = chromium.empty() ? "Chromium not found (Debian's package chromium; VIADUCT_CHROMIUM names another)"
+                                             : io::print_to_pdf(chromium, o.out + "/report.html", o.out + "/report.pdf");
+    if (!err.empty()) pdf_warnings.push_back("report.pdf not written: " + err + "; report.html holds the same (--no-pdf skips this)");
+  }
   if (!o.quiet) {
     std::printf("assessment: %zu cases (%zu mass case%s), %zu failed, %.1f s; cut-off %.1f Hz, damping %.3f %%\n",
                 r.sweep.summary.n_cases, p.variants.size(), p.variants.size() > 1 ? "s" : "", r.sweep.summary.n_failed,
                 r.sweep.summary.wall_s, p.f_cut, 100 * p.zeta);
     print_checks(r.checks);
     print_layout(r.layout);
-    std::printf("\nwrote %s/report.md%s, checks.csv, envelope.csv, load_effects.csv, phi_dyn.csv\n", o.out.c_str(),
-                figures ? " (with figures)" : "");
+    std::printf("\nwrote %s/report.md, report.html%s%s, checks.csv, envelope.csv, load_effects.csv, phi_dyn.csv\n", o.out.c_str(),
+                opts.pdf && pdf_warnings.empty() ? ", report.pdf" : "", figures ? " (with figures)" : "");
   }
   if (opts.plots && !figures)
     print_warnings("assess", {"figures not made (needs /usr/bin/python3 with matplotlib and scripts/plot/plot_assess.py): report.md "
                               "has the tables only; make them with scripts/plot/plot_assess.py " + o.out});
+  if (!pdf_warnings.empty()) print_warnings("assess", pdf_warnings);
   return sweep_exit_code("assess", o.scenario, r.sweep);
 }
 
