@@ -193,6 +193,7 @@ py::tuple assess(const viaduct::io::FlatScenario& flat_in, int threads, const py
   info["n_cases"] = r.sweep.summary.n_cases;
   info["n_failed"] = r.sweep.summary.n_failed;
   info["notes"] = r.plan.notes;
+  info["warnings"] = r.plan.warnings;
   info["report"] = report;
   return py::make_tuple(columns_dict(io::assessment_check_columns(r.checks)), tables, info);
 }

@@ -419,7 +419,7 @@ def test_assess_equals_the_cli(src, cli, tmp_path):
     # viaduct.assess runs the CLI's plan, runs and checks (io/study assessment): the same checks.
     path = src / "scenarios/hslm-simply-supported.toml"
     sets = {"assess.speed_step_kmh": 40.0, "assess.refine_band": 0.0}
-    run_cli(cli, "assess", path, "--set", "assess.speed_step_kmh=40", "--set", "assess.refine_band=0", "--no-plots",
+    run_cli(cli, "assess", path, "--set", "assess.speed_step_kmh=40", "--set", "assess.refine_band=0", "--no-plots", "--no-pdf",
             "--out", tmp_path / "cli", "-q")
     checks = viaduct.assess(viaduct.load_scenario(path, set=sets), threads=2, out=tmp_path / "py")
     with open(tmp_path / "cli/checks.csv") as f:

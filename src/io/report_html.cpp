@@ -48,6 +48,7 @@ std::string verdict_class(const std::string& text) {
   if (text.rfind("dynamic governs", 0) == 0) return "warn";
   if (text.rfind("not checked", 0) == 0 || text.rfind("limit to give", 0) == 0) return "nc";
   if (text == "pass" || text == "LM71 governs") return "pass";
+  if (text == "warning") return "fail";
   return "";
 }
 

@@ -5,7 +5,7 @@
 . "$(dirname "$0")/lib.sh"
 HS=$SRC/scenarios/hslm-simply-supported.toml
 O=$WORK/assess
-expect 0 "assessment:" -- "$VIADUCT" assess "$HS" --set assess.speed_min_kmh=300 --set assess.speed_step_kmh=20 \
+expect 0 "assessment:" -- "$VIADUCT" assess "$HS" --no-pdf --set assess.speed_min_kmh=300 --set assess.speed_step_kmh=20 \
   --set assess.refine_band=0.01 --set assess.comfort_deflection_ratio=1500 --no-plots --out "$O"
 for f in report.md checks.csv envelope.csv load_effects.csv phi_dyn.csv mass_cases.csv governing.csv failures.csv manifest.toml; do
   if [ -s "$O/$f" ]; then n_pass=$((n_pass + 1)); else echo "FAIL: $O/$f missing or empty"; n_fail=$((n_fail + 1)); fi
@@ -94,7 +94,7 @@ expect 0 "numbers ok" -- echo "$out"
 # permanent middle reaction 1.25 q L and Phi2(24 m) x LM71's hogging moment over the pier from
 # the two-span influence line M_B(a) = -a (L^2 - a^2) / (4 L^2).
 CO=$WORK/assess-continuous
-expect 0 "assessment:" -- "$VIADUCT" assess "$SRC/scenarios/continuous-two-span.toml" --set assess.speed_min_kmh=300 \
+expect 0 "assessment:" -- "$VIADUCT" assess "$SRC/scenarios/continuous-two-span.toml" --no-pdf --set assess.speed_min_kmh=300 \
   --set assess.speed_step_kmh=20 --set assess.refine_band=0.01 --no-plots --out "$CO"
 for s in "of one continuous deck" "Lφ = 24 m (Table 6.2, continuous" "station pier sits on a rigid bearing" \
          "limit to give (assess.comfort_deflection_ratio)" "One continuous deck over 2 spans" "| deck (L = Lφ, to confirm) | 24 |"; do
@@ -149,7 +149,7 @@ expect 0 "continuous numbers ok" -- echo "$out"
 # (assess.comfort_level "good": 1.3 m/s2), their values the extremes of vehicles.csv and their
 # verdicts the comparisons; the report names the limits and what the acceleration is.
 VE=$WORK/assess-vehicles
-expect 0 "passenger comfort (car body)" -- "$VIADUCT" assess "$HS" --set assess.speed_min_kmh=420 --set assess.speed_step_kmh=40 \
+expect 0 "passenger comfort (car body)" -- "$VIADUCT" assess "$HS" --no-pdf --set assess.speed_min_kmh=420 --set assess.speed_step_kmh=40 \
   --set assess.refine_band=0 --set 'train.vehicle="sprung"' --set train.unsprung_mass_kg=1800 \
   --set train.suspension_stiffness_N_m=1e6 --set train.suspension_damping_Ns_m=1e4 --set 'assess.comfort_level="good"' \
   --set assess.unloading_ratio_limit=0.999 --no-plots --out "$VE"
@@ -184,4 +184,22 @@ print("\n".join(bad) if bad else "vehicle checks ok")
 PY
 )
 expect 0 "vehicle checks ok" -- echo "$out"
+# Unit slips (issue #38 item 4) are warned of on the console, in the manifest and at the top of the
+# report, not handed over as results: EI in kN·m² (f1 0.16 Hz, 63 m/s² with exit 0 before), mass
+# in t/m (f1 158 Hz).
+SL=$WORK/assess-slip
+expect 0 "check the unit of bridge.EI (N·m², not kN·m²" -- "$VIADUCT" assess "$HS" --no-pdf --set bridge.EI=7.694e6 \
+  --set assess.speed_min_kmh=400 --set assess.speed_step_kmh=20 --set assess.refine_band=0 --no-plots --out "$SL-ei"
+expect 0 "**Warnings: read them before the numbers**" -- cat "$SL-ei/report.md"
+expect 0 "check the unit of bridge.EI" -- cat "$SL-ei/report.md"
+expect 0 "check the unit of bridge.EI" -- cat "$SL-ei/manifest.toml"
+# mass in t/m: f3 = 1423 Hz, a cut-off no step of the scenario resolves: refused, the unit named
+expect 2 "check the unit of bridge.mass_per_m (kg/m, not t/m" -- "$VIADUCT" assess "$HS" --no-pdf --set bridge.mass_per_m=15.0 \
+  --set assess.speed_min_kmh=400 --set assess.speed_step_kmh=20 --set assess.refine_band=0 --no-plots --out "$SL-m"
+expect 0 "below the 500 kg/m of any railway deck" -- "$VIADUCT" assess "$HS" --no-pdf --set bridge.mass_per_m=15.0 \
+  --set analysis.dt=1e-4 --set assess.speed_min_kmh=400 --set assess.speed_step_kmh=40 --set assess.refine_band=0 --no-plots --out "$SL-m2"
+expect 0 "below the 500 kg/m of any railway deck" -- cat "$SL-m2/report.md"
+# the HSLM span's f1 = 5 Hz lies just under Fig. 6.10's 5.33 Hz: warned of, with no unit to check
+expect 0 "outside EN 1991-2 Fig. 6.10's 5.33 to 12.5 Hz" -- cat "$O/report.md"
+expect 1 "" -- grep -q "check the unit" "$O/report.md"
 finish

@@ -69,13 +69,13 @@ plotted tradeoff "$WORK/tradeoff/tradeoff.png" -- $PY "$P/plot_tradeoff.py" "$WO
   --set 'train.files=["hslm:A4"]' --param bridge.EI=5e9:1e10 --set bridge.EI=7e9 --quiet --out "$WORK/fit" || true
 plotted fit "$WORK/fit/fit_trace.png" -- $PY "$P/plot_fit.py" "$WORK/fit"
 plotted fit "$WORK/fit/fit_time.png" -- $PY "$P/plot_fit.py" "$WORK/fit"
-"$VIADUCT" assess "$HS" --set assess.speed_min_kmh=300 --set assess.speed_step_kmh=20 --set assess.refine_band=0 --no-plots \
+"$VIADUCT" assess "$HS" --no-pdf --set assess.speed_min_kmh=300 --set assess.speed_step_kmh=20 --set assess.refine_band=0 --no-plots \
   --quiet --out "$WORK/assess"
 for f in acc_vs_speed envelope phi_dyn; do
   plotted assess "$WORK/assess/$f.png" -- $PY "$P/plot_assess.py" "$WORK/assess"
 done
 # viaduct assess draws them itself and links them from report.md.
-expect 0 "(with figures)" -- "$VIADUCT" assess "$HS" --set assess.speed_min_kmh=300 --set assess.speed_step_kmh=20 \
+expect 0 "(with figures)" -- "$VIADUCT" assess "$HS" --no-pdf --set assess.speed_min_kmh=300 --set assess.speed_step_kmh=20 \
   --set assess.refine_band=0 --out "$WORK/assess2"
 expect 0 "![Peak deck acceleration against speed" -- cat "$WORK/assess2/report.md"
 "$VIADUCT" passages "$HS" --records "$SRC/data/records/passages/passages.csv" --map mid_acc=mid --map mid_disp=mid --set analysis.method=modal --set sweep.speed_step_kmh=20 --quiet --out "$WORK/passages"

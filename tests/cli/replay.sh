@@ -41,7 +41,7 @@ round_trip compare compare "$TA" --record "$REC" --map deck_acc=S1_mid --map dec
 round_trip filter filter "$REC" --low-hz 1 --high-hz 30
 round_trip passage run "$TA" --set analysis.free_vibration_s=5
 round_trip decay decay "$WORK/a/passage/history.csv" --channel S1_mid_acc_mps2 --frequency-hz 10 --start-s 1.5
-round_trip assess assess "$HS" --set assess.speed_step_kmh=20 --set assess.refine_step_kmh=10 --no-plots
+round_trip assess assess "$HS" --set assess.speed_step_kmh=20 --set assess.refine_step_kmh=10 --no-plots --no-pdf
 # A replay refuses what it cannot reproduce: an input that changed, a file that is no manifest.
 cp "$REC" "$WORK/rec.csv"
 expect 0 "" -- "$VIADUCT" filter "$WORK/rec.csv" --out "$WORK/a/changed" --quiet

@@ -294,3 +294,40 @@ TEST_CASE("the cut-off takes f3 of the member: one span alone and among identica
   CHECK(chain.deck_modes[2].frequency_hz < 1.1 * f1);
   CHECK(chain.f_cut > chain.deck_modes[2].frequency_hz);
 }
+
+// EN 1991-2 6.4.6.3.2's mass bounds from the ballast bed (issue #38 item 5): with the bed's width,
+// the lower bound's ballast is the minimum density's, the upper bound's the saturated density's
+// with the depth +30 %, each replacing the ballast bridge.mass_per_m includes; without, the track
+// model's vibrating ballast is used and the note says how little it moves the mass.
+TEST_CASE("mass bounds from the ballast bed's density and depth replace the included ballast") {
+  const std::string path = vt::source("scenarios/old-guadiana-assess.toml");
+  const std::vector<std::string> bed = {"assess.ballast_width_m=2.0", "assess.ballast_depth_m=0.45"};
+  io::FlatScenario flat = io::load_flat(path, bed);
+  const study::AssessPlan p = io::plan_assessment(flat, path);
+  REQUIRE(p.variants.size() == 2);
+  const double m0 = 8727.0, nominal = 1800.0 * 0.45 * 2.0;  // the defaults: 1800, 1700, 2100 kg/m³, +30 %
+  CHECK(p.ballast_nominal == Approx(nominal));
+  CHECK(p.ballast_lower == Approx(1700.0 * 0.45 * 2.0));
+  CHECK(p.ballast_upper == Approx(2100.0 * 1.3 * 0.45 * 2.0));
+  CHECK(p.variants[0].scenario.bridge.spans[0].mass_per_m == Approx(m0 - nominal + 1700.0 * 0.45 * 2.0));
+  CHECK(p.variants[1].scenario.bridge.spans[1].mass_per_m == Approx(m0 - nominal + 2100.0 * 1.3 * 0.45 * 2.0));
+  // The upper bound adds 7 % or more to this half deck, where the track model's ballast gave 1.8 %.
+  CHECK(p.variants[1].scenario.bridge.spans[0].mass_per_m / m0 > 1.07);
+  // The included ballast given as a key is the one replaced.
+  std::vector<std::string> given = bed;
+  given.push_back("assess.ballast_mass_per_m=1500");
+  io::FlatScenario flat2 = io::load_flat(path, given);
+  const study::AssessPlan q = io::plan_assessment(flat2, path);
+  CHECK(q.variants[0].scenario.bridge.spans[0].mass_per_m == Approx(m0 - 1500.0 + 1700.0 * 0.45 * 2.0));
+  // Without the bed: the track's vibrating ballast, and a note that says it is far below a bed's.
+  io::FlatScenario flat3 = io::load_flat(path);
+  const study::AssessPlan r = io::plan_assessment(flat3, path);
+  const bool said = std::any_of(r.notes.begin(), r.notes.end(), [](const std::string& n) { return n.find("far below a real bed") != std::string::npos; });
+  CHECK(said);
+  CHECK(r.variants[1].scenario.bridge.spans[0].mass_per_m / m0 < 1.02);
+  // A minimum density above the saturated one is refused at its key.
+  std::vector<std::string> bad = bed;
+  bad.push_back("assess.ballast_density_min_kgpm3=2500");
+  io::FlatScenario flat4 = io::load_flat(path, bad);
+  CHECK_THROWS_WITH(io::plan_assessment(flat4, path), Catch::Contains("assess.ballast_density_min_kgpm3") && Catch::Contains("saturated"));
+}

@@ -81,6 +81,7 @@ int run_assess(const Common& o, const AssessOptions& opts) {
   const auto t0 = std::chrono::steady_clock::now();
   io::FlatScenario flat = load_scenario(o);
   study::AssessPlan plan = io::plan_assessment(flat, o.scenario);
+  print_warnings("assess", plan.warnings);
   for (auto& v : plan.variants) v.scenario.settings.ida.log = log_printer(o.quiet);
   make_out_dir(o.out);
   study::AssessOptions ao;
@@ -91,6 +92,7 @@ int run_assess(const Common& o, const AssessOptions& opts) {
   io::write_assessment_tables(o.out, r);
   io::Manifest m = start_manifest(o, "assess");
   m.as_run = io::settings_as_run(r.nominal().settings);
+  m.warnings = p.warnings;
   m.extra = {{"acceleration_limit_mps2", format_number(p.config.acc_limit)}, {"cutoff_hz", format_number(p.f_cut)},
              {"damping_ratio", format_number(p.zeta)}, {"f3_hz", format_number(p.f3)},
              {"f3_span", std::to_string(p.f3_span)}, {"line_speed_kmh", format_number(p.config.line_speed * 3.6)},

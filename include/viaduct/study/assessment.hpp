@@ -32,6 +32,11 @@ struct AssessConfig {
   std::optional<double> damping_ratio;
   bool interaction_damping = true;
   double ballast = 0.0, ballast_lower = 1.0, ballast_upper = 1.3;  ///< [kg/m] (< 0: not given), [-]
+  /// EN 1991-2 6.4.6.3.2's bounds from the ballast bed (used when ballast_width is given): the
+  /// bed's width carried by the model [m], its depth [m], the nominal, minimum and saturated
+  /// densities [kg/m³] and the depth's increase for the upper bound [-] (+30 %).
+  std::optional<double> ballast_width;
+  double ballast_depth = 0.5, density_nominal = 1800.0, density_min = 1700.0, density_saturated = 2100.0, depth_increase = 0.3;
   double alpha = 1.0;                                              ///< LM71 classification factor
   bool careful = true;                                             ///< Φ2 (careful maintenance), else Φ3
   double deflection_ratio = 600.0, rotation_limit = 6.5e-3;        ///< [-], [rad]
@@ -58,8 +63,16 @@ struct AssessPlan {
   std::vector<MemberFrequencies> members;   ///< each member's f1, f3 and cut-off (A2.4.4.2.1(4))
   std::vector<model::DeckMode> deck_modes;  ///< of the nominal model
   std::vector<std::string> notes;           ///< what the report must say (defaults taken, limits)
+  /// The model's and the step's warnings (study::scenario_warnings of the nominal model at every
+  /// speed run: f1 outside Fig. 6.10, a deflection beyond L/100, a mass under 500 kg/m, …): a unit
+  /// slip gets a warning printed, in the manifest and at the top of the report.
+  std::vector<std::string> warnings;
   std::vector<Variant> variants;            ///< the mass cases, each with every train and its speeds
   std::vector<std::string> real_trains;     ///< the scenario's trains besides HSLM
+  /// [kg/m] the ballast included in bridge.mass_per_m and the lower and upper bounds' ballast (all
+  /// 0 when not bounded), and how they were formed (for the report).
+  double ballast_nominal = 0.0, ballast_lower = 0.0, ballast_upper = 0.0;
+  std::string ballast_basis;
 };
 
 /// Each train's speeds: the config's grid, refined around f·d/j for the deck modes of `sc` below
