@@ -254,7 +254,7 @@ TEST_CASE("the modal peaks kernel keeps the signed extremes of load effects as t
 // the Old Guadiana track alone and the same span between two identical spans: the same member f3
 // and the same cut-off, whereas the chain's third deck mode is another span's first bending
 // (the unconservative reading this replaced, issue #38 item 1).
-TEST_CASE("the cut-off takes f3 of the member: one span alone and among identical spans agree") {
+TEST_CASE("the cut-off takes f3 of the member: one span alone and among identical spans agree", "[long]") {
   const std::vector<std::string> common = {"bridge.EI=4.0e10", "bridge.mass_per_m=16000", "bridge.mass_includes_track=false",
                                            "assess.speed_min_kmh=300", "assess.speed_step_kmh=40"};
   // The shipped scenario's stations name span 2: a scenario of its own with one mid-span station.
@@ -299,7 +299,7 @@ TEST_CASE("the cut-off takes f3 of the member: one span alone and among identica
 // the lower bound's ballast is the minimum density's, the upper bound's the saturated density's
 // with the depth +30 %, each replacing the ballast bridge.mass_per_m includes; without, the track
 // model's vibrating ballast is used and the note says how little it moves the mass.
-TEST_CASE("mass bounds from the ballast bed's density and depth replace the included ballast") {
+TEST_CASE("mass bounds from the ballast bed's density and depth replace the included ballast", "[long]") {
   const std::string path = vt::source("scenarios/old-guadiana-assess.toml");
   const std::vector<std::string> bed = {"assess.ballast_width_m=2.0", "assess.ballast_depth_m=0.45"};
   io::FlatScenario flat = io::load_flat(path, bed);

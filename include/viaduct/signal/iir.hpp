@@ -33,7 +33,7 @@ struct Cheby1Spec {
   double ripple_db = 0.5;   ///< [dB] passband ripple, > 0
   BandType band = BandType::bandpass;
   double low_hz = 1.0;      ///< [Hz]
-  double high_hz = 60.0;    ///< [Hz]
+  double high_hz = 30.0;    ///< [Hz] (the schema's filter.high_hz: EN 1991-2's lowest cut-off)
   bool is_valid(double fs_hz, std::string* why) const;
 };
 Sos cheby1(const Cheby1Spec& spec, double fs_hz);

@@ -7,6 +7,7 @@
 
 #include "viaduct/io/profile.hpp"
 #include "viaduct/io/scenario.hpp"
+#include "viaduct/signal/iir.hpp"
 #include "viaduct/study/simulation.hpp"
 
 using namespace viaduct;
@@ -555,4 +556,18 @@ TEST_CASE("a scenario of overrides alone: no file read, the keys checked as --se
   CHECK(f.at("bridge.EI").where.file == "--set");
   CHECK(io::to_scenario(f).stations.size() == 1);
   REQUIRE_THROWS_WITH(io::load_flat("", {"bridge.EI=-1.0"}), Catch::Contains("--set: key 'bridge.EI': must be > 0"));
+}
+
+// The filter's defaults are declared twice, in the schema and in signal::Cheby1Spec (used where
+// no scenario is read: the Python package, code): they must be the same numbers (issue #37 item
+// 3: filter.high_hz was 30 Hz in one and 60 Hz in the other).
+TEST_CASE("the filter keys' schema defaults equal signal::Cheby1Spec's") {
+  const signal::Cheby1Spec spec;
+  auto def = [](const std::string& key) { return std::stod(io::find_key_spec(key)->default_toml); };
+  CHECK(def("filter.order") == spec.order);
+  CHECK(def("filter.ripple_db") == spec.ripple_db);
+  CHECK(def("filter.low_hz") == spec.low_hz);
+  CHECK(def("filter.high_hz") == spec.high_hz);
+  CHECK(io::find_key_spec("filter.band")->default_toml == "\"bandpass\"");
+  CHECK(spec.band == signal::BandType::bandpass);
 }
