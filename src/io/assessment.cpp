@@ -137,8 +137,11 @@ void plan_damping_and_cutoff(FlatScenario& flat, const study::AssessConfig& c, s
   p.f3 = gov->f3;
   p.f3_span = gov->span;
   p.f_cut = std::max(study::cutoff_frequency(p.f1, 0.0), gov->cutoff);
+  // A step fixed by the scenario (no preset, or analysis.dt given) cannot resolve a cut-off beyond
+  // its Nyquist frequency: say why, a unit slip first. (A preset takes its step from the cut-off.)
   const double dt = nominal.settings.dt;
-  if (dt > 0.0 && p.f_cut >= 0.5 / dt) {  // the filter cannot be formed: say why, a unit slip first
+  const bool step_fixed = flat.at("analysis.preset").s.empty() || (flat.has("analysis.dt") && !flat.defaulted.count("analysis.dt"));
+  if (step_fixed && dt > 0.0 && p.f_cut >= 0.5 / dt) {
     std::string msg = "the cut-off max(30 Hz, 1.5 f1, f3) = " + format_number(p.f_cut, 4) + " Hz (f1 " + format_number(p.f1, 4) +
                       " Hz, f3 " + format_number(p.f3, 4) + " Hz) is beyond the Nyquist frequency " + format_number(0.5 / dt, 4) +
                       " Hz of the time step: take a smaller analysis.dt";
