@@ -1,6 +1,7 @@
 // report.md as one self-contained HTML page, and its PDF by headless Chromium (report_html.hpp).
 #include "viaduct/io/report_html.hpp"
 
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -198,6 +199,21 @@ std::string find_chromium() {
   return "";
 }
 
+namespace {
+// A file path as a file:// URL: every byte but the unreserved ones and '/' percent-encoded (a '#',
+// '?' or '%' in a directory name would otherwise point Chromium at another file, and it prints
+// its error page as the PDF).
+std::string file_url(const std::string& path) {
+  static const char* hex = "0123456789ABCDEF";
+  std::string o = "file://";
+  for (unsigned char c : path) {
+    if (std::isalnum(c) || c == '/' || c == '-' || c == '_' || c == '.' || c == '~') o += static_cast<char>(c);
+    else o += '%', o += hex[c >> 4], o += hex[c & 15];
+  }
+  return o;
+}
+}  // namespace
+
 std::string print_to_pdf(const std::string& chromium, const std::string& html, const std::string& pdf) {
   namespace fs = std::filesystem;
   for (const std::string& p : {chromium, html, pdf})
@@ -212,7 +228,7 @@ std::string print_to_pdf(const std::string& chromium, const std::string& html, c
   // The flags this machine's closed network needs (no background connections, no sandbox as root).
   const std::string cmd = "timeout 120 '" + chromium + "' --headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
                           "--disable-background-networking --disable-component-update --disable-sync --user-data-dir='" + profile +
-                          "' --no-pdf-header-footer --print-to-pdf='" + tmp_pdf + "' 'file://" + abs_html + "' >'" + profile +
+                          "' --no-pdf-header-footer --print-to-pdf='" + tmp_pdf + "' '" + file_url(abs_html) + "' >'" + profile +
                           "/log' 2>&1";
   const int rc = std::system(cmd.c_str());
   std::string err;

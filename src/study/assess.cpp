@@ -111,6 +111,19 @@ std::vector<MemberFrequencies> member_frequencies(const model::BridgeParams& bri
   if (bridge.continuous || bridge.spans.size() == 1) return {member_of(model::build_structure(bridge, track), bridge.continuous ? 0 : 1)};
   std::vector<MemberFrequencies> out;
   for (std::size_t k = 0; k < bridge.spans.size(); ++k) {
+    // A span equal to an earlier one (same length, EI and mass: the same bearings and track) is
+    // the same eigenproblem: its member frequencies are that span's.
+    std::size_t same = k;
+    for (std::size_t j = 0; j < k && same == k; ++j) {
+      const model::SpanParams &a = bridge.spans[j], &b = bridge.spans[k];
+      if (a.length == b.length && a.EI == b.EI && a.mass_per_m == b.mass_per_m) same = j;
+    }
+    if (same < k) {
+      MemberFrequencies m = out[same];
+      m.span = static_cast<int>(k + 1);
+      out.push_back(m);
+      continue;
+    }
     model::BridgeParams one = bridge;
     one.spans = {bridge.spans[k]};
     out.push_back(member_of(model::build_structure(one, track), static_cast<int>(k + 1)));

@@ -245,6 +245,19 @@ STRUCTURE_WARNINGS = ("L/100", "check the unit")
 CONTACT_WARNINGS = ("left the rail", "lost contact", "would have lost contact")
 
 
+def column_maxima(out, tables, matches):
+    """(file, column, its largest value) for every column of the tables (file, pattern) in `out`
+    that exist whose name matches(column, pattern)."""
+    for name, pattern in tables:
+        path = os.path.join(out, name)
+        if not os.path.exists(path):
+            continue
+        head, rows = read_table(path)
+        for j, h in enumerate(head):
+            if matches(h, pattern):
+                yield name, h, max((cell(r[j]) for r in rows if j < len(r)), default=0.0)
+
+
 def plausibility_problems(out, message):
     """Absurd magnitudes in a run's outputs that no warning announced."""
     text = message
@@ -261,16 +274,10 @@ def plausibility_problems(out, message):
             phi = cell(r[head.index("phi_dyn")])
             if not r[0].endswith("_rot_rad") and cell(r[head.index("max_static")]) > 0 and phi > MAX_PHI:
                 problems.append(f"dynamic_increments.csv: {r[0]} phi'dyn = {phi:g} (> {MAX_PHI:g}) without a warning")
-    for name, col_pattern in (("history.csv", "_acc"), ("governing.csv", "max_abs_acc_mps2")):
-        path = os.path.join(out, name)
-        if not os.path.exists(path):
-            continue
-        head, rows = read_table(path)
-        for j, h in enumerate(head):
-            if col_pattern in h and h.endswith("mps2"):
-                top = max((cell(r[j]) for r in rows if j < len(r)), default=0.0)
-                if top > MAX_ACC_MPS2:
-                    problems.append(f"{name}: {h} reaches {top:g} m/s² (> 100 g) without a warning")
+    for name, h, top in column_maxima(out, (("history.csv", "_acc"), ("governing.csv", "max_abs_acc_mps2")),
+                                      lambda h, pattern: pattern in h and h.endswith("mps2")):
+        if top > MAX_ACC_MPS2:
+            problems.append(f"{name}: {h} reaches {top:g} m/s² (> 100 g) without a warning")
     # A deck deflection beyond the shortest span / 100 (the resolved scenario's spans).
     spans = []
     try:
@@ -281,16 +288,10 @@ def plausibility_problems(out, message):
         spans = []
     if spans:
         limit = min(spans) / 100.0
-        for name, col_pattern in (("history.csv", "_disp_m"), ("governing.csv", "max_abs_disp_m")):
-            path = os.path.join(out, name)
-            if not os.path.exists(path):
-                continue
-            head, rows = read_table(path)
-            for j, h in enumerate(head):
-                if h.endswith(col_pattern) and "rail" not in h:
-                    top = max((cell(r[j]) for r in rows if j < len(r)), default=0.0)
-                    if top > limit:
-                        problems.append(f"{name}: {h} reaches {top * 1e3:g} mm, beyond L/100 of the shortest span, without a warning")
+        for name, h, top in column_maxima(out, (("history.csv", "_disp_m"), ("governing.csv", "max_abs_disp_m")),
+                                          lambda h, pattern: h.endswith(pattern) and "rail" not in h):
+            if top > limit:
+                problems.append(f"{name}: {h} reaches {top * 1e3:g} mm, beyond L/100 of the shortest span, without a warning")
     contact = os.path.join(out, "contact.csv")
     if os.path.exists(contact) and not any(w in text for w in CONTACT_WARNINGS):
         head, rows = read_table(contact)

@@ -64,6 +64,13 @@ expect 0 "per rail line / half deck" -- cat "$WORK/guadiana/report.txt"
 run_case continuous "$SRC/scenarios/continuous-two-span.toml" --set assess.speed_min_kmh=300 --set assess.speed_step_kmh=40 \
   --set assess.refine_band=0
 
+# An output directory whose name holds '#' and a space: the page's URL is encoded (unencoded,
+# Chromium opened another file and printed its error page as the PDF).
+H="$WORK/dir #1 x"
+expect 0 "report.pdf" -- "$VIADUCT" assess "$HS" --set assess.speed_min_kmh=400 --set assess.speed_step_kmh=40 \
+  --set assess.refine_band=0 --no-plots --out "$H"
+expect 0 "Dynamic assessment" -- pdftotext "$H/report.pdf" -
+
 # The detector can fail: a page that raises an error logs it.
 sed 's|</body>|<script>not_a_function();</script></body>|' "$WORK/hslm/report.html" > "$WORK/broken.html"
 expect 0 "not_a_function" -- render "$WORK/broken.html" "$WORK/broken.png"
