@@ -77,7 +77,16 @@ def main():
         ax.grid(alpha=0.3)
     axes[-1][0].set_xlabel("time [s]")
     axes[-1][1].set_xlabel("frequency [Hz]")
-    fig.suptitle(plotlib.scenario_title(a.dir) + ": model against record")
+    # What was run: the train and the speed compared (--speed-kmh's, identified or the
+    # scenario's, as the manifest says), the record and the zero taken.
+    run = plotlib.manifest(a.dir).get("run", {})
+    what = ""
+    if "speed_kmh" in run:
+        what = "\n%s at %.1f km/h (%s) against %s" % (run.get("train", "train"), float(run["speed_kmh"]), run.get("speed_source", ""),
+                                                    os.path.basename(str(run.get("record", "the record"))))
+        if run.get("zero", "keep") != "keep":
+            what += ", zero: %s" % run["zero"]
+    fig.suptitle(plotlib.scenario_title(a.dir) + ": model against record" + what)
     fig.tight_layout()
     plotlib.save(fig, a.out or os.path.join(a.dir, "compare.png"), "plot_compare")
 

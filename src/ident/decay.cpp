@@ -420,9 +420,10 @@ DecayResult analyse_decay(const Vector& x, double fs_hz, double t0_s, const Deca
                        " cycles skipped for the filter's transient (to " + n(a) + " s), leaves nothing before " + n(b) +
                        " s (" + (std::isfinite(o.end_s) ? "--end-s" : "the record's end less two cycles of the filter's edge, or the noise") +
                        "): record longer after the passage, or give --start-s, --end-s or --skip-cycles");
-    throw InputError("decay: too short a decay: " + n(r.n_cycles) + " cycles of " + n(f0) + " Hz from " + n(a) + " s (" + where +
-                     " plus " + n(o.skip_cycles) + " cycles skipped) to " + n(b) + " s above the noise, at least " +
-                     n(o.min_cycles) + " needed (--min-cycles)");
+    throw InputError("decay: too short a decay: the free vibration sinks into the noise" +
+                     std::string(std::isfinite(o.end_s) ? " or reaches --end-s" : " or the record ends") + " after " + n(r.n_cycles) +
+                     " cycles of " + n(f0) + " Hz (from " + n(a) + " s: " + where + " plus " + n(o.skip_cycles) +
+                     " cycles skipped, to " + n(b) + " s), at least " + n(o.min_cycles) + " needed (--min-cycles)");
   }
   require_no_step(x, fs_hz, t0_s, f0, a, b, s.env[s.index_of(a)]);
   const double wd = damped_frequency(s, a, b);

@@ -322,7 +322,17 @@ study::FitRecord load_fit_record(const std::string& file, const std::vector<std:
                                  const std::string& train, const std::string& where, const FitRequest& request) {
   if (maps.empty()) throw InputError(where + ": record " + file + " maps no channel (--map CHANNEL=STATION)");
   ImportReport report;
-  const Record rec = read_record(file, request.read, &report);
+  const Record whole = read_record(file, request.read, &report);
+  std::vector<std::size_t> used;
+  for (const auto& m : maps) {
+    try {  // an unknown channel is reported below, after what reading the file did
+      used.push_back(whole.channel(split_pair(m, where + " map").first));
+    } catch (const InputError&) {
+    }
+  }
+  // Another channel's missing samples cut nothing; those of a mapped one cut to the longest piece.
+  const Record rec = valid_span(whole, used, where + ": record " + file, &report.repairs);
+  if (!report.repairs.empty()) report.plain = false;
   if (request.on_read) request.on_read(file, report);
   study::FitRecord fr;
   fr.name = file;
@@ -337,7 +347,8 @@ study::FitRecord load_fit_record(const std::string& file, const std::vector<std:
     ch.name = rec.channels[c];
     ch.station = station;
     const ChannelQuantity q = channel_quantity(rec.units[c], ch.name, where);
-    ch.acceleration = q == ChannelQuantity::acceleration;
+    ch.acceleration = q == ChannelQuantity::acceleration || q == ChannelQuantity::velocity;  // band-filtered alike
+    ch.velocity = q == ChannelQuantity::velocity;
     ch.strain = q == ChannelQuantity::strain;
     ch.samples = rec.data.col(static_cast<Index>(c));
     fr.channels.push_back(std::move(ch));
@@ -436,6 +447,7 @@ std::pair<study::FitProblem, study::FitOptions> fit_setup(const FlatScenario& fl
     throw InputError("nothing to fit against: give --record FILE --map CHANNEL=STATION and/or --modes DIR");
   if (request.starts) opt.starts = *request.starts;
   if (request.no_spectral_start) opt.spectral_start = false;
+  opt.zero = study::parse_zero(request.zero, "--zero");
   if (request.max_iterations) opt.max_iterations = *request.max_iterations;
   if (request.max_time_s) opt.max_time_s = *request.max_time_s;
   opt.threads = request.threads;

@@ -192,6 +192,29 @@ FrfInputs frf_inputs(const Record& rec, const std::string& record_path, const Re
   }
   FrfInputs in;
   const std::size_t fc = frec.channel(force);
+  std::vector<std::size_t> used_r;
+  if (!responses.empty())
+    for (const auto& c : responses) used_r.push_back(rec.channel(c));
+  if (!force_record) {  // one record: the longest piece where the channels used all have values
+    std::vector<std::size_t> used = used_r;
+    used.push_back(fc);
+    if (responses.empty())
+      for (std::size_t c = 0; c < rec.channels.size(); ++c)
+        if (rec.units[c] == "m" || rec.units[c] == "mps" || rec.units[c] == "mps2") used.push_back(c);
+    const Record cut = valid_span(rec, used, "frf", &in.notes);
+    if (!in.notes.empty()) {
+      FrfInputs out = frf_inputs(cut, record_path, nullptr, force, responses);
+      out.notes = in.notes;
+      return out;
+    }
+  } else {
+    for (const auto& [r, cs] : {std::pair<const Record*, std::vector<std::size_t>>{&frec, {fc}}, {&rec, used_r}})
+      for (const std::size_t c : cs)
+        for (const auto& [a, b] : missing_runs(*r, c))
+          throw InputError("frf: channel " + r->channels[c] + " has no value from " + format_number(r->t0_s + static_cast<double>(a) / r->fs_hz, 8) +
+                           " to " + format_number(r->t0_s + static_cast<double>(b - 1) / r->fs_hz, 8) +
+                           " s: with a separate force record both must hold every sample (cut both to a common span first)");
+  }
   in.force_channel = frec.channels[fc];
   in.force_unit = frec.units[fc];
   if (in.force_unit != "N" && in.force_unit != "kN") throw InputError("force channel '" + in.force_channel + "' must be in N or kN");

@@ -53,8 +53,71 @@ Record time_window(const Record& r, std::optional<double> start_s, std::optional
   return out;
 }
 
-ChannelSummary summarise_channel(const Vector& x) {
+std::vector<std::pair<Index, Index>> missing_runs(const Record& r, std::size_t c) {
+  std::vector<std::pair<Index, Index>> runs;
+  const auto col = r.data.col(static_cast<Index>(c));
+  for (Index i = 0; i < col.size();) {
+    if (!std::isnan(col[i])) {
+      ++i;
+      continue;
+    }
+    Index j = i;
+    while (j < col.size() && std::isnan(col[j])) ++j;
+    runs.emplace_back(i, j);
+    i = j;
+  }
+  return runs;
+}
+
+Record valid_span(const Record& r, const std::vector<std::size_t>& used, const std::string& who, std::vector<std::string>* notes) {
+  const Index n = r.n_samples();
+  std::vector<char> bad(static_cast<std::size_t>(n), 0);
+  std::vector<std::string> lost;
+  auto t_of = [&](Index i) { return format_number(r.t0_s + static_cast<double>(i) / r.fs_hz, 8); };
+  for (const std::size_t c : used) {
+    for (const auto& [a, b] : missing_runs(r, c)) {
+      std::fill(bad.begin() + a, bad.begin() + b, char{1});
+      lost.push_back(r.channels[c] + " from " + t_of(a) + " to " + t_of(b - 1) + " s");
+    }
+  }
+  if (lost.empty()) return r;
+  Index best_a = 0, best_n = 0;
+  for (Index i = 0; i < n;) {
+    if (bad[static_cast<std::size_t>(i)]) {
+      ++i;
+      continue;
+    }
+    Index j = i;
+    while (j < n && !bad[static_cast<std::size_t>(j)]) ++j;
+    if (j - i > best_n) best_a = i, best_n = j - i;
+    i = j;
+  }
+  std::string runs;
+  for (std::size_t k = 0; k < lost.size(); ++k) runs += (k ? "; " : "") + lost[k];
+  if (best_n < 2)
+    throw InputError(who + ": no 2 successive samples in which every channel used has a value (missing: " + runs + ")");
+  if (notes)
+    notes->push_back("the channels used miss samples (" + runs + "): " + who + " takes the longest piece where they all have values, " +
+                     t_of(best_a) + " to " + t_of(best_a + best_n - 1) + " s (" + std::to_string(best_n) + " of " +
+                     std::to_string(n) + " samples)");
+  Record out = r;
+  out.data = r.data.middleRows(best_a, best_n);
+  out.t0_s = r.t0_s + static_cast<double>(best_a) / r.fs_hz;
+  return out;
+}
+
+ChannelSummary summarise_channel(const Vector& x_in) {
   ChannelSummary s;
+  // A channel's missing samples (a long run left missing) count in the report, not here.
+  Vector kept;
+  if (!x_in.allFinite()) {
+    kept.resize(x_in.size());
+    Index m = 0;
+    for (Index i = 0; i < x_in.size(); ++i)
+      if (std::isfinite(x_in[i])) kept[m++] = x_in[i];
+    kept.conservativeResize(m);
+  }
+  const Vector& x = x_in.allFinite() ? x_in : kept;
   const Index n = x.size();
   if (n == 0) return s;
   s.min = x.minCoeff();
@@ -85,8 +148,10 @@ ChannelQuantity channel_quantity(const std::string& unit, const std::string& cha
   if (unit == "mps2") return ChannelQuantity::acceleration;
   if (unit == "m") return ChannelQuantity::deflection;
   if (unit == "ue") return ChannelQuantity::strain;
+  if (unit == "mps") return ChannelQuantity::velocity;
   throw InputError(who + ": channel '" + channel + "' is in " + unit +
-                   "; only accelerations (_mps2, [g], ...), deflections (_m, [mm], ...) and strains (_ue, [µε], ...) compare with the model");
+                   "; only accelerations (_mps2, [g], ...), velocities (_mps, [mm/s], ...), deflections (_m, [mm], ...) and strains "
+                   "(_ue, [µε], ...) compare with the model");
 }
 
 std::vector<PassageEntry> read_passage_table(const std::string& path) {

@@ -67,11 +67,90 @@ std::vector<std::string_view> split_view(std::string_view line, char sep) {
 
 enum class Cell { number, missing, bad };
 
-// A cell as a number: decimal comma allowed when ',' is not the separator; "hh:mm:ss.fff" (after
-// an optional date and 'T' or space) as seconds of the day when `clock` is set.
-Cell parse_cell(std::string_view c, bool decimal_comma, bool clock, double& v) {
+// Days from 1970-01-01 of a civil date (proleptic Gregorian; H. Hinnant's days_from_civil).
+long days_from_civil(long y, long m, long d) {
+  y -= m <= 2;
+  const long era = (y >= 0 ? y : y - 399) / 400;
+  const long yoe = y - era * 400;
+  const long doy = (153 * (m + (m > 2 ? -3 : 9)) + 2) / 5 + d - 1;
+  const long doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+  return era * 146097 + doe - 719468;
+}
+
+bool whole_number(std::string_view s, long& v) {
+  if (s.empty() || s.size() > 4) return false;
+  const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+  return r.ec == std::errc() && r.ptr == s.data() + s.size();
+}
+
+// A date "YYYY-MM-DD", "YYYY/MM/DD" or "DD.MM.YYYY" as seconds from 1970-01-01; false for others.
+bool parse_date(std::string_view c, double& seconds) {
+  long y = 0, m = 0, d = 0;
+  if (c.size() == 10 && (c[4] == '-' || c[4] == '/') && c[7] == c[4]) {
+    if (!whole_number(c.substr(0, 4), y) || !whole_number(c.substr(5, 2), m) || !whole_number(c.substr(8, 2), d)) return false;
+  } else if (c.size() == 10 && c[2] == '.' && c[5] == '.') {
+    if (!whole_number(c.substr(6, 4), y) || !whole_number(c.substr(3, 2), m) || !whole_number(c.substr(0, 2), d)) return false;
+  } else {
+    return false;
+  }
+  if (m < 1 || m > 12 || d < 1 || d > 31) return false;
+  seconds = 86400.0 * static_cast<double>(days_from_civil(y, m, d));
+  return true;
+}
+
+// "hh:mm:ss[.f…]" (',' as the decimal mark too) after an optional date and 'T' or a space, and an
+// optional zone ("Z", "+01:00", "-0500"): seconds of the day, or from 1970-01-01 (UTC) with a date.
+bool parse_clock(std::string_view c, double& v, double* day_out = nullptr) {
+  double day = 0;
+  const auto sp = c.find_first_of(" T");
+  if (sp != std::string_view::npos) {
+    if (!parse_date(c.substr(0, sp), day)) return false;
+    c = c.substr(sp + 1);
+    while (!c.empty() && c.front() == ' ') c.remove_prefix(1);
+  }
+  double zone = 0;
+  if (!c.empty() && c.back() == 'Z') {
+    c.remove_suffix(1);
+  } else {
+    const auto z = c.find_first_of("+-");
+    if (z != std::string_view::npos) {
+      std::string_view zs = c.substr(z + 1);
+      long zh = 0, zm = 0;
+      const auto colon = zs.find(':');
+      const bool ok = colon != std::string_view::npos ? whole_number(zs.substr(0, colon), zh) && whole_number(zs.substr(colon + 1), zm)
+                      : zs.size() == 4                 ? whole_number(zs.substr(0, 2), zh) && whole_number(zs.substr(2, 2), zm)
+                                                       : whole_number(zs, zh);
+      if (!ok) return false;
+      zone = (c[z] == '-' ? -1.0 : 1.0) * (3600.0 * static_cast<double>(zh) + 60.0 * static_cast<double>(zm));
+      c = c.substr(0, z);
+    }
+  }
+  const auto c1 = c.find(':');
+  if (c1 == std::string_view::npos) return false;
+  const auto c2 = c.find(':', c1 + 1);
+  if (c2 == std::string_view::npos) return false;
+  long h = 0, m = 0;
+  double s = 0;
+  if (!whole_number(c.substr(0, c1), h) || !whole_number(c.substr(c1 + 1, c2 - c1 - 1), m)) return false;
+  char buf[40];
+  std::string_view sec = c.substr(c2 + 1);
+  if (sec.empty() || sec.size() >= sizeof buf) return false;
+  std::copy(sec.begin(), sec.end(), buf);
+  std::replace(buf, buf + sec.size(), ',', '.');
+  const auto d = std::from_chars(buf, buf + sec.size(), s);
+  if (d.ec != std::errc() || d.ptr != buf + sec.size() || h > 24 || m > 59 || s >= 61) return false;
+  v = 3600.0 * static_cast<double>(h) + 60.0 * static_cast<double>(m) + s - zone;
+  if (day_out) *day_out = day;  // kept apart: 1.7e9 s of dates would round the clock's fraction
+  else v += day;
+  return true;
+}
+
+// A cell as a number: decimal comma allowed when ',' is not the separator; a clock time, with or
+// without a date (parse_clock), or a date alone, when `clock` is set.
+Cell parse_cell(std::string_view c, bool decimal_comma, bool clock, double& v, double* day = nullptr) {
   if (is_missing_marker(c)) return Cell::missing;
   char buf[64];
+  const std::string_view raw = c;
   if (decimal_comma && c.find(',') != std::string_view::npos && c.size() < sizeof buf) {
     std::copy(c.begin(), c.end(), buf);
     std::replace(buf, buf + c.size(), ',', '.');
@@ -80,18 +159,18 @@ Cell parse_cell(std::string_view c, bool decimal_comma, bool clock, double& v) {
   if (c.front() == '+') c.remove_prefix(1);
   const auto res = std::from_chars(c.data(), c.data() + c.size(), v);
   if (res.ec == std::errc() && res.ptr == c.data() + c.size()) return std::isfinite(v) ? Cell::number : Cell::missing;
-  if (!clock || c.find(':') == std::string_view::npos) return Cell::bad;
-  const auto sp = c.find_last_of(" T");
-  std::string_view hms = sp == std::string_view::npos ? c : c.substr(sp + 1);
-  double h = 0, m = 0, s = 0;
-  const auto c1 = hms.find(':'), c2 = hms.find(':', c1 + 1);
-  if (c2 == std::string_view::npos) return Cell::bad;
-  const auto a = std::from_chars(hms.data(), hms.data() + c1, h);
-  const auto b = std::from_chars(hms.data() + c1 + 1, hms.data() + c2, m);
-  const auto d = std::from_chars(hms.data() + c2 + 1, hms.data() + hms.size(), s);
-  if (a.ec != std::errc() || b.ec != std::errc() || d.ec != std::errc() || d.ptr != hms.data() + hms.size()) return Cell::bad;
-  v = 3600 * h + 60 * m + s;
+  if (!clock) return Cell::bad;
+  if (raw.find(':') != std::string_view::npos) return parse_clock(raw, v, day) ? Cell::number : Cell::bad;
+  if (!parse_date(raw, v)) return Cell::bad;
+  if (day) *day = v, v = 0;
   return Cell::number;
+}
+
+// A date, a clock time or both ("03.12.2026 14:22:05.0008", "2026-12-03T14:22:05Z"): the cells a
+// time column holds when it is not in seconds.
+bool looks_like_time(std::string_view c) {
+  double v = 0;
+  return !c.empty() && (c.find(':') != std::string_view::npos ? parse_clock(c, v) : parse_date(c, v));
 }
 
 // A header cell split into name and unit text: "Acc1 [g]", "Acc2 (m/s^2)", "acc_mps2" (a known
@@ -140,7 +219,18 @@ std::string clean_name(const std::string& s) {
 bool is_time_name(const std::string& base) {
   std::string l;
   for (char c : base) l += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return l == "t" || l == "time" || l == "zeit" || l == "timestamp" || l == "time_stamp" || l == "tiempo" || l == "temps";
+  static const char* names[] = {"t", "time", "zeit", "timestamp", "time_stamp", "tiempo", "temps", "date/time", "datetime", "date_time",
+                                "date time", "datum/zeit", "datum_zeit", "datum zeit", "x_value", "abs time", "absolute time", "uhrzeit"};
+  if (std::any_of(std::begin(names), std::end(names), [&](const char* n) { return l == n; })) return true;
+  // catman's "Time  1 - default sample rate", "Zeit  1 - Standardmessrate"
+  return l.rfind("time ", 0) == 0 || l.rfind("zeit ", 0) == 0;
+}
+
+// A column of dates alone ("Date", "Datum"): joined to the time column's clock times.
+bool is_date_name(const std::string& base) {
+  std::string l;
+  for (char c : base) l += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return l == "date" || l == "datum" || l == "fecha";
 }
 
 // The first line that is data: as many cells as the candidate header, all numbers or missing,
@@ -158,7 +248,7 @@ bool is_data_line(const std::string& line, char sep, std::size_t n_cells) {
   bool any = false;
   for (const auto& c : cells) {
     double v = 0;
-    const Cell k = parse_cell(c, sep != ',', c.find(':') != std::string_view::npos, v);
+    const Cell k = parse_cell(c, sep != ',', true, v);
     if (k == Cell::bad) return false;
     any = any || k == Cell::number;
   }
@@ -226,21 +316,60 @@ struct RawTable {
   std::vector<double> cells;   // row-major; NaN for missing cells
   std::vector<int> lines;      // line of each row
   std::size_t time_col = std::string::npos;
+  std::size_t date_col = std::string::npos;  // dates alone, joined to the time column's clock times
+  bool clock_time = false;                   // the time column holds clock times (and dates), in seconds already
+  std::optional<double> day0;                // [s from 1970] the first stamp's date: dates count from it
+  std::set<std::size_t> ignored;             // record numbers (unit RN) and the like: not channels
+  std::vector<std::string> layout_notes;     // what the header's reading assumed
 };
 
 std::size_t find_time_column(const std::vector<std::string>& header, const ReadOptions& o, Problems& pb, int header_line);
 
 // A line of units under a line of names ("Time;Acc1;Strain1" then "s;g;µε"): the two make one
-// header ("Acc1 [g]").
+// header ("Acc1 [g]"). Campbell's TS (timestamp) and RN (record number) count as units.
 bool is_unit_line(const std::vector<std::string_view>& cells) {
+  bool any = false;
   for (const auto& c : cells) {
     const std::string u = normalise_unit(std::string(c));
-    if (!c.empty() && !parse_unit(std::string(c)) && u != "s" && u != "ms" && u != "[s]") return false;
+    if (!c.empty() && !parse_unit(std::string(c)) && u != "s" && u != "ms" && u != "[s]" && u != "ts" && u != "rn") return false;
+    any = any || !c.empty();
   }
-  return true;
+  return any;
 }
 
-void take_header(RawTable& t, const std::string& text, int line, const ReadOptions& o, Problems& pb) {
+// A line of a logger's processing codes under the units (Campbell TOA5: "", "", "Smp", "Avg"):
+// every cell empty or a code, one at least a code.
+bool is_processing_line(const std::vector<std::string_view>& cells) {
+  static const char* codes[] = {"smp", "avg", "max", "min", "tot", "std", "wvc", "mom", "med", "cov", "hst", "tmx", "tmn"};
+  bool any = false;
+  for (const auto& c : cells) {
+    if (c.empty()) continue;
+    std::string l;
+    for (char ch : c) l += static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    if (std::none_of(std::begin(codes), std::end(codes), [&](const char* k) { return l == k; })) return false;
+    any = true;
+  }
+  return any;
+}
+
+// A preamble line that gives the channels' units: "Y_Unit_Label" (NI LVM), "Unit", "Units",
+// "Einheit" followed by one unit per column after the time column.
+std::vector<std::string_view> preamble_units(const std::vector<std::string>& preamble, char sep) {
+  for (auto it = preamble.rbegin(); it != preamble.rend(); ++it) {
+    auto cells = split_view(*it, sep);
+    if (cells.size() < 2) continue;
+    std::string k;
+    for (char ch : cells.front()) k += static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    if (!k.empty() && k.back() == ':') k.pop_back();
+    if (k == "y_unit_label" || k == "unit" || k == "units" || k == "einheit" || k == "einheiten") {
+      cells.erase(cells.begin());
+      return cells;
+    }
+  }
+  return {};
+}
+
+void take_header(RawTable& t, const std::string& text, int line, const std::string& first_row, const ReadOptions& o, Problems& pb) {
   const auto cells = split_view(text, t.sep);
   const auto names = t.preamble.empty() ? std::vector<std::string_view>{} : split_view(t.preamble.back(), t.sep);
   const bool units_below_names = names.size() == cells.size() && is_unit_line(cells) && !is_unit_line(names);
@@ -252,62 +381,177 @@ void take_header(RawTable& t, const std::string& text, int line, const ReadOptio
   if (units_below_names) t.preamble.pop_back();
   t.header_line = line;
   t.time_col = find_time_column(t.header, o, pb, line);
+  const auto row = split_view(first_row, t.sep);
+  if (t.time_col == std::string::npos && o.time_column.empty()) {
+    // No column named like time: the first whose cells are clock times or dates (a logger's
+    // "Date/Time" column, "03.12.2026 14:22:05.0008").
+    for (std::size_t c = 0; c < row.size() && c < t.header.size(); ++c)
+      if (row[c].find(':') != std::string_view::npos && looks_like_time(row[c])) {
+        t.time_col = c;
+        t.layout_notes.push_back("column '" + t.header[c] + "' holds clock times: it is the time column");
+        break;
+      }
+  }
+  // Dates in a column of their own, the clock in the time column ("Date;Time;..." exports).
+  for (std::size_t c = 0; c < t.header.size() && t.time_col != std::string::npos; ++c)
+    if (c != t.time_col && c < row.size() && is_date_name(split_header(t.header[c]).base) && looks_like_time(row[c])) {
+      t.date_col = c;
+      t.layout_notes.push_back("column '" + t.header[c] + "' holds the dates of the time column's clock times");
+    }
+  // Units from a preamble line (NI LVM's Y_Unit_Label): one per column after the time column.
+  const auto units = preamble_units(t.preamble, t.sep);
+  if (!units.empty() && t.time_col == 0) {
+    for (std::size_t k = 0; k < units.size() && k + 1 < t.header.size(); ++k)
+      if (!units[k].empty() && split_header(t.header[k + 1]).unit_text.empty()) t.header[k + 1] += " [" + std::string(units[k]) + "]";
+    t.layout_notes.push_back("channel units from a preamble line");
+  }
+  for (std::size_t c = 0; c < t.header.size(); ++c) {
+    const HeaderCell h = split_header(t.header[c]);
+    if (c != t.time_col && normalise_unit(h.unit_text) == "rn") {
+      t.ignored.insert(c);
+      t.layout_notes.push_back("column '" + t.header[c] + "' numbers the records: not a channel");
+    }
+  }
+}
+
+// A line as its cells see it: the line end and surrounding spaces gone, tabs kept (a tab at
+// the end is an empty last cell: NI LVM's Comment column).
+std::string row_text(const std::string& line) {
+  const auto a = line.find_first_not_of(" \r\n");
+  if (a == std::string::npos) return "";
+  return line.substr(a, line.find_last_not_of(" \r\n") - a + 1);
+}
+
+struct TextLine {
+  int line = 0;
+  std::string text;
+  bool unterminated = false;  // the file's last line, without a newline
+};
+
+// The header: the line above the first run of rows (kRun, or every row left when fewer) with the
+// header's number of cells, each a number, a clock time or a missing-value marker. Lines of
+// processing codes (Campbell's "Smp") between units and rows are passed over; a units line right
+// under the names joins them (take_header). Index into `lines`, or npos.
+constexpr std::size_t kRun = 10;
+std::size_t find_header(const std::vector<TextLine>& lines, const ReadOptions& o, Problems& pb) {
+  if (o.header_line > 0) {
+    for (std::size_t i = 0; i < lines.size(); ++i)
+      if (lines[i].line == o.header_line) return i;
+    pb.add(0, "--header-line " + std::to_string(o.header_line) + " is not a line of text of the file (after --skip-lines, blank and '#' lines)");
+    return std::string::npos;
+  }
+  // A header names: no cell of it is a number or a clock time.
+  auto names_only = [](const std::string& text) {
+    const char sep = separator_of(text);
+    for (const auto& c : split_view(text, sep)) {
+      double v = 0;
+      if (parse_cell(c, sep != ',', true, v) == Cell::number) return false;
+    }
+    return true;
+  };
+  // The first names line with a whole run of rows under it; else (a bad cell among the first
+  // rows, reported as such) the first with a row under it.
+  for (const std::size_t want : {kRun, std::size_t{1}})
+    for (std::size_t i = 0; i + 1 < lines.size(); ++i) {
+      if (!names_only(lines[i].text)) continue;
+      const char sep = separator_of(lines[i].text);
+      const std::size_t n = split_view(lines[i].text, sep).size();
+      const std::size_t need = std::min(want, lines.size() - i - 1);
+      std::size_t run = 0;
+      while (run < need && is_data_line(lines[i + 1 + run].text, sep, n)) ++run;
+      if (run == need) return i;
+    }
+  return std::string::npos;
 }
 
 RawTable read_table(std::ifstream& in, const ReadOptions& o, Problems& pb) {
   RawTable t;
-  std::string line, pending;
-  int pending_line = 0, ln = 0;
-  std::size_t n = 0;
-  while (std::getline(in, line)) {
+  std::string line;
+  int ln = 0;
+  // The lines up to the header and a few hundred rows beyond it, for finding the header.
+  constexpr std::size_t kLook = 2000;
+  std::vector<TextLine> head;
+  bool more = true;
+  while (head.size() < kLook && (more = static_cast<bool>(std::getline(in, line)))) {
     if (++ln == 1) detail::drop_bom(line);
-    const bool last_unterminated = in.eof();
+    if (ln <= o.skip_lines) continue;
     const std::string tr = detail::trim(line);
     if (tr.empty()) continue;
-    if (t.header.empty()) {
-      const double fs = rate_in_line(tr);
-      if (fs != 0.0 && t.declared_fs == 0.0) {
-        if (fs < 0) pb.add(ln, "the sampling rate declared here is not a number > 0");
-        t.declared_fs = std::max(fs, 0.0), t.declared_line = ln;
-      }
-      if (tr[0] == '#') continue;
-      if (pending.empty() || !is_data_line(tr, separator_of(pending), split_view(pending, separator_of(pending)).size())) {
-        if (!pending.empty()) t.preamble.push_back(pending);
-        pending = tr, pending_line = ln;
-        continue;
-      }
-      t.sep = separator_of(pending);
-      take_header(t, pending, pending_line, o, pb);
-      n = t.header.size();
+    const double fs = rate_in_line(tr);
+    if (fs != 0.0 && t.declared_fs == 0.0) {
+      if (fs < 0) pb.add(ln, "the sampling rate declared here is not a number > 0");
+      t.declared_fs = std::max(fs, 0.0), t.declared_line = ln;
     }
     if (tr[0] == '#') continue;
-    // A data row.
-    const auto cells = split_view(tr, t.sep);
+    head.push_back({ln, row_text(line), in.eof()});
+  }
+  std::size_t h = find_header(head, o, pb);
+  if (h == std::string::npos) {
+    if (pb.count == 0) {
+      if (head.empty()) pb.add(0, "no header line (and no data)");
+      else pb.add(head.front().line, "no header with rows of numbers under it: a header needs at least " + std::to_string(kRun) +
+                                         " rows of as many numbers (or clock times) below it, ',', ';' or tab separated; "
+                                         "--header-line N names the header's line, --skip-lines N skips a preamble");
+    }
+    return t;
+  }
+  const std::size_t first_row = h + 1;
+  while (h > 0 && is_processing_line(split_view(head[h].text, separator_of(head[h].text)))) {
+    t.layout_notes.push_back("line " + std::to_string(head[h].line) + " lists processing codes: skipped");
+    --h;
+  }
+  for (std::size_t i = 0; i < h; ++i) t.preamble.push_back(head[i].text);
+  t.sep = separator_of(head[h].text);
+  take_header(t, head[h].text, head[h].line, first_row < head.size() ? head[first_row].text : std::string(), o, pb);
+  const std::size_t n = t.header.size();
+  std::vector<bool> hinted(n, false);
+  // A data row.
+  auto take_row = [&](const std::string& tr, int at, bool last_unterminated) {
+    auto cells = split_view(tr, t.sep);
+    // A separator at the end of the rows but not of the header, or the other way round.
+    if (cells.size() == n + 1 && cells.back().empty()) cells.pop_back();
+    else if (cells.size() + 1 == n && t.header.back().empty()) cells.emplace_back();
     const std::string cut = last_unterminated ? " (the file ends inside this line, without a newline: cut short?)" : "";
     if (cells.size() != n) {
-      pb.add(ln, "expected " + std::to_string(n) + " columns as in the header (line " + std::to_string(t.header_line) + "), got " +
+      pb.add(at, "expected " + std::to_string(n) + " columns as in the header (line " + std::to_string(t.header_line) + "), got " +
                      std::to_string(cells.size()) + cut);
-      continue;
+      return;
     }
     for (std::size_t c = 0; c < n; ++c) {
-      double v = 0;
-      const Cell k = parse_cell(cells[c], t.sep != ',', c == t.time_col, v);
+      double v = 0, day = 0;
+      const bool dated = c == t.time_col || c == t.date_col;
+      const Cell k = parse_cell(cells[c], t.sep != ',', dated, v, dated ? &day : nullptr);
+      if (k == Cell::number && day != 0.0) {  // dates count from the first one's
+        if (!t.day0) t.day0 = day;
+        v += day - *t.day0;
+      }
       if (k == Cell::bad) {
-        pb.add(ln, "column '" + t.header[c] + "': '" + std::string(cells[c].substr(0, 30)) + "' is not a number" + cut);
+        std::string hint;
+        if (!hinted[c] && looks_like_time(cells[c]))
+          hint = ": it reads as a date or clock time; if this is the time, give --time-column '" + t.header[c] + "'";
+        else if (!hinted[c])
+          hint = " (if line " + std::to_string(t.header_line) + " is not the header, --header-line N names it)";
+        hinted[c] = true;
+        pb.add(at, "column '" + t.header[c] + "': '" + std::string(cells[c].substr(0, 30)) + "' is not a number" + hint + cut);
         v = std::nan("");
       } else if (k == Cell::missing) {
         v = std::nan("");
+      } else if (c == t.time_col && cells[c].find(':') != std::string_view::npos) {
+        t.clock_time = true;
       } else if (t.sep != ',' && cells[c].find(',') != std::string_view::npos) {
         t.decimal_comma = true;
       }
       t.cells.push_back(v);
     }
-    t.lines.push_back(ln);
-  }
-  if (t.header.empty()) {
-    if (!pending.empty())
-      pb.add(pending_line, "no data row under this line: a header needs rows of as many numbers below it (',', ';' or tab separated)");
-    else pb.add(0, "no header line (and no data)");
+    t.lines.push_back(at);
+  };
+  for (std::size_t i = first_row; i < head.size(); ++i) take_row(head[i].text, head[i].line, head[i].unterminated);
+  while (more && std::getline(in, line)) {
+    ++ln;
+    const bool last_unterminated = in.eof();
+    const std::string tr = detail::trim(line);
+    if (tr.empty() || tr[0] == '#') continue;
+    take_row(row_text(line), ln, last_unterminated);
   }
   return t;
 }
@@ -520,11 +764,10 @@ Grid time_grid(const std::vector<double>& t, const std::vector<int>& lines, doub
 }
 
 // Runs of NaN in the columns of `data`: interior runs up to `fill_max` samples are interpolated
-// linearly; longer ones (and those at either end) are cut: the record keeps its longest piece
-// without them (split) or is refused.
+// linearly; longer ones (and those at either end) stay missing in their own channel (split) or
+// refuse the file.
 void repair_missing(Record& r, Index fill_max, bool split, const std::vector<int>& row_line, ImportReport& rep, Problems& pb) {
   const Index n = r.data.rows();
-  std::vector<char> cut(static_cast<std::size_t>(n), 0);
   std::vector<std::pair<int, std::string>> long_runs;  // line of the run's first sample, what
   for (Index c = 0; c < r.data.cols(); ++c) {
     auto col = r.data.col(c);
@@ -545,7 +788,6 @@ void repair_missing(Record& r, Index fill_max, bool split, const std::vector<int
           col[m] = col[i - 1] + (col[j] - col[i - 1]) * static_cast<double>(m - i + 1) / static_cast<double>(j - i + 1);
         rc.interpolated += j - i;
       } else {
-        for (Index m = i; m < j; ++m) cut[static_cast<std::size_t>(m)] = 1;
         long_runs.emplace_back(row_line[static_cast<std::size_t>(i)], where);
       }
       i = j;
@@ -561,49 +803,51 @@ void repair_missing(Record& r, Index fill_max, bool split, const std::vector<int
   if (!split) {
     for (const auto& [line, w] : long_runs)
       pb.add(line, "missing samples too long to interpolate (--fill-max-s " + format_number(static_cast<double>(fill_max) / r.fs_hz) +
-                    " s) or at an end: " + w + "; --long-gaps split keeps the longest piece without them");
+                    " s) or at an end: " + w + "; --long-gaps split leaves them missing in their own channel");
     return;
   }
-  // Pieces between cut rows; keep the longest.
-  Index best_a = 0, best_n = 0;
-  std::vector<std::pair<Index, Index>> pieces;
-  for (Index i = 0; i < n;) {
-    if (cut[static_cast<std::size_t>(i)]) {
-      ++i;
-      continue;
+  // A long run marks its own channel only: it stays missing there, and a command that uses the
+  // channel takes the longest piece where its channels have values (valid_span).
+  const std::size_t shown = std::min<std::size_t>(long_runs.size(), 8);
+  for (std::size_t k = 0; k < shown; ++k)
+    rep.repairs.push_back("missing samples too long to interpolate or at an end (" + long_runs[k].second + ", line " +
+                          std::to_string(long_runs[k].first) + "): that channel has no value there; the other channels keep theirs, "
+                          "and a command using it takes the longest piece where its channels have values (--long-gaps refuse to refuse instead)");
+  if (long_runs.size() > shown)
+    rep.repairs.push_back("... and " + std::to_string(long_runs.size() - shown) + " more runs of missing samples (viaduct inspect lists them per channel)");
+}
+
+// A clipped stretch (the channel's runs at its max or min, summarise_channel's rule) holds no
+// measurement: its samples become missing in that channel only, as a long NaN run does.
+void mark_clipped(Record& r, ImportReport& rep) {
+  for (Index c = 0; c < r.data.cols(); ++c) {
+    auto col = r.data.col(c);
+    const ChannelSummary s = summarise_channel(col);
+    if (!s.clipped) continue;
+    Index marked = 0;
+    for (Index i = 0; i < col.size();) {
+      Index j = i + 1;
+      while (j < col.size() && col[j] == col[i]) ++j;
+      if ((col[i] == s.max || col[i] == s.min) && j - i >= 3) {
+        for (Index m = i; m < j; ++m) col[m] = std::nan("");
+        marked += j - i;
+      }
+      i = j;
     }
-    Index j = i;
-    while (j < n && !cut[static_cast<std::size_t>(j)]) ++j;
-    pieces.emplace_back(i, j);
-    if (j - i > best_n) best_a = i, best_n = j - i;
-    i = j;
+    rep.channels[static_cast<std::size_t>(c)].missing += marked;
+    rep.channels[static_cast<std::size_t>(c)].clipped = marked;
+    rep.repairs.push_back(r.channels[static_cast<std::size_t>(c)] + " is clipped (" + std::to_string(marked) + " samples in runs at its max " +
+                          format_number(s.max, 6) + " or min " + format_number(s.min, 6) +
+                          "): those samples count as missing in that channel; a command using it takes the longest piece without them");
   }
-  if (best_n < 2) {
-    pb.add(row_line.front(), "no 2 successive samples without a missing value in every channel");
-    return;
-  }
-  auto t_of = [&](Index i) { return format_number(r.t0_s + static_cast<double>(i) / r.fs_hz, 8); };
-  std::string msg = "missing samples too long to interpolate or at an end (" + long_runs.front().second + ", line " +
-                    std::to_string(long_runs.front().first) +
-                    (long_runs.size() > 1 ? ", and " + std::to_string(long_runs.size() - 1) + " more" : std::string()) +
-                    "): kept the longest piece without them, " + t_of(best_a) + " to " + t_of(best_a + best_n - 1) + " s (" +
-                    std::to_string(best_n) + " of " + std::to_string(n) + " samples)";
-  if (pieces.size() > 1) {
-    msg += "; dropped";
-    for (const auto& p : pieces)
-      if (p.first != best_a) msg += " " + t_of(p.first) + "–" + t_of(p.second - 1) + " s";
-  }
-  rep.repairs.push_back(msg + " (--long-gaps refuse to refuse instead)");
-  r.t0_s += static_cast<double>(best_a) / r.fs_hz;
-  r.data = Matrix(r.data.middleRows(best_a, best_n));
 }
 
 // The channels of the header (all columns but time): names, units and factors to viaduct's units.
-void take_channels(const RawTable& t, const ReadOptions& o, std::size_t skip, Record& r, ImportReport& rep, Problems& pb) {
+void take_channels(const RawTable& t, const ReadOptions& o, const std::set<std::size_t>& skip, Record& r, ImportReport& rep, Problems& pb) {
   std::set<std::string> seen;
   std::vector<bool> used(o.units.size(), false);
   for (std::size_t c = 0; c < t.header.size(); ++c) {
-    if (c == t.time_col || c == skip) continue;
+    if (c == t.time_col || skip.count(c) > 0) continue;
     const HeaderCell h = split_header(t.header[c]);
     const std::string name = clean_name(h.base);
     std::string unit_text = h.unit_text;
@@ -669,11 +913,21 @@ Record finish_table(const RawTable& t, const ReadOptions& o, Problems& pb, Impor
   const std::size_t n_cols = t.header.size(), n_rows = t.lines.size();
   // A separator at the end of every line (spreadsheet exports) makes a last column without a
   // name or a value: not a channel.
-  std::size_t skip = std::string::npos;
-  if (n_cols > 1 && t.header.back().empty()) {
-    bool empty = true;
-    for (std::size_t i = 0; i < n_rows && empty; ++i) empty = std::isnan(t.cells[i * n_cols + n_cols - 1]);
-    if (empty) skip = n_cols - 1, rep.notes.push_back("every line ends with a separator: the empty last column is not a channel");
+  std::set<std::size_t> skip = t.ignored;
+  if (t.date_col != std::string::npos) skip.insert(t.date_col);
+  for (const auto& n : t.layout_notes) rep.notes.push_back(n);
+  auto all_missing = [&](std::size_t c) {
+    for (std::size_t i = 0; i < n_rows; ++i)
+      if (!std::isnan(t.cells[i * n_cols + c])) return false;
+    return true;
+  };
+  if (n_cols > 1 && t.header.back().empty() && all_missing(n_cols - 1))
+    skip.insert(n_cols - 1), rep.notes.push_back("every line ends with a separator: the empty last column is not a channel");
+  for (std::size_t c = 0; c < n_cols; ++c) {  // a comment column (NI LVM's "Comment") left empty
+    std::string l;
+    for (char ch : split_header(t.header[c]).base) l += static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    if ((l == "comment" || l == "comments" || l == "kommentar" || l == "note" || l == "notes") && c != t.time_col && all_missing(c))
+      skip.insert(c), rep.notes.push_back("column '" + t.header[c] + "' holds no value: not a channel");
   }
   take_channels(t, o, skip, r, rep, pb);
   rep.layout = layout;
@@ -685,14 +939,34 @@ Record finish_table(const RawTable& t, const ReadOptions& o, Problems& pb, Impor
     rep.notes.push_back("--rate-hz " + format_number(*o.fs_hz) + " replaces the " + format_number(t.declared_fs) + " Hz declared (" + declared_at + ")");
   Grid g;
   if (t.time_col != std::string::npos && n_rows >= 2) {
-    std::string note;
-    const double f = time_factor(t.header[t.time_col], note);
-    if (!note.empty()) rep.notes.push_back(note);
     std::vector<double> times(n_rows);
     bool all_stamped = true;
+    // Spreadsheet serial days (a "Date/Time" column of plain numbers such as 46359.598): seconds
+    // from the midnight of the first day.
+    std::string tl;
+    for (char ch : split_header(t.header[t.time_col]).base) tl += static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    const double first = t.cells[t.time_col];
+    const bool serial_days = !t.clock_time && (tl.find("date") != std::string::npos || tl.find("datum") != std::string::npos) &&
+                             split_header(t.header[t.time_col]).unit_text.empty() && first > 1.0 && first < 2958466.0;
+    std::string note;
+    const double f = t.clock_time || serial_days ? 1.0 : time_factor(t.header[t.time_col], note);
+    if (!note.empty()) rep.notes.push_back(note);
+    const double first_day = serial_days ? std::floor(first) : 0.0;
+    if (serial_days)
+      rep.notes.push_back("time column '" + t.header[t.time_col] + "' holds spreadsheet serial days (from 1899-12-30): seconds from the "
+                          "midnight before the first");
+    if (t.day0) rep.notes.push_back("time stamps with dates: seconds from the midnight (UTC) of the first one's day");
     for (std::size_t i = 0; i < n_rows; ++i) {
-      times[i] = f * t.cells[i * n_cols + t.time_col];
+      times[i] = serial_days ? 86400.0 * (t.cells[i * n_cols + t.time_col] - first_day) : f * t.cells[i * n_cols + t.time_col];
+      if (t.date_col != std::string::npos) times[i] += t.cells[i * n_cols + t.date_col];
       if (std::isnan(times[i])) pb.add(t.lines[i], "no time stamp in column '" + t.header[t.time_col] + "'"), all_stamped = false;
+    }
+    // Dates with the clock (from 1970-01-01): counted from the midnight (UTC) before the first stamp.
+    if (all_stamped && std::abs(times.front()) >= 1e8) {
+      const double midnight = 86400.0 * std::floor(times.front() / 86400.0);
+      for (auto& x : times) x -= midnight;
+      rep.notes.push_back("time stamps with dates: seconds from the midnight (UTC) before the first, " +
+                          format_number(times.front(), 10) + " s");
     }
     if (all_stamped) g = time_grid(times, t.lines, fs, declared_by, pb);
     rep.time = "column '" + t.header[t.time_col] + "'" + (fs > 0 ? ", rate " + format_number(fs) + " Hz declared (" + declared_by + ")"
@@ -719,7 +993,7 @@ Record finish_table(const RawTable& t, const ReadOptions& o, Problems& pb, Impor
   for (std::size_t i = 0; i < n_rows; ++i) {
     Index col = 0;
     for (std::size_t c = 0; c < n_cols; ++c)
-      if (c != t.time_col && c != skip) {
+      if (c != t.time_col && skip.count(c) == 0) {
         r.data(g.k[i], col) = rep.channels[static_cast<std::size_t>(col)].factor * t.cells[i * n_cols + c];
         ++col;
       }
@@ -730,6 +1004,7 @@ Record finish_table(const RawTable& t, const ReadOptions& o, Problems& pb, Impor
   const auto fill_max = static_cast<Index>(std::floor(o.fill_max_s * g.fs + 1e-9));
   repair_missing(r, fill_max, o.split_long_gaps, row_line, rep, pb);
   pb.throw_if_any();
+  mark_clipped(r, rep);
   for (const auto& c : rep.channels)
     if (c.factor != 1.0 || c.channel != c.header)
       rep.plain = false;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <string>
 
 #include <Eigen/Dense>
@@ -189,6 +190,77 @@ ChannelComparison compare_channel(const Vector& record, double fs_record, double
   while (nf < ar.frequency_hz.size() && ar.frequency_hz[nf] <= f_max) ++nf;
   c.spectral_correlation = detail::pearson(ar.amplitude.head(nf), am.amplitude.head(nf));
   return c;
+}
+
+
+ZeroSpec parse_zero(const std::string& text, const std::string& who) {
+  ZeroSpec z;
+  if (text == "keep" || text.empty()) return z;
+  if (text == "pre-entry") {
+    z.mode = ZeroSpec::Mode::pre_entry;
+    return z;
+  }
+  const auto colon = text.find(':');
+  char* end = nullptr;
+  if (colon != std::string::npos) {
+    const std::string a = text.substr(0, colon), b = text.substr(colon + 1);
+    z.start_s = std::strtod(a.c_str(), &end);
+    const bool ok_a = !a.empty() && end == a.c_str() + a.size();
+    z.end_s = std::strtod(b.c_str(), &end);
+    const bool ok_b = !b.empty() && end == b.c_str() + b.size();
+    if (ok_a && ok_b && std::isfinite(z.start_s) && std::isfinite(z.end_s) && z.end_s > z.start_s) {
+      z.mode = ZeroSpec::Mode::window;
+      return z;
+    }
+  }
+  throw InputError(who + ": '" + text + "' is not pre-entry, keep or START:END (seconds of record time, START < END)");
+}
+
+Level level_between(const Vector& x, double fs_hz, double t0_s, double from_s, double to_s, const std::string& channel,
+                    const std::string& who) {
+  Level l;
+  const double k0 = std::max(0.0, std::ceil((from_s - t0_s) * fs_hz - 1e-9));
+  const double k1 = std::min(static_cast<double>(x.size() - 1), std::floor((to_s - t0_s) * fs_hz + 1e-9));
+  l.from_s = t0_s + k0 / fs_hz;
+  l.to_s = t0_s + k1 / fs_hz;
+  l.n = k1 >= k0 ? static_cast<Index>(k1 - k0) + 1 : 0;
+  if (l.n < 10)
+    throw InputError(who + ": channel " + channel + " holds " + std::to_string(l.n) + " samples between t = " + cmp_num(from_s) + " and " +
+                     cmp_num(to_s) + " s, too few for its zero (10 at least): give a window of the record where the bridge is "
+                     "unloaded, --zero START:END");
+  const auto seg = x.segment(static_cast<Index>(k0), l.n);
+  if (!seg.allFinite()) throw InputError(who + ": channel " + channel + " misses samples between t = " + cmp_num(l.from_s) + " and " + cmp_num(l.to_s) + " s, the span of its zero");
+  l.mean = seg.mean();
+  l.noise = std::sqrt((seg.array() - l.mean).square().sum() / static_cast<double>(std::max<Index>(1, l.n - 1)));
+  return l;
+}
+
+std::string offset_warning(const Level& pre, double peak, const std::string& channel, const std::string& unit) {
+  const double a = std::abs(pre.mean);
+  if (!(a > 2.0 * pre.noise) || !(a > 0.01 * peak)) return "";
+  return "channel " + channel + ": its mean before the train's entry (t = " + cmp_num(pre.from_s) + " to " + cmp_num(pre.to_s) + " s) is " +
+         cmp_num(pre.mean) + " " + unit + ", beyond its noise (" + cmp_num(pre.noise) + " " + unit + ") and " +
+         cmp_num(100.0 * a / std::max(peak, 1e-300)) + " % of its peak: a zero offset? --zero pre-entry removes it";
+}
+
+double response_onset_s(const Vector& model, double fs_model) {
+  if (model.size() == 0) return 0.0;
+  const double peak = model.cwiseAbs().maxCoeff();
+  Index j = 0;
+  while (j < model.size() && std::abs(model[j]) <= 0.01 * peak) ++j;
+  return peak > 0.0 ? static_cast<double>(j) / fs_model : 0.0;
+}
+
+double zero_level(const ZeroSpec& z, const Vector& x, double fs_hz, double t0_s, double entry_s, const std::string& channel,
+                  const std::string& who) {
+  switch (z.mode) {
+    case ZeroSpec::Mode::keep: return 0.0;
+    case ZeroSpec::Mode::window: return level_between(x, fs_hz, t0_s, z.start_s, z.end_s, channel, who).mean;
+    case ZeroSpec::Mode::pre_entry:
+      if (!std::isfinite(entry_s)) throw InputError(who + ": --zero pre-entry needs the train's entry time; give --zero START:END");
+      return level_between(x, fs_hz, t0_s, t0_s, entry_s, channel, who).mean;
+  }
+  return 0.0;
 }
 
 }  // namespace viaduct::study

@@ -81,6 +81,7 @@ struct Block {
 struct PreparedChannel {
   std::size_t station = 0;
   bool acceleration = true;
+  bool velocity = false;  // a velocity channel (acceleration-like: band-filtered)
   std::string effect;  // a load effect's history (strain) instead of the station's motion
   double scale = 1.0;
   Vector y;          // filtered (accelerations) record
@@ -124,6 +125,7 @@ class Evaluator {
       // (a first run as long as the record), with 1 s to spare for shifts during the fit.
       const Simulated s0 = simulate_at(initial_values(p_));
       const std::vector<double> shifts = align(s0);
+      zero_records(s0, shifts);
       for (std::size_t r = 0; r < records_.size(); ++r) {
         auto& pr = records_[r];
         const double duration = static_cast<double>(pr.channels.front().y.size()) / pr.in->fs_hz;
@@ -142,6 +144,7 @@ class Evaluator {
   const std::vector<Block>& blocks() const { return blocks_; }
   std::size_t n_records() const { return records_.size(); }
   int simulations() const { return simulations_.load(); }
+  const std::vector<std::string>& record_warnings() const { return record_warnings_; }
 
   std::vector<double> values_of(const double* z) const {
     std::vector<double> v(n_params_);
@@ -206,7 +209,7 @@ class Evaluator {
         const auto lead = static_cast<Index>(std::ceil(0.5 * out.fs_model));
         for (const auto& ch : pr.channels) {
           const auto& h = run.stations[ch.station];
-          Vector s = (ch.acceleration ? h.acc : h.disp) * ch.scale;
+          Vector s = (ch.velocity ? station_response(run, ch.station, ResponseKind::velocity) : ch.acceleration ? h.acc : h.disp) * ch.scale;
           if (!ch.effect.empty()) {
             const auto e = std::find_if(run.effects.begin(), run.effects.end(), [&](const EffectHistory& x) { return x.name == ch.effect; });
             if (e == run.effects.end()) throw InputError("fit: the model has no " + ch.effect + " (stations[].fibre_m?)");
@@ -343,6 +346,59 @@ class Evaluator {
   const FilterSpec& filter() const { return filter_; }
 
  private:
+  // What the misfits use of a channel's processed record: norms, peak, envelope, spectrum lines.
+  void derive(PreparedChannel& pc, const FitRecord& rec, const FitChannel& ch) const {
+    const Index n = pc.y.size();
+    pc.y_norm = pc.y.norm();
+    pc.y_peak = pc.y.cwiseAbs().maxCoeff();
+    pc.y_rms = std::sqrt(pc.y.squaredNorm() / static_cast<double>(n));
+    if (!(pc.y_norm > 0)) throw InputError("fit: record " + rec.name + " channel " + ch.name + " is zero after filtering");
+    pc.env_y = envelope(pc.y, rec.fs_hz);
+    pc.env_norm = pc.env_y.norm();
+    if (o_.weights.envelope > 0 && pc.env_y.size() < 4)
+      throw InputError("fit: record " + rec.name + " is shorter than 4 envelope windows (envelope_window_s)");
+    const auto a = signal::amplitude_spectrum(pc.y, rec.fs_hz, signal::Window::hann);
+    double f_lo = 0.0, f_hi = rec.fs_hz / 2;
+    if (filter_.enabled && ch.acceleration) {
+      if (filter_.cheby.band != signal::BandType::lowpass) f_lo = filter_.cheby.low_hz;
+      if (filter_.cheby.band != signal::BandType::highpass) f_hi = filter_.cheby.high_hz;
+    }
+    for (Index k = 0; k < a.frequency_hz.size(); ++k)
+      if (a.frequency_hz[k] > 0 && a.frequency_hz[k] >= f_lo && a.frequency_hz[k] <= f_hi) pc.lines.push_back(k);
+    pc.spec_y.resize(static_cast<Index>(pc.lines.size()));
+    for (std::size_t k = 0; k < pc.lines.size(); ++k) pc.spec_y[static_cast<Index>(k)] = a.amplitude[pc.lines[k]];
+    pc.spec_norm = pc.spec_y.norm();
+    if (o_.weights.spectrum > 0 && (pc.lines.size() < 4 || !(pc.spec_norm > 0)))
+      throw InputError("fit: record " + rec.name + " channel " + ch.name + ": fewer than 4 spectral lines in the band");
+  }
+
+  // A deflection or strain channel's zero (issue #39): the record before the train's entry (the
+  // aligned model's response above 1 % of its peak) is its level; removed when asked (and the
+  // channel's misfit data derived again), else a warning when it is an offset.
+  void zero_records(const Simulated& s0, const std::vector<double>& shifts) {
+    for (std::size_t r = 0; r < records_.size(); ++r) {
+      auto& pr = records_[r];
+      for (std::size_t c = 0; c < pr.channels.size(); ++c) {
+        PreparedChannel& pc = pr.channels[c];
+        const FitChannel& ch = pr.in->channels[c];
+        if (pc.acceleration) continue;
+        const double entry = shifts[r] + response_onset_s(s0.raw[r][c], s0.fs_model);
+        const std::string who = "fit: record " + pr.in->name;
+        if (o_.zero.mode != ZeroSpec::Mode::keep) {
+          pc.y.array() -= zero_level(o_.zero, pc.y, pr.in->fs_hz, pr.in->t0_s, entry, ch.name, who);
+          derive(pc, *pr.in, ch);
+          continue;
+        }
+        try {
+          const Level pre = level_between(pc.y, pr.in->fs_hz, pr.in->t0_s, pr.in->t0_s, entry, ch.name, who);
+          const std::string w = offset_warning(pre, pc.y_peak, ch.name, ch.strain ? "ue" : "m");
+          if (!w.empty()) record_warnings_.push_back("record " + pr.in->name + ", " + w);
+        } catch (const InputError&) {  // too little record before the entry to tell
+        }
+      }
+    }
+  }
+
   void prepare_records(const Scenario& sc0) {
     if (p_.records.empty()) throw InputError("fit: the record objectives (time, peak, envelope, spectrum) need at least one record");
     std::map<std::string, std::size_t> station_index;
@@ -394,6 +450,7 @@ class Evaluator {
         if (it == station_index.end()) throw InputError("fit: record " + rec.name + " channel " + ch.name + ": no station '" + ch.station + "' in the scenario");
         pc.station = it->second;
         pc.acceleration = ch.acceleration && !ch.strain;
+        pc.velocity = ch.velocity && pc.acceleration;
         if (ch.strain) {
           if (sc0.stations[pc.station].fibre_m == 0.0)
             throw InputError("fit: record " + rec.name + " channel " + ch.name + " is a strain; station '" + ch.station +
@@ -406,27 +463,7 @@ class Evaluator {
         if (n < 64) throw InputError("fit: record " + rec.name + " has fewer than 64 samples");
         if (!ch.samples.allFinite()) throw InputError("fit: record " + rec.name + " channel " + ch.name + " has non-finite samples");
         pc.y = ch.acceleration && filter_.enabled ? signal::sosfiltfilt(sos, ch.samples) : ch.samples;
-        pc.y_norm = pc.y.norm();
-        pc.y_peak = pc.y.cwiseAbs().maxCoeff();
-        pc.y_rms = std::sqrt(pc.y.squaredNorm() / static_cast<double>(n));
-        if (!(pc.y_norm > 0)) throw InputError("fit: record " + rec.name + " channel " + ch.name + " is zero after filtering");
-        pc.env_y = envelope(pc.y, rec.fs_hz);
-        pc.env_norm = pc.env_y.norm();
-        if (o_.weights.envelope > 0 && pc.env_y.size() < 4)
-          throw InputError("fit: record " + rec.name + " is shorter than 4 envelope windows (envelope_window_s)");
-        const auto a = signal::amplitude_spectrum(pc.y, rec.fs_hz, signal::Window::hann);
-        double f_lo = 0.0, f_hi = rec.fs_hz / 2;
-        if (filter_.enabled && ch.acceleration) {
-          if (filter_.cheby.band != signal::BandType::lowpass) f_lo = filter_.cheby.low_hz;
-          if (filter_.cheby.band != signal::BandType::highpass) f_hi = filter_.cheby.high_hz;
-        }
-        for (Index k = 0; k < a.frequency_hz.size(); ++k)
-          if (a.frequency_hz[k] > 0 && a.frequency_hz[k] >= f_lo && a.frequency_hz[k] <= f_hi) pc.lines.push_back(k);
-        pc.spec_y.resize(static_cast<Index>(pc.lines.size()));
-        for (std::size_t k = 0; k < pc.lines.size(); ++k) pc.spec_y[static_cast<Index>(k)] = a.amplitude[pc.lines[k]];
-        pc.spec_norm = pc.spec_y.norm();
-        if (o_.weights.spectrum > 0 && (pc.lines.size() < 4 || !(pc.spec_norm > 0)))
-          throw InputError("fit: record " + rec.name + " channel " + ch.name + ": fewer than 4 spectral lines in the band");
+        derive(pc, rec, ch);
         pr.channels.push_back(std::move(pc));
       }
       records_.push_back(std::move(pr));
@@ -525,6 +562,7 @@ class Evaluator {
   std::size_t n_params_ = 0;
   FilterSpec filter_;
   std::vector<PreparedRecord> records_;
+  std::vector<std::string> record_warnings_;  // offsets before the train's entry (zero kept)
   bool with_effects_ = false;  // a strain channel: the runs record load effects
   const ModalTarget* modal_ = nullptr;
   std::vector<std::size_t> sensor_stations_;
@@ -929,6 +967,7 @@ FitResult fit(const FitProblem& problem, const FitOptions& options) {
   if (options.spectral_start && (options.weights.time > 0 || options.weights.envelope > 0))
     pre = std::make_unique<Evaluator>(problem, pre_options);
   FitResult out;
+  out.warnings = ev.record_warnings();
   out.n_residuals = static_cast<int>(ev.n_residuals());
   out.initial = initial_values(problem);
   const std::size_t np = ev.n_params(), nz = ev.n_z();

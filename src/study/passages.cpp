@@ -74,6 +74,33 @@ void residual_of(const PassageChannel& ch, const Passage& p, const Vector& model
   v.correlation = cc.correlation;
 }
 
+// A deflection or strain channel's zero: the record before the train's entry (where the aligned
+// model's response rises above 1 % of its peak) is its level; removed when asked, else reported
+// when it is an offset.
+void zero_passage_channel(PassageChannel& ch, const Passage& p, const Vector& model, double fs_model, const FilterSpec& f,
+                          double shift_s, const ZeroSpec& zero, ChannelVerdict& v) {
+  double entry = std::numeric_limits<double>::quiet_NaN();
+  if (zero.mode != ZeroSpec::Mode::window) {
+    ComparisonOptions co;
+    co.filter = f;
+    co.max_shift_s = static_cast<double>(ch.x.size()) / p.fs_hz + static_cast<double>(model.size()) / fs_model;
+    co.shift_s = shift_s;
+    entry = compare_channel(ch.x, p.fs_hz, p.t0_s, model, fs_model, co).shift_s + response_onset_s(model, fs_model);
+  }
+  const std::string who = "passage " + p.name;
+  if (zero.mode != ZeroSpec::Mode::keep) {
+    v.zero_removed = zero_level(zero, ch.x, p.fs_hz, p.t0_s, entry, ch.name, who);
+    ch.x.array() -= v.zero_removed;
+    return;
+  }
+  try {
+    const Level pre = level_between(ch.x, p.fs_hz, p.t0_s, p.t0_s, entry, ch.name, who);
+    v.offset_warning = offset_warning(pre, ch.x.cwiseAbs().maxCoeff(), ch.name, response_unit(ch.kind));
+    v.zero_level_seen = pre.mean;
+  } catch (const InputError&) {  // too little record before the entry to tell
+  }
+}
+
 void check_passage(const Passage& p, std::size_t n_trains, std::size_t n_stations) {
   if (p.train >= n_trains) throw InputError("passage " + p.name + ": train index out of range");
   require_positive(p.fs_hz, "passage " + p.name + ": sampling rate [Hz]");
@@ -120,8 +147,10 @@ PassageResult run_passage(const PreparedModel& m, const RunSettings& rs, const F
     for (std::size_t i = 0; i < q.size(); ++i) lo[i] = std::min(lo[i], q[i]), hi[i] = std::max(hi[i], q[i]);
   }
   for (std::size_t i = 0; i < p.channels.size(); ++i) {
-    const PassageChannel& ch = p.channels[i];
+    PassageChannel ch = p.channels[i];
     ChannelVerdict v;
+    if (quasi_static_kind(ch.kind)) zero_passage_channel(ch, p, station_response(at_v, ch.station, ch.kind), fs_model,
+                                                                    filter_for(filter, ch.kind), shift_s, o.zero, v);
     v.channel = ch.name;
     v.station = m.stations[ch.station].name;
     v.kind = ch.kind;
@@ -133,6 +162,10 @@ PassageResult run_passage(const PreparedModel& m, const RunSettings& rs, const F
     v.ratio = pred[i] > 0 ? v.measured / pred[i] : std::numeric_limits<double>::quiet_NaN();
     residual_of(ch, p, station_response(at_v, ch.station, ch.kind), fs_model, f, shift_s, v);
     // A structured residual leaves the peak unjudged: not within (the flag says why).
+    if (!v.offset_warning.empty() && v.residual == "white") {  // an offset before the entry: the peak is not judged
+      v.residual = "offset";
+      v.residual_size = v.zero_level_seen;
+    }
     v.within = v.residual == "white" && v.measured >= lo[i] - o.noise_band * v.noise_rms &&
                v.measured <= hi[i] + o.noise_band * v.noise_rms;
     res.channels.push_back(v);

@@ -664,11 +664,11 @@ std::vector<StationPeaks> peaks(const RunResult& r) {
 }
 
 const char* response_name(ResponseKind k) {
-  return k == ResponseKind::acceleration ? "acc" : k == ResponseKind::deflection ? "disp" : "strain";
+  return k == ResponseKind::acceleration ? "acc" : k == ResponseKind::deflection ? "disp" : k == ResponseKind::velocity ? "vel" : "strain";
 }
 
 const char* response_unit(ResponseKind k) {
-  return k == ResponseKind::acceleration ? "mps2" : k == ResponseKind::deflection ? "m" : "ue";
+  return k == ResponseKind::acceleration ? "mps2" : k == ResponseKind::deflection ? "m" : k == ResponseKind::velocity ? "mps" : "ue";
 }
 
 Vector station_response(const RunResult& r, std::size_t station, ResponseKind k) {
@@ -676,6 +676,11 @@ Vector station_response(const RunResult& r, std::size_t station, ResponseKind k)
   const StationHistory& h = r.stations[station];
   if (k == ResponseKind::acceleration) return h.acc;
   if (k == ResponseKind::deflection) return h.disp;
+  if (k == ResponseKind::velocity) {  // from rest at t = 0: the trapezoidal rule is Newmark's own with gamma = 1/2
+    Vector v = Vector::Zero(h.acc.size());
+    for (Index i = 1; i < v.size(); ++i) v[i] = v[i - 1] + 0.5 * (r.t[i] - r.t[i - 1]) * (h.acc[i] + h.acc[i - 1]);
+    return v;
+  }
   for (const auto& e : r.effects)
     if (e.name == h.name + "_strain_ue") return e.value;
   throw SolverError("no strain history for station " + h.name + " (it needs stations[].fibre_m and a model with load effects)");
@@ -683,7 +688,7 @@ Vector station_response(const RunResult& r, std::size_t station, ResponseKind k)
 
 FilterSpec filter_for(const FilterSpec& scenario_filter, ResponseKind k) {
   FilterSpec f = scenario_filter;
-  if (k != ResponseKind::acceleration) f.cheby.band = signal::BandType::lowpass;
+  if (quasi_static_kind(k)) f.cheby.band = signal::BandType::lowpass;
   return f;
 }
 

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Dense>
+
 #include "series.hpp"
 #include "viaduct/core/error.hpp"
 #include "viaduct/signal/iir.hpp"
@@ -396,7 +398,7 @@ Delay delay_between(const Vector& a, const Vector& b, double fs_hz, const Filter
 
 FilterSpec signature_filter(const FilterSpec& scenario_filter, ResponseKind kind) {
   FilterSpec f = filter_for(scenario_filter, kind);
-  if (kind != ResponseKind::acceleration) f.enabled = true;
+  if (quasi_static_kind(kind)) f.enabled = true;
   return f;
 }
 
@@ -475,6 +477,163 @@ AxleMatch match_axles(const Vector& x, double fs_hz, double t0_s, const load::Tr
   }
   m.rms_residual_s = m.n_seen ? std::sqrt(ss / static_cast<double>(m.n_seen)) : 0.0;
   return m;
+}
+
+
+namespace {
+
+// The train's axles merged into groups (axles closer than merge_m): offsets at the groups'
+// load-weighted means, and the shortest distance between groups.
+std::vector<double> axle_groups(const load::Train& train, double merge_m, std::vector<double>* extent = nullptr) {
+  std::vector<double> d;
+  double sum_w = 0, sum_wx = 0, first = 0;
+  for (std::size_t k = 0; k < train.n_axles(); ++k) {
+    if (k > 0 && train.offset[k] - train.offset[k - 1] >= merge_m && sum_w > 0) {
+      d.push_back(sum_wx / sum_w);
+      if (extent) extent->push_back(train.offset[k - 1] - first);
+      sum_w = sum_wx = 0;
+    }
+    if (sum_w == 0) first = train.offset[k];
+    sum_w += train.load[k];
+    sum_wx += train.load[k] * train.offset[k];
+  }
+  if (sum_w > 0) d.push_back(sum_wx / sum_w);
+  if (extent && sum_w > 0) extent->push_back(train.offset.back() - first);
+  return d;
+}
+
+struct Pairing {
+  std::size_t n = 0;
+  double ss = 0.0;  // [s²] sum of squared time residuals
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;  // (group, peak)
+};
+
+// Each group's nearest peak within tol of entry + d / v, every peak used once (nearest wins).
+Pairing pair_groups(const std::vector<double>& d, const std::vector<double>& peaks, double entry, double v, double tol, bool keep) {
+  std::vector<std::tuple<double, std::size_t, std::size_t>> cand;
+  for (std::size_t g = 0; g < d.size(); ++g) {
+    const double t = entry + d[g] / v;
+    auto it = std::lower_bound(peaks.begin(), peaks.end(), t - tol);
+    for (; it != peaks.end() && *it <= t + tol; ++it) cand.emplace_back(std::abs(*it - t), g, static_cast<std::size_t>(it - peaks.begin()));
+  }
+  std::sort(cand.begin(), cand.end());
+  Pairing p;
+  std::vector<char> g_used(d.size(), 0), p_used(peaks.size(), 0);
+  for (const auto& [e, g, j] : cand) {
+    if (g_used[g] || p_used[j]) continue;
+    g_used[g] = p_used[j] = 1;
+    ++p.n;
+    p.ss += e * e;
+    if (keep) p.pairs.emplace_back(g, j);
+  }
+  return p;
+}
+
+}  // namespace
+
+TrainTiming speed_from_train(const Vector& x, double fs_hz, double t0_s, const load::Train& train, const TrainTimingOptions& o) {
+  require_positive(fs_hz, "sampling rate [Hz]");
+  require_finite(t0_s, "record start [s]");
+  if (!(o.v_min > 0 && o.v_max > o.v_min && std::isfinite(o.v_max))) throw InputError("speed range: need 0 < v_min < v_max");
+  if (!(o.min_prominence > 0 && o.min_prominence < 1)) throw InputError("min_prominence must be in (0, 1)");
+  if (!(o.merge_m >= 0) || !std::isfinite(o.merge_m)) throw InputError("merge distance must be >= 0 [m]");
+  if (train.n_axles() < 3) throw InputError("the train's geometry: at least 3 axles are needed");
+  if (x.size() < 16 || !x.allFinite()) throw InputError("at least 16 finite samples are needed");
+  Vector y = o.filter.enabled ? signal::sosfiltfilt(signal::cheby1(o.filter.cheby, fs_hz), x) : x;
+  std::vector<double> sorted(y.data(), y.data() + y.size());
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+  y.array() -= sorted[sorted.size() / 2];
+  if (-y.minCoeff() > y.maxCoeff()) y = -y;  // the load's sign: the largest excursion
+  std::vector<signal::Peak> pk = signal::find_peaks(y, {}, signal::Interpolation::parabolic);
+  double top = 0;
+  for (const auto& p : pk) top = std::max(top, p.prominence);
+  std::vector<double> peaks;
+  for (const auto& p : pk)
+    if (p.prominence >= o.min_prominence * top) peaks.push_back(t0_s + p.position / fs_hz);
+  TrainTiming best;
+  double best_share = -1, best_ss = 0;
+  std::vector<double> merges = o.merge_m > 0 ? std::vector<double>{o.merge_m} : std::vector<double>{1e-9, 3.5, 8.0};
+  for (const double merge : merges) {
+    std::vector<double> extent;
+    const std::vector<double> d = axle_groups(train, merge, &extent);
+    if (d.size() < 3) continue;
+    double min_gap = std::numeric_limits<double>::infinity();
+    for (std::size_t g = 1; g < d.size(); ++g) min_gap = std::min(min_gap, d[g] - d[g - 1]);
+    const double length = d.back() - d.front();
+    // Log grid: over the train's length the step drifts by a third of the tolerance at most.
+    const double step = std::max(1e-5, (min_gap / 6.0) / length / 3.0);
+    Pairing top_p;
+    double top_v = 0, top_e = 0;
+    for (double v = o.v_min; v <= o.v_max * (1 + 1e-12); v *= 1 + step) {
+      const double tol = std::max(2.0 / fs_hz, min_gap / v / 6.0);
+      // Anchors: one of the first 3 groups on one of the first 8 peaks (the train's head is
+      // among the first; a few noise peaks before it are allowed for).
+      for (std::size_t g0 = 0; g0 < std::min<std::size_t>(3, d.size()); ++g0)
+        for (std::size_t j0 = 0; j0 < std::min<std::size_t>(8, peaks.size()); ++j0) {
+          const double entry = peaks[j0] - d[g0] / v;
+          const Pairing p = pair_groups(d, peaks, entry, v, tol, false);
+          if (p.n > top_p.n || (p.n == top_p.n && p.ss < top_p.ss)) top_p = p, top_v = v, top_e = entry;
+        }
+    }
+    if (top_p.n < 3) continue;
+    // Least squares of t = entry + d·s (s = 1/v) on the pairs, re-paired until stable.
+    double v = top_v, entry = top_e, se_s = 0, se_e = 0, rms = 0;
+    Pairing p;
+    for (int it = 0; it < 5; ++it) {
+      p = pair_groups(d, peaks, entry, v, std::max(2.0 / fs_hz, min_gap / v / 6.0), true);
+      if (p.n < 3) break;
+      Eigen::MatrixXd A(static_cast<Index>(p.n), 2);
+      Vector b(static_cast<Index>(p.n));
+      for (std::size_t k = 0; k < p.n; ++k) {
+        A(static_cast<Index>(k), 0) = 1.0;
+        A(static_cast<Index>(k), 1) = d[p.pairs[k].first];
+        b[static_cast<Index>(k)] = peaks[p.pairs[k].second];
+      }
+      const Eigen::Vector2d sol0 = (A.transpose() * A).ldlt().solve(A.transpose() * b);
+      const double rss = (A * sol0 - b).squaredNorm();
+      rms = std::sqrt(rss / static_cast<double>(p.n));
+      // Each peak time's variance: the residual's (at least that of a time read to a sample,
+      // 1/fs/√12), plus, for a group of several axles, where within it the merged peak falls
+      // (uniform over the group's extent: a partly merged group does not peak at its centre).
+      const double s2 = std::max(p.n > 2 ? rss / static_cast<double>(p.n - 2) : 0.0, 1.0 / (12.0 * fs_hz * fs_hz));
+      Vector w(static_cast<Index>(p.n));
+      for (std::size_t k = 0; k < p.n; ++k) {
+        const double e = extent[p.pairs[k].first] / v;
+        w[static_cast<Index>(k)] = 1.0 / (s2 + e * e / 12.0);
+      }
+      const Eigen::Matrix2d AtWA = A.transpose() * w.asDiagonal() * A;
+      const Eigen::Vector2d sol = AtWA.ldlt().solve(A.transpose() * w.asDiagonal() * b);
+      entry = sol[0];
+      v = 1.0 / sol[1];
+      const Eigen::Matrix2d cov = AtWA.inverse();
+      se_e = std::sqrt(cov(0, 0));
+      se_s = std::sqrt(cov(1, 1));
+    }
+    if (p.n < 3 || !(v > 0)) continue;
+    // Not by chance: most peaks inside the train's passage are its groups', and the groups
+    // matched are well beyond what peaks of that density would give (a peak within the
+    // tolerance of a time with probability q: the share must exceed q by 4 standard deviations).
+    const double t_a = entry + d.front() / v, t_b = entry + d.back() / v, tol = std::max(2.0 / fs_hz, min_gap / v / 6.0);
+    const auto in_span = static_cast<double>(std::count_if(peaks.begin(), peaks.end(), [&](double t) { return t >= t_a - tol && t <= t_b + tol; }));
+    const double q = std::min(1.0, in_span / std::max(t_b - t_a, 1.0 / fs_hz) * 2.0 * tol);
+    const double share = static_cast<double>(p.n) / static_cast<double>(d.size());
+    if (static_cast<double>(p.n) < 0.5 * in_span || share < q + 4.0 * std::sqrt(q * (1.0 - q) / static_cast<double>(d.size()))) continue;
+    // The grouping the record matches best; equally well: the finer (more groups, more timing).
+    const bool same = std::abs(share - best_share) <= 1e-12;
+    if (share > best_share + 1e-12 || (same && p.n > best.n_matched) || (same && p.n == best.n_matched && p.ss < best_ss)) {
+      best_share = share, best_ss = p.ss;
+      best.speed = v, best.speed_se = se_s * v * v, best.entry_s = entry, best.entry_se = se_e;
+      best.merge_m = merge < 1e-6 ? 0.0 : merge, best.n_groups = d.size(), best.n_matched = p.n, best.n_peaks = peaks.size();
+      best.rms_residual_s = rms;
+    }
+  }
+  if (best_share < 0.5 || best.n_matched < 3)
+    throw InputError("no train found: the channel's " + std::to_string(peaks.size()) + " peaks match " +
+                     (best_share < 0 ? std::string("fewer than 3") : std::to_string(best.n_matched) + " of the " + std::to_string(best.n_groups)) +
+                     " axle groups of " + train.name + " at no speed between " + format_number(o.v_min * 3.6, 4) + " and " +
+                     format_number(o.v_max * 3.6, 4) + " km/h (a channel that merges the train's axles and bogies cannot be timed this way: "
+                     "use --model)");
+  return best;
 }
 
 }  // namespace viaduct::study

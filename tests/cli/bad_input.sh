@@ -54,7 +54,7 @@ expect 2 "key 'stations[0].at': must be [0, 1], got 1.5" -- "$VIADUCT" run "$(sc
 expect 2 "a deck station needs exactly one of 'at' (fraction) or 'x' (metres)" -- "$VIADUCT" run "$(scen both '')" --set stations[0].x=3.0 --speed-kmh 100 --out "$WORK/o"
 # Records: bad files exit 2 with file, line and column.
 printf 't_s,a_mps2\n0,1\n0.01,NaN\n' > "$WORK/nan.csv"
-expect 2 "no 2 successive samples without a missing value" -- "$VIADUCT" filter "$WORK/nan.csv"
+expect 2 "no 2 successive samples in which every channel used has a value (missing: a_mps2 from 0.01" -- "$VIADUCT" filter "$WORK/nan.csv"
 printf 't_s,a_mps2\n0,1\n0.01,NaN\n0.02,1\n0.03,1\n' > "$WORK/nan-refused.csv"
 expect 2 "nan-refused.csv:3: missing samples too long to interpolate (--fill-max-s 0 s) or at an end: a_mps2, 1 samples from 0.01 to 0.01 s" -- "$VIADUCT" filter "$WORK/nan-refused.csv" --fill-max-s 0 --long-gaps refuse
 expect 2 "--long-gaps must be split or refuse" -- "$VIADUCT" filter "$WORK/nan-refused.csv" --long-gaps drop
@@ -91,7 +91,7 @@ expect 2 "no station 'S9'" -- "$VIADUCT" compare "$TALGO" --record "$REC" --map 
 expect 2 "no channel 'strain'" -- "$VIADUCT" compare "$TALGO" --record "$REC" --map strain=S1_mid
 expect 2 "--map needs CHANNEL=STATION" -- "$VIADUCT" compare "$TALGO" --record "$REC" --map deck_acc
 printf '# sampling_rate_hz = 100\nv_V\n1\n2\n3\n' > "$WORK/volts.csv"
-expect 2 "channel 'v_V' is in V; only accelerations (_mps2, [g], ...), deflections (_m, [mm], ...) and strains (_ue, [µε], ...) compare with the model" -- "$VIADUCT" compare "$TALGO" --record "$WORK/volts.csv" --map v=S1_mid
+expect 2 "channel 'v_V' is in V; only accelerations (_mps2, [g], ...), velocities (_mps, [mm/s], ...), deflections (_m, [mm], ...) and strains (_ue, [µε], ...) compare with the model" -- "$VIADUCT" compare "$TALGO" --record "$WORK/volts.csv" --map v=S1_mid
 
 # Sizes that would exhaust memory or time are refused with the key to change.
 expect 2 "key 'bridge.element_size': 1e-06 m gives 11930000 elements on span 1; at most 1000 per span (raise bridge.element_size)" -- "$VIADUCT" check "$OG" --set bridge.element_size=1e-6
@@ -138,7 +138,7 @@ expect 2 "too short a decay" -- "$VIADUCT" decay "$WORK/sh/record.csv" --channel
 # A window left empty says why (was "0 cycles between 3.75 s and 3.13 s"); --end-s bounds it (#19).
 SYN=$SRC/data/records/synthetic-deck.csv
 expect 2 "the decay given at 5.5 s, after the 4 cycles skipped for the filter's transient (to 5.9 s), leaves nothing before 5.816 s" -- "$VIADUCT" decay "$SYN" --channel deck_acc --frequency-hz 10 --start-s 5.5 --out "$WORK/o"
-expect 2 "14.16 cycles of 10 Hz from 4.4 s (the decay given at 4 s plus 4 cycles skipped) to 5.816 s above the noise, at least 50 needed (--min-cycles)" -- "$VIADUCT" decay "$SYN" --channel deck_acc --frequency-hz 10 --start-s 4 --min-cycles 50 --out "$WORK/o"
+expect 2 "sinks into the noise or the record ends after 14.16 cycles of 10 Hz (from 4.4 s: the decay given at 4 s plus 4 cycles skipped, to 5.816 s), at least 50 needed (--min-cycles)" -- "$VIADUCT" decay "$SYN" --channel deck_acc --frequency-hz 10 --start-s 4 --min-cycles 50 --out "$WORK/o"
 expect 2 "--end-s" -- "$VIADUCT" decay "$SYN" --channel deck_acc --frequency-hz 10 --start-s 4 --end-s 3 --out "$WORK/o"
 expect 0 "wrote" -- "$VIADUCT" decay "$SYN" --channel deck_acc --frequency-hz 10 --start-s 4 --end-s 5.4 --skip-cycles 2 --min-cycles 3 --out "$WORK/dend"
 expect 2 "go together" -- "$VIADUCT" decay "$WORK/sh/record.csv" --channel mid_acc --frequency-hz 5 --speed-kmh 100 --out "$WORK/o"
@@ -153,7 +153,7 @@ expect 2 "key 'bridge.damping.ratio': bound 2 violates the key's constraint [0, 
 expect 2 "cannot open" -- "$VIADUCT" fit "$FS" --record "$WORK/nothere.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --out "$WORK/o"
 expect 2 "no station 'nowhere'" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=nowhere --param bridge.EI=1e9:4e9 --out "$WORK/o"
 expect 2 "deck_acc" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map deck_acc=mid --param bridge.EI=1e9:4e9 --out "$WORK/o"
-expect 2 "channel 'force_N' is in N; only accelerations (_mps2, [g], ...), deflections (_m, [mm], ...) and strains (_ue, [µε], ...) compare with the model" -- "$VIADUCT" fit "$FS" --record "$WORK/sh/record.csv" --map force_N=mid --param bridge.EI=1e9:4e9 --out "$WORK/o"
+expect 2 "channel 'force_N' is in N; only accelerations (_mps2, [g], ...), velocities (_mps, [mm/s], ...), deflections (_m, [mm], ...) and strains (_ue, [µε], ...) compare with the model" -- "$VIADUCT" fit "$FS" --record "$WORK/sh/record.csv" --map force_N=mid --param bridge.EI=1e9:4e9 --out "$WORK/o"
 expect 2 "--weight: unknown objective 'phase'" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --weight phase=1 --out "$WORK/o"
 expect 2 "one speed for all records or one per --record" -- "$VIADUCT" fit "$FS" --record "$WORK/fr/history.csv" --map mid_acc_mps2=mid --param bridge.EI=1e9:4e9 --speed-kmh 100 --speed-kmh 110 --out "$WORK/o"
 expect 2 "nothing to fit against" -- "$VIADUCT" fit "$FS" --param bridge.EI=1e9:4e9 --out "$WORK/o"

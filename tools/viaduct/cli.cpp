@@ -78,7 +78,10 @@ int dispatch(const Command& cmd, int argc, char** argv) {
         "rate-hz", optional_value(read.fs_hz), "[Hz] sampling rate when the file does not declare one (with a time column: checked against it)")(
         "unit", list_value(unit_overrides), "CHANNEL=UNIT for a channel named without its unit, e.g. --unit strain_mid=ue (repeatable)")(
         "fill-max-s", value(read.fill_max_s), "[s] missing samples (NaN, empty cells, time gaps) up to this long are interpolated linearly")(
-        "long-gaps", value(long_gaps), "longer ones: 'split' keeps the longest piece without them (reported), 'refuse' stops");
+        "long-gaps", value(long_gaps), "longer ones: 'split' leaves them missing in their own channel (a command takes the longest piece "
+                                       "where the channels it uses have values; reported), 'refuse' stops")(
+        "header-line", value(read.header_line), "the header's line (1-based), when the file's preamble misleads the finder")(
+        "skip-lines", value(read.skip_lines), "lines at the top of the file not read at all");
     opts.add(r);
   }
   po::options_description hidden;
@@ -152,6 +155,8 @@ int dispatch(const Command& cmd, int argc, char** argv) {
       }
       if (long_gaps != "split" && long_gaps != "refuse") throw InputError("--long-gaps must be split or refuse, got '" + long_gaps + "'");
       require_non_negative(read.fill_max_s, "--fill-max-s");
+      if (read.header_line < 0) throw InputError("--header-line must be a line number >= 1");
+      if (read.skip_lines < 0) throw InputError("--skip-lines must be >= 0");
       if (read.fs_hz) require_positive(*read.fs_hz, "--rate-hz");
       read.split_long_gaps = long_gaps == "split";
       c.read = read;
@@ -175,6 +180,13 @@ io::Record read_record(const std::string& path, const Common& o) {
   io::Record r = io::read_record(path, o.read, &rep);
   print_import_report(path, rep, o);
   return r;
+}
+
+io::Record usable(const io::Record& r, const std::vector<std::size_t>& used, const Common& o) {
+  std::vector<std::string> notes;
+  io::Record out = io::valid_span(r, used, "viaduct " + o.command, &notes);
+  for (const auto& n : notes) std::cerr << "viaduct " << o.command << ": warning: " << n << "\n";
+  return out;
 }
 
 void print_import_report(const std::string& path, const io::ImportReport& rep, const Common& o) {

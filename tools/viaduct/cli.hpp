@@ -91,6 +91,9 @@ int dispatch(const Command& cmd, int argc, char** argv);
 /// and --long-gaps; what was converted or repaired is printed on stderr (notes unless --quiet,
 /// repairs always, as warnings).
 io::Record read_record(const std::string& path, const Common& o);
+/// The record cut to the longest piece where the channels `used` have values (io::valid_span),
+/// what was cut printed as a warning.
+io::Record usable(const io::Record& r, const std::vector<std::size_t>& used, const Common& o);
 /// What reading `path` converted and repaired, printed as read_record prints it.
 void print_import_report(const std::string& path, const io::ImportReport& report, const Common& o);
 

@@ -42,7 +42,28 @@ struct CompareOptions {
   std::vector<std::string> maps;
   std::optional<double> speed_kmh, identify_speed_m;
   double max_shift_s = 60.0, v_min_kmh = 40.0, v_max_kmh = 400.0;
+  std::string zero = "keep";
 };
+
+// A deflection or strain channel's zero (issue #39): the record before the train's entry (where
+// the aligned model's response rises above 1 % of its peak) is its level; removed when --zero asks, else a warning when it is an
+// offset. Returns the level removed; the comparison is made again on the zeroed record.
+double zero_channel(Vector& x, const io::Record& rec, std::size_t channel, double entry_s, const study::ZeroSpec& z,
+                    std::vector<std::string>& warnings) {
+  const std::string& name = rec.channels[channel];
+  if (z.mode != study::ZeroSpec::Mode::keep) {
+    const double level = study::zero_level(z, x, rec.fs_hz, rec.t0_s, entry_s, name, "--zero");
+    x.array() -= level;
+    return level;
+  }
+  try {
+    const study::Level pre = study::level_between(x, rec.fs_hz, rec.t0_s, rec.t0_s, entry_s, name, "compare");
+    const std::string w = study::offset_warning(pre, x.cwiseAbs().maxCoeff(), name, rec.units[channel]);
+    if (!w.empty()) warnings.push_back(w);
+  } catch (const InputError&) {  // too little record before the entry to tell
+  }
+  return 0.0;
+}
 
 // The comparison: the scenario run at the identified or given speed, each mapped channel filtered,
 // aligned and compared; compare_*.csv and the manifest into --out.
@@ -51,7 +72,7 @@ int compare_body(const Common& o, const CompareOptions& k) {
   if (!k.record) throw InputError("--record FILE is required");
   if (k.maps.empty()) throw InputError("at least one --map CHANNEL=STATION is required");
   const std::string& record_path = *k.record;
-  const io::Record rec = read_record(record_path, o);
+  const io::Record whole = read_record(record_path, o);
   const io::FlatScenario flat = load_scenario(o);
   study::Scenario sc = io::to_scenario(flat);
   double speed = 0.0;
@@ -64,7 +85,10 @@ int compare_body(const Common& o, const CompareOptions& k) {
     speed = *sc.run_speed;
   }
   const load::Train* train = &train_of(sc, k.train);
-  const std::vector<Mapping> maps = mappings_of(k.maps, rec, sc);
+  const std::vector<Mapping> maps = mappings_of(k.maps, whole, sc);
+  std::vector<std::size_t> used;
+  for (const auto& mp : maps) used.push_back(mp.channel);
+  const io::Record rec = usable(whole, used, o);  // another channel's missing samples cut nothing
   if (k.identify_speed_m) {
     const study::SpeedEstimate e = study::speed_from_spectrum(rec.data.col(static_cast<Index>(maps.front().channel)), rec.fs_hz,
                                                               *k.identify_speed_m, k.v_min_kmh / 3.6, k.v_max_kmh / 3.6, 4);
@@ -92,8 +116,10 @@ int compare_body(const Common& o, const CompareOptions& k) {
   std::vector<Vector> tcols, fcols;
   std::vector<std::string> mnames = {"channel", "station", "quantity", "shift_s", "peak_record", "peak_model",
                                      "peak_ratio", "rms_ratio", "correlation", "f_peak_record_hz", "f_peak_model_hz",
-                                     "spectral_correlation"};
+                                     "spectral_correlation", "zero_removed"};
   std::vector<std::vector<std::string>> metrics;
+  const study::ZeroSpec zero = study::parse_zero(k.zero, "--zero");
+  std::vector<std::string> warnings;
   if (!o.quiet)
     std::printf("%s at %.1f km/h (%s) against %s (%ld samples at %.6g Hz)\n%-22s %-10s %9s %10s %8s %8s %8s %9s %9s\n",
                 train->name.c_str(), speed * 3.6, speed_source.c_str(), record_path.c_str(),
@@ -102,8 +128,20 @@ int compare_body(const Common& o, const CompareOptions& k) {
   for (const auto& mp : maps) {
     const Vector model = study::station_response(run, mp.station, mp.kind);
     co.filter = study::filter_for(sc.settings.filter, mp.kind);
-    const study::ChannelComparison cc = study::compare_channel(rec.data.col(static_cast<Index>(mp.channel)), rec.fs_hz,
-                                                               rec.t0_s, model, 1.0 / rs.dt, co);
+    study::ChannelComparison cc;
+    Vector x = rec.data.col(static_cast<Index>(mp.channel));
+    double zeroed = 0.0;
+    try {
+      cc = study::compare_channel(x, rec.fs_hz, rec.t0_s, model, 1.0 / rs.dt, co);
+      if (study::quasi_static_kind(mp.kind)) {  // an accelerometer's or geophone's offset is filtered out
+        zeroed = zero_channel(x, rec, mp.channel, cc.shift_s + study::response_onset_s(model, 1.0 / rs.dt), zero, warnings);
+        if (zeroed != 0.0) cc = study::compare_channel(x, rec.fs_hz, rec.t0_s, model, 1.0 / rs.dt, co);
+      }
+    } catch (const InputError& e) {  // name record and channel, and why the record is short
+      const bool cut = rec.n_samples() < whole.n_samples();
+      throw InputError("record " + record_path + ", channel " + rec.channels[mp.channel] + ": " + e.what() +
+                       (cut ? " (the record was cut to where the channels used have values: see the warning above)" : ""));
+    }
     const std::string base = rec.channels[mp.channel].substr(0, rec.channels[mp.channel].size() - rec.units[mp.channel].size() - 1);
     const std::string& u = rec.units[mp.channel];
     if (tcols.empty()) tcols.push_back(cc.t);
@@ -120,12 +158,13 @@ int compare_body(const Common& o, const CompareOptions& k) {
     metrics.push_back({rec.channels[mp.channel], sc.stations[mp.station].name, study::response_name(mp.kind), num(cc.shift_s),
                        num(cc.peak_record), num(cc.peak_model), num(cc.peak_ratio), num(cc.rms_ratio),
                        num(cc.correlation), num(cc.f_peak_record_hz), num(cc.f_peak_model_hz),
-                       num(cc.spectral_correlation)});
+                       num(cc.spectral_correlation), num(zeroed)});
     if (!o.quiet)
       std::printf("%-22s %-10s %9.4f %10.4f %8.4f %8.4f %8.4f %9.3f %9.3f\n", rec.channels[mp.channel].c_str(),
                   sc.stations[mp.station].name.c_str(), cc.shift_s, cc.peak_ratio, cc.rms_ratio, cc.correlation,
                   cc.spectral_correlation, cc.f_peak_record_hz, cc.f_peak_model_hz);
   }
+  for (const auto& w : warnings) std::fprintf(stderr, "viaduct compare: warning: %s\n", w.c_str());
   make_out_dir(o.out);
   io::write_columns_csv(o.out + "/compare_time.csv", tnames, tcols);
   io::write_columns_csv(o.out + "/compare_spectrum.csv", fnames, fcols);
@@ -134,7 +173,9 @@ int compare_body(const Common& o, const CompareOptions& k) {
   m.inputs = {record_path};
   m.as_run = io::settings_as_run(sc.settings);
   m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  m.warnings = warnings;
   m.extra = {{"record", "\"" + record_path + "\""},
+             {"zero", "\"" + k.zero + "\""},
              {"train", "\"" + train->name + "\""},
              {"speed_kmh", format_number(speed * 3.6, 10)},
              {"speed_source", "\"" + speed_source + "\""}};
@@ -159,7 +200,9 @@ Command compare_command() {
         "identify-speed-m", optional_value(k.identify_speed_m),
         "identify the speed from the record: the train's characteristic distance d [m] (spectral lines of the first mapped channel)")(
         "v-min-kmh", value(k.v_min_kmh), "speed identification: lowest speed [km/h]")(
-        "v-max-kmh", value(k.v_max_kmh), "speed identification: highest speed [km/h]");
+        "v-max-kmh", value(k.v_max_kmh), "speed identification: highest speed [km/h]")(
+        "zero", value(k.zero), "deflection and strain channels' zero: keep (a warning when the record before the train's entry "
+                               "is offset), pre-entry (its mean removed) or START:END (the mean of that window of record time)");
   };
   c.usage_and_samples =
       "Runs the scenario at the train's speed, filters model and record with the scenario's\n"

@@ -39,6 +39,8 @@ Command fit_command() {
         "OBJECTIVE=W with OBJECTIVE time, peak, envelope, spectrum, modal or damping (repeatable; default time=1 with records, modal=1 with --modes)")(
         "starts", optional_value(q.starts), "solver starts: the scenario's values, then quasi-random points in the bounds (default 1)")(
         "no-spectral-start", po::bool_switch(&q.no_spectral_start), "skip the spectral pre-stage of each start (fit.spectral_start = false)")(
+        "zero", value(q.zero), "deflection and strain channels' zero: keep (a warning when the record before the train's entry is offset), "
+                               "pre-entry (its mean removed) or START:END (the mean of that window of record time)")(
         "max-iterations", optional_value(q.max_iterations), "iterations per start (default 50)")(
         "max-time-s", optional_value(q.max_time_s), "wall time per start [s] (default 600)");
   };

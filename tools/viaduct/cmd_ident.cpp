@@ -164,6 +164,7 @@ int frf_from_record(const Common& o, const FrfOptions& fo) {
   std::optional<io::Record> frec;
   if (fo.force_record) frec = read_record(*fo.force_record, o);
   const io::FrfInputs in = io::frf_inputs(rec, o.scenario, frec ? &*frec : nullptr, *fo.force, fo.responses);
+  for (const auto& n : in.notes) std::cerr << "viaduct frf: warning: " << n << "\n";
   make_out_dir(o.out);
   ident::FrfEstimateOptions eo = estimate_options(fo);
   if (eo.method == ident::FrfMethod::stepped && eo.steps.empty()) {
@@ -536,8 +537,9 @@ Command decay_command() {
     std::vector<double> f, zl, ze, zh;
     for (const auto& path : files) {
       try {
-        const io::Record rec = read_record(path, o);
-        const std::size_t ch = rec.channel(*k.channel);
+        const io::Record whole = read_record(path, o);
+        const std::size_t ch = whole.channel(*k.channel);
+        const io::Record rec = usable(whole, {ch}, o);
         const ident::DecayResult r = ident::analyse_decay(rec.data.col(static_cast<Index>(ch)), rec.fs_hz, rec.t0_s, d);
         rows.push_back({path, rec.channels[ch], ident_fmt(r.start_s), r.start_detected ? "detected" : "given", ident_fmt(r.end_s),
                         ident_fmt(r.n_cycles, "%.1f"), ident_fmt(r.frequency_hz), ident_fmt(r.zeta_log_decrement), ident_fmt(r.zeta_envelope_fit),
@@ -569,8 +571,8 @@ Command decay_command() {
     for (const auto& [name, v] : std::vector<std::pair<std::string, std::vector<double>*>>{
              {"frequency_hz", &f}, {"zeta_log_decrement", &zl}, {"zeta_envelope_fit", &ze}, {"zeta_hilbert", &zh}}) {
       const ident::Statistic s = ident::statistic(*v);
-      // The spread of one record is not known: an empty cell, not 0.
-      summary.push_back({name, ident_fmt(s.mean), s.n >= 2 ? ident_fmt(s.std) : "", std::to_string(s.n)});
+      // The spread of one record is not known: an empty cell, not 0; nor the mean of none.
+      summary.push_back({name, s.n >= 1 ? ident_fmt(s.mean) : "", s.n >= 2 ? ident_fmt(s.std) : "", std::to_string(s.n)});
     }
     io::write_table_csv(o.out + "/decay_summary.csv", {"estimate", "mean", "std", "n"}, summary);
     std::vector<std::string> inputs = {o.scenario};

@@ -21,6 +21,7 @@ struct PassagesOptions {
   std::optional<std::string> train;
   std::optional<double> v_min_kmh, v_max_kmh;
   double speed_band = 3.0, noise_band = 4.0;
+  std::string zero = "keep";
 };
 
 // A record to read: its path, the train it carries (a name or a file, as written) and a speed.
@@ -122,7 +123,10 @@ std::vector<MapSpec> maps_of(const std::vector<std::string>& pairs, const study:
 // One record read into a passage: the mapped channels only, their kind from their units.
 study::Passage passage_of(const Entry& e, std::size_t train, const std::vector<MapSpec>& maps, const study::Scenario& sc,
                           const Common& o) {
-  const io::Record rec = read_record(e.file, o);
+  const io::Record whole = read_record(e.file, o);
+  std::vector<std::size_t> used;
+  for (const auto& m : maps) used.push_back(whole.channel(m.channel));
+  const io::Record rec = usable(whole, used, o);  // another channel's missing samples cut nothing
   study::Passage p;
   p.name = e.file;
   p.train = train;
@@ -154,7 +158,7 @@ void write_results(const std::string& out, const study::PassageStudy& r, double 
                       p.identified ? cell(p.signature_correlation) : "", c.channel, c.station, study::response_name(c.kind),
                       study::response_unit(c.kind), cell(c.measured), cell(c.predicted), cell(c.predicted_low), cell(c.predicted_high),
                       std::isfinite(c.ratio) ? cell(c.ratio) : "", cell(c.noise_rms), cell(c.correlation), c.within ? "true" : "false",
-                      c.residual, c.residual == "white" ? "" : cell(c.residual_size)});
+                      c.residual, c.residual == "white" ? "" : cell(c.residual_size), cell(c.zero_removed)});
       const auto key = std::make_pair(c.station, std::string(study::response_name(c.kind)));
       if (!groups.count(key)) order.push_back(key);
       groups[key].push_back(&c);
@@ -179,7 +183,7 @@ void write_results(const std::string& out, const study::PassageStudy& r, double 
   io::write_table_csv(out + "/passages.csv",
                       {"passage", "train", "speed_kmh", "speed_uncertainty_kmh", "speed_source", "signature_correlation", "channel",
                        "station", "quantity", "unit", "measured", "predicted", "predicted_low", "predicted_high", "ratio", "noise_rms",
-                       "correlation", "within", "residual", "residual_size"},
+                       "correlation", "within", "residual", "residual_size", "zero_removed"},
                       rows);
   io::write_table_csv(out + "/model_envelope.csv", {"train", "station", "quantity", "unit", "speed_kmh", "peak"}, curves);
   io::write_table_csv(out + "/passages_summary.csv", {"station", "quantity", "n", "ratio_median", "ratio_min", "ratio_max", "n_within"},
@@ -220,6 +224,7 @@ int passages_body(const Common& o, const PassagesOptions& k) {
   po.v_max = k.v_max_kmh ? *k.v_max_kmh / 3.6 : *hi;
   po.speed_band = k.speed_band;
   po.noise_band = k.noise_band;
+  po.zero = study::parse_zero(k.zero, "--zero");
   po.threads = o.threads;
   // Read every record (the mapped channels only); one that cannot be read is a failed passage.
   std::vector<study::Passage> passages;
@@ -255,6 +260,9 @@ int passages_body(const Common& o, const PassagesOptions& k) {
     if (p.speed < *lo || p.speed > *hi)
       warnings.push_back(p.name + ": " + format_number(p.speed * 3.6, 5) + " km/h is outside the envelope's speeds (sweep.*)");
   }
+  for (const auto& p : r.passages)
+    for (const auto& c : p.channels)
+      if (!c.offset_warning.empty()) warnings.push_back(p.name + ", " + c.offset_warning);
   for (const auto& p : r.passages)
     for (const auto& c : p.channels)
       if (c.residual != "white")
@@ -301,7 +309,9 @@ Command passages_command() {
         "v-min-kmh", optional_value(k.v_min_kmh), "speed identification: lowest speed [km/h] (default: the sweep's lowest)")(
         "v-max-kmh", optional_value(k.v_max_kmh), "speed identification: highest speed [km/h] (default: the sweep's highest)")(
         "speed-band", value(k.speed_band), "the predicted peak's range over the speed +- this many standard errors")(
-        "noise-band", value(k.noise_band), "within the model: measured in the predicted range +- this many noise RMS");
+        "noise-band", value(k.noise_band), "within the model: measured in the predicted range +- this many noise RMS")(
+        "zero", value(k.zero), "deflection and strain channels' zero: keep (an offset before the train's entry is reported), "
+                               "pre-entry (its mean removed) or START:END (the mean of that window of record time)");
   };
   c.usage_and_samples =
       "For each record: the train's speed identified from the first --map channel by matching\n"

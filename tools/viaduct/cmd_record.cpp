@@ -1,6 +1,7 @@
 // viaduct filter / viaduct spectrum: processing of record files (measured or simulated).
 #include <algorithm>
 #include <cmath>
+#include <charconv>
 #include <filesystem>
 #include <cstdio>
 #include <functional>
@@ -17,6 +18,7 @@
 #include "viaduct/io/scenario.hpp"
 #include "viaduct/model/structure.hpp"
 #include "viaduct/study/simulation.hpp"
+#include "viaduct/study/comparison.hpp"
 #include "viaduct/study/speed.hpp"
 
 namespace viaduct::cli {
@@ -124,6 +126,8 @@ struct SpeedOptions {
   int harmonics = 4;
   bool peaks = false;
   double min_interval_s = 0.1;
+  std::string zero = "keep";
+  double merge_m = 0.0;
 };
 
 struct ResampleOptions {
@@ -162,7 +166,9 @@ Command filter_command() {
       "  viaduct filter data/records/synthetic-deck.csv --low-hz 1 --high-hz 30 --out out/filtered\n"
       "  viaduct filter data/records/synthetic-deck.csv --band lowpass --high-hz 15 --channel deck_acc --out out/lp\n";
   const auto body = [](const Common& o, const FilterOptions& f) {
-    const io::Record in = read_record(o.scenario, o);
+    const io::Record whole = read_record(o.scenario, o);
+    const auto chans = selected(whole, f.channels);
+    const io::Record in = usable(whole, chans, o);
     signal::Cheby1Spec spec;
     const std::string& band = f.band;
     if (band == "bandpass") spec.band = signal::BandType::bandpass;
@@ -174,7 +180,6 @@ Command filter_command() {
     spec.order = f.order;
     spec.ripple_db = f.ripple_db;
     const signal::Sos sos = signal::cheby1(spec, in.fs_hz);
-    const auto chans = selected(in, f.channels);
     const io::Record out = transform_channels(in, chans, in.fs_hz, [&](const Vector& x) { return signal::sosfiltfilt(sos, x); });
     make_out_dir(o.out);
     io::write_record_csv(o.out + "/filtered.csv", out);
@@ -213,8 +218,9 @@ Command spectrum_command() {
       "  viaduct spectrum data/records/synthetic-deck.csv --out out/spectrum\n"
       "  viaduct spectrum data/records/synthetic-deck.csv --welch --nperseg 1024 --out out/psd\n";
   const auto body = [](const Common& o, const SpectrumOptions& s) {
-    const io::Record in = io::time_window(read_record(o.scenario, o), s.wb.start_s, s.wb.end_s, "--start-s/--end-s");
-    const auto chans = selected(in, s.channels);
+    const io::Record whole = io::time_window(read_record(o.scenario, o), s.wb.start_s, s.wb.end_s, "--start-s/--end-s");
+    const auto chans = selected(whole, s.channels);
+    const io::Record in = usable(whole, chans, o);
     const signal::Window w = window_option(s.window);
     const bool welch = s.welch;
     std::vector<Vector> cols;
@@ -288,7 +294,7 @@ Command peaks_command() {
       "  viaduct peaks data/records/synthetic-deck.csv --channel deck_acc --start-s 4 --f-min 5 --f-max 20 --max-peaks 1 --out out/peaks-free\n"
       "  viaduct peaks data/records/synthetic-deck.csv --channel deck_disp --time --min-distance 0.2 --max-peaks 0 --out out/axles\n";
   const auto body = [](const Common& o, const PeaksOptions& p) {
-    const io::Record in = io::time_window(read_record(o.scenario, o), p.wb.start_s, p.wb.end_s, "--start-s/--end-s");
+    const io::Record whole = io::time_window(read_record(o.scenario, o), p.wb.start_s, p.wb.end_s, "--start-s/--end-s");
     if (p.time && (p.wb.f_min || p.wb.f_max)) throw InputError("--f-min/--f-max choose spectrum peaks: not with --time");
     const bool time = p.time;
     const signal::Window window = window_option(p.window);
@@ -302,7 +308,8 @@ Command peaks_command() {
     if (!(dist >= 0.0) || !std::isfinite(dist)) throw InputError("--min-distance must be >= 0");
     std::vector<std::string> chan, unit;
     std::vector<double> pos, val, prom;
-    for (std::size_t ch : selected(in, p.channels)) {
+    for (std::size_t ch : selected(whole, p.channels)) {
+      const io::Record in = usable(whole, {ch}, o);  // each channel over its own valid span
       Vector y = in.data.col(static_cast<Index>(ch));
       double step = 1.0 / in.fs_hz, origin = in.t0_s;
       if (!time) {
@@ -345,7 +352,7 @@ namespace {
 study::ResponseKind kind_of(const io::Record& in, std::size_t ch) { return io::channel_quantity(in.units[ch], in.channels[ch], "--channel"); }
 
 // --model: the record's channels against the station's simulated response at trial speeds.
-std::vector<std::vector<std::string>> speed_by_signature(const Common& o, const SpeedOptions& s, const io::Record& in,
+std::vector<std::vector<std::string>> speed_by_signature(const Common& o, const SpeedOptions& s, const io::Record& whole,
                                                          std::vector<std::vector<std::string>>& axle_rows) {
   const io::FlatScenario flat = io::load_flat(*s.model);
   study::Scenario sc = io::to_scenario(flat);
@@ -363,9 +370,9 @@ std::vector<std::vector<std::string>> speed_by_signature(const Common& o, const 
   }
   if (!s.station && sc.stations.size() != 1) throw InputError("--station: name the station of " + *s.model + " where the sensor sits");
   const std::size_t st = s.station ? station_index(sc, *s.station, "--station") : 0;
-  const auto chans = selected(in, s.channels);
+  const auto chans = selected(whole, s.channels);
   bool strain = false;
-  for (std::size_t ch : chans) strain = strain || kind_of(in, ch) == study::ResponseKind::strain;
+  for (std::size_t ch : chans) strain = strain || kind_of(whole, ch) == study::ResponseKind::strain;
   if (strain && sc.stations[st].fibre_m == 0.0)
     throw InputError("--station " + sc.stations[st].name + ": a strain channel needs stations[].fibre_m in " + *s.model);
   study::RunSettings rs = sc.settings;
@@ -375,15 +382,69 @@ std::vector<std::vector<std::string>> speed_by_signature(const Common& o, const 
   const double x_station = spec.on_deck ? pm.structure.span_start[spec.span] + spec.x_local : spec.x_track;
   std::vector<std::vector<std::string>> rows;
   auto num = [](double v) { return io::table_cell(v, 8); };
+  const study::ZeroSpec zero = study::parse_zero(s.zero, "--zero");
   for (std::size_t ch : chans) {
+    io::Record in = usable(whole, {ch}, o);
     const study::ResponseKind q = kind_of(in, ch);
-    const study::SignatureMatch m = study::match_train_signature(pm, rs, train, st, q, in.data.col(static_cast<Index>(ch)), in.fs_hz, in.t0_s,
-                                                                 sc.settings.filter, s.v_min_kmh / 3.6, s.v_max_kmh / 3.6);
+    auto match = [&] {
+      return study::match_train_signature(pm, rs, train, st, q, in.data.col(static_cast<Index>(ch)), in.fs_hz, in.t0_s, sc.settings.filter,
+                                          s.v_min_kmh / 3.6, s.v_max_kmh / 3.6);
+    };
+    study::SignatureMatch m = match();
+    if (study::quasi_static_kind(q)) {  // the zero of a deflection or strain: before the first axle reaches the deck
+      const double entry = m.shift_s + (pm.structure.span_start.front() - pm.structure.path_start()) / m.speed;
+      auto x = in.data.col(static_cast<Index>(ch));
+      if (zero.mode != study::ZeroSpec::Mode::keep) {
+        const Vector xv = x;
+        x.array() -= study::zero_level(zero, xv, in.fs_hz, in.t0_s, entry, in.channels[ch], "--zero");
+        m = match();
+      } else {
+        try {
+          const study::Level pre = study::level_between(x, in.fs_hz, in.t0_s, in.t0_s, entry, in.channels[ch], "speed");
+          const std::string w = study::offset_warning(pre, x.cwiseAbs().maxCoeff(), in.channels[ch], in.units[ch]);
+          if (!w.empty()) std::fprintf(stderr, "viaduct speed: warning: %s\n", w.c_str());
+        } catch (const InputError&) {  // too little record before the entry to tell
+        }
+      }
+    }
     const double dt_st = (x_station - pm.structure.path_start()) / m.speed;
     const double entry = m.shift_s + dt_st, entry_se = std::hypot(m.shift_se, dt_st / m.speed * m.speed_se);
-    rows.push_back({in.channels[ch], "train-signature", num(m.speed * 3.6), num(3 * m.speed_se * 3.6), "", std::to_string(m.n_evaluations),
-                    num(entry), num(3 * entry_se), num(m.correlation), num(m.amplitude)});
-    if (q != study::ResponseKind::acceleration) {  // the axles, where the channel sees them one by one
+    // The model's misfit (issue #39 item 5): the signature's standard error counts the residual
+    // as noise, not a shape the model gets wrong (a span too long stretches it in time). Checks
+    // that do not trust the model: the axles' timing from the train's geometry alone, the fit's
+    // correlation and amplitude. A disagreement is flagged and widens the uncertainty to cover it.
+    double unc = 3 * m.speed_se;
+    std::vector<std::string> flags;
+    if (study::quasi_static_kind(q)) {
+      study::TrainTimingOptions to;
+      to.v_min = s.v_min_kmh / 3.6, to.v_max = s.v_max_kmh / 3.6;
+      to.filter = study::signature_filter(sc.settings.filter, q);
+      try {
+        const study::TrainTiming t = study::speed_from_train(in.data.col(static_cast<Index>(ch)), in.fs_hz, in.t0_s, train, to);
+        const double diff = std::abs(t.speed - m.speed), both = 3 * std::hypot(m.speed_se, t.speed_se);
+        if (diff > both) {
+          flags.push_back("the model's signature gives " + format_number(m.speed * 3.6, 5) + " km/h, the axles' timing alone " +
+                          format_number(t.speed * 3.6, 5) + " km/h +- " + format_number(3 * t.speed_se * 3.6, 3) +
+                          ": the model's shape does not match the record (span, supports, track?); the uncertainty covers both");
+          unc = std::max(unc, diff + 3 * t.speed_se);
+        }
+      } catch (const InputError&) {  // the channel merges the axles: no timing without the model
+      }
+    }
+    if (m.correlation < 0.9)
+      flags.push_back("the model's signature matches the record poorly (correlation " + format_number(m.correlation, 3) +
+                      "): the speed may be biased beyond its uncertainty");
+    if (m.amplitude < 0.5 || m.amplitude > 2.0)
+      flags.push_back("the record is " + format_number(m.amplitude, 3) + " x the model: check the model (and the channel's unit) "
+                      "before trusting its timing");
+    std::string flag;
+    for (const auto& f : flags) {
+      flag += (flag.empty() ? "" : "; ") + f;
+      std::fprintf(stderr, "viaduct speed: warning: %s: %s\n", in.channels[ch].c_str(), f.c_str());
+    }
+    rows.push_back({in.channels[ch], "train-signature", num(m.speed * 3.6), num(unc * 3.6), "", std::to_string(m.n_evaluations),
+                    num(entry), num(3 * entry_se), num(m.correlation), num(m.amplitude), flag});
+    if (study::quasi_static_kind(q)) {  // the axles, where the channel sees them one by one
       const study::AxleMatch am = study::match_axles(in.data.col(static_cast<Index>(ch)), in.fs_hz, in.t0_s, train, m.speed, m.speed_se,
                                                      entry, entry_se, study::signature_filter(sc.settings.filter, q));
       for (const auto& a : am.axles)
@@ -397,16 +458,59 @@ std::vector<std::vector<std::string>> speed_by_signature(const Common& o, const 
     if (!o.quiet)
       std::printf("%-22s train-signature %.3f km/h +- %.3f (3 standard errors); first axle at %s at %.4f s +- %.4f; correlation %.4f, "
                   "amplitude %.4g x model; %ld templates\n",
-                  in.channels[ch].c_str(), m.speed * 3.6, 3 * m.speed_se * 3.6, spec.name.c_str(), entry, 3 * entry_se, m.correlation,
+                  in.channels[ch].c_str(), m.speed * 3.6, unc * 3.6, spec.name.c_str(), entry, 3 * entry_se, m.correlation,
                   m.amplitude, static_cast<long>(m.n_evaluations));
   }
   return rows;
 }
 
+// A train for --train without --model: a train file, or hslm:A1 … hslm:A10.
+load::Train train_alone(const std::string& t) {
+  if (std::filesystem::is_regular_file(t)) return io::read_train_file(t);
+  if (t.rfind("hslm:A", 0) == 0) {
+    const std::string k = t.substr(6);
+    int n = 0;
+    const auto r = std::from_chars(k.data(), k.data() + k.size(), n);
+    if (r.ec == std::errc() && r.ptr == k.data() + k.size() && n >= 1 && n <= 10)
+      return load::hslm_a("HSLM-A" + std::to_string(n), load::hslm_a_row(n));
+  }
+  throw InputError("--train: '" + t + "' is neither a train file nor hslm:A1 … hslm:A10");
+}
+
+// --train without --model: the peaks of deflection or strain channels matched to the train's axles or bogies.
+std::vector<std::vector<std::string>> speed_by_train(const Common& o, const SpeedOptions& s, const io::Record& whole) {
+  const load::Train train = train_alone(*s.train);
+  std::vector<std::vector<std::string>> rows;
+  auto num = [](double v) { return io::table_cell(v, 8); };
+  for (std::size_t ch : selected(whole, s.channels)) {
+    const io::Record in = usable(whole, {ch}, o);
+    if (!study::quasi_static_kind(kind_of(in, ch)))
+      throw InputError("--train without --model: channel " + in.channels[ch] + " is not a deflection or strain; the axles are timed on deflection "
+                       "or strain channels (or give --model)");
+    study::TrainTimingOptions to;
+    to.v_min = s.v_min_kmh / 3.6;
+    to.v_max = s.v_max_kmh / 3.6;
+    to.merge_m = s.merge_m;
+    to.filter.cheby.band = signal::BandType::lowpass;
+    to.filter.cheby.high_hz = std::min(s.lowpass_hz, 0.4 * in.fs_hz);
+    const study::TrainTiming t = study::speed_from_train(in.data.col(static_cast<Index>(ch)), in.fs_hz, in.t0_s, train, to);
+    rows.push_back({in.channels[ch], "train-geometry", num(t.speed * 3.6), num(3 * t.speed_se * 3.6), "", std::to_string(t.n_matched),
+                    num(t.entry_s), num(3 * t.entry_se), "", "", ""});
+    if (!o.quiet)
+      std::printf("%-22s train-geometry %.3f km/h +- %.3f (3 standard errors); first axle at the sensor at %.4f s +- %.4f; %zu of %zu %s "
+                  "matched (%zu peaks; RMS %.2f ms)\n",
+                  in.channels[ch].c_str(), t.speed * 3.6, 3 * t.speed_se * 3.6, t.entry_s, 3 * t.entry_se, t.n_matched, t.n_groups,
+                  t.merge_m == 0 ? "axles" : ("groups of axles closer than " + format_number(t.merge_m, 3) + " m").c_str(), t.n_peaks,
+                  t.rms_residual_s * 1e3);
+  }
+  return rows;
+}
+
 // --second-channel with --sensor-distance-m: the delay of one sensor behind the other.
-std::vector<std::string> speed_by_delay(const Common& o, const SpeedOptions& s, const io::Record& in) {
+std::vector<std::string> speed_by_delay(const Common& o, const SpeedOptions& s, const io::Record& whole) {
   if (s.channels.size() != 1) throw InputError("--sensor-distance-m: give the first sensor's --channel (one) and --second-channel");
-  const std::size_t a = in.channel(s.channels.front()), b = in.channel(*s.second);
+  const std::size_t a = whole.channel(s.channels.front()), b = whole.channel(*s.second);
+  const io::Record in = usable(whole, {a, b}, o);
   require_positive(*s.sensor_distance_m, "--sensor-distance-m");
   study::FilterSpec f;  // a low-pass on both: the first channel's noise is delayed with it, and must be smooth
   f.cheby.band = signal::BandType::lowpass;
@@ -429,7 +533,7 @@ std::vector<std::string> speed_by_delay(const Common& o, const SpeedOptions& s, 
   if (!o.quiet)
     std::printf("%s -> %s: delay %.5f s +- %.5f, %.3f km/h +- %.3f (3 standard errors), correlation %.4f\n", in.channels[a].c_str(),
                 in.channels[b].c_str(), d.delay_s, 3 * d.delay_se, v * 3.6, 3 * v_se * 3.6, d.correlation);
-  return {in.channels[a] + ">" + in.channels[b], "sensor-delay", num(v * 3.6), num(3 * v_se * 3.6), "", "2", "", "", num(d.correlation), ""};
+  return {in.channels[a] + ">" + in.channels[b], "sensor-delay", num(v * 3.6), num(3 * v_se * 3.6), "", "2", "", "", num(d.correlation), "", ""};
 }
 
 }  // namespace
@@ -450,7 +554,12 @@ Command speed_command() {
         "min-interval-s", value(s.min_interval_s), "peaks: least time between two axle peaks [s]")(
         "model", optional_value(s.model), "a scenario: match the record to the station's simulated response to the train at trial speeds")(
         "station", optional_value(s.station), "--model: the scenario's station where the sensor sits")(
-        "train", optional_value(s.train), "--model: a train file, or a train of the scenario (default: its first)")(
+        "zero", value(s.zero), "--model, deflection and strain channels' zero: keep (a warning when the record before the train's "
+                               "entry is offset), pre-entry (its mean removed, then matched again) or START:END (the mean of that window)")(
+        "train", optional_value(s.train), "a train file (or hslm:A1 … hslm:A10; with --model also a train of the scenario, default its "
+                                           "first); without --model: deflection or strain peaks matched to the train's axles or bogies")(
+        "merge-m", value(s.merge_m), "--train without --model: axles closer than this [m] are one peak (0: axles, bogies or bogie pairs, "
+                                     "whichever the record matches best)")(
         "second-channel", optional_value(s.second), "a second sensor along the track: the speed from its delay behind --channel")(
         "sensor-distance-m", optional_value(s.sensor_distance_m), "[m] the distance from --channel's sensor to --second-channel's")(
         "lowpass-hz", value(s.lowpass_hz), "--second-channel: both channels low-passed at this frequency [Hz] before the delay is fitted");
@@ -484,7 +593,15 @@ Command speed_command() {
   const auto body = [](const Common& o, const SpeedOptions& s) {
     const io::Record in = read_record(o.scenario, o);
     const std::vector<std::string> header = {"channel", "method", "speed_kmh", "uncertainty_kmh", "frequency_hz", "n_used",
-                                             "first_axle_s", "first_axle_uncertainty_s", "correlation", "amplitude"};
+                                             "first_axle_s", "first_axle_uncertainty_s", "correlation", "amplitude", "flag"};
+    if (s.train && !s.model && !s.sensor_distance_m && !s.distance_m) {
+      const auto rows = speed_by_train(o, s, in);
+      make_out_dir(o.out);
+      io::write_table_csv(o.out + "/speed.csv", header, rows);
+      io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "speed", {o.scenario}), nullptr);
+      if (!o.quiet) std::printf("wrote %s/speed.csv\n", o.out.c_str());
+      return ok;
+    }
     if (s.model || s.sensor_distance_m) {
       if (s.model && s.sensor_distance_m) throw InputError("give --model or --sensor-distance-m, not both");
       if (s.sensor_distance_m.has_value() != s.second.has_value()) throw InputError("--sensor-distance-m and --second-channel go together");
@@ -507,12 +624,12 @@ Command speed_command() {
     std::vector<std::vector<std::string>> rows;
     auto num = [](double v) { return io::table_cell(v, 8); };
     for (std::size_t ch : selected(in, s.channels)) {
-      const Vector x = in.data.col(static_cast<Index>(ch));
+      const Vector x = usable(in, {ch}, o).data.col(static_cast<Index>(ch));
       const study::SpeedEstimate e =
           peaks ? study::speed_from_peaks(x, in.fs_hz, d, s.min_interval_s, s.v_min_kmh / 3.6, s.v_max_kmh / 3.6)
                 : study::speed_from_spectrum(x, in.fs_hz, d, s.v_min_kmh / 3.6, s.v_max_kmh / 3.6, s.harmonics);
       rows.push_back({in.channels[ch], peaks ? "axle-peaks" : "spectral-lines", num(e.speed * 3.6),
-                      num(e.uncertainty * 3.6), num(e.frequency_hz), std::to_string(e.n_used), "", "", "", ""});
+                      num(e.uncertainty * 3.6), num(e.frequency_hz), std::to_string(e.n_used), "", "", "", "", ""});
       if (!o.quiet)
         std::printf("%-22s %-15s %.2f km/h +- %.2f (f = %.4f Hz, %d used)\n", in.channels[ch].c_str(),
                     rows.back()[1].c_str(), e.speed * 3.6, e.uncertainty * 3.6, e.frequency_hz, e.n_used);
@@ -546,9 +663,10 @@ Command resample_command() {
       "  viaduct resample data/records/synthetic-deck.csv --decimate 5 --out out/dec\n"
       "  viaduct resample data/records/synthetic-deck.csv --fs-hz 4096 --out out/up\n";
   const auto body = [](const Common& o, const ResampleOptions& r) {
-    const io::Record in = read_record(o.scenario, o);
+    const io::Record whole = read_record(o.scenario, o);
     if (r.fs_hz.has_value() == r.decimate.has_value()) throw InputError("give exactly one of --fs-hz or --decimate");
-    const auto chans = selected(in, r.channels);
+    const auto chans = selected(whole, r.channels);
+    const io::Record in = usable(whole, chans, o);
     const bool dec = r.decimate.has_value();
     const double fs_out = dec ? in.fs_hz / *r.decimate : *r.fs_hz;
     const io::Record out = transform_channels(in, chans, fs_out, [&](const Vector& x) {
@@ -585,13 +703,14 @@ Command envelope_command() {
       "  viaduct envelope data/records/synthetic-deck.csv --kind rms --window-s 0.5 --out out/rms\n"
       "  viaduct envelope data/records/synthetic-deck.csv --kind hilbert --channel deck_acc --out out/hilbert\n";
   const auto body = [](const Common& o, const EnvelopeOptions& e) {
-    const io::Record in = read_record(o.scenario, o);
+    const io::Record whole = read_record(o.scenario, o);
     const std::string& kind = e.kind;
     if (kind != "rms" && kind != "maxabs" && kind != "hilbert") throw InputError("--kind must be rms, maxabs or hilbert");
     const double w_s = e.window_s;
     if (!(w_s > 0.0) || !std::isfinite(w_s)) throw InputError("--window-s must be > 0");
-    const Index w = 2 * static_cast<Index>(std::llround(w_s * in.fs_hz / 2)) + 1;
-    const auto chans = selected(in, e.channels);
+    const Index w = 2 * static_cast<Index>(std::llround(w_s * whole.fs_hz / 2)) + 1;
+    const auto chans = selected(whole, e.channels);
+    const io::Record in = usable(whole, chans, o);
     const io::Record out = transform_channels(in, chans, in.fs_hz, [&](const Vector& x) {
       return kind == "rms" ? signal::running_rms(x, w) : kind == "maxabs" ? signal::maxabs_envelope(x, w) : signal::hilbert_envelope(x);
     });
@@ -628,7 +747,8 @@ void inspect_one(const std::string& path, const Common& o, std::vector<std::vect
     const io::ImportReport::Channel* rc = nullptr;
     for (const auto& x : rep.channels)
       if (x.channel == r.channels[c]) rc = &x;
-    const io::ChannelSummary s = io::summarise_channel(r.data.col(static_cast<Index>(c)));
+    io::ChannelSummary s = io::summarise_channel(r.data.col(static_cast<Index>(c)));
+    if (rc && rc->clipped > 0) s.clipped = true, s.at_limits = rc->clipped;  // the reader made those samples missing
     const std::string header = rc ? rc->header : r.channels[c];
     const double factor = rc ? rc->factor : 1.0;
     const long missing = rc ? static_cast<long>(rc->missing) : 0, filled = rc ? static_cast<long>(rc->interpolated) : 0;
@@ -637,6 +757,9 @@ void inspect_one(const std::string& path, const Common& o, std::vector<std::vect
     if (s.clipped)
       std::printf("  warning: %s: %ld samples sit at its max or min in runs longer than any elsewhere: clipped (over the sensor's or "
                   "logger's range)?\n", r.channels[c].c_str(), static_cast<long>(s.at_limits));
+    for (const auto& [a, b] : io::missing_runs(r, c))
+      std::printf("  %s has no value from %.10g to %.10g s (%ld samples)\n", r.channels[c].c_str(), r.t0_s + static_cast<double>(a) / r.fs_hz,
+                  r.t0_s + static_cast<double>(b - 1) / r.fs_hz, static_cast<long>(b - a));
     rows.push_back({path, r.channels[c], header, r.units[c], io::table_cell(factor), io::table_cell(r.fs_hz), io::table_cell(r.t0_s),
                     io::table_cell(duration), std::to_string(n), std::to_string(missing), std::to_string(filled), io::table_cell(s.min),
                     io::table_cell(s.max), io::table_cell(s.mean), io::table_cell(s.rms_ac), io::table_cell(s.drift),

@@ -66,6 +66,7 @@ struct FitRequest {
   std::optional<int> starts, max_iterations;
   std::optional<double> max_time_s;     ///< [s]
   bool no_spectral_start = false;
+  std::string zero = "keep";            ///< deflection and strain channels' zero: keep, pre-entry or START:END (study::parse_zero)
   int threads = 1;
   ReadOptions read;                     ///< how the record files are read (docs/records.md)
   /// Told each record file and what reading it converted and repaired (the CLI prints it); may be empty.

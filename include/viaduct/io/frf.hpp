@@ -30,12 +30,14 @@ struct FrfInputs {
   std::vector<std::string> response_channels;  ///< full names
   std::vector<std::string> response_units;     ///< their unit suffixes
   double fs_hz = 0.0, t0_s = 0.0;              ///< rate and first sample of both
+  std::vector<std::string> notes;              ///< what was cut for the channels' missing samples (valid_span)
 };
 
 /// The channel `force` (N or kN) of `force_record` (or of `record` when null) and the channels
 /// `responses` of `record` (default: every m, mps and mps2 channel). InputError when a channel
 /// is missing or in the wrong unit, when there is no response, or when the two records differ
-/// in rate, start or length.
+/// in rate, start or length. In one record, the longest piece where force and responses all have
+/// values is taken (notes); in two, a missing sample of a channel used is an InputError.
 FrfInputs frf_inputs(const Record& record, const std::string& record_path, const Record* force_record,
                      const std::string& force, const std::vector<std::string>& responses);
 

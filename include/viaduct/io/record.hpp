@@ -51,7 +51,9 @@ struct ReadOptions {
   std::optional<double> fs_hz;           ///< [Hz] the rate, when the file does not say it (or to check the time column)
   std::vector<std::pair<std::string, std::string>> units;  ///< channel (header text or name) → unit, for names without one
   double fill_max_s = 0.005;             ///< [s] NaN runs and gaps up to this long are interpolated linearly
-  bool split_long_gaps = true;           ///< longer ones cut the record and the longest piece is kept; false: refused
+  bool split_long_gaps = true;           ///< longer ones stay missing in their own channel (valid_span); false: refused
+  int header_line = 0;                   ///< > 0: the header's line (1-based), instead of finding it
+  int skip_lines = 0;                    ///< lines at the top not read at all (a preamble the finder misreads)
 };
 
 /// What reading a record understood and changed (printed by the CLI; `viaduct inspect`).
@@ -63,6 +65,7 @@ struct ImportReport {
     double factor = 1.0;      ///< file value × factor = viaduct's value
     Index missing = 0;        ///< NaN, empty or non-finite cells, and samples of time gaps
     Index interpolated = 0;   ///< of those, filled by linear interpolation
+    Index clipped = 0;        ///< samples in runs at the channel's max or min (summarise_channel's rule), made missing
   };
   std::string layout;                  ///< separator, decimal mark, header line, preamble lines
   std::string time;                    ///< where time and rate come from
@@ -80,6 +83,16 @@ std::vector<std::string> describe(const ImportReport& report);
 /// The samples of `r` with start_s <= t <= end_s (either may be absent), t0_s moved to the first
 /// kept one. InputError naming `what` when the window is reversed or holds fewer than 2 samples.
 Record time_window(const Record& r, std::optional<double> start_s, std::optional<double> end_s, const std::string& what);
+
+/// The runs [first, end) of samples of channel `c` that are missing (NaN). A run too long to
+/// interpolate stays missing in its own channel only: the other channels keep their samples.
+std::vector<std::pair<Index, Index>> missing_runs(const Record& r, std::size_t c);
+
+/// The record cut to the longest piece in which every channel of `used` has all its samples
+/// (channels keep their indices; another channel's missing run cuts nothing). What was cut goes
+/// to `notes` in words, naming channel and times. InputError naming `who` and the channel when
+/// fewer than 2 samples remain. Every command calls it with the channels it uses.
+Record valid_span(const Record& r, const std::vector<std::size_t>& used, const std::string& who, std::vector<std::string>* notes);
 
 /// Reads a record CSV (streaming; every problem listed in one InputError with file:line).
 Record read_record_csv(const std::string& path, const ReadOptions& options = {}, ImportReport* report = nullptr);

@@ -64,4 +64,41 @@ struct ResidualStructure {
 /// 6 times the noise left after it. Same-size vectors of at least 16 samples at fs_hz.
 ResidualStructure residual_structure(const Vector& record, const Vector& model, double fs_hz);
 
+/// How a deflection or strain channel's zero is set before it is compared with the model (a
+/// gauge's offset is no response): kept as recorded, the mean of the record before the train's
+/// entry, or the mean over a window of record time.
+struct ZeroSpec {
+  enum class Mode { keep, pre_entry, window };
+  Mode mode = Mode::keep;
+  double start_s = 0.0, end_s = 0.0;  ///< [s] record time, window only
+};
+/// "pre-entry", "START:END" (seconds of record time) or "keep"; InputError naming `who`.
+ZeroSpec parse_zero(const std::string& text, const std::string& who);
+
+/// The level of a record over [from_s, to_s] of record time: mean and noise (standard
+/// deviation about it).
+struct Level {
+  double mean = 0.0, noise = 0.0;
+  double from_s = 0.0, to_s = 0.0;
+  Index n = 0;
+};
+/// InputError naming `channel` and `who` when the span holds fewer than 10 samples (say which
+/// fix: a window of the record's quiet part) or a missing sample.
+Level level_between(const Vector& x, double fs_hz, double t0_s, double from_s, double to_s, const std::string& channel,
+                    const std::string& who);
+
+/// A warning, or "" : the level before the train's entry is an offset when it is beyond both
+/// twice its noise and 1 % of the channel's peak |x| (a clean record's mean is not zero to the
+/// last digit; a noisy one's wanders by its noise).
+std::string offset_warning(const Level& pre_entry, double peak, const std::string& channel, const std::string& unit);
+
+/// [s] The model's time at which its response first exceeds 1 % of its peak: the train's entry
+/// as the station sees it (0 for a zero response).
+double response_onset_s(const Vector& model, double fs_model);
+
+/// The zero `z` asks for, over a record whose train enters at `entry_s` (record time; NaN when
+/// unknown, which pre_entry refuses): the level subtracted (returned; 0 for keep).
+double zero_level(const ZeroSpec& z, const Vector& x, double fs_hz, double t0_s, double entry_s, const std::string& channel,
+                  const std::string& who);
+
 }  // namespace viaduct::study

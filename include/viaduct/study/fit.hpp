@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 #include "viaduct/core/types.hpp"
+#include "viaduct/study/comparison.hpp"
 #include "viaduct/study/scenario.hpp"
 
 namespace viaduct::study {
@@ -40,6 +41,7 @@ struct FitChannel {
   std::string station;       ///< scenario station name
   bool acceleration = true;  ///< true: the station's acceleration (filtered); false: its deflection (unfiltered)
   bool strain = false;       ///< the station's strain in microstrain (<station>_strain_ue: stations[].fibre_m), unfiltered
+  bool velocity = false;     ///< with acceleration = true: the station's velocity (a geophone), filtered as accelerations are
   double scale = 1.0;        ///< model SI value → channel unit (1 for records read by io: they are in SI)
   Vector samples;            ///< as measured, in the channel unit, finite
 };
@@ -95,6 +97,9 @@ struct FitTracePoint {
 struct FitOptions {
   FitWeights weights;
   double envelope_window_s = 0.25;  ///< [s] envelope window, > 0
+  /// Deflection and strain channels' zero (comparison.hpp; keep: a warning when the record
+  /// before the train's entry is offset).
+  ZeroSpec zero;
   double max_shift_s = 60.0;        ///< [s] alignment search range (record time of the model's t = 0 from t0 − this to t0 + this), > 0
   int starts = 1;                   ///< 1: from the initial values only; more: plus quasi-random points (Halton) in the box
   /// With the time or envelope objective: each start first fits the amplitude spectra (plus the

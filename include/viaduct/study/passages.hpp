@@ -9,6 +9,7 @@
 
 #include "viaduct/core/log.hpp"
 #include "viaduct/load/train.hpp"
+#include "viaduct/study/comparison.hpp"
 #include "viaduct/study/scenario.hpp"
 #include "viaduct/study/simulation.hpp"
 
@@ -44,6 +45,9 @@ struct PassageOptions {
   /// the few samples near its maximum stays within 4σ of the noiseless peak but for about 1 in
   /// 10³ (P(|z| > 4) = 6e-5 a sample). > 0.
   double noise_band = 4.0;
+  /// Deflection and strain channels' zero (keep: an offset before the train's entry is
+  /// reported, and the residual's structure flags it; pre_entry or window: its mean removed).
+  ZeroSpec zero;
   int threads = 1;         ///< >= 1; results do not depend on it
   ProgressSink progress;   ///< optional; called after each envelope case and each passage
   bool is_valid(std::string* why) const;
@@ -67,6 +71,9 @@ struct ChannelVerdict {
   std::string residual = "white";
   double residual_size = 0.0;
   double correlation = 0.0;     ///< of the filtered record and the aligned model
+  double zero_removed = 0.0;    ///< the level subtracted (PassageOptions::zero; 0 when kept)
+  std::string offset_warning;   ///< when kept: the level before the train's entry is an offset (offset_warning); not within
+  double zero_level_seen = 0.0; ///< the level before the train's entry (when kept)
   /// See PassageOptions::noise_band; false when the residual is structured.
   bool within = false;
 };

@@ -40,8 +40,11 @@ enum class ResponseKind {
   acceleration,  ///< [m/s²] the deck's (rail's at a rail station)
   deflection,    ///< [m] positive down
   strain,        ///< [µε] the station's <station>_strain_ue (a model prepared with load effects)
+  velocity,      ///< [m/s] the deck's (a geophone), the acceleration integrated from rest (trapezoidal)
 };
-/// "acc", "disp" or "strain" (report columns).
+/// Deflection and strain: quasi-static content, low-passed only, zero offsets meaningful.
+inline bool quasi_static_kind(ResponseKind k) { return k == ResponseKind::deflection || k == ResponseKind::strain; }
+/// "acc", "disp", "strain" or "vel" (report columns).
 const char* response_name(ResponseKind k);
 /// The unit of a response as viaduct's columns write it: "mps2", "m" or "ue".
 const char* response_unit(ResponseKind k);

@@ -142,4 +142,31 @@ struct AxleMatch {
 AxleMatch match_axles(const Vector& x, double fs_hz, double t0_s, const load::Train& train, double speed, double speed_se, double entry_s,
                       double entry_se, const FilterSpec& filter, double min_prominence = 0.1);
 
+
+/// Speed and timing from the train's geometry alone (issue #39 item 5): the peaks of a deflection
+/// or strain channel that sees axles or bogies one by one, matched to the train's axle groups.
+struct TrainTimingOptions {
+  double v_min = 40.0 / 3.6, v_max = 400.0 / 3.6;  ///< [m/s] range searched, 0 < v_min < v_max
+  /// [m] axles closer than this merge into one group (a bogie) at their load-weighted mean
+  /// offset; 0: the record chooses among every axle, bogies (3.5 m) and neighbouring bogies (8 m)
+  /// the grouping it matches best.
+  double merge_m = 0.0;
+  FilterSpec filter;            ///< applied first (a low-pass); disabled: none
+  double min_prominence = 0.1;  ///< peaks kept: at least this share of the largest prominence, (0, 1)
+};
+struct TrainTiming {
+  double speed = 0.0, speed_se = 0.0;   ///< [m/s] least squares of the matched peak times, se from their residual
+  double entry_s = 0.0, entry_se = 0.0; ///< [s] record time the first axle passes the sensor
+  double merge_m = 0.0;                 ///< [m] the grouping used
+  std::size_t n_groups = 0, n_matched = 0, n_peaks = 0;
+  double rms_residual_s = 0.0;          ///< [s] of the matched peaks about the fitted times
+};
+/// Peaks (orientation from the largest excursion about the median; parabolic refinement) and
+/// groups are paired for every trial speed on a log grid fine enough that the train's length
+/// drifts by less than the pairing tolerance (a sixth of the shortest time between groups, at
+/// least 2 samples), the best count kept (ties: the smaller residual), then times = entry +
+/// offset / v fitted by least squares and re-paired until stable. InputError "no train found"
+/// when fewer than 3 groups, or under half of them, are matched.
+TrainTiming speed_from_train(const Vector& x, double fs_hz, double t0_s, const load::Train& train, const TrainTimingOptions& o);
+
 }  // namespace viaduct::study

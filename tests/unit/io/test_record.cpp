@@ -69,8 +69,10 @@ TEST_CASE("records with a time column or a declared rate") {
 TEST_CASE("bad records give file and line, every problem of a file at once") {
   Dir d;
   const std::string h = "t_s,a_mps2,b_m\n";
-  // A NaN that cannot be interpolated (two samples): nothing is left.
-  REQUIRE(error_of(d.write("nan.csv", h + "0,1,2\n0.1,nan,3\n")).find("nan.csv:2: no 2 successive samples without a missing value") != std::string::npos);
+  // A NaN that cannot be interpolated (two samples): nothing is left of that channel.
+  const Record nan2 = read_record_csv(d.write("nan.csv", h + "0,1,2\n0.1,nan,3\n"));
+  REQUIRE_THROWS_WITH(valid_span(nan2, {0}, "peaks", nullptr), Catch::Contains("peaks: no 2 successive samples in which every channel used has a value"));
+  REQUIRE(valid_span(nan2, {1}, "peaks", nullptr).n_samples() == 2);
   REQUIRE(error_of(d.write("cols.csv", h + "0,1,2\n0.1,3\n0.2,1,2\n")).find("cols.csv:3: expected 3 columns as in the header (line 1), got 2") != std::string::npos);
   REQUIRE(error_of(d.write("more.csv", h + "0,1,2\n0.1,1,2,4\n0.2,1,2\n")).find("more.csv:3: expected 3 columns") != std::string::npos);
   REQUIRE(error_of(d.write("back.csv", h + "0,1,2\n0.1,1,2\n0.05,1,2\n")).find("back.csv:4: time does not increase (t = 0.05 s after 0.1 s on line 3)") != std::string::npos);

@@ -119,15 +119,22 @@ TEST_CASE("NaN cells and time gaps: short runs interpolated, long ones cut or re
   REQUIRE(rep.repairs[1].find("interpolated linearly (runs up to 8 samples, --fill-max-s): Acc1_mps2 6, Strain1_ue 5") != std::string::npos);
 
   // The same file with interpolation limited to 3 samples (4.9 ms at 1651.2 Hz → 8 by default):
-  // the time gap is cut, the longest piece kept and the other named.
+  // the time gap stays missing in every channel (each is reported); the record keeps its
+  // length, and a command takes the longest piece where its channels have values.
   ReadOptions o;
   o.fill_max_s = 3.0 / kFs;
-  const Record cut = read_record(path, o, &rep);
+  const Record kept = read_record(path, o, &rep);
+  REQUIRE(kept.n_samples() == n);
+  REQUIRE(std::isnan(kept.data(1001, 0)));
+  REQUIRE(missing_runs(kept, 0) == std::vector<std::pair<Index, Index>>{{1000, 1004}});
+  REQUIRE(rep.repairs.back().find("that channel has no value there; the other channels keep theirs") != std::string::npos);
+  std::vector<std::string> notes;
+  const Record cut = valid_span(kept, {0, 1}, "test", &notes);
   REQUIRE(cut.n_samples() == n - 1004);
   REQUIRE(cut.t0_s == Approx(t(1004)).margin(1e-6));  // the rate fitted to stamps rounded to 0.1 ms: 1e-7 of 0.6 s
   REQUIRE(cut.data(0, 1) == Approx(strain_ue(t(1004))).margin(1e-12));
-  REQUIRE(rep.repairs.back().find("kept the longest piece") != std::string::npos);
-  REQUIRE(rep.repairs.back().find("dropped 20–") != std::string::npos);
+  REQUIRE(notes.size() == 1);
+  REQUIRE(notes[0].find("takes the longest piece where they all have values") != std::string::npos);
   // ... or refused, naming the line after the gap.
   o.split_long_gaps = false;
   try {
@@ -139,11 +146,60 @@ TEST_CASE("NaN cells and time gaps: short runs interpolated, long ones cut or re
     REQUIRE(m.find("gaps.csv:1002: missing samples too long to interpolate") != std::string::npos);  // line 1002 holds sample 1004
     REQUIRE(m.find("Acc1_mps2, 4 samples from") != std::string::npos);
   }
-  // A NaN at either end cannot be interpolated: trimmed (split) with a report.
-  const Record ends = read_record(d.write("ends.csv", "t_s,a_m\n0,nan\n0.1,1\n0.2,2\n0.3,3\n0.4,nan\n"), {}, &rep);
+  // A NaN at either end cannot be interpolated: missing in its channel; valid_span trims it.
+  const Record ends_read = read_record(d.write("ends.csv", "t_s,a_m\n0,nan\n0.1,1\n0.2,2\n0.3,3\n0.4,nan\n"), {}, &rep);
+  REQUIRE(ends_read.n_samples() == 5);
+  const Record ends = valid_span(ends_read, {0}, "test", nullptr);
   REQUIRE(ends.n_samples() == 3);
   REQUIRE(ends.t0_s == Approx(0.1).epsilon(1e-12));
   REQUIRE(ends.data(0, 0) == 1.0);
+}
+
+TEST_CASE("a long missing run marks its own channel only (issue #39 item 2)") {
+  ImportDir d;
+  // 0.3 s of NaN in channel b only, early in the record: channel a keeps every sample.
+  std::string text = "t_s,a_m,b_mps2\n";
+  const int n = 1000;
+  for (int k = 0; k < n; ++k) {
+    const double t = k / 500.0;
+    text += std::to_string(t) + "," + std::to_string(std::sin(t)) + "," + (t > 0.5 && t < 0.8 ? std::string("NaN") : std::to_string(std::cos(t))) + "\n";
+  }
+  ImportReport rep;
+  const Record r = read_record(d.write("one.csv", text), {}, &rep);
+  REQUIRE(r.n_samples() == n);
+  REQUIRE(rep.channels[0].missing == 0);
+  REQUIRE(rep.channels[1].missing == 149);
+  // A command using a only takes the whole record; one using b (or both) its longest valid piece.
+  REQUIRE(valid_span(r, {0}, "test", nullptr).n_samples() == n);
+  std::vector<std::string> notes;
+  const Record b = valid_span(r, {0, 1}, "test", &notes);
+  REQUIRE(b.n_samples() == n - 400);
+  REQUIRE(b.t0_s == Approx(0.8));
+  REQUIRE(notes.at(0).find("b_mps2 from 0.502 to 0.798 s") != std::string::npos);
+  // Nothing usable: a clear error naming the channel.
+  Record none = r;
+  none.data.col(1).setConstant(std::nan(""));
+  none.data(3, 1) = 1.0;
+  REQUIRE_THROWS_WITH(valid_span(none, {1}, "test", nullptr), Catch::Contains("no 2 successive samples") && Catch::Contains("b_mps2 from"));
+}
+
+TEST_CASE("a clipped stretch counts as missing in its channel only") {
+  ImportDir d;
+  std::string text = "t_s,a_m,b_m\n";
+  for (int k = 0; k < 400; ++k) {
+    const double t = k / 200.0;
+    const double b = std::min(0.8, std::sin(2 * kPi * t));  // over the range: held at 0.8
+    text += std::to_string(t) + "," + std::to_string(std::sin(2 * kPi * 0.7 * t)) + "," + std::to_string(b) + "\n";
+  }
+  ImportReport rep;
+  const Record r = read_record(d.write("clip.csv", text), {}, &rep);
+  REQUIRE(rep.channels[1].clipped > 0);
+  REQUIRE(rep.channels[0].clipped == 0);
+  REQUIRE(!missing_runs(r, 1).empty());
+  REQUIRE(missing_runs(r, 0).empty());
+  bool said = false;
+  for (const auto& x : rep.repairs) said = said || x.find("b_m is clipped") != std::string::npos;
+  REQUIRE(said);
 }
 
 TEST_CASE("time columns by name, by index or none, clock times, units of time") {

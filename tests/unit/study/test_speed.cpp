@@ -177,3 +177,64 @@ TEST_CASE("axles matched to the peaks of a channel that sees them, and not where
   CHECK_THROWS_AS(study::match_axles(record(0.4), fs, t0, t, 0.0, 0.0, entry, 0.0, lp), InputError);
   CHECK_THROWS_AS(study::match_axles(record(0.4), fs, t0, t, v, -1.0, entry, 0.0, lp), InputError);
 }
+
+namespace {
+
+// A strain gauge's record by hand (independent of viaduct's solver): every axle's load times a
+// triangular influence line of half-length `half_m` centred on the gauge, plus white noise of
+// `noise` times the peak. Returns the samples at fs from t = 0; the first axle passes at entry.
+Vector gauge_record(const load::Train& train, double v, double entry, double half_m, double fs, double duration, double noise,
+                    unsigned seed) {
+  const auto n = static_cast<Index>(duration * fs);
+  Vector x = Vector::Zero(n);
+  for (Index k = 0; k < n; ++k) {
+    const double t = static_cast<double>(k) / fs;
+    for (std::size_t a = 0; a < train.n_axles(); ++a) {
+      const double xi = v * (t - entry) - train.offset[a];  // the axle's distance past the gauge
+      if (std::abs(xi) < half_m) x[k] += train.load[a] * 1e-4 * (1.0 - std::abs(xi) / half_m);  // [µε]
+    }
+  }
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g(0.0, noise * x.cwiseAbs().maxCoeff());
+  for (Index k = 0; k < n; ++k) x[k] += g(rng);
+  return x;
+}
+
+}  // namespace
+
+TEST_CASE("speed from the train alone: axle or bogie peaks matched to the train's geometry (issue #39 item 5)") {
+  const load::Train a1 = load::hslm_a("HSLM-A1", load::hslm_a_row(1));
+  const double fs = 1000.0;
+  TrainTimingOptions o;
+  o.v_min = 100 / 3.6;
+  o.v_max = 360 / 3.6;
+  for (const double v_kmh : {120.0, 250.0}) {
+    const double v = v_kmh / 3.6, entry = 1.3, duration = entry + a1.length() / v + 1.0;
+    // A gauge that sees axles one by one (0.6 m half-length: a cross-girder), then one that
+    // merges each bogie's two axles (2 m apart under a 2 m half-length): bogies are matched.
+    for (const double half : {0.6, 2.0}) {
+      for (unsigned seed : {1u, 2u, 3u}) {
+        const Vector x = gauge_record(a1, v, entry, half, fs, duration, 0.03, seed);
+        const TrainTiming r = speed_from_train(x, fs, 0.0, a1, o);
+        INFO("v " << v_kmh << " km/h, half-length " << half << " m, seed " << seed << ": " << r.speed * 3.6 << " km/h +- "
+                  << 3 * r.speed_se * 3.6 << ", " << r.n_matched << " of " << r.n_groups << " groups (merge " << r.merge_m << " m)");
+        REQUIRE(std::abs(r.speed - v) < 0.005 * v);         // the issue's 0.5 %
+        REQUIRE(std::abs(r.speed - v) <= 3.0 * r.speed_se);  // and the stated uncertainty (3 standard errors) covers it
+        REQUIRE(std::abs(r.entry_s - entry) <= std::max(3.0 * r.entry_se, 2.0 / fs));
+        REQUIRE(r.n_matched >= r.n_groups * 9 / 10);
+        if (half == 2.0) REQUIRE(r.merge_m > 0.0);  // bogies (and the close pairs of the power cars) merged
+        if (half == 0.6) REQUIRE(r.merge_m == 0.0);
+      }
+    }
+  }
+  // Noise alone: no train found.
+  std::mt19937 rng(7);
+  std::normal_distribution<double> g(0.0, 1.0);
+  Vector noise(20000);
+  for (Index k = 0; k < noise.size(); ++k) noise[k] = g(rng);
+  FilterSpec lp;
+  lp.cheby.band = signal::BandType::lowpass;
+  lp.cheby.high_hz = 20.0;
+  o.filter = lp;
+  REQUIRE_THROWS_WITH(speed_from_train(noise, fs, 0.0, a1, o), Catch::Contains("no train found"));
+}
