@@ -36,7 +36,9 @@ def clock(seconds_of_day, frac_digits):
     return f"{h:02d}:{m:02d}:{s:0{3 + frac_digits}.{frac_digits}f}"
 
 
-def write(name, lines):
+def write(name, head, fs, row):
+    """The file `name`: the lines of `head`, then row(k, t) for each sample (CRLF line ends)."""
+    lines = head + [row(k, k / fs) for k in range(N)]
     with open(os.path.join(OUT, name), "w", encoding="utf-8", newline="") as f:
         f.write("\r\n".join(lines) + "\r\n")
 
@@ -52,10 +54,7 @@ def hbm_catman():
     lines = ["catman Easy/AP ASCII export", "File:\tD:\\Messungen\\Bruecke_0312.BIN", "Comment:\tpassage 3, track 1",
              "Date:\t03.12.2026\tTime: 14:22:05", "Number of channels:\t3", "Sample rate:\t600 Hz", "",
              "Time  1 - default sample rate\tAcc S1 mid\tSG S1 mid", "s\tm/s²\tµm/m"]
-    for k in range(N):
-        t = k / fs
-        lines.append(f"{t:.6f}\t{num(acc(t))}\t{num(strain(t))}")
-    write("hbm-catman.txt", lines)
+    write("hbm-catman.txt", lines, fs, lambda k, t: f"{t:.6f}\t{num(acc(t))}\t{num(strain(t))}")
 
 
 def dewesoft():
@@ -64,10 +63,7 @@ def dewesoft():
     fs = 1000.0
     lines = ["Dewesoft X3 SP8 - Data export", "Setup: bridge-monitoring.dxs", "Start time: 03.12.2026 14:22:05",
              "Sample rate: 1000 Hz", "", "Date/Time;AI 1/Acc S1 mid [g];AI 2/SG S1 mid [µm/m]"]
-    for k in range(N):
-        t = k / fs
-        lines.append(f"03.12.2026 {clock(START + t, 4)};{num(acc(t) / G, True)};{num(strain(t), True)}")
-    write("dewesoft.txt", lines)
+    write("dewesoft.txt", lines, fs, lambda k, t: f"03.12.2026 {clock(START + t, 4)};{num(acc(t) / G, True)};{num(strain(t), True)}")
 
 
 def ni_lvm():
@@ -80,10 +76,7 @@ def ni_lvm():
              "Date\t2026/12/03\t2026/12/03\t", "Time\t14:22:05.0000000000000000\t14:22:05.0000000000000000\t",
              "Y_Unit_Label\tm/s^2\tmicrostrain\t", "X_Dimension\tTime\tTime\t", "X0\t0.0000000000000000E+0\t0.0000000000000000E+0\t",
              f"Delta_X\t{1 / fs:.6f}\t{1 / fs:.6f}\t", "***End_of_Header***\t", "X_Value\tAcc S1 mid\tSG S1 mid\tComment"]
-    for k in range(N):
-        t = k / fs
-        lines.append(f"{t:.6f}\t{acc(t):.6f}\t{strain(t):.6f}\t")
-    write("ni-labview.lvm", lines)
+    write("ni-labview.lvm", lines, fs, lambda k, t: f"{t:.6f}\t{acc(t):.6f}\t{strain(t):.6f}\t")
 
 
 def campbell_toa5():
@@ -92,10 +85,7 @@ def campbell_toa5():
     fs = 100.0
     lines = ['"TOA5","BridgeS1","CR1000X","12345","CR1000X.Std.04","CPU:bridge.CR1X","51209","Fast"',
              '"TIMESTAMP","RECORD","Acc_S1_mid","SG_S1_mid"', '"TS","RN","g","microstrain"', '"","","Smp","Smp"']
-    for k in range(N):
-        t = k / fs
-        lines.append(f'"2026-12-03 {clock(START + t, 2)}",{1000 + k},{num(acc(t) / G)},{num(strain(t))}')
-    write("campbell-toa5.dat", lines)
+    write("campbell-toa5.dat", lines, fs, lambda k, t: f'"2026-12-03 {clock(START + t, 2)}",{1000 + k},{num(acc(t) / G)},{num(strain(t))}')
 
 
 def gantner():
@@ -104,10 +94,7 @@ def gantner():
     fs = 200.0
     lines = ['"Gantner Instruments GI.bench - CSV export"', '"Project";"Bridge 12 monitoring"', '"Controller";"Q.station 101 SN 0923"',
              '"Sample rate";"200 Hz"', '"Date";"Time";"Acc_S1_mid";"SG_S1_mid"', '"";"";"mg";"µm/m"']
-    for k in range(N):
-        t = k / fs
-        lines.append(f'"03.12.2026";"{clock(START + t, 3)}";{num(1000 * acc(t) / G, True)};{num(strain(t), True)}')
-    write("gantner.csv", lines)
+    write("gantner.csv", lines, fs, lambda k, t: f'"03.12.2026";"{clock(START + t, 3)}";{num(1000 * acc(t) / G, True)};{num(strain(t), True)}')
 
 
 def spreadsheet_de():
@@ -116,10 +103,7 @@ def spreadsheet_de():
     fs = 250.0
     day0 = 46359  # 2026-12-03 as a spreadsheet serial day
     lines = ["Messung Brücke 12;;", "Datum/Zeit;Beschleunigung S1 [m/s²];Dehnung S1 [µm/m]"]
-    for k in range(N):
-        t = k / fs
-        lines.append(f"{num(day0 + (START + t) / 86400.0, True, 15)};{num(acc(t), True)};{num(strain(t), True)}")
-    write("spreadsheet-de.csv", lines)
+    write("spreadsheet-de.csv", lines, fs, lambda k, t: f"{num(day0 + (START + t) / 86400.0, True, 15)};{num(acc(t), True)};{num(strain(t), True)}")
 
 
 def issue_preamble():
@@ -128,10 +112,7 @@ def issue_preamble():
     fs = 1250.0
     lines = ["Logger: MX-840B SN 4521", "Start: 03.12.2026 14:22:05", "Start time: 14:22:05", "Sample rate: 1250 Hz", "",
              "Date/Time,Acc S1 mid [m/s^2],SG S1 mid [ue]"]
-    for k in range(N):
-        t = k / fs
-        lines.append(f"03.12.2026 {clock(START + t, 4)},{num(acc(t))},{num(strain(t))}")
-    write("preamble-datetime.csv", lines)
+    write("preamble-datetime.csv", lines, fs, lambda k, t: f"03.12.2026 {clock(START + t, 4)},{num(acc(t))},{num(strain(t))}")
 
 
 if __name__ == "__main__":
