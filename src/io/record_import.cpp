@@ -104,7 +104,13 @@ bool parse_clock(std::string_view c, double& v, double* day_out = nullptr) {
   double day = 0;
   const auto sp = c.find_first_of(" T");
   if (sp != std::string_view::npos) {
-    if (!parse_date(c.substr(0, sp), day)) return false;
+    // A date in another order ("05/14/2026": month or day first?) is not guessed: the clock
+    // counts from its own midnight, as before dates were read. Other text is no clock time.
+    const std::string_view date = c.substr(0, sp);
+    const bool date_like = !date.empty() && std::all_of(date.begin(), date.end(), [](char ch) {
+      return std::isdigit(static_cast<unsigned char>(ch)) || ch == '/' || ch == '.' || ch == '-';
+    });
+    if (!parse_date(date, day) && !date_like) return false;
     c = c.substr(sp + 1);
     while (!c.empty() && c.front() == ' ') c.remove_prefix(1);
   }
@@ -821,6 +827,9 @@ void repair_missing(Record& r, Index fill_max, bool split, const std::vector<int
 // measurement: its samples become missing in that channel only, as a long NaN run does.
 void mark_clipped(Record& r, ImportReport& rep) {
   for (Index c = 0; c < r.data.cols(); ++c) {
+    // Responses and forces only: a trigger or status channel (V, 1) sits at its limits by design.
+    const std::string& u = r.units[static_cast<std::size_t>(c)];
+    if (u != "mps2" && u != "mps" && u != "m" && u != "ue" && u != "N" && u != "Nm" && u != "Pa") continue;
     auto col = r.data.col(c);
     const ChannelSummary s = summarise_channel(col);
     if (!s.clipped) continue;

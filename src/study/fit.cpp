@@ -349,6 +349,7 @@ class Evaluator {
   // What the misfits use of a channel's processed record: norms, peak, envelope, spectrum lines.
   void derive(PreparedChannel& pc, const FitRecord& rec, const FitChannel& ch) const {
     const Index n = pc.y.size();
+    pc.lines.clear();  // derived again after a zero is removed
     pc.y_norm = pc.y.norm();
     pc.y_peak = pc.y.cwiseAbs().maxCoeff();
     pc.y_rms = std::sqrt(pc.y.squaredNorm() / static_cast<double>(n));

@@ -114,3 +114,24 @@ TEST_CASE("time stamps: ISO 8601 with zone, dates across midnight") {
   REQUIRE(r.fs_hz == Approx(100.0).epsilon(1e-9));
   REQUIRE(r.t0_s == Approx(22 * 3600.0 + 59 * 60 + 59.9).margin(1e-6));  // UTC: 22:59:59.9 of the first stamp's day
 }
+
+TEST_CASE("dates in another order are not guessed; a trigger channel is not clipped") {
+  const std::string path = std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") + "/viaduct_us_" +
+                           std::to_string(reinterpret_cast<std::uintptr_t>(&path)) + ".csv";
+  {
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    REQUIRE(f != nullptr);
+    std::fprintf(f, "Timestamp,a_m,trigger_V\n");
+    // 05/14/2026: month first or day first? The clock counts from its own midnight.
+    for (int k = 0; k < 40; ++k) std::fprintf(f, "05/14/2026 10:31:%06.3f,%.6f,%d\n", 7.0 + 0.01 * k, std::sin(0.3 * k), k >= 10 && k < 30 ? 5 : 0);
+    std::fclose(f);
+  }
+  ImportReport rep;
+  const Record r = read_record(path, {}, &rep);
+  std::remove(path.c_str());
+  REQUIRE(r.t0_s == Approx(10 * 3600.0 + 31 * 60 + 7.0).margin(1e-6));
+  REQUIRE(r.fs_hz == Approx(100.0).epsilon(1e-9));
+  // The 0/5 V trigger sits at its limits by design: not clipped, no sample missing.
+  REQUIRE(rep.channels.at(1).clipped == 0);
+  REQUIRE(missing_runs(r, 1).empty());
+}
