@@ -286,10 +286,13 @@ void bind(py::module_& m) {
         py::arg("out") = py::none());
   m.def(
       "read_record",
-      [](const std::string& path, const std::string& time_column, std::optional<double> fs_hz) {
+      [](const std::string& path, const std::string& time_column, std::optional<double> fs_hz, int header_line, int skip_lines) {
         io::ReadOptions o;
         o.time_column = time_column;
         o.fs_hz = fs_hz;
+        if (header_line < 0 || skip_lines < 0) throw InputError("read_record: header_line and skip_lines must be >= 0");
+        o.header_line = header_line;
+        o.skip_lines = skip_lines;
         auto r = std::make_shared<io::Record>(io::read_record(path, o));
         // The samples stay where the reader put them (column-major): a Fortran-ordered view.
         py::capsule owner(new std::shared_ptr<io::Record>(r), [](void* q) { delete static_cast<std::shared_ptr<io::Record>*>(q); });
@@ -298,7 +301,7 @@ void bind(py::module_& m) {
         py::array_t<double> data({rows, cols}, {s, s * rows}, r->data.data(), owner);
         return py::make_tuple(data, r->channels, r->units, r->fs_hz, r->t0_s);
       },
-      py::arg("path"), py::arg("time_column") = "", py::arg("fs_hz") = py::none());
+      py::arg("path"), py::arg("time_column") = "", py::arg("fs_hz") = py::none(), py::arg("header_line") = 0, py::arg("skip_lines") = 0);
   m.def(
       "filter",
       [](const py::handle& x, double fs_hz, double low_hz, double high_hz, int order, double ripple_db, const std::string& band) {

@@ -250,6 +250,22 @@ def test_a_key_with_a_line_break_sets_nothing(src):
     assert sc.get("analysis.dt") == 0.001 and sc.get("analysis.alpha") == 0.0
 
 
+def test_read_record_per_channel_nan_and_header_options(src, tmp_path):
+    # A long NaN run stays in its channel (the CLI's reader, issue #39); the header options work.
+    lines = ["t_s,a_m,b_mps2"] + ["%.3f,%.6f,%s" % (k / 100, k * 1e-3, "NaN" if 20 <= k < 40 else "%.6f" % (k * 1e-2)) for k in range(100)]
+    (tmp_path / "nan.csv").write_text("\n".join(lines) + "\n")
+    rec = viaduct.read_record(tmp_path / "nan.csv")
+    assert rec.data.shape == (100, 2)
+    assert not np.isnan(rec["a_m"]).any()
+    assert np.isnan(rec["b_mps2"]).sum() == 20
+    logger = src / "tests/data/loggers/preamble-datetime.csv"
+    assert viaduct.read_record(logger).data.shape == (300, 2)
+    assert viaduct.read_record(logger, header_line=6).data.shape == (300, 2)
+    assert viaduct.read_record(logger, skip_lines=5).data.shape == (300, 2)
+    with pytest.raises(viaduct.InputError):
+        viaduct.read_record(logger, header_line=-1)
+
+
 def test_read_record_every_format(src):
     csv_rec = viaduct.read_record(src / "data/records/synthetic-deck.csv")
     ref = read_csv(src / "data/records/synthetic-deck.csv")

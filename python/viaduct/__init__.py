@@ -233,12 +233,15 @@ class Record:
         return f"viaduct.Record({self.data.shape[0]} samples x {len(self.channels)} channels at {self.fs_hz} Hz)"
 
 
-def read_record(path, time_column="", fs_hz=None):
-    """Reads a record in any format the CLI reads (CSV of any layout, MATLAB .mat, UFF 58)."""
-    return Record(*_viaduct.read_record(str(path), time_column, fs_hz))
+def read_record(path, time_column="", fs_hz=None, header_line=0, skip_lines=0):
+    """Reads a record in any format the CLI reads (CSV of any layout, MATLAB .mat, UFF 58), with
+    the CLI's --time-column, --rate-hz, --header-line and --skip-lines. A channel's samples that
+    are missing (a long NaN run, a gap, a clipped stretch: docs/records.md) are NaN in that
+    channel only."""
+    return Record(*_viaduct.read_record(str(path), time_column, fs_hz, header_line, skip_lines))
 
 
-def filter(x, fs_hz, low_hz=1.0, high_hz=60.0, order=3, ripple_db=0.5, band="bandpass"):
+def filter(x, fs_hz, low_hz=1.0, high_hz=30.0, order=3, ripple_db=0.5, band="bandpass"):
     """Zero-phase Chebyshev I filter, as scipy.signal.sosfiltfilt(cheby1(order, ripple_db, edges,
     band, fs=fs_hz, output="sos"), x) and ``viaduct filter``. A contiguous float64 array is read
     in place; the result is handed over without a copy."""

@@ -115,7 +115,7 @@ TEST_CASE("time stamps: ISO 8601 with zone, dates across midnight") {
   REQUIRE(r.t0_s == Approx(22 * 3600.0 + 59 * 60 + 59.9).margin(1e-6));  // UTC: 22:59:59.9 of the first stamp's day
 }
 
-TEST_CASE("dates in another order are not guessed; a trigger channel is not clipped") {
+TEST_CASE("dates in another order are not guessed, and a trigger channel is not clipped") {
   const std::string path = std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") + "/viaduct_us_" +
                            std::to_string(reinterpret_cast<std::uintptr_t>(&path)) + ".csv";
   {
