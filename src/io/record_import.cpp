@@ -24,6 +24,12 @@ namespace {
 
 constexpr double kStandardGravity = 9.80665;  // [m/s²] the g of accelerometers (CGPM 1901)
 
+std::string lower(std::string_view text) {
+  std::string s(text);
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
 // Lower case, micro signs and ε as ASCII, superscript two as 2, degree sign as "deg", no spaces,
 // '^' or '*': "m/s²" → "m/s2", "µε" → "ue", "N·m" → "n.m", "°C" → "degc".
 std::string normalise_unit(const std::string& text) {
@@ -223,8 +229,7 @@ std::string clean_name(const std::string& s) {
 }
 
 bool is_time_name(const std::string& base) {
-  std::string l;
-  for (char c : base) l += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string l = lower(base);
   static const char* names[] = {"t", "time", "zeit", "timestamp", "time_stamp", "tiempo", "temps", "date/time", "datetime", "date_time",
                                 "date time", "datum/zeit", "datum_zeit", "datum zeit", "x_value", "abs time", "absolute time", "uhrzeit"};
   if (std::any_of(std::begin(names), std::end(names), [&](const char* n) { return l == n; })) return true;
@@ -234,8 +239,7 @@ bool is_time_name(const std::string& base) {
 
 // A column of dates alone ("Date", "Datum"): joined to the time column's clock times.
 bool is_date_name(const std::string& base) {
-  std::string l;
-  for (char c : base) l += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string l = lower(base);
   return l == "date" || l == "datum" || l == "fecha";
 }
 
@@ -264,8 +268,7 @@ bool is_data_line(const std::string& line, char sep, std::size_t n_cells) {
 // "Sample rate: 1651.2 Hz", "Sampling frequency = 1651.2", "fs;1651,2", "# sampling_rate_hz = F":
 // a preamble or comment line that declares the rate. 0 when the line does not.
 double rate_in_line(const std::string& line) {
-  std::string l;
-  for (char c : line) l += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string l = lower(line);
   const auto sep = l.find_first_of(":=;\t,");
   if (sep == std::string::npos) return 0.0;
   const std::string key = detail::trim(l.substr(l[0] == '#' ? 1 : 0, sep - (l[0] == '#' ? 1 : 0)));
@@ -350,8 +353,7 @@ bool is_processing_line(const std::vector<std::string_view>& cells) {
   bool any = false;
   for (const auto& c : cells) {
     if (c.empty()) continue;
-    std::string l;
-    for (char ch : c) l += static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    const std::string l = lower(c);
     if (std::none_of(std::begin(codes), std::end(codes), [&](const char* k) { return l == k; })) return false;
     any = true;
   }
@@ -364,8 +366,7 @@ std::vector<std::string_view> preamble_units(const std::vector<std::string>& pre
   for (auto it = preamble.rbegin(); it != preamble.rend(); ++it) {
     auto cells = split_view(*it, sep);
     if (cells.size() < 2) continue;
-    std::string k;
-    for (char ch : cells.front()) k += static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    std::string k = lower(cells.front());
     if (!k.empty() && k.back() == ':') k.pop_back();
     if (k == "y_unit_label" || k == "unit" || k == "units" || k == "einheit" || k == "einheiten") {
       cells.erase(cells.begin());
@@ -933,8 +934,7 @@ Record finish_table(const RawTable& t, const ReadOptions& o, Problems& pb, Impor
   if (n_cols > 1 && t.header.back().empty() && all_missing(n_cols - 1))
     skip.insert(n_cols - 1), rep.notes.push_back("every line ends with a separator: the empty last column is not a channel");
   for (std::size_t c = 0; c < n_cols; ++c) {  // a comment column (NI LVM's "Comment") left empty
-    std::string l;
-    for (char ch : split_header(t.header[c]).base) l += static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    const std::string l = lower(split_header(t.header[c]).base);
     if ((l == "comment" || l == "comments" || l == "kommentar" || l == "note" || l == "notes") && c != t.time_col && all_missing(c))
       skip.insert(c), rep.notes.push_back("column '" + t.header[c] + "' holds no value: not a channel");
   }
@@ -952,8 +952,7 @@ Record finish_table(const RawTable& t, const ReadOptions& o, Problems& pb, Impor
     bool all_stamped = true;
     // Spreadsheet serial days (a "Date/Time" column of plain numbers such as 46359.598): seconds
     // from the midnight of the first day.
-    std::string tl;
-    for (char ch : split_header(t.header[t.time_col]).base) tl += static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    const std::string tl = lower(split_header(t.header[t.time_col]).base);
     const double first = t.cells[t.time_col];
     const bool serial_days = !t.clock_time && (tl.find("date") != std::string::npos || tl.find("datum") != std::string::npos) &&
                              split_header(t.header[t.time_col]).unit_text.empty() && first > 1.0 && first < 2958466.0;
@@ -1118,10 +1117,6 @@ std::vector<MatVar> read_mat_vars(mat_t* mat, std::vector<std::string>& skipped)
   return out;
 }
 
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
 
 // The text variable named one of `names` (or VAR_names for a matrix VAR) with k entries.
 const std::vector<std::string>* mat_labels(const std::vector<MatVar>& vars, const std::string& var, std::initializer_list<const char*> names,

@@ -251,16 +251,25 @@ double response_onset_s(const Vector& model, double fs_model) {
   return peak > 0.0 ? static_cast<double>(j) / fs_model : 0.0;
 }
 
-double zero_level(const ZeroSpec& z, const Vector& x, double fs_hz, double t0_s, double entry_s, const std::string& channel,
-                  const std::string& who) {
-  switch (z.mode) {
-    case ZeroSpec::Mode::keep: return 0.0;
-    case ZeroSpec::Mode::window: return level_between(x, fs_hz, t0_s, z.start_s, z.end_s, channel, who).mean;
-    case ZeroSpec::Mode::pre_entry:
-      if (!std::isfinite(entry_s)) throw InputError(who + ": --zero pre-entry needs the train's entry time; give --zero START:END");
-      return level_between(x, fs_hz, t0_s, t0_s, entry_s, channel, who).mean;
+ZeroOutcome apply_zero(const ZeroSpec& z, Vector& x, double fs_hz, double t0_s, double entry_s, const std::string& channel,
+                       const std::string& unit, const std::string& who) {
+  ZeroOutcome out;
+  if (z.mode == ZeroSpec::Mode::keep) {
+    try {
+      const Level pre = level_between(x, fs_hz, t0_s, t0_s, entry_s, channel, who);
+      out.level_seen = pre.mean;
+      out.warning = offset_warning(pre, x.cwiseAbs().maxCoeff(), channel, unit);
+    } catch (const InputError&) {  // too little record before the entry to tell
+    }
+    return out;
   }
-  return 0.0;
+  if (z.mode == ZeroSpec::Mode::pre_entry && !std::isfinite(entry_s))
+    throw InputError(who + ": --zero pre-entry needs the train's entry time; give --zero START:END");
+  const Level l = z.mode == ZeroSpec::Mode::window ? level_between(x, fs_hz, t0_s, z.start_s, z.end_s, channel, who)
+                                                   : level_between(x, fs_hz, t0_s, t0_s, entry_s, channel, who);
+  x.array() -= l.mean;
+  out.removed = l.mean;
+  return out;
 }
 
 }  // namespace viaduct::study

@@ -384,18 +384,10 @@ class Evaluator {
         const FitChannel& ch = pr.in->channels[c];
         if (pc.acceleration) continue;
         const double entry = shifts[r] + response_onset_s(s0.raw[r][c], s0.fs_model);
-        const std::string who = "fit: record " + pr.in->name;
-        if (o_.zero.mode != ZeroSpec::Mode::keep) {
-          pc.y.array() -= zero_level(o_.zero, pc.y, pr.in->fs_hz, pr.in->t0_s, entry, ch.name, who);
-          derive(pc, *pr.in, ch);
-          continue;
-        }
-        try {
-          const Level pre = level_between(pc.y, pr.in->fs_hz, pr.in->t0_s, pr.in->t0_s, entry, ch.name, who);
-          const std::string w = offset_warning(pre, pc.y_peak, ch.name, ch.strain ? "ue" : "m");
-          if (!w.empty()) record_warnings_.push_back("record " + pr.in->name + ", " + w);
-        } catch (const InputError&) {  // too little record before the entry to tell
-        }
+        const ZeroOutcome z = apply_zero(o_.zero, pc.y, pr.in->fs_hz, pr.in->t0_s, entry, ch.name, ch.strain ? "ue" : "m",
+                                         "fit: record " + pr.in->name);
+        if (z.removed != 0.0) derive(pc, *pr.in, ch);
+        if (!z.warning.empty()) record_warnings_.push_back("record " + pr.in->name + ", " + z.warning);
       }
     }
   }

@@ -87,18 +87,10 @@ void zero_passage_channel(PassageChannel& ch, const Passage& p, const Vector& mo
     co.shift_s = shift_s;
     entry = compare_channel(ch.x, p.fs_hz, p.t0_s, model, fs_model, co).shift_s + response_onset_s(model, fs_model);
   }
-  const std::string who = "passage " + p.name;
-  if (zero.mode != ZeroSpec::Mode::keep) {
-    v.zero_removed = zero_level(zero, ch.x, p.fs_hz, p.t0_s, entry, ch.name, who);
-    ch.x.array() -= v.zero_removed;
-    return;
-  }
-  try {
-    const Level pre = level_between(ch.x, p.fs_hz, p.t0_s, p.t0_s, entry, ch.name, who);
-    v.offset_warning = offset_warning(pre, ch.x.cwiseAbs().maxCoeff(), ch.name, response_unit(ch.kind));
-    v.zero_level_seen = pre.mean;
-  } catch (const InputError&) {  // too little record before the entry to tell
-  }
+  const ZeroOutcome z = apply_zero(zero, ch.x, p.fs_hz, p.t0_s, entry, ch.name, response_unit(ch.kind), "passage " + p.name);
+  v.zero_removed = z.removed;
+  v.zero_level_seen = z.level_seen;
+  v.offset_warning = z.warning;
 }
 
 void check_passage(const Passage& p, std::size_t n_trains, std::size_t n_stations) {

@@ -424,62 +424,6 @@ SignatureMatch match_train_signature(const PreparedModel& m, const RunSettings& 
   return sm;
 }
 
-AxleMatch match_axles(const Vector& x, double fs_hz, double t0_s, const load::Train& train, double speed, double speed_se, double entry_s,
-                      double entry_se, const FilterSpec& filter, double min_prominence) {
-  require_positive(fs_hz, "sampling rate [Hz]");
-  require_positive(speed, "speed [m/s]");
-  require_finite(entry_s, "entry time [s]");
-  require_finite(t0_s, "record start [s]");
-  if (!(speed_se >= 0) || !(entry_se >= 0)) throw InputError("match_axles: standard errors must be >= 0");
-  if (!(min_prominence > 0 && min_prominence < 1)) throw InputError("match_axles: min_prominence must be in (0, 1)");
-  if (train.n_axles() == 0) throw InputError("match_axles: a train without axles");
-  if (x.size() < 3 || !x.allFinite()) throw InputError("match_axles: at least 3 finite samples are needed");
-  AxleMatch m;
-  double min_gap = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 0; k < train.n_axles(); ++k) {
-    AxlePassage a;
-    a.axle = k;
-    a.offset_m = train.offset[k];
-    a.load_n = train.load[k];
-    a.t_s = entry_s + a.offset_m / speed;
-    a.t_se = std::hypot(entry_se, a.offset_m / speed / speed * speed_se);
-    if (k > 0 && train.offset[k] > train.offset[k - 1]) min_gap = std::min(min_gap, (train.offset[k] - train.offset[k - 1]) / speed);
-    m.axles.push_back(a);
-  }
-  // A tenth of the shortest time between axles: an axle peak of a short influence line falls on
-  // the axle's time to a sample or two; a wider window would pair the humps of a long one with
-  // axles by chance.
-  m.tolerance_s = std::max(std::isfinite(min_gap) ? 0.1 * min_gap : 0.1 * x.size() / fs_hz, 3.0 / fs_hz);
-  const Vector y = filter.enabled ? signal::sosfiltfilt(signal::cheby1(filter.cheby, fs_hz), x) : x;
-  std::vector<signal::Peak> peaks = signal::find_peaks(y, {}, signal::Interpolation::parabolic);
-  double top = 0;
-  for (const auto& p : peaks) top = std::max(top, p.prominence);
-  peaks.erase(std::remove_if(peaks.begin(), peaks.end(), [&](const signal::Peak& p) { return p.prominence < min_prominence * top; }),
-              peaks.end());
-  // Every (axle, peak) pair within the tolerance, nearest first; each axle and peak used once.
-  std::vector<std::tuple<double, std::size_t, std::size_t>> pairs;
-  for (std::size_t k = 0; k < m.axles.size(); ++k)
-    for (std::size_t j = 0; j < peaks.size(); ++j) {
-      const double d = std::abs(t0_s + peaks[j].position / fs_hz - m.axles[k].t_s);
-      if (d <= m.tolerance_s) pairs.emplace_back(d, k, j);
-    }
-  std::sort(pairs.begin(), pairs.end());
-  std::vector<bool> used(peaks.size(), false);
-  double ss = 0;
-  for (const auto& [d, k, j] : pairs) {
-    if (m.axles[k].seen || used[j]) continue;
-    m.axles[k].seen = true;
-    m.axles[k].peak_t_s = t0_s + peaks[j].position / fs_hz;
-    m.axles[k].peak_value = peaks[j].value;
-    used[j] = true;
-    ++m.n_seen;
-    ss += d * d;
-  }
-  m.rms_residual_s = m.n_seen ? std::sqrt(ss / static_cast<double>(m.n_seen)) : 0.0;
-  return m;
-}
-
-
 namespace {
 
 // The train's axles merged into groups (axles closer than merge_m): offsets at the groups'
@@ -530,6 +474,53 @@ Pairing pair_groups(const std::vector<double>& d, const std::vector<double>& pea
 }
 
 }  // namespace
+
+AxleMatch match_axles(const Vector& x, double fs_hz, double t0_s, const load::Train& train, double speed, double speed_se, double entry_s,
+                      double entry_se, const FilterSpec& filter, double min_prominence) {
+  require_positive(fs_hz, "sampling rate [Hz]");
+  require_positive(speed, "speed [m/s]");
+  require_finite(entry_s, "entry time [s]");
+  require_finite(t0_s, "record start [s]");
+  if (!(speed_se >= 0) || !(entry_se >= 0)) throw InputError("match_axles: standard errors must be >= 0");
+  if (!(min_prominence > 0 && min_prominence < 1)) throw InputError("match_axles: min_prominence must be in (0, 1)");
+  if (train.n_axles() == 0) throw InputError("match_axles: a train without axles");
+  if (x.size() < 3 || !x.allFinite()) throw InputError("match_axles: at least 3 finite samples are needed");
+  AxleMatch m;
+  double min_gap = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < train.n_axles(); ++k) {
+    AxlePassage a;
+    a.axle = k;
+    a.offset_m = train.offset[k];
+    a.load_n = train.load[k];
+    a.t_s = entry_s + a.offset_m / speed;
+    a.t_se = std::hypot(entry_se, a.offset_m / speed / speed * speed_se);
+    if (k > 0 && train.offset[k] > train.offset[k - 1]) min_gap = std::min(min_gap, (train.offset[k] - train.offset[k - 1]) / speed);
+    m.axles.push_back(a);
+  }
+  // A tenth of the shortest time between axles: an axle peak of a short influence line falls on
+  // the axle's time to a sample or two; a wider window would pair the humps of a long one with
+  // axles by chance.
+  m.tolerance_s = std::max(std::isfinite(min_gap) ? 0.1 * min_gap : 0.1 * x.size() / fs_hz, 3.0 / fs_hz);
+  const Vector y = filter.enabled ? signal::sosfiltfilt(signal::cheby1(filter.cheby, fs_hz), x) : x;
+  std::vector<signal::Peak> peaks = signal::find_peaks(y, {}, signal::Interpolation::parabolic);
+  double top = 0;
+  for (const auto& p : peaks) top = std::max(top, p.prominence);
+  peaks.erase(std::remove_if(peaks.begin(), peaks.end(), [&](const signal::Peak& p) { return p.prominence < min_prominence * top; }),
+              peaks.end());
+  // Every (axle, peak) pair within the tolerance, nearest first; each axle and peak used once.
+  std::vector<double> times;
+  for (const auto& p : peaks) times.push_back(t0_s + p.position / fs_hz);
+  const Pairing pr = pair_groups(train.offset, times, entry_s, speed, m.tolerance_s, true);
+  for (const auto& [k, j] : pr.pairs) {
+    m.axles[k].seen = true;
+    m.axles[k].peak_t_s = times[j];
+    m.axles[k].peak_value = peaks[j].value;
+  }
+  m.n_seen = pr.n;
+  m.rms_residual_s = pr.n ? std::sqrt(pr.ss / static_cast<double>(pr.n)) : 0.0;
+  return m;
+}
+
 
 TrainTiming speed_from_train(const Vector& x, double fs_hz, double t0_s, const load::Train& train, const TrainTimingOptions& o) {
   require_positive(fs_hz, "sampling rate [Hz]");

@@ -45,25 +45,6 @@ struct CompareOptions {
   std::string zero = "keep";
 };
 
-// A deflection or strain channel's zero (issue #39): the record before the train's entry (where
-// the aligned model's response rises above 1 % of its peak) is its level; removed when --zero asks, else a warning when it is an
-// offset. Returns the level removed; the comparison is made again on the zeroed record.
-double zero_channel(Vector& x, const io::Record& rec, std::size_t channel, double entry_s, const study::ZeroSpec& z,
-                    std::vector<std::string>& warnings) {
-  const std::string& name = rec.channels[channel];
-  if (z.mode != study::ZeroSpec::Mode::keep) {
-    const double level = study::zero_level(z, x, rec.fs_hz, rec.t0_s, entry_s, name, "--zero");
-    x.array() -= level;
-    return level;
-  }
-  try {
-    const study::Level pre = study::level_between(x, rec.fs_hz, rec.t0_s, rec.t0_s, entry_s, name, "compare");
-    const std::string w = study::offset_warning(pre, x.cwiseAbs().maxCoeff(), name, rec.units[channel]);
-    if (!w.empty()) warnings.push_back(w);
-  } catch (const InputError&) {  // too little record before the entry to tell
-  }
-  return 0.0;
-}
 
 // The comparison: the scenario run at the identified or given speed, each mapped channel filtered,
 // aligned and compared; compare_*.csv and the manifest into --out.
@@ -134,7 +115,11 @@ int compare_body(const Common& o, const CompareOptions& k) {
     try {
       cc = study::compare_channel(x, rec.fs_hz, rec.t0_s, model, 1.0 / rs.dt, co);
       if (study::quasi_static_kind(mp.kind)) {  // an accelerometer's or geophone's offset is filtered out
-        zeroed = zero_channel(x, rec, mp.channel, cc.shift_s + study::response_onset_s(model, 1.0 / rs.dt), zero, warnings);
+        // The train's entry: where the aligned model's response rises above 1 % of its peak.
+        const study::ZeroOutcome z = study::apply_zero(zero, x, rec.fs_hz, rec.t0_s, cc.shift_s + study::response_onset_s(model, 1.0 / rs.dt),
+                                                       rec.channels[mp.channel], rec.units[mp.channel], "--zero");
+        zeroed = z.removed;
+        if (!z.warning.empty()) warnings.push_back(z.warning);
         if (zeroed != 0.0) cc = study::compare_channel(x, rec.fs_hz, rec.t0_s, model, 1.0 / rs.dt, co);
       }
     } catch (const InputError& e) {  // name record and channel, and why the record is short

@@ -393,18 +393,12 @@ std::vector<std::vector<std::string>> speed_by_signature(const Common& o, const 
     study::SignatureMatch m = match();
     if (study::quasi_static_kind(q)) {  // the zero of a deflection or strain: before the first axle reaches the deck
       const double entry = m.shift_s + (pm.structure.span_start.front() - pm.structure.path_start()) / m.speed;
-      auto x = in.data.col(static_cast<Index>(ch));
-      if (zero.mode != study::ZeroSpec::Mode::keep) {
-        const Vector xv = x;
-        x.array() -= study::zero_level(zero, xv, in.fs_hz, in.t0_s, entry, in.channels[ch], "--zero");
+      Vector x = in.data.col(static_cast<Index>(ch));
+      const study::ZeroOutcome z = study::apply_zero(zero, x, in.fs_hz, in.t0_s, entry, in.channels[ch], in.units[ch], "--zero");
+      if (!z.warning.empty()) std::fprintf(stderr, "viaduct speed: warning: %s\n", z.warning.c_str());
+      if (z.removed != 0.0) {
+        in.data.col(static_cast<Index>(ch)) = x;
         m = match();
-      } else {
-        try {
-          const study::Level pre = study::level_between(x, in.fs_hz, in.t0_s, in.t0_s, entry, in.channels[ch], "speed");
-          const std::string w = study::offset_warning(pre, x.cwiseAbs().maxCoeff(), in.channels[ch], in.units[ch]);
-          if (!w.empty()) std::fprintf(stderr, "viaduct speed: warning: %s\n", w.c_str());
-        } catch (const InputError&) {  // too little record before the entry to tell
-        }
       }
     }
     const double dt_st = (x_station - pm.structure.path_start()) / m.speed;

@@ -96,9 +96,17 @@ std::string offset_warning(const Level& pre_entry, double peak, const std::strin
 /// as the station sees it (0 for a zero response).
 double response_onset_s(const Vector& model, double fs_model);
 
-/// The zero `z` asks for, over a record whose train enters at `entry_s` (record time; NaN when
-/// unknown, which pre_entry refuses): the level subtracted (returned; 0 for keep).
-double zero_level(const ZeroSpec& z, const Vector& x, double fs_hz, double t0_s, double entry_s, const std::string& channel,
-                  const std::string& who);
+/// The zero of one deflection or strain channel whose train enters at `entry_s` (record time;
+/// NaN when unknown, which pre_entry refuses): keep leaves `x` and reports an offset
+/// (offset_warning against max |x|; nothing when under 10 samples precede the entry); pre_entry
+/// and window subtract their level from `x` (InputError naming `who` and the channel when the
+/// span is too short).
+struct ZeroOutcome {
+  double removed = 0.0;     ///< the level subtracted (0 for keep)
+  double level_seen = 0.0;  ///< keep: the mean before the entry
+  std::string warning;      ///< keep: offset_warning's text, or empty
+};
+ZeroOutcome apply_zero(const ZeroSpec& z, Vector& x, double fs_hz, double t0_s, double entry_s, const std::string& channel,
+                       const std::string& unit, const std::string& who);
 
 }  // namespace viaduct::study

@@ -4,13 +4,12 @@
 // checked, not only that reading succeeds.
 #include <catch2/catch.hpp>
 #include <cmath>
-#include <cstdint>
 #include <cstdio>
-#include <cstdlib>
 #include <string>
 
 #include "viaduct/core/error.hpp"
 #include "viaduct/io/record.hpp"
+#include "../scratch.hpp"
 
 using namespace viaduct;
 using namespace viaduct::io;
@@ -94,41 +93,34 @@ TEST_CASE("a date or clock column misread names the fix") {
 }
 
 TEST_CASE("time stamps: ISO 8601 with zone, dates across midnight") {
-  const std::string path = std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") + "/viaduct_iso_" +
-                           std::to_string(reinterpret_cast<std::uintptr_t>(&path)) + ".csv";
-  {
-    std::FILE* f = std::fopen(path.c_str(), "w");
-    REQUIRE(f != nullptr);
-    std::fprintf(f, "time,x_m\n");
-    // 23:59:59.9 +01:00 to 00:00:00.2 the next day, 100 Hz: time keeps increasing over midnight.
-    const char* stamps[] = {"2026-12-03T23:59:59.90+01:00", "2026-12-03T23:59:59.91+01:00", "2026-12-03T23:59:59.92+01:00",
-                            "2026-12-03T23:59:59.93+01:00", "2026-12-03T23:59:59.94+01:00", "2026-12-03T23:59:59.95+01:00",
-                            "2026-12-03T23:59:59.96+01:00", "2026-12-03T23:59:59.97+01:00", "2026-12-03T23:59:59.98+01:00",
-                            "2026-12-03T23:59:59.99+01:00", "2026-12-04T00:00:00.00+01:00", "2026-12-04T00:00:00.01+01:00"};
-    for (int k = 0; k < 12; ++k) std::fprintf(f, "%s,%d\n", stamps[k], k);
-    std::fclose(f);
+  // 23:59:59.9 +01:00 to 00:00:00.01 the next day, 100 Hz: time keeps increasing over midnight.
+  std::string text = "time,x_m\n";
+  for (int k = 0; k < 12; ++k) {
+    const int cs = 90 + k;  // hundredths of a second after 23:59:59
+    char row[64];
+    std::snprintf(row, sizeof row, cs < 100 ? "2026-12-03T23:59:59.%02d+01:00,%d\n" : "2026-12-04T00:00:00.%02d+01:00,%d\n", cs % 100, k);
+    text += row;
   }
+  vt::ScratchDir d("loggers");
+  const std::string path = d.write("iso.csv", text);
   const Record r = read_record(path);
-  std::remove(path.c_str());
   REQUIRE(r.n_samples() == 12);
   REQUIRE(r.fs_hz == Approx(100.0).epsilon(1e-9));
   REQUIRE(r.t0_s == Approx(22 * 3600.0 + 59 * 60 + 59.9).margin(1e-6));  // UTC: 22:59:59.9 of the first stamp's day
 }
 
 TEST_CASE("dates in another order are not guessed, and a trigger channel is not clipped") {
-  const std::string path = std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") + "/viaduct_us_" +
-                           std::to_string(reinterpret_cast<std::uintptr_t>(&path)) + ".csv";
-  {
-    std::FILE* f = std::fopen(path.c_str(), "w");
-    REQUIRE(f != nullptr);
-    std::fprintf(f, "Timestamp,a_m,trigger_V\n");
-    // 05/14/2026: month first or day first? The clock counts from its own midnight.
-    for (int k = 0; k < 40; ++k) std::fprintf(f, "05/14/2026 10:31:%06.3f,%.6f,%d\n", 7.0 + 0.01 * k, std::sin(0.3 * k), k >= 10 && k < 30 ? 5 : 0);
-    std::fclose(f);
+  // 05/14/2026: month first or day first? The clock counts from its own midnight.
+  std::string text = "Timestamp,a_m,trigger_V\n";
+  for (int k = 0; k < 40; ++k) {
+    char row[96];
+    std::snprintf(row, sizeof row, "05/14/2026 10:31:%06.3f,%.6f,%d\n", 7.0 + 0.01 * k, std::sin(0.3 * k), k >= 10 && k < 30 ? 5 : 0);
+    text += row;
   }
+  vt::ScratchDir d("loggers");
+  const std::string path = d.write("us.csv", text);
   ImportReport rep;
   const Record r = read_record(path, {}, &rep);
-  std::remove(path.c_str());
   REQUIRE(r.t0_s == Approx(10 * 3600.0 + 31 * 60 + 7.0).margin(1e-6));
   REQUIRE(r.fs_hz == Approx(100.0).epsilon(1e-9));
   // The 0/5 V trigger sits at its limits by design: not clipped, no sample missing.
