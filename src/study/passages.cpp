@@ -120,8 +120,10 @@ PassageResult run_passage(const PreparedModel& m, const RunSettings& rs, const F
   } else {
     const SignatureMatch sm = match_train_signature(m, rs, train, first.station, first.kind, first.x, p.fs_hz, p.t0_s, filter, o.v_min,
                                                     o.v_max, o.grid_step);
+    const SignatureCheck check = check_train_signature(sm, train, first.kind, first.x, p.fs_hz, p.t0_s, filter, o.v_min, o.v_max);
     res.speed = sm.speed;
-    res.speed_se = sm.speed_se;
+    res.speed_se = check.speed_se;
+    res.speed_flags = check.flags;
     res.identified = true;
     res.signature_correlation = sm.correlation;
     shift_s = sm.shift_s;

@@ -627,4 +627,44 @@ TrainTiming speed_from_train(const Vector& x, double fs_hz, double t0_s, const l
   return best;
 }
 
+SignatureCheck check_train_signature(const SignatureMatch& m, const load::Train& train, ResponseKind kind, const Vector& record,
+                                     double fs_hz, double t0_s, const FilterSpec& scenario_filter, double v_min, double v_max) {
+  SignatureCheck c;
+  c.speed_se = m.speed_se;
+  if (quasi_static_kind(kind)) {
+    TrainTimingOptions to;
+    to.v_min = v_min, to.v_max = v_max;
+    to.filter = signature_filter(scenario_filter, kind);
+    try {
+      const TrainTiming t = speed_from_train(record, fs_hz, t0_s, train, to);
+      c.timing_checked = true;
+      c.timing_speed = t.speed, c.timing_speed_se = t.speed_se;
+      c.timing_entry_s = t.entry_s, c.timing_entry_se = t.entry_se;
+    } catch (const InputError&) {  // the channel merges the axles: no timing without the model
+    }
+  }
+  const double diff = std::abs(c.timing_speed - m.speed);
+  if (c.timing_checked && diff > 3 * std::hypot(m.speed_se, c.timing_speed_se))
+    c.flags.push_back("the model's signature gives " + format_number(m.speed * 3.6, 5) + " km/h, the axles' timing alone " +
+                      format_number(c.timing_speed * 3.6, 5) + " km/h +- " + format_number(3 * c.timing_speed_se * 3.6, 3) +
+                      ": the model's shape does not match the record (span, supports, track?)");
+  if (m.correlation < kFlagSignatureCorrelation)
+    c.flags.push_back("the model's signature matches the record poorly (correlation " + format_number(m.correlation, 3) +
+                      "): the speed may be biased beyond its uncertainty");
+  if (m.amplitude < 0.5 || m.amplitude > 2.0)
+    c.flags.push_back("the record is " + format_number(m.amplitude, 3) + " x the model: check the model (and the channel's unit) "
+                      "before trusting its timing");
+  // A model the checks doubt gives a standard error that may not cover its error (an 18 m model
+  // of a 15 m span: 199.6 +- 0.27 km/h, truth 200): the uncertainty then covers the model-free
+  // timing's interval too.
+  if (!c.flags.empty() && c.timing_checked) {
+    const double se = std::max(c.speed_se, (diff + 3 * c.timing_speed_se) / 3);
+    if (se > c.speed_se)
+      c.flags.push_back("the uncertainty is widened to +- " + format_number(3 * se * 3.6, 3) + " km/h to cover the axles' timing alone (" +
+                        format_number(c.timing_speed * 3.6, 5) + " km/h +- " + format_number(3 * c.timing_speed_se * 3.6, 3) + ")");
+    c.speed_se = se;
+  }
+  return c;
+}
+
 }  // namespace viaduct::study

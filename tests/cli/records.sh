@@ -83,6 +83,19 @@ sed "s/^span_lengths = \[15.0\]/span_lengths = [18.0]/; s|\"\.\./data/|\"$SRC/da
 expect 0 "x the model: check the model" -- "$VIADUCT" speed "$WORK/gauge.csv" --channel mid_disp --model "$WORK/long-span.toml" \
   --station mid --train HSLM-A1 --v-min-kmh 150 --v-max-kmh 260 --out "$WORK/s2"
 expect 0 "check the model" -- grep -F "check the model" "$WORK/s2/speed.csv"
+within "$(cell "$WORK/s2/speed.csv" uncertainty_kmh)" "$(awk -v v="$(cell "$WORK/s2/speed.csv" speed_kmh)" 'BEGIN{d=v-200; print (d<0?-d:d)}')" 1e9 \
+  "the doubted model's uncertainty covers its error [km/h]"
+# passages identify speeds with the same checks: the mismatched model's speed flagged, its
+# uncertainty covering the truth (was 199.6 +- 0.27 km/h, unflagged). The record padded with 0.5 s
+# of noise before and 1 s after, as a logger keeps around a passage.
+awk -F, 'NR==2{t0=$1} NR==3{dt=$1-t0} {r[NR]=$0} END{print r[1]; for(j=500;j>=1;j--) printf "%.6f,0\n", t0-j*dt;
+         for(i=2;i<=NR;i++) print r[i]; split(r[NR],l,","); for(j=1;j<=1000;j++) printf "%.6f,0\n", l[1]+j*dt}' "$WORK/gauge.csv" > "$WORK/gauge-padded.csv"
+printf 'file,train,speed_kmh\ngauge-padded.csv,HSLM-A1,\n' > "$WORK/pass-long.csv"
+expect 0 "identified speed: the record is 0.2" -- "$VIADUCT" passages "$WORK/long-span.toml" --records "$WORK/pass-long.csv" --map mid_disp=mid \
+  --v-min-kmh 185 --v-max-kmh 215 --set sweep.speed_min_kmh=190 --set sweep.speed_max_kmh=210 --set sweep.speed_step_kmh=10 --out "$WORK/p1"
+expect 0 "the uncertainty is widened" -- grep -F "the uncertainty is widened" "$WORK/p1/passages.csv"
+within "$(cell "$WORK/p1/passages.csv" speed_uncertainty_kmh)" "$(awk -v v="$(cell "$WORK/p1/passages.csv" speed_kmh)" 'BEGIN{d=v-200; print (d<0?-d:d)}')" 1e9 \
+  "passages: the doubted model's uncertainty covers its error [km/h]"
 expect 2 "is neither a train file nor hslm:A1" -- "$VIADUCT" speed "$WORK/gauge.csv" --channel mid_disp --train hslm:B2 --out "$WORK/o"
 
 # 6. decay: a failed analysis writes no summary of zeros and says why.

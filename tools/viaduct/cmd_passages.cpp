@@ -153,12 +153,14 @@ void write_results(const std::string& out, const study::PassageStudy& r, double 
       failures.push_back({p.name, p.train, p.failure});
       continue;
     }
+    std::string speed_flag;
+    for (const auto& f : p.speed_flags) speed_flag += (speed_flag.empty() ? "" : "; ") + f;
     for (const auto& c : p.channels) {
       rows.push_back({p.name, p.train, cell(p.speed * 3.6), cell(speed_band * p.speed_se * 3.6), p.identified ? "identified" : "given",
                       p.identified ? cell(p.signature_correlation) : "", c.channel, c.station, study::response_name(c.kind),
                       study::response_unit(c.kind), cell(c.measured), cell(c.predicted), cell(c.predicted_low), cell(c.predicted_high),
                       std::isfinite(c.ratio) ? cell(c.ratio) : "", cell(c.noise_rms), cell(c.correlation), c.within ? "true" : "false",
-                      c.residual, c.residual == "white" ? "" : cell(c.residual_size), cell(c.zero_removed)});
+                      c.residual, c.residual == "white" ? "" : cell(c.residual_size), cell(c.zero_removed), speed_flag});
       const auto key = std::make_pair(c.station, std::string(study::response_name(c.kind)));
       if (!groups.count(key)) order.push_back(key);
       groups[key].push_back(&c);
@@ -183,7 +185,7 @@ void write_results(const std::string& out, const study::PassageStudy& r, double 
   io::write_table_csv(out + "/passages.csv",
                       {"passage", "train", "speed_kmh", "speed_uncertainty_kmh", "speed_source", "signature_correlation", "channel",
                        "station", "quantity", "unit", "measured", "predicted", "predicted_low", "predicted_high", "ratio", "noise_rms",
-                       "correlation", "within", "residual", "residual_size", "zero_removed"},
+                       "correlation", "within", "residual", "residual_size", "zero_removed", "speed_flag"},
                       rows);
   io::write_table_csv(out + "/model_envelope.csv", {"train", "station", "quantity", "unit", "speed_kmh", "peak"}, curves);
   io::write_table_csv(out + "/passages_summary.csv", {"station", "quantity", "n", "ratio_median", "ratio_min", "ratio_max", "n_within"},
@@ -259,6 +261,7 @@ int passages_body(const Common& o, const PassagesOptions& k) {
                          " km/h at the edge of the range searched; widen --v-min-kmh/--v-max-kmh");
     if (p.speed < *lo || p.speed > *hi)
       warnings.push_back(p.name + ": " + format_number(p.speed * 3.6, 5) + " km/h is outside the envelope's speeds (sweep.*)");
+    for (const auto& f : p.speed_flags) warnings.push_back(p.name + ": identified speed: " + f + " (passages.csv speed_flag)");
   }
   for (const auto& p : r.passages)
     for (const auto& c : p.channels)
@@ -315,7 +318,9 @@ Command passages_command() {
   };
   c.usage_and_samples =
       "For each record: the train's speed identified from the first --map channel by matching\n"
-      "the train's signature (as `viaduct speed --model`), or the table's speed_kmh; each mapped\n"
+      "the train's signature (as `viaduct speed --model`, with its checks of a model that does\n"
+      "not match: speed_flag, and an uncertainty that covers the axles' timing), or the table's\n"
+      "speed_kmh; each mapped\n"
       "channel's peak under the scenario's [filter] (deflection and strain: its low-pass part),\n"
       "against the model's peak for that train at that speed (run at it and at +-speed-band\n"
       "standard errors: predicted_low/high) and the model's envelope at the sweep's speeds.\n"

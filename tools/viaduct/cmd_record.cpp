@@ -402,35 +402,16 @@ std::vector<std::vector<std::string>> speed_by_signature(const Common& o, const 
       }
     }
     const double dt_st = (x_station - pm.structure.path_start()) / m.speed;
-    const double entry = m.shift_s + dt_st, entry_se = std::hypot(m.shift_se, dt_st / m.speed * m.speed_se);
-    // The model's misfit (issue #39 item 5): the signature's standard error counts the residual
-    // as noise, not a shape the model gets wrong (a span too long stretches it in time). Checks
-    // that do not trust the model: the axles' timing from the train's geometry alone, the fit's
-    // correlation and amplitude. A disagreement is flagged and widens the uncertainty to cover it.
-    double unc = 3 * m.speed_se;
-    std::vector<std::string> flags;
-    if (study::quasi_static_kind(q)) {
-      study::TrainTimingOptions to;
-      to.v_min = s.v_min_kmh / 3.6, to.v_max = s.v_max_kmh / 3.6;
-      to.filter = study::signature_filter(sc.settings.filter, q);
-      try {
-        const study::TrainTiming t = study::speed_from_train(in.data.col(static_cast<Index>(ch)), in.fs_hz, in.t0_s, train, to);
-        const double diff = std::abs(t.speed - m.speed), both = 3 * std::hypot(m.speed_se, t.speed_se);
-        if (diff > both) {
-          flags.push_back("the model's signature gives " + format_number(m.speed * 3.6, 5) + " km/h, the axles' timing alone " +
-                          format_number(t.speed * 3.6, 5) + " km/h +- " + format_number(3 * t.speed_se * 3.6, 3) +
-                          ": the model's shape does not match the record (span, supports, track?); the uncertainty covers both");
-          unc = std::max(unc, diff + 3 * t.speed_se);
-        }
-      } catch (const InputError&) {  // the channel merges the axles: no timing without the model
-      }
-    }
-    if (m.correlation < 0.9)
-      flags.push_back("the model's signature matches the record poorly (correlation " + format_number(m.correlation, 3) +
-                      "): the speed may be biased beyond its uncertainty");
-    if (m.amplitude < 0.5 || m.amplitude > 2.0)
-      flags.push_back("the record is " + format_number(m.amplitude, 3) + " x the model: check the model (and the channel's unit) "
-                      "before trusting its timing");
+    // The model's misfit (issue #39 item 5): checks that do not trust the model; a doubted model's
+    // uncertainties (speed and first axle) cover the axles' timing alone too.
+    const study::SignatureCheck check = study::check_train_signature(m, train, q, in.data.col(static_cast<Index>(ch)), in.fs_hz, in.t0_s,
+                                                                     sc.settings.filter, s.v_min_kmh / 3.6, s.v_max_kmh / 3.6);
+    const double entry = m.shift_s + dt_st;
+    double entry_se = std::hypot(m.shift_se, dt_st / m.speed * m.speed_se);
+    if (check.timing_checked && !check.flags.empty())
+      entry_se = std::max(entry_se, (std::abs(entry - check.timing_entry_s) + 3 * check.timing_entry_se) / 3);
+    const double unc = 3 * check.speed_se;
+    const std::vector<std::string>& flags = check.flags;
     std::string flag;
     for (const auto& f : flags) {
       flag += (flag.empty() ? "" : "; ") + f;

@@ -82,9 +82,12 @@ struct ChannelVerdict {
 struct PassageResult {
   std::string name, train;
   double speed = 0.0;           ///< [m/s]
-  double speed_se = 0.0;        ///< [m/s] standard error of the identification (0 when given)
+  double speed_se = 0.0;        ///< [m/s] standard error of the identification (0 when given), widened where speed_flags say
   bool identified = false;      ///< the speed was identified (not given)
   double signature_correlation = 0.0;  ///< of the identification's match (0 when given)
+  /// What check_train_signature() says of an identified speed (a model that does not match the
+  /// record); speed_se is then the widened standard error. Empty when given or when none applies.
+  std::vector<std::string> speed_flags;
   std::vector<ChannelVerdict> channels;
   std::string failure;
   bool input_error = false;     ///< failure caused by the input (InputError)

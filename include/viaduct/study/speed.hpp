@@ -169,4 +169,27 @@ struct TrainTiming {
 /// when fewer than 3 groups, or under half of them, are matched.
 TrainTiming speed_from_train(const Vector& x, double fs_hz, double t0_s, const load::Train& train, const TrainTimingOptions& o);
 
+/// What a train-signature match cannot say of itself (issue #39 item 5): its standard error
+/// counts the residual as noise, not a shape the model gets wrong (a span too long stretches the
+/// response in time), so a mismatched model gives a tight speed that is off. Checks that do not
+/// trust the model, as `viaduct speed --model` and `viaduct passages` apply them:
+/// - a deflection or strain whose channel sees the axle groups: the speed from the train's
+///   geometry alone (speed_from_train, searched over v_min … v_max); a flag where the two
+///   disagree by more than 3 standard errors of both. A channel that merges the axles has no
+///   such check.
+/// - the match's correlation below 0.9 (kFlagSignatureCorrelation) and its amplitude outside
+///   0.5–2 × the model: flags (a model or a unit to check).
+/// When any flag is raised and the timing was found, the standard error is widened so that 3 of
+/// them cover the timing's interval too: (|Δv| + 3 se_timing) / 3, and a last flag says so.
+struct SignatureCheck {
+  std::vector<std::string> flags;  ///< sentences, empty when none applies
+  double speed_se = 0.0;           ///< [m/s] the match's standard error, widened as above
+  bool timing_checked = false;     ///< the model-free timing was found and compared
+  double timing_speed = 0.0, timing_speed_se = 0.0;  ///< [m/s] its result when checked
+  double timing_entry_s = 0.0, timing_entry_se = 0.0; ///< [s] its first axle's passing time at the sensor
+};
+constexpr double kFlagSignatureCorrelation = 0.9;
+SignatureCheck check_train_signature(const SignatureMatch& m, const load::Train& train, ResponseKind kind, const Vector& record,
+                                     double fs_hz, double t0_s, const FilterSpec& scenario_filter, double v_min, double v_max);
+
 }  // namespace viaduct::study

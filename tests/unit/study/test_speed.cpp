@@ -1,4 +1,5 @@
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -237,4 +238,44 @@ TEST_CASE("speed from the train alone: axle or bogie peaks matched to the train'
   lp.cheby.high_hz = 20.0;
   o.filter = lp;
   REQUIRE_THROWS_WITH(speed_from_train(noise, fs, 0.0, a1, o), Catch::Contains("no train found"));
+}
+
+TEST_CASE("a doubted signature match is flagged and its uncertainty covers the axles' timing alone") {
+  // The matches are made by hand (what a mismatched model gives: a tight speed that is off), the
+  // record by gauge_record (axles seen one by one), so only the checks are under test.
+  const load::Train a1 = load::hslm_a("HSLM-A1", load::hslm_a_row(1));
+  const double fs = 1000.0, v = 200 / 3.6, entry = 1.3;
+  const Vector x = gauge_record(a1, v, entry, 0.6, fs, entry + a1.length() / v + 1.0, 0.03, 4u);
+  const FilterSpec none;
+  auto match = [&](double speed, double amplitude, double correlation) {
+    SignatureMatch m;
+    m.speed = speed, m.speed_se = 1e-4 * v, m.amplitude = amplitude, m.correlation = correlation;
+    return m;
+  };
+  auto check = [&](const SignatureMatch& m, ResponseKind k) {
+    return check_train_signature(m, a1, k, x, fs, 0.0, none, 150 / 3.6, 260 / 3.6);
+  };
+  // A model that matches: nothing said, nothing widened.
+  const SignatureCheck good = check(match(v, 1.0, 0.99), ResponseKind::strain);
+  CHECK(good.timing_checked);
+  CHECK(good.flags.empty());
+  CHECK(good.speed_se == 1e-4 * v);
+  // 1 % off beyond both uncertainties: flagged by the timing, widened to cover the truth.
+  const SignatureCheck off = check(match(1.01 * v, 1.0, 0.99), ResponseKind::strain);
+  REQUIRE(off.flags.size() == 2);
+  CHECK_THAT(off.flags[0], Catch::Contains("the axles' timing alone"));
+  CHECK(3 * off.speed_se >= 0.01 * v);
+  // 0.2 % off, inside the timing's own uncertainty, but the amplitude says the model is wrong
+  // (the 18 m model of a 15 m span): the stated 3 standard errors did not cover 0.2 %, now they do.
+  const SignatureCheck scaled = check(match(0.998 * v, 0.224, 0.95), ResponseKind::strain);
+  CHECK(std::any_of(scaled.flags.begin(), scaled.flags.end(), [](const std::string& f) { return f.find("x the model") != std::string::npos; }));
+  CHECK(3 * scaled.speed_se >= 0.002 * v);
+  CHECK(3 * scaled.speed_se >= std::abs(scaled.timing_speed - 0.998 * v));
+  // A poor correlation alone is flagged too; an acceleration has no model-free timing: flagged,
+  // its standard error left as it is (nothing to widen it with).
+  CHECK_THAT(check(match(v, 1.0, 0.8), ResponseKind::strain).flags.front(), Catch::Contains("correlation 0.8"));
+  const SignatureCheck acc = check(match(0.998 * v, 0.224, 0.95), ResponseKind::acceleration);
+  CHECK_FALSE(acc.timing_checked);
+  CHECK(acc.flags.size() == 1);
+  CHECK(acc.speed_se == 1e-4 * v);
 }
