@@ -100,4 +100,15 @@ for cfg in "newmark direct" "newmark unit-response" "modal unit-response" "modal
 done
 run bench-ida-sweep sweep $HS --set 'analysis.method="ida"' --set 'train.files=["data/trains/hslm/A1.toml"]' \
   --set sweep.speed_step_kmh=70 --threads 2
+# Vehicles through every coupled kernel, and the shaker's three quantities (issue #37 item 1).
+VS=scenarios/vehicles-25m.toml
+run veh-newmark run $VS
+run veh-modal run $VS --set 'analysis.method="modal"'
+run veh-modal-nosc run $VS --set 'analysis.method="modal"' --set modal.static_correction=false
+run veh-ida run $VS --set 'analysis.method="ida"' --set modal.max_frequency_hz=60
+run veh-rigid run $VS --set 'train.contact="rigid"'
+run veh-sprung-sweep sweep $VS --set 'train.vehicle="sprung"' --set 'analysis.method="modal"' --set sweep.speed_step_kmh=60 --threads 2
+run veh-sweep-effects sweep $VS --set 'analysis.method="modal"' --set sweep.speed_step_kmh=120 --load-effects --threads 2
+run shaker-vel shaker $TA --force-at 6 --stepped 9.5:10.5:0.5 --dwell-s 2 --fs-hz 100 --quantity vel
+run shaker-disp shaker $HS --force-at 7 --swept 2:30 --sweep-s 5 --fs-hz 100 --quantity disp
 echo "snapshot written to $D" >&2

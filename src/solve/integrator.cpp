@@ -66,24 +66,33 @@ void check_history_size(const TimeGrid& g, std::size_t n_series, const Recording
                      " GiB; raise the speed or analysis.dt");
 }
 
-// Histories sized for a case, refused beyond the recording's limit.
+// Histories sized for a case (every rec.stride-th step), refused beyond the recording's limit.
 void allocate(CaseResult& r, const TimeGrid& g, std::size_t n_outputs, const Recording& rec) {
-  check_history_size(g, n_outputs * ((rec.disp_history ? 1 : 0) + (rec.acc_history ? 1 : 0)), rec);
-  const auto rows = g.n_steps() + 1, cols = static_cast<Index>(n_outputs);
+  if (rec.stride < 1) throw InputError("recording: stride must be >= 1");
+  const TimeGrid kept{g.dt * static_cast<double>(rec.stride), g.t_end};
+  check_history_size(kept, n_outputs * ((rec.disp_history ? 1 : 0) + (rec.acc_history ? 1 : 0) + (rec.vel_history ? 1 : 0)), rec);
+  const auto rows = g.n_steps() / rec.stride + 1, cols = static_cast<Index>(n_outputs);
   if (rec.disp_history) r.disp.resize(rows, cols);
   if (rec.acc_history) r.acc.resize(rows, cols);
+  if (rec.vel_history) r.vel.resize(rows, cols);
   r.max_abs_disp = Vector::Zero(cols);
   r.max_disp = Vector::Zero(cols);
   r.min_disp = Vector::Zero(cols);
   r.max_abs_acc = Vector::Zero(cols);
 }
 
-// Records sample k of the outputs (values d, a per output).
+// Records step k of the outputs (values d, a per output; v when kept), in the histories when k
+// is a multiple of the stride.
 struct Sampler {
   CaseResult* r;
-  void operator()(Index k, Index j, double d, double a) const {
-    if (r->disp.size()) r->disp(k, j) = d;
-    if (r->acc.size()) r->acc(k, j) = a;
+  Index stride = 1;
+  void operator()(Index k, Index j, double d, double a, double v = 0.0) const {
+    if (k % stride == 0) {
+      const Index i = k / stride;
+      if (r->disp.size()) r->disp(i, j) = d;
+      if (r->acc.size()) r->acc(i, j) = a;
+      if (r->vel.size()) r->vel(i, j) = v;
+    }
     r->max_abs_disp[j] = std::max(r->max_abs_disp[j], std::abs(d));
     r->max_disp[j] = std::max(r->max_disp[j], d);
     r->min_disp[j] = std::min(r->min_disp[j], d);
@@ -121,15 +130,34 @@ CaseResult run_full_state(const LoadCase& c, double dt, const std::vector<Functi
   check_outputs(outputs, sys.n_dofs(), who);
   CaseResult r;
   allocate(r, g, outputs.size(), rec);
-  const Sampler put{&r};
-  r.summary = kernel(sys, g, [&](Index k, double t, const Vector& u, const Vector&, const Vector& a) {
+  const Sampler put{&r, rec.stride};
+  const Index total = g.n_steps(), every = std::max<Index>(1, total / 100);
+  r.summary = kernel(sys, g, [&](Index k, double t, const Vector& u, const Vector& v, const Vector& a) {
     for (std::size_t j = 0; j < outputs.size(); ++j) {
       const double d = eval(outputs[j], u);
       if (c.bound) check_output(*c.bound, static_cast<Index>(j), d, t, cause);
-      put(k, static_cast<Index>(j), d, eval(outputs[j], a));
+      put(k, static_cast<Index>(j), d, eval(outputs[j], a), rec.vel_history ? eval(outputs[j], v) : 0.0);
     }
+    if (c.progress && *c.progress && (k % every == 0 || k == total))
+      (*c.progress)(static_cast<std::size_t>(k), static_cast<std::size_t>(total));
   });
   return r;
+}
+
+// Velocity histories and strides are recorded by run() of the kernels that have the full state.
+void require_plain(const Recording& rec, const char* who) {
+  if (rec.vel_history || rec.stride != 1)
+    throw InputError(std::string(who) + ": velocity histories and recording strides are recorded by newmark's and ida's run() only");
+}
+
+// The coupled kernels' messages name the kernel that ran.
+CoupledSummary named(CoupledSummary s, const char* kernel) {
+  s.summary.kernel = kernel;
+  return s;
+}
+
+void require_coupled(const CoupledCase& c, const char* who) {
+  if (!c.M || !c.C || !c.K || !c.vehicle || !c.path) throw InputError(std::string(who) + ": a coupled case without matrices, vehicle or path");
 }
 
 class NewmarkIntegrator : public Integrator {
@@ -146,9 +174,16 @@ class NewmarkIntegrator : public Integrator {
                           });
   }
 
+  Coordinates coupled_coordinates() const override { return Coordinates::physical; }
+  CoupledSummary run_coupled(const CoupledCase& c) const override {
+    require_coupled(c, "Newmark with vehicles");
+    return coupled_newmark(*c.M, *c.C, *c.K, *c.vehicle, *c.path, c.grid, opt_, c.observe, c.bound);
+  }
+
   // Blocks of kNewmarkBatch cases through newmark_batch (one factorisation and every product on
   // four cases at once).
   std::vector<CaseResult> run_batch(const std::vector<LoadCase>& cases, const Recording& rec) const override {
+    require_plain(rec, "Newmark batch");
     std::vector<CaseResult> out;
     for (std::size_t first = 0; first < cases.size(); first += kNewmarkBatch) {
       const std::size_t n = std::min(kNewmarkBatch, cases.size() - first);
@@ -203,6 +238,12 @@ class IdaIntegrator : public Integrator {
                           });
   }
 
+  Coordinates coupled_coordinates() const override { return Coordinates::modal; }
+  CoupledSummary run_coupled(const CoupledCase& c) const override {
+    require_coupled(c, "IDA with vehicles");
+    return coupled_ida(*c.M, *c.C, *c.K, *c.vehicle, *c.path, c.grid, opt_, c.observe, c.bound);
+  }
+
  private:
   double dt_;
   IdaOptions opt_;
@@ -211,11 +252,20 @@ class IdaIntegrator : public Integrator {
 class ModalIntegrator : public Integrator {
  public:
   ModalIntegrator(const IntegrationSettings& s, std::size_t n_outputs, std::shared_ptr<const ModalReduction> red)
-      : Integrator({}), dt_(s.dt), opt_(s.modal), n_out_(n_outputs), red_(std::move(red)) {}
+      : Integrator({}), dt_(s.dt), opt_(s.modal), newmark_(s.newmark), n_out_(n_outputs), red_(std::move(red)) {}
   Method method() const override { return Method::modal; }
   std::size_t batch_width() const override { return 4; }
 
+  // The vehicles' fast path: Newmark on the structure's modes, the vehicles physical.
+  Coordinates coupled_coordinates() const override { return Coordinates::modal; }
+  CoupledSummary run_coupled(const CoupledCase& c) const override {
+    require_coupled(c, "modal superposition with vehicles");
+    return named(coupled_newmark(*c.M, *c.C, *c.K, *c.vehicle, *c.path, c.grid, newmark_, c.observe, c.bound), "modal-vehicles");
+  }
+
   CaseResult run(const LoadCase& c, const Recording& rec) const override {
+    require_plain(rec, "modal superposition");
+    reduction();
     if (peaks_only(c, rec)) return run_batch({c}, rec).front();
     const TimeGrid g{dt_, c.t_end};
     require_valid(g, "modal superposition");
@@ -237,6 +287,8 @@ class ModalIntegrator : public Integrator {
   // Moving loads with peaks-only recording run the fused kernel, four speeds per SIMD pass; other
   // cases one run() each.
   std::vector<CaseResult> run_batch(const std::vector<LoadCase>& cases, const Recording& rec) const override {
+    require_plain(rec, "modal superposition");
+    reduction();
     bool fused = !cases.empty();
     for (const LoadCase& c : cases) fused = fused && peaks_only(c, rec) && c.moving == cases.front().moving;
     if (!fused) return Integrator::run_batch(cases, rec);
@@ -259,12 +311,17 @@ class ModalIntegrator : public Integrator {
 
  private:
   static bool peaks_only(const LoadCase& c, const Recording& rec) { return c.moving && !rec.disp_history; }
+  const ModalReduction& reduction() const {
+    if (!red_) throw InputError("modal method without a modal model (prepare the model with method = modal)");
+    return *red_;
+  }
   std::string cause() const {
     return "the modal model (a mode or static correction that is not the structure's) or the load sampling at dt = " +
            format_number(dt_, 6) + " s";
   }
   double dt_;
   ModalOptions opt_;
+  NewmarkOptions newmark_;
   std::size_t n_out_;
   std::shared_ptr<const ModalReduction> red_;
 };
@@ -278,7 +335,7 @@ std::unique_ptr<Integrator> make_integrator(const IntegrationSettings& s, std::v
     case Method::newmark: return std::make_unique<NewmarkIntegrator>(s, std::move(outputs));
     case Method::ida: return std::make_unique<IdaIntegrator>(s, std::move(outputs));
     case Method::modal: {
-      if (!modal) throw InputError("modal method without a modal model (prepare the model with method = modal)");
+      if (!modal) return std::make_unique<ModalIntegrator>(s, 0, nullptr);  // run_coupled() only
       const std::size_t n = outputs.empty() ? static_cast<std::size_t>(modal->n_outputs()) : outputs.size();
       if (n > static_cast<std::size_t>(modal->n_outputs()))
         throw InputError("modal superposition: more outputs asked for than the modal model has");

@@ -11,6 +11,7 @@
 #include "viaduct/model/modes.hpp"
 #include "viaduct/signal/iir.hpp"
 #include "divergence.hpp"
+#include "viaduct/solve/integrator.hpp"
 
 namespace viaduct::study {
 
@@ -559,6 +560,19 @@ RunResult vehicle_result(const PreparedModel& m, double speed, const RunSettings
   return r;
 }
 
+// A rigid bearing's own element passes the contact forces on it straight to the bearing.
+void add_bearing_loads(const PreparedModel& m, const load::Train& train, double speed, RunResult& r) {
+  const model::Structure& s = m.structure;
+  for (std::size_t j = 0; j < m.effects.size(); ++j) {
+    if (m.effects[j].bearing < 0) continue;
+    load::Train at = train;
+    for (Index k = 0; k < r.t.size(); ++k) {
+      for (std::size_t a = 0; a < train.n_axles(); ++a) at.load[a] = r.vehicles.contact_force(k, static_cast<Index>(a));
+      r.effects[j].value[k] += bearing_load(s, m.effects[j], at, 1.0, s.path_start() + speed * r.t[k]);
+    }
+  }
+}
+
 }  // namespace
 
 RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, double speed, const RunSettings& st) {
@@ -568,8 +582,10 @@ RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, do
   const model::Structure& s = m.structure;
   load::TrainVehicles tv;
   const solve::LinearVehicle veh = linear_vehicle(train, st, &tv);
-  // The modal fast path and IDA integrate the structure's modes with the vehicles physical.
-  const bool modal = st.method == Method::modal || st.method == Method::ida;
+  // The integrator says in which coordinates it takes the structure: every DOF (newmark) or its
+  // modes with the vehicles physical (the modal fast path, IDA).
+  const auto integrator = solve::make_integrator(st.integration(), {});
+  const bool modal = integrator->coupled_coordinates() == solve::Coordinates::modal;
   // The displacement outputs in vehicle_outputs()' order, the order of the static correction's.
   const std::vector<solve::Functional> outs = vehicle_outputs(m.stations, m.effects);
   std::shared_ptr<const VehicleModalBasis> basis = m.vehicle_modal;
@@ -642,19 +658,21 @@ RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, do
       pitch_acc(k, static_cast<Index>(b)) = tv.body_pitch_dof[b] >= 0 ? x.za[tv.body_pitch_dof[b]] : 0.0;
     }
   };
-  solve::CoupledSummary cs;
+  std::optional<ModalContacts> mc;
+  if (modal) mc.emplace(full, *basis, na);
+  solve::CoupledCase cc;
+  cc.M = modal ? &basis->M : &s.M;
+  cc.C = modal ? &basis->C : &s.C;
+  cc.K = modal ? &basis->K : &s.K;
+  cc.vehicle = &veh;
+  cc.path = modal ? static_cast<const solve::ContactPath*>(&*mc) : &full;
+  cc.grid = grid;
+  cc.observe = observe;
+  cc.bound = &bound;
+  solve::CoupledSummary cs = integrator->run_coupled(cc);
   if (modal) {
-    const ModalContacts mc(full, *basis, na);
-    if (st.method == Method::ida) {
-      cs = solve::coupled_ida(basis->M, basis->C, basis->K, veh, mc, grid, st.ida, observe, &bound);
-    } else {
-      cs = solve::coupled_newmark(basis->M, basis->C, basis->K, veh, mc, grid, st.newmark, observe, &bound);
-      cs.summary.kernel = "modal-vehicles";
-    }
     cs.summary.n_modes = basis->shapes.cols();
     r.n_modes = cs.summary.n_modes;
-  } else {
-    cs = solve::coupled_newmark(s.M, s.C, s.K, veh, full, grid, st.newmark, observe, &bound);
   }
   r.summary = cs.summary;
   vh.min_contact = cs.min_contact_force;
@@ -667,15 +685,7 @@ RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, do
   for (const solve::ContactEvent& e : cs.events)
     if (!e.landed && std::isnan(vh.first_loss_s[static_cast<Index>(e.wheel)]))
       vh.first_loss_s[static_cast<Index>(e.wheel)] = e.t - static_cast<double>(k0) * st.dt;
-  // A rigid bearing's own element passes the contact forces on it straight to the bearing.
-  for (std::size_t j = 0; j < m.effects.size(); ++j) {
-    if (m.effects[j].bearing < 0) continue;
-    load::Train at = train;
-    for (Index k = 0; k < n_samples; ++k) {
-      for (std::size_t a = 0; a < na; ++a) at.load[a] = vh.contact_force(k, static_cast<Index>(a));
-      r.effects[j].value[k] += bearing_load(s, m.effects[j], at, 1.0, s.path_start() + speed * r.t[k]);
-    }
-  }
+  add_bearing_loads(m, train, speed, r);
   return r;
 }
 

@@ -14,13 +14,20 @@
 /// |         | only peaks are asked of a moving load    | else one run() per case                       |
 /// | ida     | ida(): adaptive BDF (SUNDIALS IDA)       | one run() per case                            |
 ///
-/// A new kernel (e.g. vehicle–bridge interaction) implements Integrator and gets a Method value
-/// and a branch in make_integrator(); nothing above `solve` changes.
+/// Vehicles coupled to the structure at moving wheel–rail contacts (coupled.hpp) go through the
+/// same face, run_coupled(): newmark runs coupled_newmark on every DOF; modal runs coupled_newmark
+/// on the structure's modes ("modal-vehicles"); ida runs coupled_ida on them. coupled_coordinates()
+/// tells the caller which coordinates the case's matrices and contact path must be in.
+///
+/// A new kernel implements Integrator and gets a Method value and a branch in make_integrator();
+/// nothing above `solve` changes.
 
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "viaduct/core/log.hpp"
+#include "viaduct/solve/coupled.hpp"
 #include "viaduct/solve/guard.hpp"
 #include "viaduct/solve/ida.hpp"
 #include "viaduct/solve/modal.hpp"
@@ -60,12 +67,20 @@ struct LoadCase {
   /// Optional: bounds no physical response of the case reaches, per output (guard.hpp). A run
   /// past one stops with a SolverError naming the output, the bound and the likely cause.
   const DivergenceBound* bound = nullptr;
+  /// Optional: told (steps done, steps in all) about a hundred times a run (run() only).
+  const ProgressSink* progress = nullptr;
 };
 
 /// What to keep of each case.
 struct Recording {
   bool disp_history = true;  ///< every output's deflection at every sample
   bool acc_history = true;   ///< every output's acceleration at every sample
+  /// Every output's velocity at every sample (newmark and ida, run() only; InputError elsewhere).
+  bool vel_history = false;
+  /// Samples kept in the histories: steps 0, stride, 2·stride, … (a kernel step finer than the
+  /// record's, e.g. a shaker's substeps); the running extremes see every step. newmark and ida,
+  /// run() only, when > 1.
+  Index stride = 1;
   /// Largest histories one case may hold [bytes]; InputError beyond.
   double max_history_bytes = 2.0 * (1 << 30);
 };
@@ -74,12 +89,31 @@ struct Recording {
 struct CaseResult {
   Matrix disp;  ///< n_samples × n_outputs when recorded (Recording::disp_history), else empty
   Matrix acc;   ///< n_samples × n_outputs when recorded, else empty
+  Matrix vel;   ///< n_samples × n_outputs when recorded (Recording::vel_history), else empty
   Vector max_abs_disp;  ///< running maximum of |deflection| per output (always)
   /// Signed extremes of the deflection per output (always; max >= 0 >= min: every case starts at rest).
   Vector max_disp, min_disp;
   Vector max_abs_acc;   ///< running maximum of |acceleration| per output, unfiltered (always)
   Summary summary;
 };
+
+/// One run of vehicles coupled to the structure (coupled.hpp), from rest. M, C, K and `path` are
+/// in the coordinates Integrator::coupled_coordinates() names: every DOF, or the structure's
+/// modes (a reduction with the vehicles' static correction in `path`). `observe` sees the
+/// coupled state after every step of `grid`; `bound` is the divergence guard.
+struct CoupledCase {
+  const SparseMatrix* M = nullptr;
+  const SparseMatrix* C = nullptr;
+  const SparseMatrix* K = nullptr;
+  const LinearVehicle* vehicle = nullptr;
+  const ContactPath* path = nullptr;
+  TimeGrid grid;
+  CoupledObserver observe;
+  const DivergenceBound* bound = nullptr;
+};
+
+/// The coordinates a coupled case is integrated in.
+enum class Coordinates { physical, modal };
 
 /// The integration interface (DESIGN.md §5: MFEM's one solver face, with batches inside it).
 class Integrator {
@@ -94,6 +128,12 @@ class Integrator {
   /// Several cases on this structure, one result each in order: the same answers as run() up to
   /// rounding (summation order), in a fraction of the time where the kernel batches.
   virtual std::vector<CaseResult> run_batch(const std::vector<LoadCase>& cases, const Recording& rec) const;
+  /// The coordinates run_coupled() integrates the structure in (newmark: physical; modal, ida:
+  /// modal, the vehicles physical).
+  virtual Coordinates coupled_coordinates() const = 0;
+  /// Vehicles and structure together (the kernel of coupled.hpp this method stands for). Its
+  /// summary's kernel names it ("newmark-vehicles", "modal-vehicles", "ida-vehicles").
+  virtual CoupledSummary run_coupled(const CoupledCase& c) const = 0;
   const std::vector<Functional>& outputs() const { return outputs_; }
 
  protected:
@@ -102,9 +142,10 @@ class Integrator {
 };
 
 /// The one place a method is chosen. `outputs` are the recorded functionals; `modal` is the
-/// reduction of the structure (required for Method::modal, whose outputs it already holds: then
-/// `outputs` must be empty or its first outputs). InputError for invalid settings (the struct and
-/// field named) or a missing reduction.
+/// reduction of the structure (needed by Method::modal's run() and run_batch(), whose outputs it
+/// already holds: then `outputs` must be empty or its first outputs; not by run_coupled(), whose
+/// case brings its modes). InputError for invalid settings (the struct and field named), or at the
+/// first run() of a modal integrator without a reduction.
 std::unique_ptr<Integrator> make_integrator(const IntegrationSettings& s, std::vector<Functional> outputs,
                                             std::shared_ptr<const ModalReduction> modal = nullptr);
 
