@@ -6,11 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 . scripts/measure/lib.sh
-repeats=3
-[ "${1:-}" = "--repeats" ] && repeats=$2
-release_build
-B=out/bench-fit
-fresh_dir "$B"
+bench_start out/bench-fit "$@"
 fit_args=(fit scenarios/old-guadiana-talgo.toml --record data/records/og-calibration.csv --map S1_mid_acc=S1_mid
           --map S2_mid_acc=S2_mid --param bridge.EI=5e9:1e10 --param track.pad.k=2e7:1e9
           --param bridge.damping.ratio1=0.01:0.06 --quiet)

@@ -6,11 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 . scripts/measure/lib.sh
-repeats=3
-[ "${1:-}" = "--repeats" ] && repeats=$2
-release_build
-B=out/bench-ident
-fresh_dir "$B"
+bench_start out/bench-ident "$@"
 OG=scenarios/old-guadiana-talgo.toml
 wall() {  # runs the command, prints its wall time [s]
   local t0 t1

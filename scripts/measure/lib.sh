@@ -16,3 +16,14 @@ fresh_dir() {
 
 # The median of the numbers on stdin, one per line.
 median() { sort -g | awk '{a[NR]=$1} END{print (NR%2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2)}'; }
+
+# A benchmark's start: `repeats` from --repeats N (default 3), the release build, a fresh
+# output directory B.   bench_start DIR "$@"
+bench_start() {
+  B=$1
+  shift
+  repeats=3
+  if [ "${1:-}" = "--repeats" ]; then repeats=$2; fi
+  release_build
+  fresh_dir "$B"
+}

@@ -1,5 +1,6 @@
 #include "cli.hpp"
 #include "viaduct/io/output_dir.hpp"
+#include "viaduct/io/results.hpp"
 
 #include <unistd.h>
 
@@ -280,6 +281,40 @@ io::Manifest start_manifest(const Common& o, const std::string& command, std::ve
   m.positional = o.scenario;
   m.versions = tool_versions();
   return m;
+}
+
+void write_record_outputs(const Common& o, const std::string& file, const io::Record& out) {
+  make_out_dir(o.out);
+  io::write_record_csv(o.out + "/" + file, out);
+  io::write_manifest(o.out + "/manifest.toml", start_manifest(o, o.command, {o.scenario}), nullptr);
+}
+
+void write_table_outputs(const Common& o, const std::string& file, const std::vector<std::string>& header,
+                         const std::vector<std::vector<std::string>>& rows) {
+  make_out_dir(o.out);
+  io::write_table_csv(o.out + "/" + file, header, rows);
+  io::write_manifest(o.out + "/manifest.toml", start_manifest(o, o.command, {o.scenario}), nullptr);
+}
+
+void add_zero_option(po::options_description& d, std::string& zero, const std::string& prefix) {
+  d.add_options()("zero", value(zero),
+                  (prefix + "deflection and strain channels' zero: keep (the level before the train's entry kept; a warning when "
+                            "it is an offset), pre-entry (its mean removed) or START:END (the mean of that window of record time)")
+                      .c_str());
+}
+
+Command command(std::string name, std::string positional, std::string summary) {
+  Command c;
+  c.name = std::move(name);
+  c.positional = std::move(positional);
+  c.summary = std::move(summary);
+  return c;
+}
+
+Command record_command(std::string name, std::string positional, std::string summary) {
+  Command c = command(std::move(name), std::move(positional), std::move(summary));
+  c.reads_records = true;
+  return c;
 }
 
 void print_first_modes(const model::Structure& s, const model::Modes& m, Index n, const char* prefix) {

@@ -64,6 +64,22 @@ void bind(Command& c, void (*declare)(po::options_description&, Options&), Resul
   c.run = [opts, body](const Common& o) { return body(o, *opts); };
 }
 
+/// bind(), then the command: the last line of every X_command().
+template <class Options, class Result>
+Command bound(Command c, void (*declare)(po::options_description&, Options&), Result (*body)(const Common&, const Options&)) {
+  bind(c, declare, body);
+  return c;
+}
+
+/// What every command sets first: its name, what its positional argument is, its summary.
+Command command(std::string name, std::string positional, std::string summary);
+/// The same for a command that reads logger files (Command::reads_records).
+Command record_command(std::string name, std::string positional, std::string summary);
+
+/// --zero, the zero of deflection and strain channels (study::parse_zero): compare, fit,
+/// passages, speed --model (`prefix` says when it applies).
+void add_zero_option(po::options_description& d, std::string& zero, const std::string& prefix = "");
+
 /// An option writing into `field`, whose initial value is the default shown by --help (numbers
 /// as written: 0.15, not 0.14999999999999999).
 template <class T>
@@ -127,6 +143,11 @@ std::vector<std::pair<std::string, std::string>> tool_versions();
 /// The manifest every command writes into --out (io::write_manifest): the command, its command
 /// line and the tool's versions filled in.
 io::Manifest start_manifest(const Common& o, const std::string& command, std::vector<std::string> inputs = {});
+/// A record command's outputs: OUT/file (a record, or a table with its header), then the
+/// manifest naming the record read.
+void write_record_outputs(const Common& o, const std::string& file, const io::Record& out);
+void write_table_outputs(const Common& o, const std::string& file, const std::vector<std::string>& header,
+                         const std::vector<std::vector<std::string>>& rows);
 
 /// Prints each warning on stderr ("viaduct COMMAND: warning: ..."), also with --quiet.
 void print_warnings(const std::string& command, const std::vector<std::string>& warnings);

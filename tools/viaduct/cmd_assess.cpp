@@ -131,9 +131,8 @@ int run_assess(const Common& o, const AssessOptions& opts) {
 }  // namespace
 
 Command assess_command() {
-  Command c;
-  c.name = "assess";
-  c.summary = "the EN 1991-2 dynamic check: HSLM and real trains, speeds to 1.2 x line speed, checks (report.md)";
+  Command c = command("assess", "SCENARIO",
+                      "the EN 1991-2 dynamic check: HSLM and real trains, speeds to 1.2 x line speed, checks (report.md)");
   c.usage_and_samples =
       "Runs the dynamic check of EN 1991-2 6.4 / EN 1990 A2 on the scenario's bridge (docs/assess.md):\n"
       "HSLM-A1..A10 and the scenario's other trains, speeds up to 1.2 x assess.line_speed_kmh refined\n"

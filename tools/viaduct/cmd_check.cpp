@@ -11,9 +11,7 @@
 namespace viaduct::cli {
 
 Command check_command() {
-  Command c;
-  c.name = "check";
-  c.summary = "validate a scenario and print it resolved, with every default and unit";
+  Command c = command("check", "SCENARIO", "validate a scenario and print it resolved, with every default and unit");
   c.usage_and_samples =
       "Prints every key with its value, unit and origin (file:line, --set or default), then\n"
       "the model that the scenario builds. Exit code 2 names file, line and key of a bad input.\n\n"
@@ -65,9 +63,7 @@ Command check_command() {
 }
 
 Command schema_command() {
-  Command c;
-  c.name = "schema";
-  c.summary = "print every scenario key (type, default, unit, constraint, meaning) as Markdown";
+  Command c = command("schema", "SCENARIO", "print every scenario key (type, default, unit, constraint, meaning) as Markdown");
   c.needs_scenario = false;
   c.usage_and_samples = "docs/scenarios.md embeds this table.\n\nSample runs:\n  viaduct schema\n";
   c.run = [](const Common&) {

@@ -172,10 +172,7 @@ int compare_body(const Common& o, const CompareOptions& k) {
 }  // namespace
 
 Command compare_command() {
-  Command c;
-  c.name = "compare";
-  c.reads_records = true;
-  c.summary = "simulation against a measured record: aligned overlays, spectra and metrics";
+  Command c = record_command("compare", "SCENARIO", "simulation against a measured record: aligned overlays, spectra and metrics");
   const auto declare = [](po::options_description& d, CompareOptions& k) {
     d.add_options()("record", optional_value(k.record), "record CSV (docs/records.md)")(
         "map", list_value(k.maps), "CHANNEL=STATION: compare a record channel with a scenario station (repeatable)")(
@@ -185,9 +182,8 @@ Command compare_command() {
         "identify-speed-m", optional_value(k.identify_speed_m),
         "identify the speed from the record: the train's characteristic distance d [m] (spectral lines of the first mapped channel)")(
         "v-min-kmh", value(k.v_min_kmh), "speed identification: lowest speed [km/h]")(
-        "v-max-kmh", value(k.v_max_kmh), "speed identification: highest speed [km/h]")(
-        "zero", value(k.zero), "deflection and strain channels' zero: keep (a warning when the record before the train's entry "
-                               "is offset), pre-entry (its mean removed) or START:END (the mean of that window of record time)");
+        "v-max-kmh", value(k.v_max_kmh), "speed identification: highest speed [km/h]");
+    add_zero_option(d, k.zero);
   };
   c.usage_and_samples =
       "Runs the scenario at the train's speed, filters model and record with the scenario's\n"

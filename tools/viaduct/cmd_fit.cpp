@@ -19,10 +19,7 @@ std::string fit_fmt(double v) { return format_number(v, 10); }
 }  // namespace
 
 Command fit_command() {
-  Command c;
-  c.name = "fit";
-  c.reads_records = true;
-  c.summary = "model updating: fit scenario parameters to measured records and identified modes";
+  Command c = record_command("fit", "SCENARIO", "model updating: fit scenario parameters to measured records and identified modes");
   const auto declare = [](po::options_description& d, io::FitRequest& q) {
     d.add_options()("param", list_value(q.params),
                     "KEY=LO:HI[:log|linear]: a numeric scenario key to fit within bounds, starting from its scenario value (repeatable; replaces [[fit.params]])")(
@@ -39,10 +36,9 @@ Command fit_command() {
         "OBJECTIVE=W with OBJECTIVE time, peak, envelope, spectrum, modal or damping (repeatable; default time=1 with records, modal=1 with --modes)")(
         "starts", optional_value(q.starts), "solver starts: the scenario's values, then quasi-random points in the bounds (default 1)")(
         "no-spectral-start", po::bool_switch(&q.no_spectral_start), "skip the spectral pre-stage of each start (fit.spectral_start = false)")(
-        "zero", value(q.zero), "deflection and strain channels' zero: keep (a warning when the record before the train's entry is offset), "
-                               "pre-entry (its mean removed) or START:END (the mean of that window of record time)")(
         "max-iterations", optional_value(q.max_iterations), "iterations per start (default 50)")(
         "max-time-s", optional_value(q.max_time_s), "wall time per start [s] (default 600)");
+    add_zero_option(d, q.zero);
   };
   c.usage_and_samples =
       "Fits numeric scenario keys so that the model reproduces measured accelerations (or\n"
@@ -110,8 +106,7 @@ Command fit_command() {
     }
     return r.status == study::FitResult::Status::converged ? ok : runtime_failure;
   };
-  bind(c, +declare, +body);
-  return c;
+  return bound(std::move(c), +declare, +body);
 }
 
 }  // namespace viaduct::cli

@@ -279,11 +279,8 @@ void write_mac(const std::string& out, const ident::LscfResult& ls, const study:
 }  // namespace
 
 Command frf_command() {
-  Command c;
-  c.name = "frf";
-  c.reads_records = true;
-  c.positional = "SCENARIO|RECORD";
-  c.summary = "FRFs: the model's by a direct frequency solve, or estimated from force and response records (frf.csv)";
+  Command c = record_command("frf", "SCENARIO|RECORD",
+                             "FRFs: the model's by a direct frequency solve, or estimated from force and response records (frf.csv)");
   const auto declare = [](po::options_description& d, FrfOptions& f) {
     add_forced_options(d, f.forced);
     d.add_options()("f-min", optional_value(f.f_min), "[Hz] lowest frequency (scenario: default 1; swept: band)")(
@@ -317,14 +314,11 @@ Command frf_command() {
   const auto body = [](const Common& o, const FrfOptions& f) {
     return is_scenario_path(o.scenario) ? frf_from_scenario(o, f) : frf_from_record(o, f);
   };
-  bind(c, +declare, +body);
-  return c;
+  return bound(std::move(c), +declare, +body);
 }
 
 Command shaker_command() {
-  Command c;
-  c.name = "shaker";
-  c.summary = "simulated forced-vibration test (stepped or swept sine, Newmark): a synthetic record";
+  Command c = command("shaker", "SCENARIO", "simulated forced-vibration test (stepped or swept sine, Newmark): a synthetic record");
   const auto declare = [](po::options_description& d, ShakerOptions& sh) {
     add_forced_options(d, sh.forced);
     d.add_options()("stepped", optional_value(sh.stepped), "stepped sine F0:F1:DF [Hz] (first, last, step)")(
@@ -417,15 +411,11 @@ Command shaker_command() {
                   t.kind == study::ShakerTest::Kind::stepped ? " and steps.csv" : "");
     return ok;
   };
-  bind(c, +declare, +body);
-  return c;
+  return bound(std::move(c), +declare, +body);
 }
 
 Command modal_fit_command() {
-  Command c;
-  c.name = "modal-fit";
-  c.positional = "FRF";
-  c.summary = "modal parameters from an FRF file: peak picking, circle fit, LSCF + stabilization, MAC";
+  Command c = command("modal-fit", "FRF", "modal parameters from an FRF file: peak picking, circle fit, LSCF + stabilization, MAC");
   const auto declare = [](po::options_description& d, ModalFitCliOptions& m) {
     d.add_options()("no-refine", po::bool_switch(&m.no_refine), "LSCF: keep the stabilization diagram's values (no refinement, no split test)")(
         "f-min", value(m.fit.f_min_hz), "[Hz] band fitted")(
@@ -481,17 +471,12 @@ Command modal_fit_command() {
     if (!o.quiet) std::printf("wrote %s/modes.csv, shapes.csv, stabilization.csv%s\n", o.out.c_str(), m.model ? ", mac.csv" : "");
     return ok;
   };
-  bind(c, +declare, +body);
-  return c;
+  return bound(std::move(c), +declare, +body);
 }
 
 Command decay_command() {
-  Command c;
-  c.name = "decay";
-  c.reads_records = true;
-  c.positional = "RECORD...";
+  Command c = record_command("decay", "RECORD...", "frequency and damping from free decays after train passages, against amplitude");
   c.many_positionals = true;
-  c.summary = "frequency and damping from free decays after train passages, against amplitude";
   const auto declare = [](po::options_description& d, DecayCliOptions& k) {
     d.add_options()("channel", optional_value(k.channel), "the response channel (required)")(
         "frequency-hz", optional_value(k.frequency_hz), "the mode to isolate [Hz] (required)")(
@@ -588,8 +573,7 @@ Command decay_command() {
     if (!o.quiet) std::printf("wrote %s/decay.csv, decay_amplitude.csv, decay_summary.csv\n", o.out.c_str());
     return ok;
   };
-  bind(c, +declare, +body);
-  return c;
+  return bound(std::move(c), +declare, +body);
 }
 
 }  // namespace viaduct::cli

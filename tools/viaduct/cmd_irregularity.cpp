@@ -109,11 +109,9 @@ int irregularity_body(const Common& o, const IrregularityOptions& k) {
 }  // namespace
 
 Command irregularity_command() {
-  Command c;
-  c.name = "irregularity";
+  Command c = command("irregularity", "",
+                      "rail irregularity: a random profile from a spectrum (profile.csv), or a measured profile's spectrum");
   c.needs_scenario = false;
-  c.positional = "";
-  c.summary = "rail irregularity: a random profile from a spectrum (profile.csv), or a measured profile's spectrum";
   const auto declare = [](po::options_description& d, IrregularityOptions& k) {
     d.add_options()("spectrum", optional_value(k.spectrum), "fra1 ... fra6 (US FRA classes, 6 the best track), german-low, german-high")(
         "profile", optional_value(k.profile), "a measured profile (CSV x_m,z_mm): its PSD against every spectrum, the nearest named")(

@@ -21,9 +21,7 @@ std::string ladder_cell(double v) { return io::table_cell(v, 6); }
 }  // namespace
 
 Command ladder_command() {
-  Command c;
-  c.name = "ladder";
-  c.summary = "when vehicles matter: forces, sprung masses, multibody coaches, + rail profile (ladder.csv)";
+  Command c = command("ladder", "SCENARIO", "when vehicles matter: forces, sprung masses, multibody coaches, + rail profile (ladder.csv)");
   const auto declare = [](po::options_description& d, LadderOptions& l) {
     d.add_options()("speed-kmh", optional_value(l.speed_kmh), "train speed [km/h] (default: run.speed_kmh)")(
         "train", optional_value(l.train), "train name (default: the first of train.files)")(
@@ -96,8 +94,7 @@ Command ladder_command() {
     }
     return failed ? runtime_failure : ok;
   };
-  bind(c, +declare, +body);
-  return c;
+  return bound(std::move(c), +declare, +body);
 }
 
 }  // namespace viaduct::cli

@@ -9,9 +9,7 @@
 namespace viaduct::cli {
 
 Command modes_command() {
-  Command c;
-  c.name = "modes";
-  c.summary = "natural frequencies and mode shapes of the assembled structure (modes.csv)";
+  Command c = command("modes", "SCENARIO", "natural frequencies and mode shapes of the assembled structure (modes.csv)");
   struct ModesOptions {
     int n_modes = 20;
   };
@@ -42,8 +40,7 @@ Command modes_command() {
     }
     return ok;
   };
-  bind(c, +declare, +body);
-  return c;
+  return bound(std::move(c), +declare, +body);
 }
 
 }  // namespace viaduct::cli

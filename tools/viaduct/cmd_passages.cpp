@@ -300,10 +300,8 @@ int passages_body(const Common& o, const PassagesOptions& k) {
 }  // namespace
 
 Command passages_command() {
-  Command c;
-  c.name = "passages";
-  c.reads_records = true;
-  c.summary = "recorded passages over the model's speed envelope: measured/predicted peaks per station (passages.csv)";
+  Command c = record_command("passages", "SCENARIO",
+                             "recorded passages over the model's speed envelope: measured/predicted peaks per station (passages.csv)");
   const auto declare = [](po::options_description& d, PassagesOptions& k) {
     d.add_options()("records", list_value(k.records),
                     "a folder of records, or a table (CSV: file[,train][,speed_kmh]; files relative to it) (repeatable)")(
@@ -312,9 +310,8 @@ Command passages_command() {
         "v-min-kmh", optional_value(k.v_min_kmh), "speed identification: lowest speed [km/h] (default: the sweep's lowest)")(
         "v-max-kmh", optional_value(k.v_max_kmh), "speed identification: highest speed [km/h] (default: the sweep's highest)")(
         "speed-band", value(k.speed_band), "the predicted peak's range over the speed +- this many standard errors")(
-        "noise-band", value(k.noise_band), "within the model: measured in the predicted range +- this many noise RMS")(
-        "zero", value(k.zero), "deflection and strain channels' zero: keep (an offset before the train's entry is reported), "
-                               "pre-entry (its mean removed) or START:END (the mean of that window of record time)");
+        "noise-band", value(k.noise_band), "within the model: measured in the predicted range +- this many noise RMS");
+    add_zero_option(d, k.zero);
   };
   c.usage_and_samples =
       "For each record: the train's speed identified from the first --map channel by matching\n"

@@ -145,11 +145,7 @@ struct EnvelopeOptions {
 }  // namespace
 
 Command filter_command() {
-  Command c;
-  c.name = "filter";
-  c.reads_records = true;
-  c.positional = "RECORD";
-  c.summary = "zero-phase Chebyshev I filtering of a record's channels (filtered.csv)";
+  Command c = record_command("filter", "RECORD", "zero-phase Chebyshev I filtering of a record's channels (filtered.csv)");
   const auto declare = [](po::options_description& d, FilterOptions& f) {
     add_channel_option(d, f.channels);
     d.add_options()("band", value(f.band), "lowpass, highpass or bandpass")(
@@ -181,24 +177,17 @@ Command filter_command() {
     spec.ripple_db = f.ripple_db;
     const signal::Sos sos = signal::cheby1(spec, in.fs_hz);
     const io::Record out = transform_channels(in, chans, in.fs_hz, [&](const Vector& x) { return signal::sosfiltfilt(sos, x); });
-    make_out_dir(o.out);
-    io::write_record_csv(o.out + "/filtered.csv", out);
-    io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "filter", {o.scenario}), nullptr);
+    write_record_outputs(o, "filtered.csv", out);
     if (!o.quiet)
       std::printf("%zu channels, %ld samples at %.6g Hz; wrote %s/filtered.csv\n", chans.size(),
                   static_cast<long>(in.n_samples()), in.fs_hz, o.out.c_str());
     return ok;
   };
-  bind(c, +declare, +body);
-  return c;
+  return bound(std::move(c), +declare, +body);
 }
 
 Command spectrum_command() {
-  Command c;
-  c.name = "spectrum";
-  c.reads_records = true;
-  c.positional = "RECORD";
-  c.summary = "amplitude spectrum or Welch PSD of a record's channels (spectrum.csv)";
+  Command c = record_command("spectrum", "RECORD", "amplitude spectrum or Welch PSD of a record's channels (spectrum.csv)");
   const auto declare = [](po::options_description& d, SpectrumOptions& s) {
     add_channel_option(d, s.channels);
     d.add_options()("welch", po::bool_switch(&s.welch), "Welch power spectral density instead of the amplitude spectrum")(
@@ -264,16 +253,11 @@ Command spectrum_command() {
                   f[f.size() - 1], path.c_str());
     return ok;
   };
-  bind(c, +declare, +body);
-  return c;
+  return bound(std::move(c), +declare, +body);
 }
 
 Command peaks_command() {
-  Command c;
-  c.name = "peaks";
-  c.reads_records = true;
-  c.positional = "RECORD";
-  c.summary = "peaks of a record's spectrum or time history, with interpolated positions (peaks.csv)";
+  Command c = record_command("peaks", "RECORD", "peaks of a record's spectrum or time history, with interpolated positions (peaks.csv)");
   const auto declare = [](po::options_description& d, PeaksOptions& p) {
     add_channel_option(d, p.channels);
     d.add_options()("time", po::bool_switch(&p.time), "pick peaks of the time history (default: of the amplitude spectrum)")(
@@ -342,8 +326,7 @@ Command peaks_command() {
     }
     return ok;
   };
-  bind(c, +declare, +body);
-  return c;
+  return bound(std::move(c), +declare, +body);
 }
 
 namespace {
@@ -514,11 +497,8 @@ std::vector<std::string> speed_by_delay(const Common& o, const SpeedOptions& s, 
 }  // namespace
 
 Command speed_command() {
-  Command c;
-  c.name = "speed";
-  c.reads_records = true;
-  c.positional = "RECORD";
-  c.summary = "train speed from a record: spectral lines of a characteristic distance, or axle peaks (speed.csv)";
+  Command c = record_command("speed", "RECORD",
+                             "train speed from a record: spectral lines of a characteristic distance, or axle peaks (speed.csv)");
   const auto declare = [](po::options_description& d, SpeedOptions& s) {
     add_channel_option(d, s.channels);
     d.add_options()("distance-m", optional_value(s.distance_m), "the train's characteristic distance d [m] (e.g. 13.14 for a Talgo rake, D for HSLM)")(
@@ -529,8 +509,6 @@ Command speed_command() {
         "min-interval-s", value(s.min_interval_s), "peaks: least time between two axle peaks [s]")(
         "model", optional_value(s.model), "a scenario: match the record to the station's simulated response to the train at trial speeds")(
         "station", optional_value(s.station), "--model: the scenario's station where the sensor sits")(
-        "zero", value(s.zero), "--model, deflection and strain channels' zero: keep (a warning when the record before the train's "
-                               "entry is offset), pre-entry (its mean removed, then matched again) or START:END (the mean of that window)")(
         "train", optional_value(s.train), "a train file (or hslm:A1 … hslm:A10; with --model also a train of the scenario, default its "
                                            "first); without --model: deflection or strain peaks matched to the train's axles or bogies")(
         "merge-m", value(s.merge_m), "--train without --model: axles closer than this [m] are one peak (0: axles, bogies or bogie pairs, "
@@ -538,6 +516,7 @@ Command speed_command() {
         "second-channel", optional_value(s.second), "a second sensor along the track: the speed from its delay behind --channel")(
         "sensor-distance-m", optional_value(s.sensor_distance_m), "[m] the distance from --channel's sensor to --second-channel's")(
         "lowpass-hz", value(s.lowpass_hz), "--second-channel: both channels low-passed at this frequency [Hz] before the delay is fitted");
+    add_zero_option(d, s.zero, "--model: ");
   };
   c.usage_and_samples =
       "Spectral: the speed whose harmonics k*v/d (k = 1..harmonics) best match the lines of the\n"
@@ -571,9 +550,7 @@ Command speed_command() {
                                              "first_axle_s", "first_axle_uncertainty_s", "correlation", "amplitude", "flag"};
     if (s.train && !s.model && !s.sensor_distance_m && !s.distance_m) {
       const auto rows = speed_by_train(o, s, in);
-      make_out_dir(o.out);
-      io::write_table_csv(o.out + "/speed.csv", header, rows);
-      io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "speed", {o.scenario}), nullptr);
+      write_table_outputs(o, "speed.csv", header, rows);
       if (!o.quiet) std::printf("wrote %s/speed.csv\n", o.out.c_str());
       return ok;
     }
@@ -609,22 +586,16 @@ Command speed_command() {
         std::printf("%-22s %-15s %.2f km/h +- %.2f (f = %.4f Hz, %d used)\n", in.channels[ch].c_str(),
                     rows.back()[1].c_str(), e.speed * 3.6, e.uncertainty * 3.6, e.frequency_hz, e.n_used);
     }
-    make_out_dir(o.out);
-    io::write_table_csv(o.out + "/speed.csv", header, rows);
-    io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "speed", {o.scenario}), nullptr);
+    write_table_outputs(o, "speed.csv", header, rows);
     if (!o.quiet) std::printf("wrote %s/speed.csv\n", o.out.c_str());
     return ok;
   };
-  bind(c, +declare, +body);
-  return c;
+  return bound(std::move(c), +declare, +body);
 }
 
 Command resample_command() {
-  Command c;
-  c.name = "resample";
-  c.reads_records = true;
-  c.positional = "RECORD";
-  c.summary = "a record at another sampling rate: decimation or anti-aliased interpolation (resampled.csv)";
+  Command c = record_command("resample", "RECORD",
+                             "a record at another sampling rate: decimation or anti-aliased interpolation (resampled.csv)");
   const auto declare = [](po::options_description& d, ResampleOptions& r) {
     add_channel_option(d, r.channels);
     d.add_options()("fs-hz", optional_value(r.fs_hz), "new sampling rate [Hz] (anti-alias low-pass when lower)")(
@@ -647,24 +618,17 @@ Command resample_command() {
     const io::Record out = transform_channels(in, chans, fs_out, [&](const Vector& x) {
       return dec ? signal::decimate(x, *r.decimate) : signal::resample(x, in.fs_hz, fs_out);
     });
-    make_out_dir(o.out);
-    io::write_record_csv(o.out + "/resampled.csv", out);
-    io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "resample", {o.scenario}), nullptr);
+    write_record_outputs(o, "resampled.csv", out);
     if (!o.quiet)
       std::printf("%zu channels: %ld samples at %.6g Hz -> %ld at %.6g Hz; wrote %s/resampled.csv\n", chans.size(),
                   static_cast<long>(in.n_samples()), in.fs_hz, static_cast<long>(out.n_samples()), out.fs_hz, o.out.c_str());
     return ok;
   };
-  bind(c, +declare, +body);
-  return c;
+  return bound(std::move(c), +declare, +body);
 }
 
 Command envelope_command() {
-  Command c;
-  c.name = "envelope";
-  c.reads_records = true;
-  c.positional = "RECORD";
-  c.summary = "running RMS, max-abs or Hilbert envelope of a record's channels (envelope.csv)";
+  Command c = record_command("envelope", "RECORD", "running RMS, max-abs or Hilbert envelope of a record's channels (envelope.csv)");
   const auto declare = [](po::options_description& d, EnvelopeOptions& e) {
     add_channel_option(d, e.channels);
     d.add_options()("kind", value(e.kind), "rms, maxabs or hilbert")(
@@ -689,14 +653,11 @@ Command envelope_command() {
     const io::Record out = transform_channels(in, chans, in.fs_hz, [&](const Vector& x) {
       return kind == "rms" ? signal::running_rms(x, w) : kind == "maxabs" ? signal::maxabs_envelope(x, w) : signal::hilbert_envelope(x);
     });
-    make_out_dir(o.out);
-    io::write_record_csv(o.out + "/envelope.csv", out);
-    io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "envelope", {o.scenario}), nullptr);
+    write_record_outputs(o, "envelope.csv", out);
     if (!o.quiet) std::printf("%s envelope of %zu channels; wrote %s/envelope.csv\n", kind.c_str(), chans.size(), o.out.c_str());
     return ok;
   };
-  bind(c, +declare, +body);
-  return c;
+  return bound(std::move(c), +declare, +body);
 }
 
 namespace {
@@ -745,12 +706,9 @@ void inspect_one(const std::string& path, const Common& o, std::vector<std::vect
 }  // namespace
 
 Command inspect_command() {
-  Command c;
-  c.name = "inspect";
-  c.reads_records = true;
+  Command c = record_command("inspect", "RECORD [RECORD ...]",
+                             "what a record file holds: layout, units, rate, gaps, NaNs, clipping, offsets (inspect.csv)");
   c.many_positionals = true;
-  c.positional = "RECORD [RECORD ...]";
-  c.summary = "what a record file holds: layout, units, rate, gaps, NaNs, clipping, offsets (inspect.csv)";
   const auto declare = [](po::options_description&, InspectOptions&) {};
   c.usage_and_samples =
       "Reads each record as every command does (docs/records.md) and prints what it understood and\n"
@@ -785,8 +743,7 @@ Command inspect_command() {
     if (failed == files.size()) return static_cast<int>(usage_error);
     return failed > 0 ? static_cast<int>(runtime_failure) : static_cast<int>(ok);
   };
-  bind(c, +declare, +body);
-  return c;
+  return bound(std::move(c), +declare, +body);
 }
 
 }  // namespace viaduct::cli

@@ -128,9 +128,7 @@ void print_increments(const study::QuasiStaticResult& qs, const study::RunResult
 }  // namespace
 
 Command run_command() {
-  Command c;
-  c.name = "run";
-  c.summary = "one train at one speed: station time histories (history.csv)";
+  Command c = command("run", "SCENARIO", "one train at one speed: station time histories (history.csv)");
   const auto declare = [](po::options_description& d, RunOptions& r) {
     d.add_options()("speed-kmh", optional_value(r.speed_kmh), "train speed [km/h] (default: run.speed_kmh)")(
         "train", optional_value(r.train), "train name (default: the first of train.files)");
@@ -211,8 +209,7 @@ Command run_command() {
     }
     return ok;
   };
-  bind(c, +declare, +body);
-  return c;
+  return bound(std::move(c), +declare, +body);
 }
 
 }  // namespace viaduct::cli

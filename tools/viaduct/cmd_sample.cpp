@@ -184,10 +184,7 @@ int run_merge(const Common& o, const MergeOpts&) {
 }  // namespace sample_cli
 
 Command merge_command() {
-  Command c;
-  c.name = "merge";
-  c.summary = "join the shards of a sweep or a sampled study (viaduct sweep --shard K/N) into its files";
-  c.positional = "SHARD_DIR...";
+  Command c = command("merge", "SHARD_DIR...", "join the shards of a sweep or a sampled study (viaduct sweep --shard K/N) into its files");
   c.many_positionals = true;
   c.needs_scenario = true;
   c.usage_and_samples =

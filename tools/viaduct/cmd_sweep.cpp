@@ -53,9 +53,7 @@ void write_shard(io::SweepShard& shard, const std::string& out, const io::FlatSc
 }  // namespace
 
 Command sweep_command() {
-  Command c;
-  c.name = "sweep";
-  c.summary = "speeds x trains x parameter variants: maximum-response envelopes (envelope.csv)";
+  Command c = command("sweep", "SCENARIO", "speeds x trains x parameter variants: maximum-response envelopes (envelope.csv)");
   c.usage_and_samples =
       "Writes OUT/envelope.csv (variant,train,speed_kmh,station,max_abs_acc_mps2,max_abs_disp_m;\n"
       "accelerations filtered as the scenario says; with sweep.variants, a column KEY_factor per\n"

@@ -30,9 +30,7 @@ struct TradeoffOptions {
 }  // namespace
 
 Command tradeoff_command() {
-  Command c;
-  c.name = "tradeoff";
-  c.summary = "envelope error against wall time for a ladder of methods and settings (tradeoff.csv)";
+  Command c = command("tradeoff", "SCENARIO", "envelope error against wall time for a ladder of methods and settings (tradeoff.csv)");
   const auto declare = [](po::options_description& d, TradeoffOptions& t) {
     d.add_options()("speeds", optional_value(t.speeds), "use N of the scenario's sweep speeds, evenly spread (default: all)")(
         "reference-dt", optional_value(t.reference_dt), "[s] step of the Newmark reference (default: analysis.dt / 4)")(
@@ -107,8 +105,7 @@ Command tradeoff_command() {
       if (row.n_failed) return runtime_failure;
     return ok;
   };
-  bind(c, +declare, +body);
-  return c;
+  return bound(std::move(c), +declare, +body);
 }
 
 }  // namespace viaduct::cli
