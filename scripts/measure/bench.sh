@@ -335,5 +335,6 @@ memory by \`build/release/viaduct_signal_bench --minutes 10 --channels 18 --fs 4
 | amplitude spectrum (one 2 457 600-point FFT a channel) of all 18 channels | $(sig amplitude_spectrum_all_channels_s) |
 | write a $(sig csv_mb) MB record CSV | $(sig write_csv_s) |
 | read it back (\`io::read_record_csv\`: parse, check every cell and the time column) | $(sig read_csv_s) |
+| rainflow count (ASTM three-point, streamed in blocks of 10⁵) and Miner sum of 10⁷ samples of a random strain | $(sig rainflow_1e7_samples_s) |
 DOC
 echo "wrote docs/benchmarks.md" >&2

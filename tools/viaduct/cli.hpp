@@ -76,6 +76,11 @@ Command command(std::string name, std::string positional, std::string summary);
 /// The same for a command that reads logger files (Command::reads_records).
 Command record_command(std::string name, std::string positional, std::string summary);
 
+/// Channels named by --channel (every channel when none).
+std::vector<std::size_t> selected(const io::Record& r, const std::vector<std::string>& channels);
+/// --channel for the record commands (repeatable).
+void add_channel_option(po::options_description& d, std::vector<std::string>& channels);
+
 /// --zero, the zero of deflection and strain channels (study::parse_zero): compare, fit,
 /// passages, speed --model (`prefix` says when it applies).
 void add_zero_option(po::options_description& d, std::string& zero, const std::string& prefix = "");
@@ -195,6 +200,7 @@ Command compare_command();
 Command speed_command();
 Command resample_command();
 Command envelope_command();
+Command fatigue_command();
 Command inspect_command();
 Command tradeoff_command();
 Command frf_command();

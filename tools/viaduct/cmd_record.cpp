@@ -23,8 +23,6 @@
 
 namespace viaduct::cli {
 
-namespace {
-
 // Channels named by --channel (all when none).
 std::vector<std::size_t> selected(const io::Record& r, const std::vector<std::string>& channels) {
   std::vector<std::size_t> out;
@@ -34,6 +32,12 @@ std::vector<std::size_t> selected(const io::Record& r, const std::vector<std::st
     for (std::size_t i = 0; i < r.channels.size(); ++i) out.push_back(i);
   return out;
 }
+
+void add_channel_option(po::options_description& d, std::vector<std::string>& channels) {
+  d.add_options()("channel", list_value(channels), "channel to process (repeatable; default: all), full name or without its unit");
+}
+
+namespace {
 
 std::string base_name(const io::Record& r, std::size_t c) {
   return r.channels[c].substr(0, r.channels[c].size() - r.units[c].size() - 1);
@@ -61,10 +65,6 @@ io::Record transform_channels(const io::Record& in, const std::vector<std::size_
   out.data.resize(cols.front().size(), static_cast<Index>(cols.size()));
   for (std::size_t j = 0; j < cols.size(); ++j) out.data.col(static_cast<Index>(j)) = cols[j];
   return out;
-}
-
-void add_channel_option(po::options_description& d, std::vector<std::string>& channels) {
-  d.add_options()("channel", list_value(channels), "channel to process (repeatable; default: all), full name or without its unit");
 }
 
 struct FilterOptions {

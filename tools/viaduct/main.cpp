@@ -13,7 +13,7 @@ int main(int argc, char** argv) {
   std::vector<Command> commands = {check_command(), modes_command(), run_command(), sweep_command(),
                                          schema_command(), filter_command(), spectrum_command(),
                                          peaks_command(), compare_command(), speed_command(),
-                                         resample_command(), envelope_command(), inspect_command(), tradeoff_command(),
+                                         resample_command(), envelope_command(), fatigue_command(), inspect_command(), tradeoff_command(),
                                          frf_command(), shaker_command(), modal_fit_command(), decay_command(), fit_command(), assess_command(),
                                          passages_command(), irregularity_command(), ladder_command(), merge_command()};
   const std::vector<Command> others = commands;  // what a manifest may name

@@ -1,0 +1,63 @@
+#pragma once
+/// \file Fatigue damage from counted cycles (issue #42; REFERENCE.md §11): S-N curves of
+/// EN 1993-1-9 by detail category or given by the user, and the Palmgren–Miner sum.
+///
+/// EN 1993-1-9 Fig. 7.1 (direct stress): Δσ_C at N = 2·10⁶ (the detail category, MPa); slope
+/// m = 3 down to the constant-amplitude limit Δσ_D = (2/5)^(1/3) Δσ_C at 5·10⁶; slope 5 down to
+/// the cut-off Δσ_L = (5/100)^(1/5) Δσ_D at 10⁸; no damage below Δσ_L. That is the curve for
+/// variable amplitudes (the m = 5 branch counts the small ranges of a train passage); a history
+/// of one constant range below Δσ_D does no damage, which the sum does not know: it is stated,
+/// not applied. Partial factors: a range counts as γFf·γMf·Δσ against the curve (EN 1993-1-9
+/// 8(1): γFf Δσ against Δσ_C / γMf, which is the same for every branch of a power law).
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "viaduct/signal/rainflow.hpp"
+
+namespace viaduct::study {
+
+/// A piecewise power-law S-N curve: above the first knee's range N = N_1 (S_1/S)^m; between
+/// knees a straight line in log N – log S; below the last knee's range no damage (N = ∞).
+struct SnCurve {
+  std::string name;
+  double first_slope = 3.0;   ///< m above the first knee, > 0
+  std::vector<double> knee_n; ///< cycles at the knees, ascending, > 0
+  std::vector<double> knee_s; ///< [Pa] ranges at the knees, descending, > 0
+  /// Cycles to failure at range s [Pa] (∞ below the cut-off, and for s <= 0).
+  double cycles(double s) const;
+  /// InputError naming the rule broken.
+  void validate() const;
+  /// EN 1993-1-9's curve of a detail category [MPa] (36, 40, 45, 50, 56, 63, 71, 80, 90, 100,
+  /// 112, 125, 140, 160); InputError listing them for any other.
+  static SnCurve en1993_1_9(double category_mpa);
+  /// A user curve: Δσ_C [Pa] at n_c cycles with slope m1 down to n_d, slope m2 down to n_l,
+  /// no damage below (m2 = 0 or n_l <= n_d: the curve ends at n_d).
+  static SnCurve two_slopes(double delta_c_pa, double m1, double m2, double n_c = 2e6, double n_d = 5e6, double n_l = 1e8);
+};
+
+/// The detail categories of EN 1993-1-9 Tables 8.1–8.10 [MPa].
+const std::vector<double>& en1993_1_9_categories();
+
+/// The Palmgren–Miner sum of cycles as they are counted: ranges in the history's unit times
+/// `to_pa` (e.g. E·1e-6 for microstrain, 1e6 for MPa) and γFf·γMf, against `curve`.
+struct MinerSum {
+  MinerSum(SnCurve curve, double to_pa, double gamma_ff = 1.0, double gamma_mf = 1.0);
+  void add(const signal::Cycle& c);
+  double damage = 0.0;        ///< D = Σ n_i / N_i
+  double cycles = 0.0;        ///< counted (half cycles as 0.5)
+  double damaging = 0.0;      ///< of them above the cut-off
+  double max_range_pa = 0.0;  ///< the largest range counted, factored [Pa]
+  const SnCurve& curve() const { return curve_; }
+
+ private:
+  SnCurve curve_;
+  double factor_;
+};
+
+/// The equivalent constant range at 2·10⁶ cycles of a damage D against `curve`'s first branch
+/// (Δσ_E,2 = Δσ_C (D)^(1/m) for the EN curve): what EN 1993-1-9's check compares with Δσ_C.
+double equivalent_range_2e6(double damage, const SnCurve& curve);
+
+}  // namespace viaduct::study

@@ -1,0 +1,95 @@
+// S-N curves and the Palmgren–Miner sum (fatigue.hpp).
+#include "viaduct/study/fatigue.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "viaduct/core/error.hpp"
+
+namespace viaduct::study {
+
+const std::vector<double>& en1993_1_9_categories() {
+  static const std::vector<double> c = {36, 40, 45, 50, 56, 63, 71, 80, 90, 100, 112, 125, 140, 160};
+  return c;
+}
+
+void SnCurve::validate() const {
+  const std::string who = "S-N curve " + (name.empty() ? std::string("(unnamed)") : name) + ": ";
+  if (!(first_slope > 0.0) || !std::isfinite(first_slope))
+    throw InputError(who + "slope m = " + format_number(first_slope, 6) + ": violated constraint m > 0");
+  if (knee_n.empty() || knee_n.size() != knee_s.size()) throw InputError(who + "give as many knee ranges as knee cycles, at least one");
+  for (std::size_t i = 0; i < knee_n.size(); ++i) {
+    if (!(knee_n[i] > 0.0) || !(knee_s[i] > 0.0) || !std::isfinite(knee_n[i]) || !std::isfinite(knee_s[i]))
+      throw InputError(who + "knee " + std::to_string(i + 1) + ": violated constraint cycles > 0 and range > 0");
+    if (i > 0 && !(knee_n[i] > knee_n[i - 1] && knee_s[i] < knee_s[i - 1]))
+      throw InputError(who + "knee " + std::to_string(i + 1) + ": cycles must ascend and ranges descend along the curve");
+  }
+}
+
+double SnCurve::cycles(double s) const {
+  if (!(s > 0.0) || s < knee_s.back()) return std::numeric_limits<double>::infinity();
+  if (s >= knee_s.front()) return knee_n.front() * std::pow(knee_s.front() / s, first_slope);
+  std::size_t i = 1;
+  while (s < knee_s[i]) ++i;  // knee_s[i] <= s < knee_s[i - 1]
+  const double m = std::log(knee_n[i] / knee_n[i - 1]) / std::log(knee_s[i - 1] / knee_s[i]);
+  return knee_n[i] * std::pow(knee_s[i] / s, m);
+}
+
+SnCurve SnCurve::two_slopes(double delta_c, double m1, double m2, double n_c, double n_d, double n_l) {
+  if (!(delta_c > 0.0) || !std::isfinite(delta_c))
+    throw InputError("S-N curve: delta_sigma_c = " + format_number(delta_c, 6) + " Pa: violated constraint > 0");
+  if (!(n_c > 0.0) || !(n_d > n_c))
+    throw InputError("S-N curve: the knee n_d = " + format_number(n_d, 6) + " must lie beyond n_c = " + format_number(n_c, 6) + " cycles");
+  SnCurve c;
+  c.first_slope = m1;
+  const double s_d = delta_c * std::pow(n_c / n_d, 1.0 / m1);
+  c.knee_n = {n_d};
+  c.knee_s = {s_d};
+  if (m2 > 0.0 && n_l > n_d) {
+    c.knee_n.push_back(n_l);
+    c.knee_s.push_back(s_d * std::pow(n_d / n_l, 1.0 / m2));
+  }
+  c.validate();
+  return c;
+}
+
+SnCurve SnCurve::en1993_1_9(double category) {
+  const auto& cats = en1993_1_9_categories();
+  if (std::find(cats.begin(), cats.end(), category) == cats.end()) {
+    std::string list;
+    for (double x : cats) list += (list.empty() ? "" : ", ") + format_number(x, 4);
+    throw InputError("detail category " + format_number(category, 6) + " is not one of EN 1993-1-9's: " + list + " (MPa)");
+  }
+  SnCurve c = two_slopes(category * 1e6, 3.0, 5.0);
+  c.name = "EN 1993-1-9 detail category " + format_number(category, 4);
+  return c;
+}
+
+MinerSum::MinerSum(SnCurve curve, double to_pa, double gamma_ff, double gamma_mf) : curve_(std::move(curve)) {
+  curve_.validate();
+  if (!(to_pa > 0.0) || !std::isfinite(to_pa)) throw InputError("fatigue: the history's unit to Pa = " + format_number(to_pa, 6) + ": violated constraint > 0");
+  if (!(gamma_ff >= 1.0) || !(gamma_mf >= 1.0) || !std::isfinite(gamma_ff * gamma_mf))
+    throw InputError("fatigue: gamma_Ff = " + format_number(gamma_ff, 6) + ", gamma_Mf = " + format_number(gamma_mf, 6) +
+                     ": violated constraint partial factors >= 1");
+  factor_ = to_pa * gamma_ff * gamma_mf;
+}
+
+void MinerSum::add(const signal::Cycle& c) {
+  const double s = c.range * factor_;
+  cycles += c.count;
+  max_range_pa = std::max(max_range_pa, s);
+  const double n = curve_.cycles(s);
+  if (std::isfinite(n)) {
+    damage += c.count / n;
+    damaging += c.count;
+  }
+}
+
+double equivalent_range_2e6(double damage, const SnCurve& curve) {
+  if (!(damage >= 0.0)) throw InputError("fatigue: damage must be >= 0");
+  // On the first branch N = N_1 (S_1/S)^m: the range whose 2e6 cycles do D.
+  const double n1 = curve.knee_n.front(), s1 = curve.knee_s.front(), m = curve.first_slope;
+  return s1 * std::pow(damage * n1 / 2e6, 1.0 / m);
+}
+
+}  // namespace viaduct::study

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# viaduct fatigue (issue #42, first part): rainflow cycles and Miner damage of a record's stress,
+# strain or moment channels against EN 1993-1-9's curves; the realistic mistakes refused.
+. "$(dirname "$0")/lib.sh"
+
+cell() {  # FILE COLUMN: the first data row's value
+  awk -F, -v c="$2" '!k{for(i=1;i<=NF;i++) if($i==c) k=i; next} {print $k; exit}' "$1"
+}
+within() {  # VALUE LOW HIGH WHAT
+  if awk -v a="$1" -v l="$2" -v h="$3" 'BEGIN{exit !(a >= l && a <= h)}'; then n_pass=$((n_pass + 1)); else
+    echo "FAIL: $4: $1 not in [$2, $3]"; n_fail=$((n_fail + 1)); fi
+}
+
+# A sine of 1000 periods, range 84 MPa, written as a stress, a strain (400 µε on steel) and a
+# moment (42 kN m amplitude over W = 1e-3 m3), in a logger's units (MPa, µε, kN·m). Rainflow: 999.5 cycles of 84 MPa and two halves of 42 MPa.
+awk 'BEGIN{print "t_s,s [MPa],e [µε],m [kN·m],a [m/s^2]"; for(k=0;k<=20000;k++){x=sin(2*3.141592653589793*k/20);
+     printf "%.4f,%.12g,%.12g,%.12g,%.12g\n", k/1000, 42*x, 200*x, 42*x, x}}' > "$WORK/sine.csv"
+D=$(awk 'BEGIN{dd=71*exp(log(0.4)/3); print 999.5/(2e6*(71/84)^3) + 1/(5e6*(dd/42)^5)}')
+expect 0 "" -- "$VIADUCT" fatigue "$WORK/sine.csv" --channel s --detail 71 --out "$WORK/f1"
+within "$(cell "$WORK/f1/damage.csv" damage)" "$(awk -v d="$D" 'BEGIN{print d*(1-1e-6)}')" "$(awk -v d="$D" 'BEGIN{print d*(1+1e-6)}')" \
+  "stress channel: D against n/N by hand ($D)"
+within "$(cell "$WORK/f1/damage.csv" cycles)" 1000.5 1000.5 "cycles counted"
+expect 0 "" -- "$VIADUCT" fatigue "$WORK/sine.csv" --channel e --detail 71 --out "$WORK/f2"
+within "$(cell "$WORK/f2/damage.csv" damage)" "$(awk -v d="$D" 'BEGIN{print d*(1-1e-6)}')" "$(awk -v d="$D" 'BEGIN{print d*(1+1e-6)}')" \
+  "strain channel x E (210 GPa)"
+expect 0 "" -- "$VIADUCT" fatigue "$WORK/sine.csv" --channel m --detail 71 --section-modulus-m3 1e-3 --method four-point --out "$WORK/f3"
+within "$(cell "$WORK/f3/damage.csv" damage)" "$(awk -v d="$D" 'BEGIN{print d*(1-1e-6)}')" "$(awk -v d="$D" 'BEGIN{print d*(1+1e-6)}')" \
+  "moment channel / W, four-point"
+# The range-mean matrix holds every count.
+within "$(awk -F, 'NR>1{s+=$6} END{print s}' "$WORK/f1/cycles.csv")" 1000.5 1000.5 "cycles.csv sums to the count"
+# A user curve equal to category 71's gives its damage; gamma_Mf = 1.35 raises it (m = 3: x 1.35^3 on the big cycles).
+expect 0 "" -- "$VIADUCT" fatigue "$WORK/sine.csv" --channel s --delta-c-mpa 71 --out "$WORK/f4"
+within "$(cell "$WORK/f4/damage.csv" damage)" "$(awk -v d="$D" 'BEGIN{print d*(1-1e-6)}')" "$(awk -v d="$D" 'BEGIN{print d*(1+1e-6)}')" \
+  "user curve 71/3/5 = category 71"
+expect 0 "" -- "$VIADUCT" fatigue "$WORK/sine.csv" --channel s --detail 71 --gamma-mf 1.35 --out "$WORK/f5"
+within "$(cell "$WORK/f5/damage.csv" damage)" "$(awk -v d="$D" 'BEGIN{print d*2.4}')" 1 "gamma_Mf 1.35"
+
+# Mistakes: a moment without W, an acceleration, an unknown category, two curves, no curve.
+expect 2 "is a moment [N m]: give --section-modulus-m3" -- "$VIADUCT" fatigue "$WORK/sine.csv" --channel m --detail 71 --out "$WORK/o"
+expect 2 "channel a_mps2 is in mps2: fatigue needs a stress" -- "$VIADUCT" fatigue "$WORK/sine.csv" --channel s --channel a --detail 71 --out "$WORK/o"
+expect 2 "detail category 75 is not one of EN 1993-1-9's: 36, 40" -- "$VIADUCT" fatigue "$WORK/sine.csv" --channel s --detail 75 --out "$WORK/o"
+expect 2 "give exactly one of --detail" -- "$VIADUCT" fatigue "$WORK/sine.csv" --channel s --detail 71 --delta-c-mpa 71 --out "$WORK/o"
+expect 2 "give exactly one of --detail" -- "$VIADUCT" fatigue "$WORK/sine.csv" --channel s --out "$WORK/o"
+expect 2 "--range-bin-mpa = -1: violated constraint > 0" -- "$VIADUCT" fatigue "$WORK/sine.csv" --channel s --detail 71 --range-bin-mpa -1 --out "$WORK/o"
+finish
