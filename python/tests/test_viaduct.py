@@ -451,3 +451,27 @@ def test_assess_equals_the_cli(src, cli, tmp_path):
     assert info["cutoff_hz"] > 30.0 and "# Dynamic assessment" in info["report"]
     for name in ("checks.csv", "phi_dyn.csv", "envelope.csv", "load_effects.csv"):  # out= writes the CLI's files
         assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()
+
+
+def test_rainflow_and_miner_damage_equal_the_cli(src, cli, tmp_path):
+    # ASTM E1049's example, then a passage's strain: the CLI's damage from the same cycles.
+    r, m, n = viaduct.rainflow([-2, 1, -3, 5, -1, 3, -4, 4, -2])
+    counts = {}
+    for rr, nn in zip(r, n):
+        counts[rr] = counts.get(rr, 0.0) + nn
+    assert counts == {3.0: 0.5, 4.0: 1.5, 6.0: 0.5, 8.0: 1.0, 9.0: 0.5}
+    assert list(viaduct.rainflow([-2, 1, -3, 5, -1, 3, -4, 4, -2], method="four-point")[0]) != []
+    path = src / "data/records/passages/passage-01.csv"
+    rec = viaduct.read_record(path)
+    r, m, n = viaduct.rainflow(rec["mid_strain_ue"], hysteresis=1e6 / 210e9 * 1e6)  # 1 MPa in microstrain
+    d = viaduct.miner_damage(r, n, detail=71, to_pa=210e9 * 1e-6)
+    run_cli(cli, "fatigue", path, "--channel", "mid_strain", "--detail", 71, "--hysteresis-mpa", 1, "-q", "--out", tmp_path / "f")
+    ref = read_csv(tmp_path / "f/damage.csv")
+    assert abs(d - ref["damage"][0]) <= 1e-7 * ref["damage"][0]
+    assert abs(n.sum() - ref["cycles"][0]) < 1e-9
+    with pytest.raises(viaduct.InputError, match="three-point or four-point"):
+        viaduct.rainflow([0, 1, 0], method="five-point")
+    with pytest.raises(viaduct.InputError, match="not one of EN 1993-1-9's"):
+        viaduct.miner_damage(r, n, detail=75)
+    with pytest.raises(viaduct.InputError, match="exactly one of detail or delta_c_mpa"):
+        viaduct.miner_damage(r, n)

@@ -259,6 +259,20 @@ def welch(x, fs_hz, nperseg=256, noverlap=None, window="hann", detrend="constant
     return _viaduct.welch(x, fs_hz, nperseg, -1 if noverlap is None else noverlap, window, detrend)
 
 
+def rainflow(x, method="three-point", hysteresis=0.0):
+    """Rainflow cycles of a history (range, mean, count), as ``viaduct fatigue`` counts them:
+    ASTM E1049 three-point (half cycles for the residue) or "four-point"; reversals smaller than
+    ``hysteresis`` are not turning points. docs/fatigue.md."""
+    return _viaduct.rainflow(x, method, hysteresis)
+
+
+def miner_damage(ranges, counts, detail=None, delta_c_mpa=None, m1=3.0, m2=5.0, to_pa=1.0, gamma_ff=1.0, gamma_mf=1.0):
+    """Palmgren-Miner damage of cycles (ranges in the history's unit times ``to_pa``) against
+    EN 1993-1-9's curve of a ``detail`` category [MPa], or a curve of your own (``delta_c_mpa``
+    at 2e6 cycles, slopes ``m1`` to 5e6 and ``m2`` to 1e8), each range times gamma_ff*gamma_mf."""
+    return _viaduct.miner_damage(ranges, counts, detail or 0.0, delta_c_mpa or 0.0, m1, m2, to_pa, gamma_ff, gamma_mf)
+
+
 def compare(record, fs_record, model, fs_model, t0_record=0.0, low_hz=1.0, high_hz=30.0, order=3, ripple_db=0.5,
             band="bandpass", filter=True, max_shift_s=60.0, spectrum_max_hz=0.0):
     """A record channel against a model quantity in the same unit, as ``viaduct compare``: both

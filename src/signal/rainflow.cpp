@@ -9,6 +9,12 @@
 
 namespace viaduct::signal {
 
+RainflowMethod rainflow_method(const std::string& name, const std::string& key) {
+  if (name == "three-point") return RainflowMethod::three_point;
+  if (name == "four-point") return RainflowMethod::four_point;
+  throw InputError(key + " must be three-point or four-point, got '" + name + "'");
+}
+
 Rainflow::Rainflow(Sink sink, RainflowMethod method, double hysteresis)
     : sink_(std::move(sink)), method_(method), hysteresis_(hysteresis) {
   if (!sink_) throw std::logic_error("Rainflow: no sink");

@@ -59,7 +59,7 @@ void check_options(const FatigueOptions& k) {
   positive(k.range_bin_mpa, "--range-bin-mpa");
   positive(k.mean_bin_mpa, "--mean-bin-mpa");
   if (!(k.hysteresis_mpa >= 0.0)) throw InputError("--hysteresis-mpa must be >= 0");
-  if (k.method != "three-point" && k.method != "four-point") throw InputError("--method must be three-point or four-point, got '" + k.method + "'");
+  signal::rainflow_method(k.method, "--method");
 }
 
 std::string fatigue_cell(double v) { return io::table_cell(v, 8); }
@@ -77,7 +77,7 @@ void count_channel(const io::Record& in, std::size_t ch, const FatigueOptions& k
         bins[{static_cast<long>(std::floor(c.range * mpa / k.range_bin_mpa)), static_cast<long>(std::floor(c.mean * mpa / k.mean_bin_mpa))}] +=
             c.count;
       },
-      k.method == "four-point" ? signal::RainflowMethod::four_point : signal::RainflowMethod::three_point, k.hysteresis_mpa / mpa);
+      signal::rainflow_method(k.method, "--method"), k.hysteresis_mpa / mpa);
   rf.push(Vector(in.data.col(static_cast<Index>(ch))));
   rf.finish();
   for (const auto& [b, n] : bins)

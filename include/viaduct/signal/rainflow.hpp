@@ -30,6 +30,9 @@ struct Cycle {
 };
 
 enum class RainflowMethod { three_point, four_point };
+/// "three-point" or "four-point" (the CLI's --method and Python's method=); InputError naming
+/// `key` for any other.
+RainflowMethod rainflow_method(const std::string& name, const std::string& key = "method");
 
 /// Streaming counter. Turning points are taken from the samples (a run of equal values is one
 /// point; a sample that continues the current rise or fall extends it); `hysteresis` >= 0 drops
