@@ -35,6 +35,21 @@ within "$(cell "$WORK/f4/damage.csv" damage)" "$(awk -v d="$D" 'BEGIN{print d*(1
 expect 0 "" -- "$VIADUCT" fatigue "$WORK/sine.csv" --channel s --detail 71 --gamma-mf 1.35 --out "$WORK/f5"
 within "$(cell "$WORK/f5/damage.csv" damage)" "$(awk -v d="$D" 'BEGIN{print d*2.4}')" 1 "gamma_Mf 1.35"
 
+# A simulated history: Annex D's Type 1 train over the 15 m span at 20 km/h. The quasi-static
+# mid-span moment's largest rainflow range is its peak (the history starts and ends at 0), and
+# that peak is the influence line's by hand (an axle at mid-span; 0.2 %: the FE moment at a node
+# with an axle inside the next 0.5 m element is recovered from the element's end forces).
+expect 0 "" -- "$VIADUCT" run "$SRC/scenarios/hslm-simply-supported.toml" --set 'train.files=["'"$SRC"'/data/trains/fatigue/type1.csv"]' \
+  --speed-kmh 20 --set 'analysis.method="modal"' --out "$WORK/t1" --quiet
+expect 0 "" -- "$VIADUCT" fatigue "$WORK/t1/quasi_static.csv" --channel mid_moment --detail 71 --section-modulus-m3 0.05 --out "$WORK/f6"
+hand=$(awk -F, '/^#/||/^position/{next} {x[n]=$1; p[n]=$2*1e3; n++}
+  END{L=15; best=0; for(i=0;i<n;i++){h=x[i]+L/2; m=0; for(j=0;j<n;j++){s=h-x[j]; if(s>0&&s<L) m+=p[j]*(s<=L/2? s/2 : (L-s)/2)} if(m>best) best=m}
+      print best/0.05*1e-6}' "$SRC/data/trains/fatigue/type1.csv")
+within "$(cell "$WORK/f6/damage.csv" max_range_mpa)" "$(awk -v h="$hand" 'BEGIN{print h*0.998}')" "$(awk -v h="$hand" 'BEGIN{print h*1.002}')" \
+  "Type 1 over 15 m: largest range against the influence line by hand ($hand MPa)"
+within "$(cell "$WORK/f6/damage.csv" max_range_mpa)" "$(awk -F, 'NR>1&&$3>m{m=$3} END{print m/0.05*1e-6*(1-1e-7)}' "$WORK/t1/quasi_static.csv")" \
+  "$(awk -F, 'NR>1&&$3>m{m=$3} END{print m/0.05*1e-6*(1+1e-7)}' "$WORK/t1/quasi_static.csv")" "largest range = the history's peak"
+
 # Mistakes: a moment without W, an acceleration, an unknown category, two curves, no curve.
 expect 2 "is a moment [N m]: give --section-modulus-m3" -- "$VIADUCT" fatigue "$WORK/sine.csv" --channel m --detail 71 --out "$WORK/o"
 expect 2 "channel a_mps2 is in mps2: fatigue needs a stress" -- "$VIADUCT" fatigue "$WORK/sine.csv" --channel s --channel a --detail 71 --out "$WORK/o"
