@@ -254,6 +254,49 @@ viaduct::signal::Window window_of(const std::string& w) {
   throw InputError("window must be hann or rectangular, got '" + w + "'");
 }
 
+// Rainflow counting and Miner damage (viaduct fatigue's functions; docs/fatigue.md).
+void bind_fatigue(py::module_& m) {
+  namespace signal = viaduct::signal;
+  namespace study = viaduct::study;
+  m.def(
+      "rainflow",
+      [](const py::handle& x, const std::string& method, double hysteresis) {
+        py::array_t<double, py::array::c_style | py::array::forcecast> keep;
+        const Eigen::Map<const Vector> in = view(x, keep, "rainflow");
+        std::vector<signal::Cycle> cs;
+        {
+          py::gil_scoped_release nogil;
+          cs = signal::rainflow(in, signal::rainflow_method(method), hysteresis);
+        }
+        Vector range(static_cast<Index>(cs.size())), mean(range.size()), count(range.size());
+        for (std::size_t i = 0; i < cs.size(); ++i) {
+          const auto k = static_cast<Index>(i);
+          range[k] = cs[i].range, mean[k] = cs[i].mean, count[k] = cs[i].count;
+        }
+        return py::make_tuple(to_numpy(std::move(range)), to_numpy(std::move(mean)), to_numpy(std::move(count)));
+      },
+      py::arg("x"), py::arg("method") = "three-point", py::arg("hysteresis") = 0.0);
+  m.def(
+      "miner_damage",
+      [](const py::handle& ranges, const py::handle& counts, double detail, double delta_c_mpa, double m1, double m2, double to_pa,
+         double gamma_ff, double gamma_mf) {
+        py::array_t<double, py::array::c_style | py::array::forcecast> keep_r, keep_c;
+        const Eigen::Map<const Vector> r = view(ranges, keep_r, "miner_damage");
+        const Eigen::Map<const Vector> c = view(counts, keep_c, "miner_damage");
+        if (r.size() != c.size()) throw InputError("miner_damage: ranges and counts differ in length");
+        if ((detail > 0) == (delta_c_mpa > 0)) throw InputError("miner_damage: give exactly one of detail or delta_c_mpa");
+        study::MinerSum sum(detail > 0 ? study::SnCurve::en1993_1_9(detail) : study::SnCurve::two_slopes(delta_c_mpa * 1e6, m1, m2), to_pa,
+                            gamma_ff, gamma_mf);
+        for (Index i = 0; i < r.size(); ++i) {
+          if (!(r[i] >= 0.0) || !(c[i] >= 0.0)) throw InputError("miner_damage: range and count " + std::to_string(i) + " must be >= 0");
+          sum.add(signal::Cycle{r[i], 0.0, c[i]});
+        }
+        return sum.damage;
+      },
+      py::arg("ranges"), py::arg("counts"), py::arg("detail") = 0.0, py::arg("delta_c_mpa") = 0.0, py::arg("m1") = 3.0,
+      py::arg("m2") = 5.0, py::arg("to_pa") = 1.0, py::arg("gamma_ff") = 1.0, py::arg("gamma_mf") = 1.0);
+}
+
 void bind(py::module_& m) {
   namespace io = viaduct::io;
   namespace signal = viaduct::signal;
@@ -361,43 +404,7 @@ void bind(py::module_& m) {
       py::arg("record"), py::arg("fs_record"), py::arg("model"), py::arg("fs_model"), py::arg("t0_record") = 0.0,
       py::arg("low_hz") = 1.0, py::arg("high_hz") = 30.0, py::arg("order") = 3, py::arg("ripple_db") = 0.5,
       py::arg("band") = "bandpass", py::arg("filter") = true, py::arg("max_shift_s") = 60.0, py::arg("spectrum_max_hz") = 0.0);
-  m.def(
-      "rainflow",
-      [](const py::handle& x, const std::string& method, double hysteresis) {
-        py::array_t<double, py::array::c_style | py::array::forcecast> keep;
-        const Eigen::Map<const Vector> in = view(x, keep, "rainflow");
-        std::vector<signal::Cycle> cs;
-        {
-          py::gil_scoped_release nogil;
-          cs = signal::rainflow(in, signal::rainflow_method(method), hysteresis);
-        }
-        Vector range(static_cast<Index>(cs.size())), mean(range.size()), count(range.size());
-        for (std::size_t i = 0; i < cs.size(); ++i) {
-          const auto k = static_cast<Index>(i);
-          range[k] = cs[i].range, mean[k] = cs[i].mean, count[k] = cs[i].count;
-        }
-        return py::make_tuple(to_numpy(std::move(range)), to_numpy(std::move(mean)), to_numpy(std::move(count)));
-      },
-      py::arg("x"), py::arg("method") = "three-point", py::arg("hysteresis") = 0.0);
-  m.def(
-      "miner_damage",
-      [](const py::handle& ranges, const py::handle& counts, double detail, double delta_c_mpa, double m1, double m2, double to_pa,
-         double gamma_ff, double gamma_mf) {
-        py::array_t<double, py::array::c_style | py::array::forcecast> keep_r, keep_c;
-        const Eigen::Map<const Vector> r = view(ranges, keep_r, "miner_damage");
-        const Eigen::Map<const Vector> c = view(counts, keep_c, "miner_damage");
-        if (r.size() != c.size()) throw InputError("miner_damage: ranges and counts differ in length");
-        if ((detail > 0) == (delta_c_mpa > 0)) throw InputError("miner_damage: give exactly one of detail or delta_c_mpa");
-        study::MinerSum sum(detail > 0 ? study::SnCurve::en1993_1_9(detail) : study::SnCurve::two_slopes(delta_c_mpa * 1e6, m1, m2), to_pa,
-                            gamma_ff, gamma_mf);
-        for (Index i = 0; i < r.size(); ++i) {
-          if (!(r[i] >= 0.0) || !(c[i] >= 0.0)) throw InputError("miner_damage: range and count " + std::to_string(i) + " must be >= 0");
-          sum.add(signal::Cycle{r[i], 0.0, c[i]});
-        }
-        return sum.damage;
-      },
-      py::arg("ranges"), py::arg("counts"), py::arg("detail") = 0.0, py::arg("delta_c_mpa") = 0.0, py::arg("m1") = 3.0,
-      py::arg("m2") = 5.0, py::arg("to_pa") = 1.0, py::arg("gamma_ff") = 1.0, py::arg("gamma_mf") = 1.0);
+  bind_fatigue(m);
   m.def("version", [] { return viaduct::io::version(); });
 }
 

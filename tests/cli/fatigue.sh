@@ -50,6 +50,13 @@ within "$(cell "$WORK/f6/damage.csv" max_range_mpa)" "$(awk -v h="$hand" 'BEGIN{
 within "$(cell "$WORK/f6/damage.csv" max_range_mpa)" "$(awk -F, 'NR>1&&$3>m{m=$3} END{print m/0.05*1e-6*(1-1e-7)}' "$WORK/t1/quasi_static.csv")" \
   "$(awk -F, 'NR>1&&$3>m{m=$3} END{print m/0.05*1e-6*(1+1e-7)}' "$WORK/t1/quasi_static.csv")" "largest range = the history's peak"
 
+# A run of NaN in the strain channel (a logger dropout) cuts that channel only: the stress
+# channel's damage is the whole record's.
+awk -F, 'NR>1 && NR>=5000 && NR<5300 {$3="NaN"} {print}' OFS=, "$WORK/sine.csv" > "$WORK/gap.csv"
+expect 0 "" -- "$VIADUCT" fatigue "$WORK/gap.csv" --channel s --channel e --detail 71 --out "$WORK/f7"
+within "$(cell "$WORK/f7/damage.csv" damage)" "$(awk -v d="$D" 'BEGIN{print d*(1-1e-6)}')" "$(awk -v d="$D" 'BEGIN{print d*(1+1e-6)}')" \
+  "a NaN run in another channel leaves the stress channel's damage whole"
+
 # Mistakes: a moment without W, an acceleration, an unknown category, two curves, no curve.
 expect 2 "is a moment [N m]: give --section-modulus-m3" -- "$VIADUCT" fatigue "$WORK/sine.csv" --channel m --detail 71 --out "$WORK/o"
 expect 2 "channel a_mps2 is in mps2: fatigue needs a stress" -- "$VIADUCT" fatigue "$WORK/sine.csv" --channel s --channel a --detail 71 --out "$WORK/o"

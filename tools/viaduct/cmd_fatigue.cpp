@@ -119,7 +119,7 @@ Command fatigue_command() {
       "S-N curve: EN 1993-1-9's of a detail category (slope 3 to 5e6 cycles, 5 to 1e8, none below)\n"
       "or one of your own. A channel in Pa or MPa is a stress; microstrain x E; N m / W. Ranges\n"
       "count as gamma_Ff x gamma_Mf x range. Writes OUT/cycles.csv (channel, range and mean bins\n"
-      "in MPa, count: the range-mean matrix, long format), OUT/damage.csv (channel, curve,\n"
+      "in MPa without the factors, count: the range-mean matrix, long format), OUT/damage.csv (channel, curve,\n"
       "factors, cycles, cycles above the cut-off, largest range, damage D, the equivalent range at\n"
       "2e6 cycles, the record's duration, years to D = 1 if the record's traffic repeated) and\n"
       "manifest.toml. Method and limits: docs/fatigue.md.\n\n"
@@ -131,9 +131,9 @@ Command fatigue_command() {
     const io::Record whole = read_record(o.scenario, o);
     const auto chans = selected(whole, k.channels);
     for (std::size_t ch : chans) to_pa(whole, ch, k);  // every channel's unit checked before counting
-    const io::Record in = usable(whole, chans, o);
     std::vector<std::vector<std::string>> cycle_rows, damage_rows;
-    for (std::size_t ch : chans) count_channel(in, ch, k, curve, cycle_rows, damage_rows, o.quiet);
+    // Each channel over its own valid span: a gap in one channel cuts no other (usable() warns).
+    for (std::size_t ch : chans) count_channel(usable(whole, {ch}, o), ch, k, curve, cycle_rows, damage_rows, o.quiet);
     make_out_dir(o.out);
     io::write_table_csv(o.out + "/cycles.csv", {"channel", "range_low_mpa", "range_high_mpa", "mean_low_mpa", "mean_high_mpa", "count"},
                         cycle_rows);
