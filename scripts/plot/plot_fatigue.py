@@ -1,0 +1,83 @@
+#!/usr/bin/python3
+"""Rainflow range histogram and damage from `viaduct fatigue`.
+
+Usage: scripts/plot/plot_fatigue.py DIR [--out FILE]
+
+Reads DIR/cycles.csv (the range-mean matrix, long format) and DIR/damage.csv; draws, per channel,
+the cycles per range bin (log scale: the few large ranges that do the damage stay visible) and
+each range bin's share of sum(n * range^3) (slope 3 without the cut-off: an illustration of where
+the damage sits; damage.csv's D is summed over the exact cycles against the real curve).
+Writes DIR/fatigue.png.
+"""
+import argparse
+import csv
+import math
+import os
+import sys
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+import plotlib  # noqa: E402
+
+
+def rows_of(path):
+    if not os.path.exists(path):
+        sys.exit(f"plot_fatigue.py: {path} not found (run viaduct fatigue first)")
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("dir")
+    ap.add_argument("--out")
+    a = ap.parse_args()
+    plotlib.check_outputs(a.dir, "plot_fatigue")
+    cycles = rows_of(os.path.join(a.dir, "cycles.csv"))
+    damage = rows_of(os.path.join(a.dir, "damage.csv"))
+    if not cycles or not damage:
+        sys.exit("plot_fatigue.py: no cycles to draw")
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
+    lines = []
+    for i, d in enumerate(damage):
+        ch = d["channel"]
+        per_bin = {}
+        for r in cycles:
+            if r["channel"] != ch:
+                continue
+            key = (float(r["range_low_mpa"]), float(r["range_high_mpa"]))
+            per_bin[key] = per_bin.get(key, 0.0) + float(r["count"])
+        if not per_bin:
+            continue
+        bins = sorted(per_bin)
+        width = bins[0][1] - bins[0][0]
+        mids = [0.5 * (lo + hi) for lo, hi in bins]
+        c = f"C{i % 10}"
+        ax[0].bar(mids, [per_bin[b] for b in bins], width=0.9 * width, color=c, alpha=0.7, label=ch)
+        ax[0].axvline(float(d["max_range_mpa"]), color=c, ls="--", lw=1)
+        # Each bin's share of Σ n·Δσ³ (slope 3 everywhere, no cut-off): a picture of where the
+        # damage sits; the curve's slope 5 and cut-off are in damage.csv's D.
+        w = [per_bin[b] * m ** 3 for b, m in zip(bins, mids)]
+        total = sum(w) or 1.0
+        ax[1].plot(mids, [100 * x / total for x in w], "o-", ms=3, color=c, label=ch)
+        dmg = plotlib.number(d["damage"])
+        years = plotlib.number(d["years_to_d1_at_record_rate"])
+        lines.append(f"{ch}: D = {dmg:.3g}" + (f", {years:.3g} years to D = 1 at this record's rate" if years is not None and math.isfinite(years) else ""))
+    ax[0].set_yscale("log")
+    ax[0].set_xlabel("stress range [MPa] (dashed: the largest, factored)")
+    ax[0].set_ylabel("cycles per bin")
+    ax[1].set_xlabel("stress range [MPa]")
+    ax[1].set_ylabel("share of Σ n·Δσ³ by range [%]")
+    for x in ax:
+        x.grid(True, alpha=0.3)
+        x.legend(fontsize=8)
+    title = plotlib.scenario_title(a.dir, "Fatigue") + f": rainflow cycles against {damage[0]['curve']}"
+    fig.suptitle(title + "\n" + "; ".join(lines), fontsize=10)
+    fig.tight_layout()
+    plotlib.save(fig, a.out or os.path.join(a.dir, "fatigue.png"), "plot_fatigue")
+
+
+if __name__ == "__main__":
+    main()
