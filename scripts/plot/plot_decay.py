@@ -9,7 +9,6 @@ frequency against amplitude, one colour per record, with each record's law as a 
 mean ± standard deviation over the records in the title. Writes DIR/decay.png.
 """
 import argparse
-import csv
 import os
 import sys
 
@@ -21,10 +20,7 @@ import plotlib  # noqa: E402
 
 
 def rows_of(path):
-    if not os.path.exists(path):
-        sys.exit(f"plot_decay.py: {path} not found (run viaduct decay first)")
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
+    return plotlib.rows(path, "plot_decay", "decay")
 
 
 def main():

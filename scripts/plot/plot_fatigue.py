@@ -10,7 +10,6 @@ the damage sits; damage.csv's D is summed over the exact cycles against the real
 Writes DIR/fatigue.png.
 """
 import argparse
-import csv
 import math
 import os
 import sys
@@ -23,10 +22,7 @@ import plotlib  # noqa: E402
 
 
 def rows_of(path):
-    if not os.path.exists(path):
-        sys.exit(f"plot_fatigue.py: {path} not found (run viaduct fatigue first)")
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
+    return plotlib.rows(path, "plot_fatigue", "fatigue")
 
 
 def main():

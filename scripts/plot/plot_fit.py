@@ -11,7 +11,6 @@ pre-stage then the fit; estimate and +-2 standard errors shaded, bounds dotted) 
 log scale.
 """
 import argparse
-import csv
 import math
 import os
 import sys
@@ -25,10 +24,7 @@ import numpy as np  # noqa: E402
 
 
 def rows_of(path):
-    if not os.path.exists(path):
-        sys.exit("plot_fit: %s not found (run viaduct fit first)" % path)
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
+    return plotlib.rows(path, "plot_fit", "fit")
 
 
 def plot_time(d, out):

@@ -10,7 +10,6 @@ uncertainty; peak: the noise band, noise_band × noise_rms), hollow when outside
 The title names the passage with the largest measured/predicted ratio of each panel.
 """
 import argparse
-import csv
 import os
 import sys
 
@@ -24,9 +23,7 @@ LABELS = {"acc": "deck acceleration", "disp": "deflection", "strain": "strain"}
 
 
 def rows(path):
-    plotlib.need(path, "plot_passages", "passages")
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
+    return plotlib.rows(path, "plot_passages", "passages")
 
 
 def main():

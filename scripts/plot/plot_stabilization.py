@@ -23,10 +23,7 @@ import plotlib  # noqa: E402
 
 
 def rows_of(path):
-    if not os.path.exists(path):
-        sys.exit(f"plot_stabilization.py: {path} not found (run viaduct modal-fit first)")
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
+    return plotlib.rows(path, "plot_stabilization", "modal-fit")
 
 
 def main():

@@ -4,6 +4,7 @@ of the scenario that produced a result, numbers that may be empty (not known), a
 Column names carry their unit as a suffix (DESIGN.md): `_mps2`, `_m`, `_N`, ... A plot shows
 deflections in mm, forces in kN, moments in kN·m, never "mps2".
 """
+import csv
 import os
 import sys
 
@@ -109,3 +110,11 @@ def need(path, tool, command):
     if not os.path.exists(path):
         sys.exit("%s: %s not found (run viaduct %s first)" % (tool, path, command))
     check_outputs(os.path.dirname(path) or ".", tool)  # the files of one finished run
+
+
+def rows(path, tool, command):
+    """The rows of a CSV that `viaduct COMMAND` wrote (dicts by column name); exits naming the
+    command to run when it is missing or when its directory is not one finished run."""
+    need(path, tool, command)
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))

@@ -116,7 +116,9 @@ TEST_CASE("rainflow: hysteresis drops the reversals of noise, bad samples and bi
   }
   double big = 0.0, small = 0.0;
   for (const auto& c : rainflow(x, RainflowMethod::three_point, 1.0)) (c.range > 9 ? big : small) += c.count;
-  CHECK(big == Approx(20.0).margin(0.51));  // 20 periods (the ends as half cycles)
+  // 20 periods: 19½ whole-range cycles plus the ends' halves, which the noise at the first and
+  // last sample may put just under or over 9 (so ±½ cycle), and at most the two end halves small.
+  CHECK(big == Approx(20.0).margin(0.51));
   CHECK(small <= 1.0);
   double noisy = 0.0;
   for (const auto& c : rainflow(x)) noisy += c.count;
