@@ -121,9 +121,17 @@ const SecondOrderSystem& system_of(const LoadCase& c, const char* who) {
 
 // One case of a kernel that delivers the full state (u, v, a) at every sample: the outputs
 // evaluated and recorded. kernel(sys, grid, observer) runs it and returns its Summary.
+// Sums of outputs (Recording::sums) are kept by the modal peaks kernel alone.
+void require_no_sums(const Recording& rec, const char* who) {
+  if (!rec.sums.empty())
+    throw InputError(std::string(who) +
+                     ": sums of outputs are tracked by the modal peaks kernel only (moving loads, no deflection history)");
+}
+
 template <class Kernel>
 CaseResult run_full_state(const LoadCase& c, double dt, const std::vector<Functional>& outputs, const Recording& rec,
                           const char* who, const std::string& cause, Kernel&& kernel) {
+  require_no_sums(rec, who);
   const SecondOrderSystem& sys = system_of(c, who);
   const TimeGrid g{dt, c.t_end};
   require_valid(g, who);
@@ -146,6 +154,7 @@ CaseResult run_full_state(const LoadCase& c, double dt, const std::vector<Functi
 
 // Velocity histories and strides are recorded by run() of the kernels that have the full state.
 void require_plain(const Recording& rec, const char* who) {
+  require_no_sums(rec, who);
   if (rec.vel_history || rec.stride != 1)
     throw InputError(std::string(who) + ": velocity histories and recording strides are recorded by newmark's and ida's run() only");
 }
@@ -264,9 +273,9 @@ class ModalIntegrator : public Integrator {
   }
 
   CaseResult run(const LoadCase& c, const Recording& rec) const override {
-    require_plain(rec, "modal superposition");
     reduction();
     if (peaks_only(c, rec)) return run_batch({c}, rec).front();
+    require_plain(rec, "modal superposition");
     const TimeGrid g{dt_, c.t_end};
     require_valid(g, "modal superposition");
     CaseResult r;
@@ -287,21 +296,23 @@ class ModalIntegrator : public Integrator {
   // Moving loads with peaks-only recording run the fused kernel, four speeds per SIMD pass; other
   // cases one run() each.
   std::vector<CaseResult> run_batch(const std::vector<LoadCase>& cases, const Recording& rec) const override {
-    require_plain(rec, "modal superposition");
     reduction();
     bool fused = !cases.empty();
     for (const LoadCase& c : cases) fused = fused && peaks_only(c, rec) && c.moving == cases.front().moving;
     if (!fused) return Integrator::run_batch(cases, rec);
+    if (rec.vel_history || rec.stride != 1) require_plain(rec, "modal superposition");
     std::vector<detail::PeaksCase> pc;
     for (const LoadCase& c : cases) pc.push_back({c.speed, c.t_end});
     std::vector<detail::PeaksCaseResult> pr =
-        detail::modal_peaks(*red_, *cases.front().moving, pc, dt_, n_out_, rec.acc_history, rec.max_history_bytes);
+        detail::modal_peaks(*red_, *cases.front().moving, pc, dt_, n_out_, rec.acc_history, rec.max_history_bytes, rec.sums);
     std::vector<CaseResult> out(pr.size());
     for (std::size_t i = 0; i < pr.size(); ++i) {
       out[i].max_abs_disp = std::move(pr[i].max_abs_disp);
       out[i].max_disp = std::move(pr[i].max_disp);
       out[i].min_disp = std::move(pr[i].min_disp);
       out[i].max_abs_acc = std::move(pr[i].max_abs_acc);
+      out[i].max_sum = std::move(pr[i].max_sum);
+      out[i].min_sum = std::move(pr[i].min_sum);
       out[i].acc = std::move(pr[i].acc);
       out[i].summary = std::move(pr[i].summary);
       if (cases[i].bound) check_maxima(*cases[i].bound, out[i].max_abs_disp, cause());

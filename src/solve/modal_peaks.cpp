@@ -41,6 +41,9 @@ struct KernelInput {
   bool flex;               // residual channels present (static correction)
   double* hist = nullptr;  // when set: acceleration of lane l, station j, step k at (l·no + j)·stride + k
   std::size_t stride = 0;
+  const OutputSum* sums = nullptr;  // n_sums sums of outputs (OutputSum); their load channels from extra0
+  std::size_t n_sums = 0, extra0 = 0, n_extra = 0;
+  const double* point = nullptr;    // MovingChannels::point (null without extra channels)
 };
 
 // Raw station accelerations of step k into the history of each lane still running.
@@ -58,6 +61,10 @@ struct LoadCursor {
   const double *breaks = nullptr, *coef = nullptr;
   std::size_t n_pieces = 0, nc = 0, nload = 0, nr = 0;  // pieces, channels, load channels, residuals used
   lanes *f = nullptr, *d1 = nullptr, *d2 = nullptr, *d3 = nullptr, *c = nullptr, *dc = nullptr;
+  // Extra channels' values at a break hit exactly (MovingChannels::point), valid for one step.
+  const double* point = nullptr;
+  std::size_t nx = 0;
+  lanes* pt = nullptr;
   std::size_t ip[W];
   double next[W], h[W], v2[W];
 
@@ -81,6 +88,8 @@ struct LoadCursor {
       c[j][l] = v2[l] * (2.0 * a2 + 6.0 * a3 * s);
       dc[j][l] = v2[l] * 6.0 * a3 * hh;
     }
+    if (point && x == breaks[i])
+      for (std::size_t e = 0; e < nx; ++e) pt[e][l] = point[i * nx + e];
   }
   // Every lane at the path's start, speeds v [m/s], step dt.
   VIADUCT_ALWAYS_INLINE void start(const double* v, double dt, double x_start) {
@@ -94,6 +103,7 @@ struct LoadCursor {
   // One step: three additions per channel (n_ch, n_res: the caller's sizes, constants in the
   // unrolled kernels), then the lanes whose head X crossed a breakpoint start their new piece.
   VIADUCT_ALWAYS_INLINE void advance(std::size_t n_ch, std::size_t n_res, const lanes& X) {
+    for (std::size_t e = 0; e < nx; ++e) pt[e] = lanes{0.0, 0.0, 0.0, 0.0};
     for (std::size_t k = 0; k < n_ch; ++k) {
       f[k] += d1[k];
       d1[k] += d2[k];
@@ -127,6 +137,52 @@ VIADUCT_ALWAYS_INLINE void emit_stations(std::size_t no, bool flex, const lanes*
   }
 }
 
+// The running state of the sums of outputs (OutputSum), W lanes each: signed extremes, and the
+// trapezoidal integral of the acc_integral output with its last acceleration.
+struct SumState {
+  std::vector<double> buf;
+  lanes *hi = nullptr, *lo = nullptr, *vi = nullptr, *al = nullptr;
+  lanes* pt = nullptr;  // the extra channels' point values of the current step (LoadCursor::pt)
+  SumState(std::size_t n, std::size_t n_extra) : buf((4 * n + n_extra + 1) * W, 0.0) {
+    lanes* at = align_lanes(buf.data());
+    hi = at, lo = hi + n, vi = lo + n, al = vi + n, pt = al + n;
+    const lanes zero = {0.0, 0.0, 0.0, 0.0}, inf = zero + std::numeric_limits<double>::infinity();
+    for (std::size_t s = 0; s < n; ++s) hi[s] = -inf, lo[s] = inf, vi[s] = al[s] = zero;
+  }
+};
+
+// Sums of step k from the outputs' coordinate shares dj, aj, their static-correction residuals
+// (f_res, c: when flex) and the extra load channels; lanes past their last step (live = 0) keep
+// their extremes. The integral starts at rest (step 0) and adds dt·(a₀ + a₁)/2 a step.
+VIADUCT_ALWAYS_INLINE void emit_sums(const OutputSum* sums, std::size_t n_sums, bool flex, const lanes* dj,
+                                     const lanes* aj, const lanes* f_res, const lanes* c, const lanes* f_extra,
+                                     double half_dt, Index k, const lanes& live, SumState& st) {
+  const lanes zero = {0.0, 0.0, 0.0, 0.0};
+  for (std::size_t s = 0; s < n_sums; ++s) {
+    const OutputSum& o = sums[s];
+    lanes y = zero;
+    if (o.disp >= 0) {
+      y += dj[o.disp];
+      if (flex) y += f_res[o.disp];
+    }
+    if (o.acc >= 0) {
+      y += aj[o.acc];
+      if (flex) y += c[o.acc];
+    }
+    if (o.acc_integral >= 0) {
+      lanes a = aj[o.acc_integral];
+      if (flex) a += c[o.acc_integral];
+      if (k > 0) st.vi[s] += half_dt * (st.al[s] + a);
+      st.al[s] = a;
+      y += st.vi[s];
+    }
+    if (o.load_channel >= 0) y += f_extra[o.load_channel] + st.pt[o.load_channel];
+    const auto on = live > zero;
+    st.hi[s] = (on & (y > st.hi[s])) ? y : st.hi[s];
+    st.lo[s] = (on & (y < st.lo[s])) ? y : st.lo[s];
+  }
+}
+
 // W cases in lock-step. Per lane, the channel values along the current piece are advanced by
 // forward differences (the load is a cubic in X and X advances by v·dt per step: three additions
 // per channel and step, exact up to rounding), re-initialised from the piece's coefficients
@@ -136,7 +192,7 @@ VIADUCT_ALWAYS_INLINE void emit_stations(std::size_t no, bool flex, const lanes*
 // (the modes' accelerations come from their equations), so only those carry it.
 template <std::size_t NM, std::size_t NC, std::size_t NO>
 VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, double* qd_out, double* ma_out, double* md_out,
-                                       double* mn_out) {
+                                       double* mn_out, SumState& sums) {
   constexpr bool fixed = NM && NC && NO;
   const std::size_t nm = NM ? NM : in.nm, nc = NC ? NC : in.nc, no = NO ? NO : in.no;
   const bool flex = NC ? (NC > NM) : in.flex;
@@ -172,9 +228,12 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
   cur.nload = nm;
   cur.nr = nr;
   cur.f = f, cur.d1 = d1, cur.d2 = d2, cur.d3 = d3, cur.c = c, cur.dc = dc;
+  if (in.point) cur.point = in.point, cur.nx = in.n_extra, cur.pt = sums.pt;
+  const double half_dt = 0.5 * in.dt;
   auto emit = [&](Index k) {
-    emit_stations(no, flex, dj, aj, f + nm, c, md, mn, ma, in.hist, in.stride, in.n_steps, k,
-                  static_cast<double>(k) <= n_steps ? one : zero);
+    const lanes live = static_cast<double>(k) <= n_steps ? one : zero;
+    emit_stations(no, flex, dj, aj, f + nm, c, md, mn, ma, in.hist, in.stride, in.n_steps, k, live);
+    if (!fixed && in.n_sums) emit_sums(in.sums, in.n_sums, flex, dj, aj, f + nm, c, f + in.extra0, half_dt, k, live, sums);
   };
   cur.start(in.v, in.dt, in.x_start);
   for (std::size_t j = 0; j < no; ++j) {  // from rest: q = 0, q̈ = p
@@ -215,37 +274,38 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
 // four-lane operation instead of two), chosen at run time by what the processor supports.
 #ifdef VIADUCT_HAVE_AVX2_VARIANT
 template <std::size_t NM, std::size_t NC, std::size_t NO>
-VIADUCT_TARGET_AVX2 void kernel_avx2(const KernelInput& in, double* q, double* qd, double* ma, double* md, double* mn) {
-  kernel_body<NM, NC, NO>(in, q, qd, ma, md, mn);
+VIADUCT_TARGET_AVX2 void kernel_avx2(const KernelInput& in, double* q, double* qd, double* ma, double* md, double* mn,
+                                     SumState& su) {
+  kernel_body<NM, NC, NO>(in, q, qd, ma, md, mn, su);
 }
 #endif
 
 template <std::size_t NM, std::size_t NC, std::size_t NO>
-void kernel(const KernelInput& in, double* q, double* qd, double* ma, double* md, double* mn) {
+void kernel(const KernelInput& in, double* q, double* qd, double* ma, double* md, double* mn, SumState& su) {
 #ifdef VIADUCT_HAVE_AVX2_VARIANT
-  if (cpu_has_avx2()) return kernel_avx2<NM, NC, NO>(in, q, qd, ma, md, mn);
+  if (cpu_has_avx2()) return kernel_avx2<NM, NC, NO>(in, q, qd, ma, md, mn, su);
 #endif
-  kernel_body<NM, NC, NO>(in, q, qd, ma, md, mn);
+  kernel_body<NM, NC, NO>(in, q, qd, ma, md, mn, su);
 }
 
 template <std::size_t NM, std::size_t NO>
-bool dispatch_fixed(const KernelInput& in, double* q, double* qd, double* ma, double* md, double* mn) {
-  if (in.nm != NM || in.no != NO) return false;
-  if (in.flex && in.nc == NM + NO) kernel<NM, NM + NO, NO>(in, q, qd, ma, md, mn);
-  else if (!in.flex && in.nc == NM) kernel<NM, NM, NO>(in, q, qd, ma, md, mn);
+bool dispatch_fixed(const KernelInput& in, double* q, double* qd, double* ma, double* md, double* mn, SumState& su) {
+  if (in.nm != NM || in.no != NO || in.n_sums) return false;
+  if (in.flex && in.nc == NM + NO) kernel<NM, NM + NO, NO>(in, q, qd, ma, md, mn, su);
+  else if (!in.flex && in.nc == NM) kernel<NM, NM, NO>(in, q, qd, ma, md, mn, su);
   else return false;
   return true;
 }
 
 template <std::size_t... I>
 bool dispatch_modes(std::index_sequence<I...>, const KernelInput& in, double* q, double* qd, double* ma, double* md,
-                    double* mn) {
-  return ((dispatch_fixed<I + 1, 1>(in, q, qd, ma, md, mn) || dispatch_fixed<I + 1, 2>(in, q, qd, ma, md, mn)) || ...);
+                    double* mn, SumState& su) {
+  return ((dispatch_fixed<I + 1, 1>(in, q, qd, ma, md, mn, su) || dispatch_fixed<I + 1, 2>(in, q, qd, ma, md, mn, su)) || ...);
 }
 
-// Bases of up to 6 modes with 1–2 stations get the unrolled loops; others the general one.
-void dispatch(const KernelInput& in, double* q, double* qd, double* ma, double* md, double* mn) {
-  if (!dispatch_modes(std::make_index_sequence<6>{}, in, q, qd, ma, md, mn)) kernel<0, 0, 0>(in, q, qd, ma, md, mn);
+// Bases of up to 6 modes with 1–2 stations (and no sums) get the unrolled loops; others the general one.
+void dispatch(const KernelInput& in, double* q, double* qd, double* ma, double* md, double* mn, SumState& su) {
+  if (!dispatch_modes(std::make_index_sequence<6>{}, in, q, qd, ma, md, mn, su)) kernel<0, 0, 0>(in, q, qd, ma, md, mn, su);
 }
 
 // Complex modes (damping that couples the modes): per coordinate k, y ← E y + α u₀ + β u₁ with
@@ -266,10 +326,13 @@ struct ComplexInput {
   Index n_max = 0;
   double* hist = nullptr;
   std::size_t stride = 0;
+  const OutputSum* sums = nullptr;  // as KernelInput's
+  std::size_t n_sums = 0, extra0 = 0, n_extra = 0;
+  const double* point = nullptr;
 };
 
 VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_out, double* ma_out, double* md_out,
-                                        double* mn_out) {
+                                        double* mn_out, SumState& sums) {
   const std::size_t nk = in.nk, nch = in.nch, nc = in.nc, no = in.no, nr = in.flex ? no : 0;
   const lanes zero = {0.0, 0.0, 0.0, 0.0}, one = zero + 1.0;
   std::vector<double> buf((2 * nk + nch + 4 * nc + 7 * no + 1) * W, 0.0);
@@ -289,9 +352,12 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
   cur.nload = nch;
   cur.nr = nr;
   cur.f = f, cur.d1 = d1, cur.d2 = d2, cur.d3 = d3, cur.c = c, cur.dc = dc;
+  if (in.point) cur.point = in.point, cur.nx = in.n_extra, cur.pt = sums.pt;
+  const double half_dt = 0.5 * in.dt;
   auto emit = [&](Index k) {
-    emit_stations(no, in.flex, dj, aj, f + nch, c, md, mn, ma, in.hist, in.stride, in.n_steps, k,
-                  static_cast<double>(k) <= n_steps ? one : zero);
+    const lanes live = static_cast<double>(k) <= n_steps ? one : zero;
+    emit_stations(no, in.flex, dj, aj, f + nch, c, md, mn, ma, in.hist, in.stride, in.n_steps, k, live);
+    if (in.n_sums) emit_sums(in.sums, in.n_sums, in.flex, dj, aj, f + nch, c, f + in.extra0, half_dt, k, live, sums);
   };
   // The coordinates' outputs for the current y and the load channels u = f.
   auto outputs = [&]() {
@@ -343,16 +409,17 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
 }
 
 #ifdef VIADUCT_HAVE_AVX2_VARIANT
-VIADUCT_TARGET_AVX2 void complex_avx2(const ComplexInput& in, double* st, double* ma, double* md, double* mn) {
-  complex_body(in, st, ma, md, mn);
+VIADUCT_TARGET_AVX2 void complex_avx2(const ComplexInput& in, double* st, double* ma, double* md, double* mn,
+                                      SumState& su) {
+  complex_body(in, st, ma, md, mn, su);
 }
 #endif
 
-void complex_kernel(const ComplexInput& in, double* st, double* ma, double* md, double* mn) {
+void complex_kernel(const ComplexInput& in, double* st, double* ma, double* md, double* mn, SumState& su) {
 #ifdef VIADUCT_HAVE_AVX2_VARIANT
-  if (cpu_has_avx2()) return complex_avx2(in, st, ma, md, mn);
+  if (cpu_has_avx2()) return complex_avx2(in, st, ma, md, mn, su);
 #endif
-  complex_body(in, st, ma, md, mn);
+  complex_body(in, st, ma, md, mn, su);
 }
 
 }  // namespace
@@ -469,34 +536,61 @@ PeaksCaseResult lane_result(std::size_t l, std::size_t no, const std::vector<dou
   return res;
 }
 
+// The sums' extremes of lane l; SolverError when one is not finite.
+void take_sums(const SumState& su, std::size_t n_sums, std::size_t l, double speed, PeaksCaseResult& res) {
+  if (!n_sums) return;
+  res.max_sum.resize(static_cast<Index>(n_sums));
+  res.min_sum.resize(static_cast<Index>(n_sums));
+  for (std::size_t s = 0; s < n_sums; ++s) {
+    const double hi = su.hi[s][l], lo = su.lo[s][l];
+    if (!std::isfinite(hi) || !std::isfinite(lo))
+      throw SolverError("modal superposition: a sum of outputs became non-finite (speed " + format_number(speed, 6) + " m/s)");
+    res.max_sum[static_cast<Index>(s)] = hi;
+    res.min_sum[static_cast<Index>(s)] = lo;
+  }
+}
+
 void check_peaks_input(const ModalReduction& r, const MovingChannels& L, const std::vector<PeaksCase>& cases, double dt,
-                       std::size_t n_outputs) {
+                       std::size_t n_outputs, const std::vector<OutputSum>& sums) {
   for (const PeaksCase& c : cases) {
     require_positive(c.speed, "speed [m/s]");
     require_valid(TimeGrid{dt, c.t_end}, "modal superposition");
   }
   if (L.n_modes != static_cast<std::size_t>(r.n_channels()) ||
       (L.n_outputs != 0 && L.n_outputs != static_cast<std::size_t>(r.n_outputs())) ||
-      L.n_channels != L.n_modes + L.n_outputs || L.breaks.size() < 2 ||
-      L.coef.size() != L.breaks.size() * 4 * L.n_channels)
+      L.n_channels != L.n_modes + L.n_outputs + L.n_extra || L.breaks.size() < 2 ||
+      L.coef.size() != L.breaks.size() * 4 * L.n_channels || (L.n_extra && L.point.size() != L.breaks.size() * L.n_extra))
     throw InputError("the folded loads do not belong to this modal model");
   if (n_outputs < 1 || n_outputs > static_cast<std::size_t>(r.n_outputs()))
     throw InputError("the modal model lacks the outputs asked for");
+  const auto n_out = static_cast<Index>(n_outputs);
+  auto out_ok = [&](Index j) { return j >= -1 && j < n_out; };
+  for (const OutputSum& o : sums)
+    if (!out_ok(o.disp) || !out_ok(o.acc) || !out_ok(o.acc_integral) || o.load_channel < -1 ||
+        o.load_channel >= static_cast<Index>(L.n_extra))
+      throw InputError("a sum of outputs names an output or load channel the modal model does not record");
 }
 
 }  // namespace
 
 std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingChannels& L,
                                          const std::vector<PeaksCase>& cases, double dt, std::size_t n_outputs,
-                                         bool record_acc, double max_history_bytes) {
+                                         bool record_acc, double max_history_bytes,
+                                         const std::vector<OutputSum>& sums) {
   if (cases.empty()) return {};
-  check_peaks_input(r, L, cases, dt, n_outputs);
+  check_peaks_input(r, L, cases, dt, n_outputs, sums);
   // The recorded outputs are the reduction's first n_outputs (rails above deck stations may follow).
   const std::size_t nm = L.n_modes, no = n_outputs;
   PeaksSetup k;
   k.complex = r.complex_modes();
   if (!k.complex) prepare_classical(r, L, dt, no, k);
   else prepare_complex(r, L, dt, no, k);
+  const std::size_t n_sums = sums.size(), extra0 = L.n_modes + L.n_outputs;
+  k.in.sums = k.ci.sums = sums.data();
+  k.in.n_sums = k.ci.n_sums = n_sums;
+  k.in.extra0 = k.ci.extra0 = extra0;
+  k.in.n_extra = k.ci.n_extra = L.n_extra;
+  k.in.point = k.ci.point = L.n_extra ? L.point.data() : nullptr;
   std::vector<double> hist;
   std::vector<PeaksCaseResult> out;
   std::vector<double> q(nm * W), qd(nm * W), ma(no * W), md(no * W), mn(no * W), state(W);
@@ -518,6 +612,7 @@ std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingCh
         throw InputError("the station histories of four speeds would not fit in memory: raise analysis.dt");
       hist.assign(W * no * stride, 0.0);
     }
+    SumState su(n_sums, L.n_extra);
     if (!k.complex) {
       KernelInput& in = k.in;
       std::copy(v, v + W, in.v);
@@ -525,7 +620,7 @@ std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingCh
       in.n_max = n_max;
       in.hist = record_acc ? hist.data() : nullptr;
       in.stride = stride;
-      dispatch(in, q.data(), qd.data(), ma.data(), md.data(), mn.data());
+      dispatch(in, q.data(), qd.data(), ma.data(), md.data(), mn.data(), su);
       for (std::size_t l = 0; l < W; ++l) {
         state[l] = 0.0;
         for (std::size_t i = 0; i < nm; ++i) state[l] += q[i * W + l] + qd[i * W + l];
@@ -537,12 +632,13 @@ std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingCh
       ci.n_max = n_max;
       ci.hist = record_acc ? hist.data() : nullptr;
       ci.stride = stride;
-      complex_kernel(ci, state.data(), ma.data(), md.data(), mn.data());
+      complex_kernel(ci, state.data(), ma.data(), md.data(), mn.data(), su);
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     for (std::size_t l = 0; l < n_lanes; ++l) {
       PeaksCaseResult res =
           lane_result(l, no, ma, md, mn, state[l], record_acc ? &hist : nullptr, stride, n_steps[l], v[l]);
+      take_sums(su, n_sums, l, v[l], res);
       Summary& s = res.summary;
       s.kernel = "modal-peaks";
       s.n_steps = n_steps[l];

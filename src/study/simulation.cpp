@@ -93,14 +93,16 @@ double bearing_load(const model::Structure& s, const LoadEffect& e, const load::
   if (!bf.rigid) return 0.0;
   double f = 0.0;
   for (std::size_t k = 0; k < train.n_axles(); ++k) {
-    const double x = x_head - train.offset[k];
+    const double o = train.offset[k];
     // An element holds [x0, x0 + h), the path's last one its end too: load::MovingLoads' rule,
     // so that an axle exactly on the joint of two spans loads the next span's start bearing and
     // one at the bridge's end (no track) its end bearing; over a continuous deck's support, once.
+    // Compared in head positions, o + x0 and o + x1, as fold_train's breaks are: the peaks kernel
+    // finds the same axles on the same elements.
     for (const auto& be : bf.elements) {
-      const double x0 = be.element.x0, x1 = x0 + be.element.h;
-      if (x < x0 || x > x1 || (x == x1 && x1 < s.path_end())) continue;
-      const double xi = (x - x0) / be.element.h;
+      const double x0 = be.element.x0, x1 = x0 + be.element.h, lo = o + x0, hi = o + x1;
+      if (x_head < lo || x_head > hi || (x_head == hi && x1 < s.path_end())) continue;
+      const double xi = (x_head - lo) / be.element.h;
       f += load_factor * train.load[k] * model::hermite_shape(xi, be.element.h)[static_cast<std::size_t>(be.fixed_local)];
     }
   }
@@ -720,12 +722,32 @@ solve::IntegrationSettings RunSettings::integration() const {
   return s;
 }
 
-bool effects_in_kernel(const PreparedModel& m) {
-  return std::all_of(m.effects.begin(), m.effects.end(), [&](const LoadEffect& e) {
-    const bool direct_load = e.bearing >= 0 && !m.structure.has_track && m.structure.bearings[static_cast<std::size_t>(e.bearing)].rigid;
-    return e.inertia.dof.empty() && e.damping.dof.empty() && !direct_load;
-  });
+namespace {
+
+// A rigid bearing's force without a track: axles on its own elements load its fixed DOF
+// directly (bearing_load), a part no functional of the response holds.
+bool has_direct_load(const model::Structure& s, const LoadEffect& e) {
+  return e.bearing >= 0 && !s.has_track && s.bearings[static_cast<std::size_t>(e.bearing)].rigid;
 }
+
+// A bearing force's direct load on the path's elements, as fold_train's per-element cubics in ξ
+// (channel `ch` of `nc` in `elem`): the Hermite shape of its fixed DOF on each of its elements.
+void add_direct_load_channel(const model::BearingForce& bf, const ModalPathTable& T, std::size_t nc, std::size_t ch,
+                             std::vector<double>& elem) {
+  for (const auto& be : bf.elements) {
+    std::size_t e = 0;
+    while (e < T.x0.size() && !(T.x0[e] == be.element.x0 && T.h[e] == be.element.h)) ++e;
+    if (e == T.x0.size()) throw std::logic_error("fold_train: a bearing's element is not on the load path");
+    // N1(ξ) = 1 − 3ξ² + 2ξ³ (w0, fixed_local 0) or N3(ξ) = 3ξ² − 2ξ³ (w1, fixed_local 2).
+    const double sign = be.fixed_local == 0 ? 1.0 : -1.0;
+    double* out = &elem[(e * nc + ch) * 4];
+    out[0] += be.fixed_local == 0 ? 1.0 : 0.0;
+    out[2] += -3.0 * sign;
+    out[3] += 2.0 * sign;
+  }
+}
+
+}  // namespace
 
 bool folds_trains(const PreparedModel& m, const RunSettings& s) {
   return s.method == Method::modal && s.superposition == Superposition::direct && s.vehicle.model == VehicleModel::forces &&
@@ -739,7 +761,10 @@ std::shared_ptr<const solve::MovingChannels> fold_train(const PreparedModel& m, 
   train.validate();
   const ModalPathTable& T = *m.modal_path;
   const solve::ModalReduction& r = *m.modal;
-  const std::size_t nm = T.m, no = T.flex ? T.n_out : 0, nc = nm + no, ne = T.x0.size();
+  std::vector<int> direct;  // the bearings whose direct load is an extra channel, in the effects' order
+  for (const LoadEffect& e : m.effects)
+    if (has_direct_load(m.structure, e)) direct.push_back(e.bearing);
+  const std::size_t nm = T.m, no = T.flex ? T.n_out : 0, nx = direct.size(), nc = nm + no + nx, ne = T.x0.size();
 
   // Per element and channel, the cubic in ξ: the load channels as tabulated, and the residual
   // flexibility of each output, g_j − Σᵢ Wⱼᵢ pᵢ (W p: the kept coordinates' static share, S Ω⁻² φ
@@ -760,10 +785,13 @@ std::shared_ptr<const solve::MovingChannels> fold_train(const PreparedModel& m, 
         out[4 * (nm + j) + p] = v;
       }
   }
+  for (std::size_t x = 0; x < nx; ++x)
+    add_direct_load_channel(m.structure.bearings[static_cast<std::size_t>(direct[x])], T, nc, nm + no + x, elem);
 
   auto t = std::make_shared<solve::MovingChannels>();
   t->n_modes = nm;
   t->n_outputs = no;
+  t->n_extra = nx;
   t->n_channels = nc;
   t->length = train.length();
   t->x_start = T.x_start;
@@ -788,6 +816,16 @@ std::shared_ptr<const solve::MovingChannels> fold_train(const PreparedModel& m, 
     throw InputError("train '" + train.name + "' folded over " + std::to_string(nc) +
                      " modal channels would not fit in memory: lower modal.max_frequency_hz or modal.n_modes");
   t->coef.assign((n_pieces + 1) * 4 * nc, 0.0);  // the last block (beyond the last break) stays zero
+  // An axle exactly at the path's end is still on its last element (bearing_load's rule): the
+  // extra channels' value there, g(ξ = 1), at that break only.
+  t->point.assign(nx ? (n_pieces + 1) * nx : 0, 0.0);
+  for (std::size_t k = 0; k < train.offset.size() && nx; ++k) {
+    const auto i = static_cast<std::size_t>(std::lower_bound(B.begin(), B.end(), elem_end(k, ne - 1)) - B.begin());
+    for (std::size_t x = 0; x < nx; ++x) {
+      const double* a = &elem[((ne - 1) * nc + nm + no + x) * 4];
+      t->point[i * nx + x] += train.load[k] * load_factor * (a[0] + a[1] + a[2] + a[3]);
+    }
+  }
   for (std::size_t k = 0; k < train.offset.size(); ++k) {
     const double o = train.offset[k], P = train.load[k] * load_factor;
     for (std::size_t e = 0; e < ne; ++e) {
@@ -828,17 +866,27 @@ std::vector<CasePeaks> simulate_peaks(const PreparedModel& m, const load::Train&
     throw InputError("the folded train belongs to another model");
   require_non_negative(settings.free_vibration_s, "free_vibration_s [s]");
   require_positive(settings.dt, "analysis.dt [s]");
-  // Only the stations' peaks (and the load effects' signed extremes): no history but the
-  // accelerations the filter takes.
-  std::vector<solve::Functional> outputs = station_functionals(m.stations, false);
-  const std::size_t n_st = outputs.size();
-  if (!m.effects.empty() && !effects_in_kernel(m))
-    throw InputError("the peaks kernel cannot take bearing forces with inertia or damping parts: run the cases with histories");
-  std::vector<std::string> names = station_output_names(m.stations, false);
-  for (const auto& e : m.effects) {  // the model's outputs in this order (make_modal)
-    outputs.push_back(e.functional);
-    names.push_back(e.name);
+  // Only the stations' peaks and the load effects' signed extremes: no history but the
+  // accelerations the filter takes. The outputs as the model holds them (make_modal): stations,
+  // then each effect's functional with its inertia and damping parts; a bearing force with such
+  // parts or a direct load is a sum of them, tracked by the kernel.
+  const OutputMap map = output_map(m.stations, false, m.effects);
+  const std::vector<solve::Functional>& outputs = map.outputs;
+  const std::vector<std::string>& names = map.names;
+  const std::size_t n_st = m.stations.size();
+  if (outputs.size() != static_cast<std::size_t>(m.modal->n_outputs()))
+    throw InputError("the peaks kernel needs a modal model prepared without rail outputs");
+  solve::Recording rec;
+  std::vector<Index> sum_of(m.effects.size(), -1);
+  Index n_direct = 0;
+  for (std::size_t e = 0; e < m.effects.size(); ++e) {
+    const OutputMap::Effect& col = map.effects[e];
+    const bool direct = has_direct_load(m.structure, m.effects[e]);
+    if (col.inertia < 0 && col.damping < 0 && !direct) continue;
+    sum_of[e] = static_cast<Index>(rec.sums.size());
+    rec.sums.push_back({col.value, col.inertia, col.damping, direct ? n_direct++ : -1});
   }
+  if (static_cast<std::size_t>(n_direct) != folded->n_extra) throw InputError("the folded train belongs to another model");
   const auto integrator = solve::make_integrator(settings.integration(), outputs, m.modal);
   const solve::DivergenceBound bound =
       divergence_bound(influence_maxima(m.structure, outputs, m.statics.get()), names, train, settings.load_factor);
@@ -853,7 +901,6 @@ std::vector<CasePeaks> simulate_peaks(const PreparedModel& m, const load::Train&
     c.bound = &bound;
     cases.push_back(c);
   }
-  solve::Recording rec;
   rec.disp_history = false;
   rec.acc_history = settings.filter.enabled;
   rec.max_history_bytes = kMaxHistoryBytes;
@@ -875,8 +922,8 @@ std::vector<CasePeaks> simulate_peaks(const PreparedModel& m, const load::Train&
       for (std::size_t j = 0; j < n_st; ++j)
         if (m.stations[j].has_deck) p.quantities.push_back({r.max_disp[static_cast<Index>(j)], r.min_disp[static_cast<Index>(j)]});
       for (std::size_t e = 0; e < m.effects.size(); ++e) {
-        const auto k = static_cast<Index>(n_st + e);
-        p.quantities.push_back({r.max_disp[k], r.min_disp[k]});
+        const Index k = map.effects[e].value, su = sum_of[e];
+        p.quantities.push_back(su >= 0 ? EffectPeak{r.max_sum[su], r.min_sum[su]} : EffectPeak{r.max_disp[k], r.min_disp[k]});
       }
     }
     p.n_steps = r.summary.n_steps;

@@ -109,9 +109,7 @@ class Sweep {
     std::vector<std::pair<std::size_t, std::size_t>> to_fold;
     for (std::size_t v = 0; v < variants_.size(); ++v) {
       folded_[v].resize(variants_[v].scenario.trains.size());
-      // With load effects, only when the kernel can keep them all.
-      if (!options_.runner && prepared_[v].model && folds_trains(*prepared_[v].model, variants_[v].scenario.settings) &&
-          (!options_.load_effects || effects_in_kernel(*prepared_[v].model)))
+      if (!options_.runner && prepared_[v].model && folds_trains(*prepared_[v].model, variants_[v].scenario.settings))
         for (std::size_t t = 0; t < folded_[v].size(); ++t)
           if (train_in_range(v, t)) to_fold.emplace_back(v, t);
     }

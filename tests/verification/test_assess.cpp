@@ -209,17 +209,42 @@ TEST_CASE("a sweep with load effects keeps each case's extremes and quasi-static
   CHECK_THROWS_AS(study::run_sweep({v}, so), InputError);
 }
 
-TEST_CASE("the modal peaks kernel keeps the signed extremes of load effects as the histories give them") {
-  // Two spans on elastic bearings without dashpots (every effect a functional of the deflections:
-  // effects_in_kernel), modal method: the sweep runs the kernel; a custom runner opts out of it
-  // and takes each case's extremes from simulate()'s histories. Speeds not commensurate with
-  // the elements (an axle leaving the path exactly on a sample is a load jump that the two
-  // round to either side).
+namespace {
+
+// A load-effect sweep of `sc` (modal method) through the peaks kernel against the same sweep
+// with a custom runner, which opts out of the kernel and takes each case's extremes from
+// simulate()'s histories: the same model, step and load sampling, so rounding only (summation
+// order), 1e-9 of the quantity's largest value. Returns the number of quantities compared.
+std::size_t kernel_against_histories(const study::Scenario& sc) {
+  const study::Variant v{"reference", sc};
+  study::SweepOptions fast, slow;
+  fast.load_effects = slow.load_effects = true;
+  slow.runner = [](const study::PreparedModel& m, const load::Train& t, double speed, const study::RunSettings& rs) {
+    return study::simulate(m, t, speed, rs);
+  };
+  const study::SweepResult a = study::run_sweep({v}, fast), b = study::run_sweep({v}, slow);
+  REQUIRE(a.failures.empty());
+  REQUIRE(b.failures.empty());
+  REQUIRE(a.quantities.size() == b.quantities.size());
+  for (std::size_t i = 0; i < a.quantities.size(); ++i) {
+    const auto &x = a.quantities[i], &y = b.quantities[i];
+    INFO(x.quantity << " at " << x.speed);
+    REQUIRE(x.quantity == y.quantity);
+    const double scale = y.dynamic.max_abs();
+    CHECK(x.dynamic.max == Approx(y.dynamic.max).margin(1e-9 * scale));
+    CHECK(x.dynamic.min == Approx(y.dynamic.min).margin(1e-9 * scale));
+  }
+  for (std::size_t i = 0; i < a.rows.size(); ++i) CHECK(a.rows[i].max_abs_acc == Approx(b.rows[i].max_abs_acc).epsilon(1e-8));
+  return a.quantities.size();
+}
+
+// Two 12 m spans, HSLM-A2 at speeds not commensurate with the elements (an axle leaving the path
+// exactly on a sample is a load jump that the two paths round to either side), modal method to
+// 60 Hz, filtered accelerations, a strain station.
+study::Scenario two_spans() {
   study::Scenario sc;
   sc.bridge = vt::span(12.0, 6e9, 9000.0, 0.5);
   sc.bridge.spans.push_back(sc.bridge.spans.front());
-  sc.bridge.bearings.rigid = false;
-  sc.bridge.bearings.k = 2e9;
   sc.bridge.damping.ratio = 0.02;
   sc.trains = {load::hslm_a("HSLM-A2", load::hslm_a_row(2))};
   sc.stations = {{"S1", true, 0, 6.0, 0.0, 0.4}, {"S2", true, 1, 6.0, 0.0}};
@@ -229,25 +254,48 @@ TEST_CASE("the modal peaks kernel keeps the signed extremes of load effects as t
   sc.settings.filter.cheby.band = signal::BandType::lowpass;
   sc.settings.filter.cheby.high_hz = 30.0;
   sc.sweep_speeds = {61.3, 67.7, 73.1, 80.9, 88.3};
-  const study::Variant v{"reference", sc};
-  REQUIRE(study::effects_in_kernel(study::prepare_model(sc, false, true)));
-  study::SweepOptions fast, slow;
-  fast.load_effects = slow.load_effects = true;
-  slow.runner = [](const study::PreparedModel& m, const load::Train& t, double speed, const study::RunSettings& rs) {
-    return study::simulate(m, t, speed, rs);
-  };
-  const study::SweepResult a = study::run_sweep({v}, fast), b = study::run_sweep({v}, slow);
-  REQUIRE(a.quantities.size() == b.quantities.size());
-  REQUIRE(a.quantities.size() == 5 * 15);  // per speed: 2 deflections, 2 moments, 1 strain, 2 shears, 4 rotations, 4 bearings
-  for (std::size_t i = 0; i < a.quantities.size(); ++i) {
-    const auto &x = a.quantities[i], &y = b.quantities[i];
-    INFO(x.quantity << " at " << x.speed);
-    const double scale = y.dynamic.max_abs();
-    // The same model, step and load sampling: rounding only (summation order).
-    CHECK(x.dynamic.max == Approx(y.dynamic.max).margin(1e-9 * scale));
-    CHECK(x.dynamic.min == Approx(y.dynamic.min).margin(1e-9 * scale));
+  return sc;
+}
+
+}  // namespace
+
+TEST_CASE("the modal peaks kernel keeps the signed extremes of load effects as the histories give them") {
+  // Per speed: 2 deflections, 2 moments, 1 strain, 2 shears, 4 rotations, 4 bearings.
+  constexpr std::size_t per_speed = 15;
+  SECTION("elastic bearings without dashpots: every effect a functional of the deflections") {
+    study::Scenario sc = two_spans();
+    sc.bridge.bearings.rigid = false;
+    sc.bridge.bearings.k = 2e9;
+    CHECK(kernel_against_histories(sc) == 5 * per_speed);
   }
-  for (std::size_t i = 0; i < a.rows.size(); ++i) CHECK(a.rows[i].max_abs_acc == Approx(b.rows[i].max_abs_acc).epsilon(1e-8));
+  SECTION("rigid bearings: each force a sum of its stiffness, inertia and damping parts and the axles on its elements") {
+    study::Scenario sc = two_spans();
+    CHECK(kernel_against_histories(sc) == 5 * per_speed);
+  }
+  SECTION("rigid bearings without the static correction and with Rayleigh damping") {
+    study::Scenario sc = two_spans();
+    sc.settings.modal.static_correction = false;
+    sc.bridge.damping.kind = model::DampingKind::rayleigh;
+    sc.bridge.damping.f1_hz = 5.0;
+    sc.bridge.damping.ratio1 = 0.02;
+    sc.bridge.damping.f2_hz = 40.0;
+    sc.bridge.damping.ratio2 = 0.03;
+    CHECK(kernel_against_histories(sc) == 5 * per_speed);
+  }
+  SECTION("elastic bearings with dashpots: damping that couples the modes (complex modes)") {
+    study::Scenario sc = two_spans();
+    sc.bridge.bearings.rigid = false;
+    sc.bridge.bearings.k = 2e9;
+    sc.bridge.bearings.c = 2e6;
+    REQUIRE(study::prepare_model(sc, false, true).modal->complex_modes());
+    CHECK(kernel_against_histories(sc) == 5 * per_speed);
+  }
+  SECTION("a continuous deck on rigid supports") {
+    study::Scenario sc = two_spans();
+    sc.bridge.continuous = true;
+    // Per speed: 2 deflections, 2 moments, 1 strain, 2 shears, 3 support rotations, 3 supports.
+    CHECK(kernel_against_histories(sc) == 5 * 13);
+  }
 }
 
 // EN 1990 A2.4.4.2.1(4): f3 is the third mode of the member. A 25 m span on elastic bearings with

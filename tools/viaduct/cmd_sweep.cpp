@@ -21,7 +21,7 @@ struct SweepOpts {
 void declare_sweep(po::options_description& d, SweepOpts& s) {
   d.add_options()("load-effects", po::bool_switch(&s.load_effects),
                   "also the extremes of every deck deflection and load effect with phi'dyn (load_effects.csv); "
-                  "modal sweeps keep the peaks kernel when every effect is a functional of the deflections")(
+                  "modal sweeps keep them in the peaks kernel")(
       "shard", value(s.sample.shard),
       "run the K-th of N parts (K/N) of the cases (of the samples of a sampled study) into --out; viaduct merge "
       "joins the parts")(

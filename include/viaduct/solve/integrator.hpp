@@ -48,7 +48,14 @@ struct MovingChannels {
   std::vector<double> coef;
   std::size_t n_modes = 0;    ///< load channels (ModalReduction::n_channels())
   std::size_t n_outputs = 0;  ///< static-correction residual channels (0 without the correction)
-  std::size_t n_channels = 0; ///< n_modes + n_outputs
+  /// Further channels after the residuals, read by OutputSum::load_channel (a rigid bearing's
+  /// direct share of the axle loads on its own elements).
+  std::size_t n_extra = 0;
+  std::size_t n_channels = 0; ///< n_modes + n_outputs + n_extra
+  /// With extra channels: per break (breaks.size() × n_extra) what they add when the head is
+  /// exactly at that break and nowhere else: a load that the piece before ends with (an axle at
+  /// the path's very end, which its last element holds: load::MovingLoads' rule).
+  std::vector<double> point;
   double length = 0.0;        ///< [m] extent of the load itself (a train's first to last axle)
   double x_start = 0.0, x_end = 0.0;  ///< [m] the path: loads enter at x_start, leave past x_end
   /// [s] time from entry until the load has left the path at speed v [m/s].
@@ -71,6 +78,18 @@ struct LoadCase {
   const ProgressSink* progress = nullptr;
 };
 
+/// An output made of recorded ones, of which only the signed extremes are kept: a rigid bearing's
+/// force is its stiffness part (an output's deflection) + its inertia part (an output's
+/// acceleration) + its damping part (an output's acceleration integrated from rest by the
+/// trapezoidal rule, as the history path integrates it) + the axle loads on its own elements (a
+/// load channel of the moving loads). -1: no such part.
+struct OutputSum {
+  Index disp = -1;          ///< output whose deflection is added
+  Index acc = -1;           ///< output whose acceleration is added
+  Index acc_integral = -1;  ///< output whose acceleration's time integral is added
+  Index load_channel = -1;  ///< MovingChannels extra channel (0-based among the n_extra) added
+};
+
 /// What to keep of each case.
 struct Recording {
   bool disp_history = true;  ///< every output's deflection at every sample
@@ -83,6 +102,9 @@ struct Recording {
   Index stride = 1;
   /// Largest histories one case may hold [bytes]; InputError beyond.
   double max_history_bytes = 2.0 * (1 << 30);
+  /// Sums whose signed extremes are tracked (CaseResult::max_sum, min_sum): the modal peaks
+  /// kernel only (moving loads, no deflection history); InputError elsewhere.
+  std::vector<OutputSum> sums;
 };
 
 /// The result of one case.
@@ -94,6 +116,9 @@ struct CaseResult {
   /// Signed extremes of the deflection per output (always; max >= 0 >= min: every case starts at rest).
   Vector max_disp, min_disp;
   Vector max_abs_acc;   ///< running maximum of |acceleration| per output, unfiltered (always)
+  /// Signed extremes of each Recording::sums entry over every sample (its value at rest need not
+  /// be 0: a load on a bearing's element), when sums were asked for.
+  Vector max_sum, min_sum;
   Summary summary;
 };
 

@@ -245,11 +245,6 @@ std::vector<EffectPeak> quantity_peaks(const PreparedModel& m, const RunResult& 
 /// modal method (the model prepared for it) and direct superposition.
 bool folds_trains(const PreparedModel& m, const RunSettings& s);
 
-/// True when the peaks kernel can keep the signed extremes of every load effect of `m`: each is a
-/// functional of the deflections alone (moments, strains, rotations, elastic bearings without
-/// dashpots), none with inertia, damping or axle loads of its own (rigid bearings, dashpots).
-bool effects_in_kernel(const PreparedModel& m);
-
 /// `train` (loads × load_factor, > 0) folded over the unit-axle table of `m` (prepared for the
 /// modal method): its modal loads as one piecewise cubic of the head position, exact and
 /// speed-independent, built once per (model, train). InputError for an invalid train or a model
@@ -275,7 +270,7 @@ VehiclePeaks vehicle_peaks(const RunResult& r);
 /// Peaks of one case, as peaks(simulate(...)) gives them.
 struct CasePeaks {
   std::vector<StationPeaks> peaks;  ///< per station
-  /// quantity_peaks() when the model was prepared with load effects (never from the peaks kernel)
+  /// quantity_peaks() when the model was prepared with load effects
   std::vector<EffectPeak> quantities;
   Index n_steps = 0;
   double wall_s = 0.0;  ///< [s]
@@ -283,7 +278,8 @@ struct CasePeaks {
 };
 
 /// The peaks of `train` at each of `speeds` [m/s], in order, the cheapest way the settings allow
-/// (with CasePeaks::quantities when `m` has load effects; the kernel then needs effects_in_kernel()):
+/// (with CasePeaks::quantities when `m` has load effects; the kernel keeps a bearing force's
+/// inertia, damping and direct-load parts as sums of outputs, solve::OutputSum):
 /// with a folded train (`folded` from fold_train, folds_trains(m, settings)) the modal peaks kernel
 /// (no history but the accelerations a filter needs, four speeds per SIMD pass); otherwise
 /// simulate_batch(). Same values as peaks(simulate()) up to rounding.

@@ -95,8 +95,8 @@ struct SweepOptions {
   CaseRunner runner;         ///< optional; default simulate()
   /// Also keep the signed extremes of every deck deflection and load effect (load_effects()) and
   /// their quasi-static extremes (SweepResult::quantities), with direct superposition. Modal
-  /// variants keep the peaks kernel when it can take every effect (effects_in_kernel()); other
-  /// cases run with histories (simulate(), batched Newmark).
+  /// variants keep them in the peaks kernel (a bearing force's inertia, damping and direct-load
+  /// parts as solve::OutputSum); other cases run with histories (simulate(), batched Newmark).
   bool load_effects = false;
   /// Only the cases [case_begin, case_end) of the sweep's order — variant, train, speed, as
   /// count_cases() counts them — run and are reported (a shard of a sweep). A variant or train
