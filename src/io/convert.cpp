@@ -1,6 +1,7 @@
 // FlatScenario -> study::Scenario, sweep variants, train files.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -157,8 +158,29 @@ std::vector<double> speeds_of(const FlatScenario& f) {
   return v;
 }
 
+// A deck station `s` repeated along its span of length L about `every` apart: round(L/every)
+// equal parts (at least 1, at most 1000), named <name>_<x>m.
+std::vector<study::StationSpec> stations_along(const Value& every, const study::StationSpec& s, double L) {
+  const double n_real = std::round(L / every.x);
+  if (!(n_real <= 1000.0))
+    bad(every, "would place " + conv_num(n_real + 1) + " stations along the " + conv_num(L) + " m span (at most 1001): raise it");
+  const int n = std::max(1, static_cast<int>(n_real));
+  std::vector<study::StationSpec> out;
+  for (int k = 0; k <= n; ++k) {
+    study::StationSpec a = s;
+    a.x_local = k == n ? L : L * k / n;
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "_%.2fm", a.x_local);
+    a.name = s.name + buf;
+    out.push_back(std::move(a));
+  }
+  return out;
+}
+
 // The [[stations]] entries, each checked at its keys.
-std::vector<study::StationSpec> stations_of(const FlatScenario& f, const model::BridgeParams& bridge, bool has_track) {
+// Stations along a span (every_m) go to `along` (load effects only).
+std::vector<study::StationSpec> stations_of(const FlatScenario& f, const model::BridgeParams& bridge, bool has_track,
+                                            std::vector<study::StationSpec>& along_out) {
   std::vector<study::StationSpec> out;
   std::set<std::string> names;
   for (std::size_t i : item_indices(f, "stations")) {
@@ -176,9 +198,11 @@ std::vector<study::StationSpec> stations_of(const FlatScenario& f, const model::
       s.on_deck = true;
       s.span = static_cast<std::size_t>(span.x) - 1;
       const double L = bridge.spans[s.span].length;
-      const bool at = f.has(pre + "at"), x = f.has(pre + "x");
-      if (at == x) bad(span, "a deck station needs exactly one of 'at' (fraction) or 'x' (metres)");
-      if (at) s.x_local = f.at(pre + "at").x * L;
+      const bool at = f.has(pre + "at"), x = f.has(pre + "x"), along = f.has(pre + "every_m");
+      if (int(at) + int(x) + int(along) != 1)
+        bad(span, "a deck station needs exactly one of 'at' (fraction), 'x' (metres) or 'every_m' (stations along the span)");
+      if (along) s.x_local = 0.0;
+      else if (at) s.x_local = f.at(pre + "at").x * L;
       else {
         s.x_local = f.at(pre + "x").x;
         if (s.x_local > L) bad(f.at(pre + "x"), "must be <= the span length " + conv_num(L) + " m");
@@ -190,10 +214,18 @@ std::vector<study::StationSpec> stations_of(const FlatScenario& f, const model::
           bad(y, "the fibre's distance from the neutral axis must be non-zero and within 10 m of it (a deck is not deeper), got " + conv_num(y.x));
         s.fibre_m = y.x;
       }
+      if (along) {  // the stations along the span, each checked for a unique name
+        for (study::StationSpec& a : stations_along(f.at(pre + "every_m"), s, L)) {
+          if (!names.insert(a.name).second) bad(name, "station '" + a.name + "' (along the span) repeats a station name");
+          along_out.push_back(std::move(a));
+        }
+        continue;
+      }
     } else if (f.has(pre + "track_x")) {
       s.on_deck = false;
       s.x_track = f.at(pre + "track_x").x;
       if (!has_track) bad(f.at(pre + "track_x"), "a rail station needs a track section in the scenario");
+      if (f.has(pre + "every_m")) bad(f.at(pre + "every_m"), "stations along a span need 'span', not 'track_x'");
       if (f.has(pre + "fibre_m")) bad(f.at(pre + "fibre_m"), "strain is a deck output: fibre_m needs a deck station (span)");
     } else {
       bad(name, "station needs 'span' (with 'at' or 'x') or 'track_x'");
@@ -380,7 +412,10 @@ study::Scenario to_scenario(const FlatScenario& f) {
     if (!spec.is_valid(1.0 / st.dt, &why)) throw InputError(f.at("train.comfort_lowpass_hz").where, why);
   }
 
-  sc.stations = stations_of(f, sc.bridge, has_track);
+  sc.stations = stations_of(f, sc.bridge, has_track, sc.effect_stations);
+  if (sc.stations.empty() && !sc.effect_stations.empty())
+    bad(f.at("stations[0].every_m"), "stations along a span give load effects only: add a station with 'at', 'x' or "
+                                     "'track_x' (the accelerations and deflections of a sweep are taken there)");
   if (sc.stations.empty()) throw InputError(SourceLocation{f.path, 0, "stations"}, "at least one [[stations]] entry is required");
 
   sc.sweep_speeds = speeds_of(f);

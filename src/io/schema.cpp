@@ -250,6 +250,7 @@ std::vector<KeySpec> station_keys() {  // stations
       {"stations[].span", T::integer, "", "-", ">= 1", "Span number (1-based) of a deck station; give at or x with it."},
       {"stations[].at", T::number, "", "-", "[0, 1]", "Deck station position as a fraction of the span length."},
       {"stations[].x", T::number, "", "m", ">= 0", "Deck station position from the span's left end (instead of at)."},
+      {"stations[].every_m", T::number, "", "m", "> 0", "Deck stations along the whole span instead of at or x: the span cut into round(L/every_m) equal parts (at most 1000), a station at each end of each part, named <name>_<x>m with x from the span's start in metres to two decimals: stations of load effects only (deflection, moment, strain, shear with sweep --load-effects and assess; plot_load_effects.py), no acceleration."},
       {"stations[].track_x", T::number, "", "m", "", "Rail station at this global x (x = 0 at the bridge start), instead of span."},
       {"stations[].fibre_m", T::number, "", "m", "", "Deck stations: a strain gauge's distance from the neutral axis, positive below it (tension under a sagging moment), |y| <= 10 m: run writes <name>_strain_ue = 1e6 M y / EI."},
   };

@@ -304,7 +304,8 @@ class ModalIntegrator : public Integrator {
     std::vector<detail::PeaksCase> pc;
     for (const LoadCase& c : cases) pc.push_back({c.speed, c.t_end});
     std::vector<detail::PeaksCaseResult> pr =
-        detail::modal_peaks(*red_, *cases.front().moving, pc, dt_, n_out_, rec.acc_history, rec.max_history_bytes, rec.sums);
+        detail::modal_peaks(*red_, *cases.front().moving, pc, dt_, n_out_, rec.acc_history, rec.max_history_bytes, rec.sums,
+                            rec.acc_outputs);
     std::vector<CaseResult> out(pr.size());
     for (std::size_t i = 0; i < pr.size(); ++i) {
       out[i].max_abs_disp = std::move(pr[i].max_abs_disp);

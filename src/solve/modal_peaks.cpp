@@ -39,8 +39,10 @@ struct KernelInput {
   Index n_max;        // largest of n_steps
   std::size_t nm, nc, no;  // modes, channels (modes, then residuals), stations
   bool flex;               // residual channels present (static correction)
-  double* hist = nullptr;  // when set: acceleration of lane l, station j, step k at (l·no + j)·stride + k
-  std::size_t stride = 0;
+  double* hist = nullptr;  // when set: acceleration of lane l, output j < nh, step k at (l·nh + j)·stride + k
+  std::size_t stride = 0, nh = 0;
+  const std::size_t* acc_idx = nullptr;  // the outputs whose acceleration is computed (null: all)
+  std::size_t n_acc = 0;
   const OutputSum* sums = nullptr;  // n_sums sums of outputs (OutputSum); their load channels from extra0
   std::size_t n_sums = 0, extra0 = 0, n_extra = 0;
   const double* point = nullptr;    // MovingChannels::point (null without extra channels)
@@ -121,18 +123,26 @@ struct LoadCursor {
 // hogging moment) and of |acceleration| ma (a lane past its own last step, live = 0, keeps them).
 VIADUCT_ALWAYS_INLINE void emit_stations(std::size_t no, bool flex, const lanes* dj, const lanes* aj,
                                          const lanes* f_res, const lanes* c, lanes* md, lanes* mn, lanes* ma,
-                                         double* hist, std::size_t stride, const Index* n_steps, Index k,
-                                         const lanes& live) {
+                                         double* hist, std::size_t stride, std::size_t nh, const Index* n_steps, Index k,
+                                         const lanes& live, const std::size_t* acc_idx = nullptr, std::size_t n_acc = 0) {
+  // No lambdas here: they would be functions of their own, built without the caller's AVX2.
   const lanes zero = {0.0, 0.0, 0.0, 0.0};
   for (std::size_t j = 0; j < no; ++j) {
-    lanes dv = dj[j], av = aj[j];
-    if (flex) dv += f_res[j], av += c[j];
-    if (hist) store_history(hist, stride, no, j, n_steps, k, av);
+    lanes dv = dj[j];
+    if (flex) dv += f_res[j];
     dv = live * dv;
     const lanes nv = -dv;
-    av = live * (av < zero ? -av : av);
     md[j] = dv > md[j] ? dv : md[j];
     mn[j] = nv > mn[j] ? nv : mn[j];
+  }
+  // The accelerations: of every output, or of those in acc_idx.
+  const std::size_t n = acc_idx ? n_acc : no;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t j = acc_idx ? acc_idx[i] : i;
+    lanes av = aj[j];
+    if (flex) av += c[j];
+    if (hist && j < nh) store_history(hist, stride, nh, j, n_steps, k, av);
+    av = live * (av < zero ? -av : av);
     ma[j] = av > ma[j] ? av : ma[j];
   }
 }
@@ -232,7 +242,8 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
   const double half_dt = 0.5 * in.dt;
   auto emit = [&](Index k) {
     const lanes live = static_cast<double>(k) <= n_steps ? one : zero;
-    emit_stations(no, flex, dj, aj, f + nm, c, md, mn, ma, in.hist, in.stride, in.n_steps, k, live);
+    emit_stations(no, flex, dj, aj, f + nm, c, md, mn, ma, in.hist, in.stride, in.nh, in.n_steps, k, live,
+                  fixed ? nullptr : in.acc_idx, in.n_acc);
     if (!fixed && in.n_sums) emit_sums(in.sums, in.n_sums, flex, dj, aj, f + nm, c, f + in.extra0, half_dt, k, live, sums);
   };
   cur.start(in.v, in.dt, in.x_start);
@@ -255,10 +266,18 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
       const lanes a1 = p1 - in.two_zw[i] * v1 - in.w2[i] * q1;
       q[i] = q1;
       qd[i] = v1;
-      for (std::size_t j = 0; j < no; ++j) {
-        const double sji = in.S[j * nm + i];
-        dj[j] += sji * q1;
-        aj[j] += sji * a1;
+      if (fixed || !in.acc_idx) {
+        for (std::size_t j = 0; j < no; ++j) {
+          const double sji = in.S[j * nm + i];
+          dj[j] += sji * q1;
+          aj[j] += sji * a1;
+        }
+      } else {  // the acceleration of the outputs that need it only
+        for (std::size_t j = 0; j < no; ++j) dj[j] += in.S[j * nm + i] * q1;
+        for (std::size_t a = 0; a < in.n_acc; ++a) {
+          const std::size_t j = in.acc_idx[a];
+          aj[j] += in.S[j * nm + i] * a1;
+        }
       }
     }
     emit(k);
@@ -290,7 +309,7 @@ void kernel(const KernelInput& in, double* q, double* qd, double* ma, double* md
 
 template <std::size_t NM, std::size_t NO>
 bool dispatch_fixed(const KernelInput& in, double* q, double* qd, double* ma, double* md, double* mn, SumState& su) {
-  if (in.nm != NM || in.no != NO || in.n_sums) return false;
+  if (in.nm != NM || in.no != NO || in.n_sums || in.acc_idx) return false;
   if (in.flex && in.nc == NM + NO) kernel<NM, NM + NO, NO>(in, q, qd, ma, md, mn, su);
   else if (!in.flex && in.nc == NM) kernel<NM, NM, NO>(in, q, qd, ma, md, mn, su);
   else return false;
@@ -303,7 +322,8 @@ bool dispatch_modes(std::index_sequence<I...>, const KernelInput& in, double* q,
   return ((dispatch_fixed<I + 1, 1>(in, q, qd, ma, md, mn, su) || dispatch_fixed<I + 1, 2>(in, q, qd, ma, md, mn, su)) || ...);
 }
 
-// Bases of up to 6 modes with 1–2 stations (and no sums) get the unrolled loops; others the general one.
+// Bases of up to 6 modes with 1–2 stations (no sums, every output's acceleration) get the
+// unrolled loops; others the general one.
 void dispatch(const KernelInput& in, double* q, double* qd, double* ma, double* md, double* mn, SumState& su) {
   if (!dispatch_modes(std::make_index_sequence<6>{}, in, q, qd, ma, md, mn, su)) kernel<0, 0, 0>(in, q, qd, ma, md, mn, su);
 }
@@ -325,7 +345,9 @@ struct ComplexInput {
   Index n_steps[W];
   Index n_max = 0;
   double* hist = nullptr;
-  std::size_t stride = 0;
+  std::size_t stride = 0, nh = 0;
+  const std::size_t* acc_idx = nullptr;  // the outputs whose acceleration is computed (null: all)
+  std::size_t n_acc = 0;
   const OutputSum* sums = nullptr;  // as KernelInput's
   std::size_t n_sums = 0, extra0 = 0, n_extra = 0;
   const double* point = nullptr;
@@ -356,7 +378,8 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
   const double half_dt = 0.5 * in.dt;
   auto emit = [&](Index k) {
     const lanes live = static_cast<double>(k) <= n_steps ? one : zero;
-    emit_stations(no, in.flex, dj, aj, f + nch, c, md, mn, ma, in.hist, in.stride, in.n_steps, k, live);
+    emit_stations(no, in.flex, dj, aj, f + nch, c, md, mn, ma, in.hist, in.stride, in.nh, in.n_steps, k, live,
+                  in.acc_idx, in.n_acc);
     if (in.n_sums) emit_sums(in.sums, in.n_sums, in.flex, dj, aj, f + nch, c, f + in.extra0, half_dt, k, live, sums);
   };
   // The coordinates' outputs for the current y and the load channels u = f.
@@ -391,10 +414,21 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
       const lanes ni_ = e[0] * b + e[1] * a + e[2] * u0i + e[3] * u0r + e[4] * u1i + e[5] * u1r;
       yr[k] = nr_;
       yi[k] = ni_;
-      for (std::size_t j = 0; j < no; ++j) {
-        const double* r = in.rows + 6 * (j * nk + k);
-        dj[j] += r[0] * nr_ - r[1] * ni_;
-        aj[j] += r[2] * nr_ - r[3] * ni_ + r[4] * u1r - r[5] * u1i;
+      if (!in.acc_idx) {
+        for (std::size_t j = 0; j < no; ++j) {
+          const double* r = in.rows + 6 * (j * nk + k);
+          dj[j] += r[0] * nr_ - r[1] * ni_;
+          aj[j] += r[2] * nr_ - r[3] * ni_ + r[4] * u1r - r[5] * u1i;
+        }
+      } else {  // the acceleration of the outputs that need it only
+        for (std::size_t j = 0; j < no; ++j) {
+          const double* r = in.rows + 6 * (j * nk + k);
+          dj[j] += r[0] * nr_ - r[1] * ni_;
+        }
+        for (std::size_t n = 0; n < in.n_acc; ++n) {
+          const double* r = in.rows + 6 * (in.acc_idx[n] * nk + k);
+          aj[in.acc_idx[n]] += r[2] * nr_ - r[3] * ni_ + r[4] * u1r - r[5] * u1i;
+        }
       }
     }
     emit(step);
@@ -507,7 +541,7 @@ void prepare_complex(const ModalReduction& r, const MovingChannels& L, double dt
 // Peaks (and the acceleration histories when recorded) of lane l after a kernel run; SolverError
 // when the lane's state or outputs are not finite.
 PeaksCaseResult lane_result(std::size_t l, std::size_t no, const std::vector<double>& ma, const std::vector<double>& md,
-                            const std::vector<double>& mn, double state, const std::vector<double>* hist,
+                            const std::vector<double>& mn, double state, const std::vector<double>* hist, std::size_t nh,
                             std::size_t stride, Index n_steps, double speed) {
   // A non-finite state stays so (the recurrence is linear), and std::max would skip a NaN.
   PeaksCaseResult res;
@@ -515,7 +549,7 @@ PeaksCaseResult lane_result(std::size_t l, std::size_t no, const std::vector<dou
   res.max_disp.resize(static_cast<Index>(no));
   res.min_disp.resize(static_cast<Index>(no));
   res.max_abs_acc.resize(static_cast<Index>(no));
-  if (hist) res.acc.resize(n_steps + 1, static_cast<Index>(no));
+  if (hist) res.acc.resize(n_steps + 1, static_cast<Index>(nh));
   bool finite = std::isfinite(state);
   for (std::size_t j = 0; j < no; ++j) {
     const auto jj = static_cast<Index>(j);
@@ -524,8 +558,8 @@ PeaksCaseResult lane_result(std::size_t l, std::size_t no, const std::vector<dou
     res.max_abs_disp[jj] = std::max(md[j * W + l], mn[j * W + l]);
     res.max_abs_acc[jj] = ma[j * W + l];
     finite = finite && std::isfinite(md[j * W + l]) && std::isfinite(mn[j * W + l]);
-    if (hist) {
-      res.acc.col(jj) = Eigen::Map<const Vector>(hist->data() + (l * no + j) * stride, n_steps + 1);
+    if (hist && j < nh) {
+      res.acc.col(jj) = Eigen::Map<const Vector>(hist->data() + (l * nh + j) * stride, n_steps + 1);
       finite = finite && res.acc.col(jj).allFinite();
     } else {
       finite = finite && std::isfinite(ma[j * W + l]);
@@ -576,16 +610,31 @@ void check_peaks_input(const ModalReduction& r, const MovingChannels& L, const s
 std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingChannels& L,
                                          const std::vector<PeaksCase>& cases, double dt, std::size_t n_outputs,
                                          bool record_acc, double max_history_bytes,
-                                         const std::vector<OutputSum>& sums) {
+                                         const std::vector<OutputSum>& sums, Index acc_outputs) {
   if (cases.empty()) return {};
   check_peaks_input(r, L, cases, dt, n_outputs, sums);
   // The recorded outputs are the reduction's first n_outputs (rails above deck stations may follow).
   const std::size_t nm = L.n_modes, no = n_outputs;
+  // Acceleration histories of the first nh outputs (the stations a filter takes; not the effects).
+  const std::size_t nh = !record_acc ? 0 : acc_outputs < 0 ? no : std::min(no, static_cast<std::size_t>(acc_outputs));
   PeaksSetup k;
   k.complex = r.complex_modes();
   if (!k.complex) prepare_classical(r, L, dt, no, k);
   else prepare_complex(r, L, dt, no, k);
   const std::size_t n_sums = sums.size(), extra0 = L.n_modes + L.n_outputs;
+  // Accelerations: of the first acc_outputs outputs and the sums' parts (the others' maxima 0).
+  std::vector<std::size_t> acc_idx;
+  std::vector<char> has_acc(no, acc_outputs < 0 ? 1 : 0);
+  if (acc_outputs >= 0) {
+    for (std::size_t j = 0; j < no && j < static_cast<std::size_t>(acc_outputs); ++j) has_acc[j] = 1;
+    for (const OutputSum& o : sums)
+      for (Index j : {o.acc, o.acc_integral})
+        if (j >= 0) has_acc[static_cast<std::size_t>(j)] = 1;
+    for (std::size_t j = 0; j < no; ++j)
+      if (has_acc[j]) acc_idx.push_back(j);
+    k.in.acc_idx = k.ci.acc_idx = acc_idx.data();
+    k.in.n_acc = k.ci.n_acc = acc_idx.size();
+  }
   k.in.sums = k.ci.sums = sums.data();
   k.in.n_sums = k.ci.n_sums = n_sums;
   k.in.extra0 = k.ci.extra0 = extra0;
@@ -608,9 +657,9 @@ std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingCh
     }
     const std::size_t stride = static_cast<std::size_t>(n_max) + 1;
     if (record_acc) {
-      if (static_cast<double>(W * no * stride) * sizeof(double) > max_history_bytes)
+      if (static_cast<double>(W * nh * stride) * sizeof(double) > max_history_bytes)
         throw InputError("the station histories of four speeds would not fit in memory: raise analysis.dt");
-      hist.assign(W * no * stride, 0.0);
+      hist.assign(W * nh * stride, 0.0);
     }
     SumState su(n_sums, L.n_extra);
     if (!k.complex) {
@@ -619,6 +668,7 @@ std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingCh
       std::copy(n_steps, n_steps + W, in.n_steps);
       in.n_max = n_max;
       in.hist = record_acc ? hist.data() : nullptr;
+      in.nh = nh;
       in.stride = stride;
       dispatch(in, q.data(), qd.data(), ma.data(), md.data(), mn.data(), su);
       for (std::size_t l = 0; l < W; ++l) {
@@ -631,14 +681,17 @@ std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingCh
       std::copy(n_steps, n_steps + W, ci.n_steps);
       ci.n_max = n_max;
       ci.hist = record_acc ? hist.data() : nullptr;
+      ci.nh = nh;
       ci.stride = stride;
       complex_kernel(ci, state.data(), ma.data(), md.data(), mn.data(), su);
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     for (std::size_t l = 0; l < n_lanes; ++l) {
       PeaksCaseResult res =
-          lane_result(l, no, ma, md, mn, state[l], record_acc ? &hist : nullptr, stride, n_steps[l], v[l]);
+          lane_result(l, no, ma, md, mn, state[l], record_acc ? &hist : nullptr, nh, stride, n_steps[l], v[l]);
       take_sums(su, n_sums, l, v[l], res);
+      for (std::size_t j = 0; j < no; ++j)
+        if (!has_acc[j]) res.max_abs_acc[static_cast<Index>(j)] = 0.0;
       Summary& s = res.summary;
       s.kernel = "modal-peaks";
       s.n_steps = n_steps[l];

@@ -56,8 +56,9 @@ std::vector<AssessIncrement> assess_increments(const std::vector<QuantityRow>& r
 // The span (0-based) a quantity belongs to: span<k>_… or a deck station's span.
 std::size_t span_of(const std::string& quantity, const Scenario& sc) {
   if (quantity.rfind("span", 0) == 0) return static_cast<std::size_t>(std::max(1, std::atoi(quantity.c_str() + 4)) - 1);
-  for (const auto& st : sc.stations)
-    if (st.on_deck && quantity.rfind(st.name + "_", 0) == 0) return st.span;
+  for (const auto* list : {&sc.stations, &sc.effect_stations})
+    for (const auto& st : *list)
+      if (st.on_deck && quantity.rfind(st.name + "_", 0) == 0) return st.span;
   return 0;
 }
 
@@ -196,11 +197,12 @@ bool assess_end_rotation(const std::string& quantity, const Scenario& sc) {
 // construction, so they get no check rows (the report says so).
 bool on_rigid_support(const std::string& station, const Scenario& sc) {
   if (!sc.bridge.bearings.rigid) return false;
-  for (const auto& st : sc.stations)
-    if (st.on_deck && st.name == station) {
-      const double L = sc.bridge.spans[st.span].length;
-      return std::abs(st.x_local) <= 1e-9 * L || std::abs(st.x_local - L) <= 1e-9 * L;
-    }
+  for (const auto* list : {&sc.stations, &sc.effect_stations})
+    for (const auto& st : *list)
+      if (st.on_deck && st.name == station) {
+        const double L = sc.bridge.spans[st.span].length;
+        return std::abs(st.x_local) <= 1e-9 * L || std::abs(st.x_local - L) <= 1e-9 * L;
+      }
   return false;
 }
 
@@ -220,7 +222,7 @@ Statics statics_of(const Scenario& nominal, const AssessConfig& c) {
   RunSettings rs = nominal.settings;
   rs.method = Method::newmark;  // no modes needed for static lines
   const PreparedModel pm = prepare_model(model::build_structure(nominal.bridge, nominal.track),
-                                                       nominal.stations, rs, false, true);
+                                                       nominal.stations, rs, false, true, nominal.effect_stations);
   Statics st;
   st.il = influence_lines(pm);
   st.lm71 = lm71_extremes(st.il, c.alpha, nominal.settings.load_factor);

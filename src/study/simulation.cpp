@@ -54,7 +54,8 @@ solve::Functional functional_of(const model::PointCoupling& c) {
   return f;
 }
 
-std::vector<LoadEffect> load_effects(const model::Structure& s, const std::vector<StationSpec>& stations) {
+std::vector<LoadEffect> load_effects(const model::Structure& s, const std::vector<StationSpec>& stations,
+                                     const std::vector<StationSpec>& along) {
   auto functional = [](const model::DofWeights& w, double scale) {
     solve::Functional f;
     f.dof = w.dof;
@@ -62,13 +63,19 @@ std::vector<LoadEffect> load_effects(const model::Structure& s, const std::vecto
     return f;
   };
   std::vector<LoadEffect> out;
-  for (const auto& st : stations) {
-    if (!st.on_deck) continue;
+  auto station_effects = [&](const StationSpec& st) {
     const model::DofWeights m = s.deck_moment(st.span, st.x_local);
     out.push_back({st.name + "_moment_Nm", functional(m, 1.0)});
     // ε = M·y/EI exactly: the same functional scaled (to microstrain).
     if (st.fibre_m != 0.0) out.push_back({st.name + "_strain_ue", functional(m, 1e6 * st.fibre_m / s.span_EI[st.span])});
     out.push_back({st.name + "_shear_N", functional(s.deck_shear(st.span, st.x_local), 1.0)});
+  };
+  for (const auto& st : stations)
+    if (st.on_deck) station_effects(st);
+  for (const auto& st : along) {
+    if (!st.on_deck) throw InputError("station '" + st.name + "': load effects along a span need a deck station");
+    out.push_back({st.name + "_disp_m", functional_of(s.deck_point(st.span, st.x_local))});
+    station_effects(st);
   }
   if (s.continuous) {  // the deck's rotation over every support (a span's end is the next one's start)
     for (const model::BearingForce& bf : s.bearings)
@@ -457,11 +464,12 @@ void add_shifted(const Vector& r, double shift_samples, double P, Vector& y) {
 }  // namespace
 
 PreparedModel prepare_model(model::Structure s, const std::vector<StationSpec>& stations,
-                            const RunSettings& settings, bool rail_outputs, bool with_load_effects) {
+                            const RunSettings& settings, bool rail_outputs, bool with_load_effects,
+                            const std::vector<StationSpec>& effect_stations) {
   PreparedModel m;
   m.structure = std::move(s);
   m.stations = resolve_stations(m.structure, stations);
-  if (with_load_effects) m.effects = load_effects(m.structure, stations);
+  if (with_load_effects) m.effects = load_effects(m.structure, stations, effect_stations);
   m.modal_rails = rail_outputs;
   m.statics = factor_statics(m.structure);
   if (settings.vehicle.model != VehicleModel::forces) {
@@ -481,7 +489,7 @@ PreparedModel prepare_model(model::Structure s, const std::vector<StationSpec>& 
 
 PreparedModel prepare_model(const Scenario& sc, bool rail_outputs, bool with_load_effects) {
   return prepare_model(model::build_structure(sc.bridge, sc.track), sc.stations, sc.settings, rail_outputs,
-                       with_load_effects);
+                       with_load_effects, sc.effect_stations);
 }
 
 double passage_speed(const Scenario& sc, const std::optional<double>& speed_kmh, const std::string& option) {
@@ -903,6 +911,7 @@ std::vector<CasePeaks> simulate_peaks(const PreparedModel& m, const load::Train&
   }
   rec.disp_history = false;
   rec.acc_history = settings.filter.enabled;
+  rec.acc_outputs = static_cast<Index>(n_st);  // the filter takes the stations' accelerations only
   rec.max_history_bytes = kMaxHistoryBytes;
   const std::vector<solve::CaseResult> res = integrator->run_batch(cases, rec);
   signal::Sos sos;

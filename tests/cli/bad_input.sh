@@ -51,7 +51,13 @@ expect 2 "no speeds" -- "$VIADUCT" sweep "$(scen nospeeds '')" --out "$WORK/o"
 expect 2 "no speed: give --speed-kmh" -- "$VIADUCT" run "$(scen nospeed '')" --out "$WORK/o"
 expect 2 "no train named 'TGV'" -- "$VIADUCT" run "$OG" --speed-kmh 100 --train TGV --out "$WORK/o"
 expect 2 "key 'stations[0].at': must be [0, 1], got 1.5" -- "$VIADUCT" run "$(scen far '')" --set stations[0].at=1.5 --speed-kmh 100 --out "$WORK/o"
-expect 2 "a deck station needs exactly one of 'at' (fraction) or 'x' (metres)" -- "$VIADUCT" run "$(scen both '')" --set stations[0].x=3.0 --speed-kmh 100 --out "$WORK/o"
+expect 2 "a deck station needs exactly one of 'at' (fraction), 'x' (metres) or 'every_m' (stations along the span)" -- "$VIADUCT" run "$(scen both '')" --set stations[0].x=3.0 --speed-kmh 100 --out "$WORK/o"
+# Stations along a span: not with at or x, not on the track, not a million of them, no name twice.
+expect 2 "a deck station needs exactly one of 'at' (fraction), 'x' (metres) or 'every_m'" -- "$VIADUCT" check "$(scen alongat '')" --set stations[0].every_m=0.5
+expect 2 "key 'stations[0].every_m': stations along a span give load effects only: add a station with 'at', 'x' or 'track_x'" -- "$VIADUCT" check "$(scen alongonly '')" --unset stations[0].at --set stations[0].every_m=1.0
+expect 2 "key 'stations[0].every_m': would place" -- "$VIADUCT" check "$(scen alongmany '')" --unset stations[0].at --set stations[0].every_m=1e-5
+expect 2 "key 'stations[0].every_m': must be > 0 [m], got 0" -- "$VIADUCT" check "$(scen along0 '')" --unset stations[0].at --set stations[0].every_m=0.0
+expect 2 "alongdup.toml:10: key 'stations[1].name': station 'm_0.00m' (along the span) repeats a station name" -- "$VIADUCT" check "$(scen alongdup '[[stations]]\nname = "m"\nspan = 1\nevery_m = 1.0\n')" --set 'stations[0].name="m_0.00m"'
 # Records: bad files exit 2 with file, line and column.
 printf 't_s,a_mps2\n0,1\n0.01,NaN\n' > "$WORK/nan.csv"
 expect 2 "no 2 successive samples in which every channel used has a value (missing: a_mps2 from 0.01" -- "$VIADUCT" filter "$WORK/nan.csv"

@@ -34,6 +34,16 @@ plotted sampled "$WORK/sampled/sensitivity.png" -- $PY "$P/plot_sampled.py" "$WO
 "$VIADUCT" sweep "$HS" --set 'train.files=["hslm:A1-A3"]' --set sweep.speed_step_kmh=20 --quiet --out "$WORK/trains"
 plotted envelope "$WORK/trains/envelope.png" -- $PY "$P/plot_envelope.py" "$WORK/trains"
 plotted envelope "$WORK/trains/envelope_disp.png" -- $PY "$P/plot_envelope.py" "$WORK/trains" --quantity disp
+# Moment and shear along the span (stations every 0.5 m: 31 of them), from a sweep and from an
+# assessment (with the dynamic design effect and Phi x LM71 x alpha along x).
+ALONG=(--set 'stations[1].name="L"' --set stations[1].span=1)
+"$VIADUCT" sweep "$HS" --set 'train.files=["hslm:A1-A3"]' --set sweep.speed_step_kmh=20 "${ALONG[@]}" \
+  --set stations[1].every_m=0.5 --load-effects --quiet --out "$WORK/along"
+plotted load_effects "$WORK/along/load_effects_along.png" -- $PY "$P/plot_load_effects.py" "$WORK/along"
+"$VIADUCT" assess "$HS" --no-pdf --no-plots --set assess.speed_min_kmh=300 --set assess.speed_step_kmh=20 --set assess.refine_band=0 \
+  "${ALONG[@]}" --set stations[1].every_m=1.5 --quiet --out "$WORK/along-assess"
+plotted load_effects "$WORK/along-assess/load_effects_along.png" -- $PY "$P/plot_load_effects.py" "$WORK/along-assess"
+expect 1 "load_effects.csv not found" -- $PY "$P/plot_load_effects.py" "$WORK/trains"
 # Variants one at a time and a grid: one panel per varied key.
 for m in one-at-a-time grid; do
   printf 'title = "Variants, %s"\n[bridge]\nspan_lengths = [15.0]\nEI = 7.694e9\nmass_per_m = 15000.0\n[bridge.damping]\nratio = 0.0135\n[train]\nfiles = ["hslm:A1-A2"]\n[[stations]]\nname = "mid"\nspan = 1\nat = 0.5\n[sweep]\nspeed_min_kmh = 150\nspeed_max_kmh = 400\nspeed_step_kmh = 25\nmode = "%s"\n[[sweep.variants]]\nkey = "bridge.EI"\nlabel = "EI"\nfactors = [0.9, 1.1]\n[[sweep.variants]]\nkey = "bridge.damping.ratio"\nfactors = [0.5, 2.0]\n' "$m" "$m" > "$WORK/$m.toml"

@@ -94,6 +94,11 @@ struct OutputSum {
 struct Recording {
   bool disp_history = true;  ///< every output's deflection at every sample
   bool acc_history = true;   ///< every output's acceleration at every sample
+  /// The modal peaks kernel computes the acceleration of the first acc_outputs outputs only
+  /// (their max_abs_acc and, with acc_history, their histories; the other outputs report
+  /// max_abs_acc 0) and of the outputs that sums take; -1: of every output. The other kernels
+  /// record every output.
+  Index acc_outputs = -1;
   /// Every output's velocity at every sample (newmark and ida, run() only; InputError elsewhere).
   bool vel_history = false;
   /// Samples kept in the histories: steps 0, stride, 2·stride, … (a kernel step finer than the
@@ -110,7 +115,7 @@ struct Recording {
 /// The result of one case.
 struct CaseResult {
   Matrix disp;  ///< n_samples × n_outputs when recorded (Recording::disp_history), else empty
-  Matrix acc;   ///< n_samples × n_outputs when recorded, else empty
+  Matrix acc;   ///< n_samples × n_outputs when recorded (× Recording::acc_outputs where the kernel honours it), else empty
   Matrix vel;   ///< n_samples × n_outputs when recorded (Recording::vel_history), else empty
   Vector max_abs_disp;  ///< running maximum of |deflection| per output (always)
   /// Signed extremes of the deflection per output (always; max >= 0 >= min: every case starts at rest).

@@ -160,6 +160,10 @@ struct Scenario {
   std::string track_rails = "unstated";
   std::vector<load::Train> trains;           ///< at least one
   std::vector<StationSpec> stations;         ///< at least one
+  /// Deck stations along a span (stations[].every_m): load effects only — their deflection,
+  /// moment, strain and shear among the load effects (prepare_model with load effects), no
+  /// acceleration or station history.
+  std::vector<StationSpec> effect_stations;
   RunSettings settings;
   std::optional<double> run_speed;           ///< [m/s] default speed of `viaduct run`
   std::vector<double> sweep_speeds;          ///< [m/s] speeds of `viaduct sweep`

@@ -80,7 +80,10 @@ solve::Functional functional_of(const model::PointCoupling& c);
 /// neutral axis], then its shear force V = dM/dx [N]; at each span's start and end the deck rotation dw/dx [rad] and the bearing
 /// force [N, compression positive] (model::BearingForce; traffic only, without the permanent
 /// load).
-std::vector<LoadEffect> load_effects(const model::Structure& s, const std::vector<StationSpec>& stations);
+/// `along`: stations of load effects only (Scenario::effect_stations), each giving first its
+/// deflection (<name>_disp_m), then its moment, strain and shear; after the stations' effects.
+std::vector<LoadEffect> load_effects(const model::Structure& s, const std::vector<StationSpec>& stations,
+                                     const std::vector<StationSpec>& along = {});
 
 /// The part of a bearing force that the axles put straight on a rigid bearing's fixed DOF (those
 /// on its element; 0 for other effects, elastic bearings and loads on a track), with the first
@@ -185,8 +188,10 @@ struct PreparedModel {
 /// with_load_effects records load_effects() in simulate() (RunResult::effects).
 PreparedModel prepare_model(const Scenario& sc, bool rail_outputs = true, bool with_load_effects = false);
 /// The same from a built structure.
+/// `effect_stations`: Scenario::effect_stations (load effects only).
 PreparedModel prepare_model(model::Structure s, const std::vector<StationSpec>& stations,
-                            const RunSettings& settings, bool rail_outputs = true, bool with_load_effects = false);
+                            const RunSettings& settings, bool rail_outputs = true, bool with_load_effects = false,
+                            const std::vector<StationSpec>& effect_stations = {});
 
 /// The speed of a one-passage command [m/s]: `speed_kmh` when given (> 0 and finite), else the
 /// scenario's run.speed_kmh; InputError naming `option` (how the caller calls speed_kmh: the

@@ -558,6 +558,48 @@ TEST_CASE("a scenario of overrides alone: no file read, the keys checked as --se
   REQUIRE_THROWS_WITH(io::load_flat("", {"bridge.EI=-1.0"}), Catch::Contains("--set: key 'bridge.EI': must be > 0"));
 }
 
+TEST_CASE("stations along a span: round(L/every_m) equal parts, both ends, named by their x, the entry's keys on each") {
+  auto along = [](const std::string& every, const std::string& extra) {
+    std::vector<std::string> set = {"bridge.span_lengths=[12.0, 7.0]", "bridge.EI=5e9", "bridge.mass_per_m=1e4",
+                                    "train.files=[\"hslm:A1\"]", "stations[0].name=\"mid\"", "stations[0].span=1",
+                                    "stations[0].at=0.5", "stations[1].name=\"L2\"", "stations[1].span=2",
+                                    "stations[1].every_m=" + every};
+    if (!extra.empty()) set.push_back(extra);
+    return io::to_scenario(io::load_flat("", set));
+  };
+  // 7 m every 2 m: round(3.5) = 4 parts of 1.75 m (rounding half away from zero), 5 stations.
+  // They are stations of load effects only: the accelerations and deflections stay at "mid".
+  const study::Scenario sc = along("2.0", "stations[1].fibre_m=0.3");
+  REQUIRE(sc.stations.size() == 1);
+  CHECK(sc.stations[0].name == "mid");
+  const auto& st = sc.effect_stations;
+  const std::vector<std::string> names = {"L2_0.00m", "L2_1.75m", "L2_3.50m", "L2_5.25m", "L2_7.00m"};
+  REQUIRE(st.size() == names.size());
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    CHECK(st[k].name == names[k]);
+    CHECK(st[k].span == 1);
+    CHECK(st[k].on_deck);
+    CHECK(st[k].fibre_m == 0.3);
+    CHECK(st[k].x_local == Approx(1.75 * static_cast<double>(k)).margin(1e-12));
+  }
+  CHECK(st.back().x_local == 7.0);  // the span's end exactly, not 4 × 1.75 rounded
+  // A spacing longer than the span: its two ends.
+  CHECK(along("100.0", "").effect_stations.size() == 2);
+  // The effects of a prepared model: per station deflection, moment, strain, shear, after the
+  // station's own moment and shear.
+  const study::PreparedModel pm = study::prepare_model(sc, false, true);
+  std::vector<std::string> effect_names;
+  for (const auto& e : pm.effects) effect_names.push_back(e.name);
+  REQUIRE(effect_names.size() >= 2 + 4 * names.size());
+  CHECK(effect_names[2] == "L2_0.00m_disp_m");
+  CHECK(effect_names[3] == "L2_0.00m_moment_Nm");
+  CHECK(effect_names[4] == "L2_0.00m_strain_ue");
+  CHECK(effect_names[5] == "L2_0.00m_shear_N");
+  CHECK(pm.stations.size() == 1);
+  REQUIRE_THROWS_WITH(along("1e-4", ""), Catch::Contains("would place 70001 stations"));
+  REQUIRE_THROWS_WITH(along("1.0", "stations[1].at=0.5"), Catch::Contains("exactly one of 'at' (fraction), 'x' (metres) or 'every_m'"));
+}
+
 // The filter's defaults are declared twice, in the schema and in signal::Cheby1Spec (used where
 // no scenario is read: the Python package, code): they must be the same numbers (issue #37 item
 // 3: filter.high_hz was 30 Hz in one and 60 Hz in the other).
