@@ -88,10 +88,21 @@ std::vector<EffectPeak> static_extremes(const InfluenceLines& il, const load::Tr
   if (il.value.empty()) return out;
   const double x_end = il.x0 + il.h * static_cast<double>(il.value.front().size() - 1);
   const auto n_pos = static_cast<Index>(std::ceil((x_end - il.x0 + train.length()) / il.h)) + 1;
+  // Only the axles on the lines' extent [x0, x_end] add anything (InfluenceLines::at is 0 beyond):
+  // offsets are non-decreasing, so those of a head position are one run [first, last), padded by
+  // one sample each side; the others' terms are exact zeros, so skipping them changes no value.
+  const std::size_t n_axles = train.n_axles();
+  auto axles_on = [&](double head) {
+    const auto lo = std::lower_bound(train.offset.begin(), train.offset.end(), head - x_end - il.h);
+    const auto hi = std::upper_bound(lo, train.offset.end(), head - il.x0 + il.h);
+    return std::pair<std::size_t, std::size_t>(static_cast<std::size_t>(lo - train.offset.begin()),
+                                               static_cast<std::size_t>(hi - train.offset.begin()));
+  };
   for (std::size_t q = 0; q < il.value.size(); ++q) {
     auto at_head = [&](double head) {
       double y = 0.0;
-      for (std::size_t k = 0; k < train.n_axles(); ++k) y += train.load[k] * il.at(q, head - train.offset[k]);
+      const auto [first, last] = axles_on(head);
+      for (std::size_t k = first; k < last && k < n_axles; ++k) y += train.load[k] * il.at(q, head - train.offset[k]);
       return y * load_factor;
     };
     // Every h, then around the largest and the smallest: the response is piecewise linear in
@@ -104,7 +115,7 @@ std::vector<EffectPeak> static_extremes(const InfluenceLines& il, const load::Tr
       if (y < out[q].min) out[q].min = y, x_min = head;
     }
     for (const double around : {x_max, x_min})
-      for (std::size_t k = 0; k < train.n_axles(); ++k)
+      for (std::size_t k = 0; k < n_axles; ++k)
         for (const double side : {-1.0, 0.0, 1.0}) {
           // the sample nearest to axle k, and its neighbours: the head that puts the axle there
           const double u = std::round((around - train.offset[k] - il.x0) / il.h) + side;
