@@ -83,6 +83,16 @@ TEST_CASE("the integration face keeps velocities and every stride-th sample, and
   CHECK_THROWS_AS(solve::make_integrator(s, outs)->run_batch({c, c}, all), InputError);
   s.method = solve::Method::modal;
   CHECK_THROWS_WITH(solve::make_integrator(s, {})->run(c, solve::Recording{}), Catch::Contains("without a modal model"));
+  // Sums of outputs are the modal peaks kernel's: elsewhere an input error, never ignored.
+  solve::Recording with_sums;
+  with_sums.sums.push_back({0, 1, -1, -1});
+  for (const solve::Method m : {solve::Method::newmark, solve::Method::ida}) {
+    s.method = m;
+    INFO(solve::method_name(m));
+    CHECK_THROWS_WITH(solve::make_integrator(s, outs)->run(c, with_sums), Catch::Contains("sums of outputs are tracked by the modal peaks kernel only"));
+  }
+  s.method = solve::Method::newmark;
+  CHECK_THROWS_AS(solve::make_integrator(s, outs)->run_batch({c, c}, with_sums), InputError);
 }
 
 TEST_CASE("vehicles go through the integration face: each method runs its coupled kernel") {
