@@ -159,18 +159,20 @@ std::vector<double> speeds_of(const FlatScenario& f) {
 }
 
 // A deck station `s` repeated along its span of length L about `every` apart: round(L/every)
-// equal parts (at least 1, at most 1000), named <name>_<x>m.
+// equal parts (at least 1, at most 1000), named <name>_<x>m with x to two decimals, or to one
+// more than the spacing needs when they are closer than 1 cm (neighbours never share a name).
 std::vector<study::StationSpec> stations_along(const Value& every, const study::StationSpec& s, double L) {
   const double n_real = std::round(L / every.x);
   if (!(n_real <= 1000.0))
     bad(every, "would place " + conv_num(n_real + 1) + " stations along the " + conv_num(L) + " m span (at most 1001): raise it");
   const int n = std::max(1, static_cast<int>(n_real));
+  const int decimals = std::max(2, static_cast<int>(std::ceil(-std::log10(L / n))) + 1);
   std::vector<study::StationSpec> out;
   for (int k = 0; k <= n; ++k) {
     study::StationSpec a = s;
     a.x_local = k == n ? L : L * k / n;
     char buf[48];
-    std::snprintf(buf, sizeof buf, "_%.2fm", a.x_local);
+    std::snprintf(buf, sizeof buf, "_%.*fm", decimals, a.x_local);
     a.name = s.name + buf;
     out.push_back(std::move(a));
   }

@@ -53,13 +53,15 @@ std::vector<AssessIncrement> assess_increments(const std::vector<QuantityRow>& r
   return out;
 }
 
-// The span (0-based) a quantity belongs to: span<k>_… or a deck station's span.
+// The span (0-based) a quantity belongs to: span<k>_… or a deck station's span, the station
+// whose name is the quantity's longest prefix ("S1_mid_moment_Nm" is S1_mid's, not S1's).
 std::size_t span_of(const std::string& quantity, const Scenario& sc) {
   if (quantity.rfind("span", 0) == 0) return static_cast<std::size_t>(std::max(1, std::atoi(quantity.c_str() + 4)) - 1);
+  const StationSpec* best = nullptr;
   for (const auto* list : {&sc.stations, &sc.effect_stations})
     for (const auto& st : *list)
-      if (st.on_deck && quantity.rfind(st.name + "_", 0) == 0) return st.span;
-  return 0;
+      if (st.on_deck && quantity.rfind(st.name + "_", 0) == 0 && (!best || st.name.size() > best->name.size())) best = &st;
+  return best ? best->span : 0;
 }
 
 }  // namespace

@@ -202,4 +202,13 @@ expect 0 "below the 500 kg/m of any railway deck" -- cat "$SL-m2/report.md"
 # the HSLM span's f1 = 5 Hz lies just under Fig. 6.10's 5.33 Hz: warned of, with no unit to check
 expect 0 "outside EN 1991-2 Fig. 6.10's 5.33 to 12.5 Hz" -- cat "$O/report.md"
 expect 1 "" -- grep -q "check the unit" "$O/report.md"
+# Stations along a span: a 15 m and a 10 m span, the station "L" on the first and stations "L_b"
+# along the second: each deflection is checked against its own span's L/600 (the longest
+# station name that prefixes a quantity names its span: L_b_5.00m_disp_m is L_b's, not L's).
+expect 0 "assessment:" -- "$VIADUCT" assess "$HS" --no-pdf --no-plots --set 'bridge.span_lengths=[15.0, 10.0]' \
+  --set 'stations[0].name="L"' --set 'stations[1].name="L_b"' --set stations[1].span=2 --set stations[1].every_m=2.5 \
+  --set assess.speed_min_kmh=400 --set assess.speed_step_kmh=20 --set assess.refine_band=0 --out "$WORK/along"
+expect 0 ",0.01666666667,m," -- grep -F "vertical deflection, LM71 x Phi\",L_b_5.00m_disp_m" "$WORK/along/checks.csv"
+expect 0 ",0.025,m," -- grep -F "vertical deflection, LM71 x Phi\",L_disp_m" "$WORK/along/checks.csv"
+expect 1 "" -- grep -q "L_b_0.00m_disp_m" "$WORK/along/checks.csv"
 finish

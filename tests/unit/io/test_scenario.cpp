@@ -597,6 +597,11 @@ TEST_CASE("stations along a span: round(L/every_m) equal parts, both ends, named
   CHECK(effect_names[5] == "L2_0.00m_shear_N");
   CHECK(pm.stations.size() == 1);
   REQUIRE_THROWS_WITH(along("1e-4", ""), Catch::Contains("would place 70001 stations"));
+  // Closer than 1 cm: one decimal more than the spacing needs (7 m in 1000 parts of 7 mm: 4).
+  const auto fine = along("0.007", "").effect_stations;
+  REQUIRE(fine.size() == 1001);
+  CHECK(fine[1].name == "L2_0.0070m");
+  CHECK(fine[2].name == "L2_0.0140m");
   REQUIRE_THROWS_WITH(along("1.0", "stations[1].at=0.5"), Catch::Contains("exactly one of 'at' (fraction), 'x' (metres) or 'every_m'"));
 }
 
