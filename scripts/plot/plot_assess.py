@@ -171,6 +171,9 @@ def main():
     acc_vs_speed(rows, limit, title, os.path.join(a.dir, "acc_vs_speed.png"), a.dpi)
     envelope(rows, limit, title, os.path.join(a.dir, "envelope.png"), a.dpi)
     phi_dyn(read(phi), title, os.path.join(a.dir, "phi_dyn.png"), a.dpi)
+    # Stations along a span (stations[].every_m): M(x) and V(x) with the design effect.
+    import plot_load_effects
+    plot_load_effects.draw(a.dir, tool="plot_assess")
 
 
 if __name__ == "__main__":

@@ -64,17 +64,13 @@ def design_rows(directory):
     return out
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("dir")
-    ap.add_argument("--out")
-    a = ap.parse_args()
-    plotlib.check_outputs(a.dir, "plot_load_effects")
-    env = along(plotlib.rows(os.path.join(a.dir, "load_effects.csv"), "plot_load_effects", "sweep --load-effects"))
+def draw(directory, out=None, tool="plot_load_effects"):
+    """Draws the envelopes along x of `directory`'s stations along a span into `out` (default
+    DIR/load_effects_along.png); returns False, drawing nothing, when it has none."""
+    env = along(plotlib.rows(os.path.join(directory, "load_effects.csv"), tool, "sweep --load-effects"))
     if not env:
-        sys.exit("plot_load_effects.py: %s/load_effects.csv has no stations along a span (give a station "
-                 "stations[].every_m)" % a.dir)
-    design = design_rows(a.dir)
+        return False
+    design = design_rows(directory)
     lines = sorted({line for line, _ in env})
     fig, axes = plt.subplots(len(lines), 2, figsize=(12, 4.2 * len(lines)), squeeze=False)
     for row, line in enumerate(lines):
@@ -110,12 +106,24 @@ def main():
             ax.grid(alpha=0.3)
             plotlib.no_offset(ax)
             ax.legend(fontsize=7, ncol=2)
-    factor = plotlib.manifest(a.dir).get("scenario", {}).get("train.load_factor", 1.0)
+    factor = plotlib.manifest(directory).get("scenario", {}).get("train.load_factor", 1.0)
     note = "; per rail line / half deck (train.load_factor = %g)" % factor if factor != 1.0 else ""
     fig.suptitle("%s\nenvelopes over every speed (solid), quasi-static extremes (dashed)%s"
-                 % (plotlib.scenario_title(a.dir), note), fontsize=10)
+                 % (plotlib.scenario_title(directory), note), fontsize=10)
     fig.tight_layout()
-    plotlib.save(fig, a.out or os.path.join(a.dir, "load_effects_along.png"), "plot_load_effects")
+    plotlib.save(fig, out or os.path.join(directory, "load_effects_along.png"), tool)
+    return True
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("dir")
+    ap.add_argument("--out")
+    a = ap.parse_args()
+    plotlib.check_outputs(a.dir, "plot_load_effects")
+    if not draw(a.dir, a.out):
+        sys.exit("plot_load_effects.py: %s/load_effects.csv has no stations along a span (give a station "
+                 "stations[].every_m)" % a.dir)
 
 
 if __name__ == "__main__":

@@ -554,6 +554,9 @@ void report_details(std::ostringstream& o, const ReportInput& in) {
     o << "| " << q << " | " << rfmt(top[q]->phi(), 3) << " | " << top[q]->train << " | " << rfmt(top[q]->speed * 3.6) << " | "
       << top[q]->variant << " | " << study::shown_value(q, top[q]->dynamic) << " | " << study::shown_value(q, top[q]->quasi_static) << " |\n";
   if (in.figures) o << "\n![φ′dyn per quantity](phi_dyn.png)\n";
+  if (in.figures && !in.nominal.effect_stations.empty())
+    o << "\n![Moment and shear along the span: envelopes per train, the dynamic design effect and Φ × LM71 × α "
+         "(stations[].every_m)](load_effects_along.png)\n";
 }
 
 void report_notes(std::ostringstream& o, const ReportInput& in) {

@@ -40,8 +40,11 @@ ALONG=(--set 'stations[1].name="L"' --set stations[1].span=1)
 "$VIADUCT" sweep "$HS" --set 'train.files=["hslm:A1-A3"]' --set sweep.speed_step_kmh=20 "${ALONG[@]}" \
   --set stations[1].every_m=0.5 --load-effects --quiet --out "$WORK/along"
 plotted load_effects "$WORK/along/load_effects_along.png" -- $PY "$P/plot_load_effects.py" "$WORK/along"
-"$VIADUCT" assess "$HS" --no-pdf --no-plots --set assess.speed_min_kmh=300 --set assess.speed_step_kmh=20 --set assess.refine_band=0 \
+# assess draws it itself (plot_assess.py) and the report shows it; the script redraws it alone.
+"$VIADUCT" assess "$HS" --no-pdf --set assess.speed_min_kmh=300 --set assess.speed_step_kmh=20 --set assess.refine_band=0 \
   "${ALONG[@]}" --set stations[1].every_m=1.5 --quiet --out "$WORK/along-assess"
+expect 0 "](load_effects_along.png)" -- cat "$WORK/along-assess/report.md"
+expect 0 "" -- test -s "$WORK/along-assess/load_effects_along.png"
 plotted load_effects "$WORK/along-assess/load_effects_along.png" -- $PY "$P/plot_load_effects.py" "$WORK/along-assess"
 expect 1 "load_effects.csv not found" -- $PY "$P/plot_load_effects.py" "$WORK/trains"
 # Variants one at a time and a grid: one panel per varied key.
