@@ -55,6 +55,8 @@ expect 2 "a deck station needs exactly one of 'at' (fraction), 'x' (metres) or '
 # Stations along a span: not with at or x, not on the track, not a million of them, no name twice.
 expect 2 "a deck station needs exactly one of 'at' (fraction), 'x' (metres) or 'every_m'" -- "$VIADUCT" check "$(scen alongat '')" --set stations[0].every_m=0.5
 expect 2 "key 'stations[0].every_m': stations along a span give load effects only: add a station with 'at', 'x' or 'track_x'" -- "$VIADUCT" check "$(scen alongonly '')" --unset stations[0].at --set stations[0].every_m=1.0
+# Without --load-effects a sweep keeps nothing of them: said, with the key, not dropped silently.
+expect 0 "key 'stations[1].every_m': stations along a span give load effects only, which this sweep does not keep" -- "$VIADUCT" sweep "$(scen alongnoeff '[[stations]]\nname = "L"\nspan = 1\nevery_m = 2.0\n[sweep]\nspeeds_kmh = [100]\n')" --out "$WORK/along-noeff"
 expect 2 "key 'stations[0].every_m': would place" -- "$VIADUCT" check "$(scen alongmany '')" --unset stations[0].at --set stations[0].every_m=1e-5
 expect 2 "key 'stations[0].every_m': must be > 0 [m], got 0" -- "$VIADUCT" check "$(scen along0 '')" --unset stations[0].at --set stations[0].every_m=0.0
 expect 2 "alongdup.toml:10: key 'stations[1].name': station 'm_0.00m' (along the span) repeats a station name" -- "$VIADUCT" check "$(scen alongdup '[[stations]]\nname = "m"\nspan = 1\nevery_m = 1.0\n')" --set 'stations[0].name="m_0.00m"'

@@ -88,6 +88,17 @@ namespace {
 int run_sweep_command(const Common& o, const SweepOpts& opts) {
     const auto t0 = std::chrono::steady_clock::now();
     const io::FlatScenario flat = load_scenario(o);
+    // Stations along a span give load effects only: without --load-effects (or in a sampled
+    // study, which keeps the deck peaks) they would add nothing, so say so rather than drop them.
+    if (!opts.load_effects || io::is_sampled(flat))
+      for (const auto& [key, value] : flat.values)
+        if (key.size() > 8 && key.compare(key.size() - 8, 8, ".every_m") == 0 && !o.quiet) {
+          // InputError's message names the file, line and key as its errors do.
+          print_warnings("sweep", {InputError(value.where, "stations along a span give load effects only, which this sweep "
+                                                           "does not keep (add --load-effects; sampled studies keep the deck "
+                                                           "peaks): they are left out").what()});
+          break;
+        }
     if (io::is_sampled(flat)) {
       if (opts.load_effects)
         throw InputError(flat.at("sweep.mode").where, "--load-effects is not available for sampled studies (they keep the deck peaks)");
