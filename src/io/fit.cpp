@@ -207,6 +207,14 @@ study::ModalTarget read_identified_modes(const std::string& path, const std::str
   std::size_t c_zeta = t.header.size();
   for (std::size_t i = 0; i < t.header.size(); ++i)
     if (t.header[i] == "damping_ratio") c_zeta = i;
+  // viaduct oma's modes.csv holds a window column: the modes of one window only are one target.
+  std::set<std::string> windows;
+  for (std::size_t i = 0; i < t.header.size(); ++i)
+    if (t.header[i] == "window")
+      for (const auto& row : t.rows) windows.insert(row[i]);
+  if (windows.size() > 1)
+    throw InputError(mp + ": modes of " + std::to_string(windows.size()) +
+                     " windows (viaduct oma over several records or --window-s); identify the one record to fit on its own");
   std::set<std::string> methods;
   for (std::size_t i = 0; i < t.rows.size(); ++i) {
     methods.insert(t.rows[i][c_method]);

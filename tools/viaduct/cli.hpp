@@ -78,6 +78,9 @@ Command record_command(std::string name, std::string positional, std::string sum
 
 /// Channels named by --channel (every channel when none).
 std::vector<std::size_t> selected(const io::Record& r, const std::vector<std::string>& channels);
+/// The record files (.csv, .txt, .tsv, .dat, .uff, .unv, .mat; not hidden) of `folder`, in name
+/// order; InputError when there are none.
+std::vector<std::string> record_files_in(const std::string& folder);
 /// --channel for the record commands (repeatable).
 void add_channel_option(po::options_description& d, std::vector<std::string>& channels);
 
@@ -207,6 +210,7 @@ Command frf_command();
 Command shaker_command();
 Command modal_fit_command();
 Command decay_command();
+Command oma_command();
 Command fit_command();
 Command assess_command();
 Command passages_command();

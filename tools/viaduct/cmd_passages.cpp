@@ -31,24 +31,13 @@ struct Entry {
   std::string base;  // the table's folder, against which a relative train file is also tried
 };
 
-bool is_record_file(const std::filesystem::path& p) {
-  static const char* exts[] = {".csv", ".txt", ".tsv", ".dat", ".uff", ".unv", ".mat"};
-  const std::string e = p.extension().string();
-  return p.filename().string().front() != '.' && std::any_of(std::begin(exts), std::end(exts), [&](const char* x) { return e == x; });
-}
-
 // Every --records: a folder (its record files in name order) or a table of passages.
 std::vector<Entry> entries_of(const std::vector<std::string>& sources) {
   std::vector<Entry> out;
   for (const auto& src : sources) {
     namespace fs = std::filesystem;
     if (fs::is_directory(src)) {
-      std::vector<std::string> files;
-      for (const auto& f : fs::directory_iterator(src))
-        if (f.is_regular_file() && is_record_file(f.path())) files.push_back(f.path().string());
-      std::sort(files.begin(), files.end());
-      if (files.empty()) throw InputError("--records " + src + ": no record files (.csv, .txt, .tsv, .dat, .uff, .unv, .mat) in the folder");
-      for (const auto& f : files) out.push_back({f, "", src, 0.0, ""});
+      for (const auto& f : record_files_in(src)) out.push_back({f, "", src, 0.0, ""});
     } else if (fs::exists(src)) {
       const std::string base = fs::path(src).parent_path().string();
       for (const auto& e : io::read_passage_table(src))

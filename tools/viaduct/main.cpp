@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
                                          schema_command(), filter_command(), spectrum_command(),
                                          peaks_command(), compare_command(), speed_command(),
                                          resample_command(), envelope_command(), fatigue_command(), inspect_command(), tradeoff_command(),
-                                         frf_command(), shaker_command(), modal_fit_command(), decay_command(), fit_command(), assess_command(),
+                                         frf_command(), shaker_command(), modal_fit_command(), decay_command(), oma_command(), fit_command(), assess_command(),
                                          passages_command(), irregularity_command(), ladder_command(), merge_command()};
   const std::vector<Command> others = commands;  // what a manifest may name
   commands.push_back(replay_command(&others));
