@@ -41,7 +41,7 @@ expect 0 "" -- grep -q "^window,record,method,mode,frequency_hz,damping_ratio" "
 # The folder: 20 records, one identification each, three tracks; the drift (-0.1 % per record,
 # -1.9 % over the folder) recovered on each track within 0.3 % of the frequency, the temperature carried.
 expect 0 "" -- "$VIADUCT" oma "$WORK/rec" --carry temperature --f-min-hz 1 --max-order 30 --jackknife-blocks 0 --quiet --out "$WORK/o2"
-expect 0 "" -- grep -q "^window,record,t_start_s,t_end_s,track,frequency_hz,damping_ratio,frequency_std_hz,damping_std,mac_to_previous,temperature" "$WORK/o2/tracked.csv"
+expect 0 "" -- grep -q "^window,record,t_start_s,t_end_s,track,frequency_hz,damping_ratio,frequency_std_hz,damping_std,mac_to_previous,temperature_degC" "$WORK/o2/tracked.csv"
 for t in 1 2 3; do
   rows=$(col "$WORK/o2/tracked.csv" frequency_hz track $t | wc -l)
   within "$rows" 20 20 "track $t holds one mode of every record"
@@ -52,7 +52,7 @@ for t in 1 2 3; do
   within "$slope" -0.0012 -0.0008 "track $t: the drift per record (truth -0.001)"
 done
 within "$(col "$WORK/o2/tracked.csv" t_start_s track 1 | tail -1)" 68400 68400 "the last record's start time (19 h)"
-within "$(col "$WORK/o2/tracked.csv" temperature track 1 | tail -1)" 19.5 19.5 "the carried temperature's mean"
+within "$(col "$WORK/o2/tracked.csv" temperature_degC track 1 | tail -1)" 19.5 19.5 "the carried temperature's mean"
 
 # Windows of a record: two of 150 s.
 expect 0 "" -- "$VIADUCT" oma "$WORK/rec/record_02.csv" --channel acc_a --channel acc_b --channel acc_c --window-s 150 --f-min-hz 1 --max-order 30 --min-periods 150 --quiet --out "$WORK/o3"
@@ -108,6 +108,15 @@ expect 0 "" -- "$VIADUCT" fit "$WORK/span.toml" --set bridge.EI=6e9 --modes "$WO
 within "$(awk -F, '$1=="bridge.EI"{print $7}' "$WORK/fit/fit.csv")" 7.6932e9 7.6948e9 "EI fitted to oma's modes"
 # ... but not the modes of many windows at once.
 expect 2 "modes of 20 windows" -- "$VIADUCT" fit "$WORK/span.toml" --modes "$WORK/o2" --modes-method ssi-cov --param bridge.EI=5e9:1e10 --out "$WORK/fit2"
+
+# The plots (scripts/plot/plot_oma.py): the diagram of a record, the tracks of the folder; real PNGs (> 15 kB).
+for d in o2 o4; do
+  expect 0 "wrote $WORK/$d/oma_stabilization.png" -- /usr/bin/python3 "$SRC/scripts/plot/plot_oma.py" "$WORK/$d"
+done
+for png in o2/oma_stabilization.png o2/oma_tracked.png o4/oma_stabilization.png; do
+  within "$(stat -c %s "$WORK/$png" 2>/dev/null || echo 0)" 15000 1e9 "$png drawn"
+done
+expect 1 "stabilization.csv not found" -- /usr/bin/python3 "$SRC/scripts/plot/plot_oma.py" "$WORK/passage"
 
 # Realistic mistakes: one channel, a clipped channel, a band above Nyquist, a record too short,
 # NaN in a channel beyond what is filled: named, and the other records still written.

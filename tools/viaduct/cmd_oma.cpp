@@ -138,13 +138,15 @@ int oma_body(const Common& o, const OmaCliOptions& k) {
   OmaTables t;
   std::vector<std::vector<ident::OmaMode>> all_modes;
   std::vector<std::vector<std::string>> window_info;  // record, t_start, t_end, carried_means...
-  std::vector<std::string> failures, names_first;
+  std::vector<std::string> failures, names_first, carry_names;
   std::size_t window = 0;
   for (const auto& path : files) {
     try {
       const io::Record whole = read_record(path, o);
       std::vector<std::size_t> carry;
       for (const auto& c : k.carry) carry.push_back(whole.channel(c));
+      if (carry_names.empty())
+        for (std::size_t c : carry) carry_names.push_back(whole.channels[c]);
       std::vector<std::size_t> used;
       if (!k.channels.empty()) {
         used = selected(whole, k.channels);
@@ -203,7 +205,7 @@ int oma_body(const Common& o, const OmaCliOptions& k) {
   io::write_table_csv(o.out + "/fdd.csv", {"window", "frequency_hz", "sv1", "sv2", "sv3"}, t.fdd);
   const auto tracks = ident::track_modes(all_modes, k.tracking);
   std::vector<std::string> header{"window", "record", "t_start_s", "t_end_s", "track", "frequency_hz", "damping_ratio", "frequency_std_hz", "damping_std", "mac_to_previous"};
-  for (const auto& c : k.carry) header.push_back(c);
+  for (std::size_t c = 0; c < k.carry.size(); ++c) header.push_back(c < carry_names.size() ? carry_names[c] : k.carry[c]);
   std::map<int, ident::ComplexVector> last_shape;
   for (std::size_t w = 0; w < all_modes.size(); ++w)
     for (std::size_t m = 0; m < all_modes[w].size(); ++m) {
