@@ -10,6 +10,7 @@
 #include "viaduct/ident/decay.hpp"
 #include "viaduct/ident/frf_estimate.hpp"
 #include "viaduct/ident/modal_fit.hpp"
+#include "viaduct/ident/oma.hpp"
 #include "viaduct/io/frf.hpp"
 #include "viaduct/signal/peaks.hpp"
 #include "viaduct/study/speed.hpp"
@@ -264,6 +265,83 @@ py::dict speed(const py::handle& x, double fs_hz, double distance_m, const std::
   return d;
 }
 
+// One window of ident::identify_output_only as a dict (the columns of viaduct oma's tables).
+py::dict oma_window(const ident::OmaWindow& w) {
+  py::dict d;
+  d["t_start_s"] = w.t_start_s;
+  d["t_end_s"] = w.t_end_s;
+  d["error"] = w.error;
+  d["block_rows"] = w.ssi.block_rows;
+  std::vector<double> f, z, sf, sz, spf, spz, mpc, mpd;
+  std::vector<long> order, n_poles;
+  std::vector<std::string> note;
+  const Index n_ch = w.ssi.modes.empty() ? 0 : w.ssi.modes.front().shape.size();
+  ident::ComplexMatrix shapes(n_ch, static_cast<Index>(w.ssi.modes.size()));
+  for (std::size_t k = 0; k < w.ssi.modes.size(); ++k) {
+    const ident::OmaMode& m = w.ssi.modes[k];
+    f.push_back(m.frequency_hz), z.push_back(m.damping_ratio), sf.push_back(m.frequency_std_hz), sz.push_back(m.damping_std);
+    spf.push_back(m.frequency_spread_hz), spz.push_back(m.damping_spread), mpc.push_back(m.mpc), mpd.push_back(m.mpd_deg);
+    order.push_back(m.order), n_poles.push_back(static_cast<long>(m.n_poles)), note.push_back(m.note);
+    shapes.col(static_cast<Index>(k)) = m.shape;
+  }
+  py::dict modes;
+  modes["frequency_hz"] = to_numpy(std::move(f));
+  modes["damping_ratio"] = to_numpy(std::move(z));
+  modes["frequency_std_hz"] = to_numpy(std::move(sf));
+  modes["damping_std"] = to_numpy(std::move(sz));
+  modes["frequency_spread_hz"] = to_numpy(std::move(spf));
+  modes["damping_spread"] = to_numpy(std::move(spz));
+  modes["mpc"] = to_numpy(std::move(mpc));
+  modes["mpd_deg"] = to_numpy(std::move(mpd));
+  modes["order"] = order;
+  modes["n_poles"] = n_poles;
+  modes["note"] = note;
+  d["modes"] = modes;
+  d["shapes"] = matrix_to_numpy(std::move(shapes));
+  std::vector<long> p_order, p_mode;
+  std::vector<double> pf, pz, pmpc, pmpd;
+  std::vector<std::string> status;
+  for (const auto& p : w.ssi.poles) {
+    p_order.push_back(p.order), pf.push_back(p.frequency_hz), pz.push_back(p.damping_ratio), pmpc.push_back(p.mpc);
+    pmpd.push_back(p.mpd_deg), status.push_back(ident::pole_status(p)), p_mode.push_back(p.cluster + 1);
+  }
+  py::dict poles;
+  poles["order"] = p_order;
+  poles["frequency_hz"] = to_numpy(std::move(pf));
+  poles["damping_ratio"] = to_numpy(std::move(pz));
+  poles["mpc"] = to_numpy(std::move(pmpc));
+  poles["mpd_deg"] = to_numpy(std::move(pmpd));
+  poles["status"] = status;
+  poles["mode"] = p_mode;  // 0: in no mode's cluster
+  d["poles"] = poles;
+  py::dict fdd;
+  fdd["frequency_hz"] = to_numpy(Vector(w.fdd.frequency_hz));
+  fdd["singular_values"] = matrix_to_numpy(Matrix(w.fdd.singular_values));
+  std::vector<double> ff, ef, ez;
+  for (const auto& m : w.fdd.modes) ff.push_back(m.frequency_hz), ef.push_back(m.efdd_frequency_hz), ez.push_back(m.efdd_damping_ratio);
+  fdd["peak_hz"] = to_numpy(std::move(ff));
+  fdd["efdd_frequency_hz"] = to_numpy(std::move(ef));
+  fdd["efdd_damping_ratio"] = to_numpy(std::move(ez));
+  d["fdd"] = fdd;
+  return d;
+}
+
+py::list oma(const py::handle& y, double fs_hz, double t0_s, std::vector<std::string> names, const ident::OmaPlan& plan) {
+  const Matrix data = matrix_of(y, "oma");
+  if (names.empty())
+    for (Index c = 0; c < data.cols(); ++c) names.push_back("channel " + std::to_string(c + 1));
+  if (static_cast<Index>(names.size()) != data.cols())
+    throw InputError("oma: " + std::to_string(names.size()) + " names for " + std::to_string(data.cols()) + " channels");
+  std::vector<ident::OmaWindow> windows;
+  {
+    py::gil_scoped_release nogil;
+    windows = ident::identify_output_only(data, fs_hz, t0_s, names, plan);
+  }
+  py::list out;
+  for (const auto& w : windows) out.append(oma_window(w));
+  return out;
+}
+
 }  // namespace
 
 void bind_ident(py::module_& m) {
@@ -305,6 +383,72 @@ void bind_ident(py::module_& m) {
       },
       py::arg("x"), py::arg("fs_hz"), py::arg("frequency_hz"), py::arg("t0_s") = 0.0, py::arg("band_ratio") = 0.15, py::arg("order") = 2,
       py::arg("start_s") = py::none(), py::arg("end_s") = py::none());
+  py::class_<ident::OmaPlan>(m, "OmaPlan")
+      .def(py::init<>())
+      .def_readwrite("decimate", &ident::OmaPlan::decimate)
+      .def_readwrite("start_s", &ident::OmaPlan::start_s)
+      .def_readwrite("end_s", &ident::OmaPlan::end_s)
+      .def_readwrite("window_s", &ident::OmaPlan::window_s)
+      .def_readwrite("min_periods", &ident::OmaPlan::min_periods)
+      .def_readwrite("decay_rms_s", &ident::OmaPlan::decay_rms_s)
+      .def_property(
+          "ssi", [](ident::OmaPlan& p) -> ident::SsiOptions& { return p.ssi; }, [](ident::OmaPlan& p, const ident::SsiOptions& s) { p.ssi = s; },
+          py::return_value_policy::reference_internal)
+      .def_property(
+          "fdd", [](ident::OmaPlan& p) -> ident::FddOptions& { return p.fdd; }, [](ident::OmaPlan& p, const ident::FddOptions& f) { p.fdd = f; },
+          py::return_value_policy::reference_internal);
+  py::class_<ident::SsiOptions>(m, "SsiOptions")
+      .def(py::init<>())
+      .def_readwrite("f_min_hz", &ident::SsiOptions::f_min_hz)
+      .def_readwrite("f_max_hz", &ident::SsiOptions::f_max_hz)
+      .def_readwrite("references", &ident::SsiOptions::references)
+      .def_readwrite("block_rows", &ident::SsiOptions::block_rows)
+      .def_readwrite("min_order", &ident::SsiOptions::min_order)
+      .def_readwrite("max_order", &ident::SsiOptions::max_order)
+      .def_readwrite("order_step", &ident::SsiOptions::order_step)
+      .def_readwrite("free_decay", &ident::SsiOptions::free_decay)
+      .def_readwrite("tol_frequency", &ident::SsiOptions::tol_frequency)
+      .def_readwrite("tol_damping", &ident::SsiOptions::tol_damping)
+      .def_readwrite("tol_mac", &ident::SsiOptions::tol_mac)
+      .def_readwrite("max_damping", &ident::SsiOptions::max_damping)
+      .def_readwrite("min_mpc", &ident::SsiOptions::min_mpc)
+      .def_readwrite("max_mpd_deg", &ident::SsiOptions::max_mpd_deg)
+      .def_readwrite("cluster_distance", &ident::SsiOptions::cluster_distance)
+      .def_readwrite("min_cluster_fraction", &ident::SsiOptions::min_cluster_fraction)
+      .def_readwrite("jackknife_blocks", &ident::SsiOptions::uncertainty_blocks);
+  py::class_<ident::FddOptions>(m, "FddOptions")
+      .def(py::init<>())
+      .def_readwrite("nperseg", &ident::FddOptions::nperseg)
+      .def_readwrite("min_prominence_db", &ident::FddOptions::min_prominence_db)
+      .def_readwrite("efdd_mac", &ident::FddOptions::efdd_mac);
+  m.def("oma", &oma, py::arg("y"), py::arg("fs_hz"), py::arg("t0_s"), py::arg("names"), py::arg("plan"));
+  m.def(
+      "track_modes",
+      [](const py::list& windows, double tol_frequency, double min_mac) {
+        // Each window: (frequencies, shapes) with shapes channels x modes (complex), or None.
+        std::vector<std::vector<ident::OmaMode>> w;
+        for (const py::handle& item : windows) {
+          const auto pair = item.cast<py::tuple>();
+          if (pair.size() != 2) throw InputError("track_modes: each window is (frequencies, shapes)");
+          const auto f = pair[0].cast<std::vector<double>>();
+          std::vector<ident::OmaMode> modes(f.size());
+          if (!pair[1].is_none()) {
+            using CArray = py::array_t<std::complex<double>, py::array::f_style | py::array::forcecast>;
+            const auto a = CArray::ensure(pair[1]);
+            if (!a || a.ndim() != 2 || static_cast<std::size_t>(a.shape(1)) != f.size())
+              throw InputError("track_modes: shapes must be a 2-D array of channels x modes, one column per frequency");
+            const Eigen::Map<const ident::ComplexMatrix> shapes(a.data(), a.shape(0), a.shape(1));
+            for (std::size_t k = 0; k < f.size(); ++k) modes[k].shape = shapes.col(static_cast<Index>(k));
+          }
+          for (std::size_t k = 0; k < f.size(); ++k) modes[k].frequency_hz = f[k];
+          w.push_back(std::move(modes));
+        }
+        ident::TrackingOptions o;
+        o.tol_frequency = tol_frequency;
+        o.min_mac = min_mac;
+        return ident::track_modes(w, o);
+      },
+      py::arg("windows"), py::arg("tol_frequency") = 0.05, py::arg("min_mac") = 0.8);
 }
 
 }  // namespace viaduct_py

@@ -366,6 +366,32 @@ def test_frf_modal_fit_and_decay_equal_the_cli(src, cli, tmp_path):
         viaduct.frf(rec["force_N"], rec["mid_acc_mps2"], rec.fs_hz, ["g"])
 
 
+def test_oma_equals_the_cli(src, cli, tmp_path):
+    # The free vibration after a passage over the Old Guadiana model, decimated to 100 Hz.
+    run_cli(cli, "run", src / "scenarios/old-guadiana-talgo.toml", "--set", "analysis.free_vibration_s=8", "-q",
+            "--out", tmp_path / "passage")
+    chans = ["S1_mid_acc", "S1_3L4_acc", "S2_mid_acc"]
+    run_cli(cli, "oma", tmp_path / "passage/history.csv", "--free-decay", *sum([["--channel", c] for c in chans], []),
+            "--f-min-hz", 2, "--f-max-hz", 40, "--decimate", 10, "-q", "--out", tmp_path / "oma")
+    hist = viaduct.read_record(tmp_path / "passage/history.csv")
+    y = np.column_stack([hist[c + "_mps2"] for c in chans])
+    w = viaduct.oma(y, hist.fs_hz, t0_s=hist.t0_s, names=chans, f_min_hz=2.0, f_max_hz=40.0, free_decay=True, decimate=10)
+    assert len(w) == 1 and w[0]["error"] == ""
+    with open(tmp_path / "oma/modes.csv", newline="") as f:
+        modes = [r for r in csv.DictReader(f) if r["method"] == "ssi-cov"]
+    assert len(modes) == len(w[0]["modes"]["frequency_hz"]) >= 1
+    close_to_printed(w[0]["modes"]["frequency_hz"], [float(r["frequency_hz"]) for r in modes], 8)
+    close_to_printed(w[0]["modes"]["damping_ratio"], [float(r["damping_ratio"]) for r in modes], 8)
+    stab = read_csv(tmp_path / "oma/stabilization.csv")
+    assert list(w[0]["poles"]["status"]) == stab["status"]
+    # Tracking two windows of the same record: the same tracks.
+    assert viaduct.track_modes([w[0], w[0]]) == [list(range(len(modes)))] * 2
+    # A window that cannot be identified says why in its "error" (the others stand).
+    assert "at least 2 channels" in viaduct.oma(y[:, :1], hist.fs_hz, free_decay=True, decimate=10)[0]["error"]
+    with pytest.raises(TypeError, match="unexpected keyword"):
+        viaduct.oma(y, hist.fs_hz, tol_frequenzy=0.01)
+
+
 def test_peaks_and_speed(src, cli, tmp_path):
     rec = viaduct.read_record(src / "data/records/synthetic-deck.csv")
     x = rec["deck_acc_mps2"]

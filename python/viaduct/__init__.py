@@ -17,7 +17,7 @@ from ._viaduct import InputError, SolverError
 
 __all__ = ["Scenario", "load_scenario", "scenario_from_dict", "run", "sweep", "assess", "Record", "read_record", "filter",
            "spectrum", "welch", "compare", "peaks", "identify_speed", "frf", "record_frf", "read_frf", "modal_fit",
-           "decay", "fit", "InputError", "SolverError", "version"]
+           "decay", "oma", "track_modes", "fit", "InputError", "SolverError", "version"]
 
 
 def version():
@@ -340,6 +340,56 @@ def decay(x, fs_hz, frequency_hz, t0_s=0.0, band_ratio=0.15, order=2, start_s=No
     r = _viaduct.decay(x, fs_hz, frequency_hz, t0_s, band_ratio, order, start_s, end_s)
     r["by_amplitude"] = _table(r["by_amplitude"])
     return r
+
+
+def oma(y, fs_hz, t0_s=0.0, names=None, f_min_hz=0.0, f_max_hz=None, references=None, min_order=2, max_order=60,
+        order_step=2, block_rows=0, free_decay=False, decimate=1, start_s=None, end_s=None, window_s=0.0,
+        min_periods=200.0, jackknife_blocks=10, **stabilization):
+    """Output-only modal identification, as ``viaduct oma``: ``y`` (samples x channels, at
+    ``fs_hz``, first sample at ``t0_s``) cut into windows of ``window_s`` (0: one), each identified
+    by covariance-driven SSI with ``references`` (channel indices; all by default) over model
+    orders ``min_order``..``max_order``, stable poles clustered into modes with jackknife standard
+    deviations over ``jackknife_blocks`` pieces, and by FDD/EFDD. ``free_decay``: the free
+    vibration after a passage (its start found unless ``start_s``). More keywords set the
+    stabilization (tol_frequency, tol_damping, tol_mac, max_damping, min_mpc, max_mpd_deg,
+    cluster_distance, min_cluster_fraction) and FDD (nperseg, min_prominence_db, efdd_mac).
+    A list of windows, each a dict: t_start_s, t_end_s, error ("" when it went well),
+    block_rows, "modes" (modes.csv's columns), "shapes" (complex, channels x modes), "poles"
+    (stabilization.csv's), "fdd" (frequency_hz, singular_values, peak_hz, efdd_frequency_hz,
+    efdd_damping_ratio)."""
+    plan = _viaduct.OmaPlan()
+    ssi = plan.ssi
+    ssi.f_min_hz = f_min_hz
+    if f_max_hz is not None:
+        ssi.f_max_hz = f_max_hz
+    ssi.references = list(references or [])
+    ssi.min_order, ssi.max_order, ssi.order_step, ssi.block_rows = min_order, max_order, order_step, block_rows
+    ssi.free_decay = free_decay
+    ssi.jackknife_blocks = jackknife_blocks
+    fdd = plan.fdd
+    for k, v in stabilization.items():
+        target = fdd if k in ("nperseg", "min_prominence_db", "efdd_mac") else ssi
+        if not hasattr(target, k):
+            raise TypeError("oma() got an unexpected keyword argument '%s'" % k)
+        setattr(target, k, v)
+    plan.ssi, plan.fdd = ssi, fdd
+    plan.decimate, plan.window_s, plan.min_periods = decimate, window_s, min_periods
+    if start_s is not None:
+        plan.start_s = start_s
+    if end_s is not None:
+        plan.end_s = end_s
+    windows = _viaduct.oma(y, fs_hz, t0_s, list(names or []), plan)
+    for w in windows:
+        w["modes"] = _table(w["modes"])
+        w["poles"] = _table(w["poles"])
+    return windows
+
+
+def track_modes(windows, tol_frequency=0.05, min_mac=0.8):
+    """Modes of successive windows (oma()'s results, of one record or many) matched into tracks by
+    frequency and MAC, as ``viaduct oma`` does over its windows: per window, the track of each mode."""
+    pairs = [(list(w["modes"]["frequency_hz"]), w["shapes"] if len(w["modes"]["frequency_hz"]) else None) for w in windows]
+    return _viaduct.track_modes(pairs, tol_frequency, min_mac)
 
 
 def peaks(y, min_height=None, min_prominence=0.0, min_distance=1, max_peaks=0, interpolation="gaussian"):

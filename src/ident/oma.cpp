@@ -318,6 +318,15 @@ Correlations output_correlations(const Matrix& y0, const std::vector<Index>& ref
   return c;
 }
 
+const char* pole_status(const SsiPole& p) {
+  if (!p.physical) return "spurious";
+  if (p.stable()) return "stable";
+  if (p.stable_frequency && p.stable_shape) return "shape";
+  if (p.stable_frequency && p.stable_damping) return "damping";
+  if (p.stable_frequency) return "frequency";
+  return "new";
+}
+
 ShapeQuality shape_quality(const ComplexVector& phi) {
   ShapeQuality q;
   const Vector re = phi.real(), im = phi.imag();

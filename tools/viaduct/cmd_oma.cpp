@@ -25,15 +25,6 @@ struct OmaCliOptions {
 
 std::string oma_cell(double v) { return io::table_cell(v, 8); }
 
-std::string pole_status(const ident::SsiPole& p) {
-  if (!p.physical) return "spurious";
-  if (p.stable()) return "stable";
-  if (p.stable_frequency && p.stable_shape) return "shape";
-  if (p.stable_frequency && p.stable_damping) return "damping";
-  if (p.stable_frequency) return "frequency";
-  return "new";
-}
-
 struct OmaTables {
   std::vector<std::vector<std::string>> modes, shapes, stabilization, fdd, windows, tracked;
 };
@@ -61,7 +52,7 @@ void add_oma_window(OmaTables& t, const std::string& record, std::size_t window,
   }
   for (const auto& p : w.ssi.poles)
     t.stabilization.push_back({win, std::to_string(p.order), oma_cell(p.frequency_hz), oma_cell(p.damping_ratio), oma_cell(p.mpc), oma_cell(p.mpd_deg),
-                               pole_status(p), p.cluster >= 0 ? std::to_string(p.cluster + 1) : ""});
+                               ident::pole_status(p), p.cluster >= 0 ? std::to_string(p.cluster + 1) : ""});
   for (Index k = 0; k < w.fdd.frequency_hz.size(); ++k) {
     std::vector<std::string> row{win, oma_cell(w.fdd.frequency_hz[k])};
     for (Index j = 0; j < std::min<Index>(3, w.fdd.singular_values.cols()); ++j) row.push_back(oma_cell(w.fdd.singular_values(k, j)));

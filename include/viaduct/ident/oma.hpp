@@ -87,6 +87,11 @@ struct SsiPole {
   bool clusterable() const { return physical && stable_frequency && stable_shape; }
 };
 
+/// The pole's status in the stabilization diagram, as stabilization.csv and viaduct.oma() name
+/// it: "spurious" (not physical), "stable" (f, ζ, shape), "shape" (f and shape: clustered),
+/// "damping" (f and ζ), "frequency", "new".
+const char* pole_status(const SsiPole& p);
+
 struct OmaMode {
   double frequency_hz = 0.0;   ///< [Hz] undamped natural frequency
   double damping_ratio = 0.0;  ///< [-]
