@@ -282,7 +282,7 @@ Correlations output_correlations(const Matrix& y0, const std::vector<Index>& ref
   const Index piece = n / blocks;
   if (piece <= n_lags) throw InputError("the record (" + std::to_string(n) + " samples) is too short for " + std::to_string(n_lags) +
                                         " lags in " + std::to_string(blocks) + " pieces");
-  const Matrix y = y0.rowwise() - y0.colwise().mean();
+  const Eigen::RowVectorXd mean = y0.colwise().mean();  // removed piece by piece: no copy of the record
   Correlations c;
   c.unbiased = unbiased;
   for (Index b = 0; b < blocks; ++b) {
@@ -291,7 +291,7 @@ Correlations output_correlations(const Matrix& y0, const std::vector<Index>& ref
     std::vector<ComplexVector> spectra(static_cast<std::size_t>(l));
     for (Index a = 0; a < l; ++a) {
       Vector padded = Vector::Zero(nfft);
-      padded.head(len) = y.col(a).segment(start, len);
+      padded.head(len) = y0.col(a).segment(start, len).array() - mean[a];
       spectra[static_cast<std::size_t>(a)] = signal::rfft(padded);
     }
     std::vector<Matrix> sums(static_cast<std::size_t>(n_lags), Matrix(l, r));
@@ -516,7 +516,8 @@ namespace {
 
 // EFDD of the bell [lo, hi] of the first singular value: its correlation function (divided by
 // the Hann window's own correlation, which the Welch average multiplies it with), zero
-// crossings and extremes between 0.9 and 0.1 of its start.
+// crossings and extremes between 0.9 and 0.3 of its start (below, the averaged correlation's
+// noise, about 1/√segments of its start, takes over).
 void efdd(const FddResult& r, Index lo, Index hi, double fs_hz, FddMode& m) {
   const Index nper = r.nperseg, nbins = nper / 2 + 1;
   ComplexVector bell = ComplexVector::Zero(nbins);
@@ -557,7 +558,7 @@ void efdd(const FddResult& r, Index lo, Index hi, double fs_hz, FddMode& m) {
   std::vector<double> tt, la;
   for (std::size_t k = 0; k < ext_a.size(); ++k) {
     if (ext_a[k] > 0.9) continue;
-    if (ext_a[k] < 0.1) break;
+    if (ext_a[k] < 0.3) break;
     tt.push_back(ext_t[k]);
     la.push_back(std::log(ext_a[k]));
   }
@@ -569,7 +570,7 @@ void efdd(const FddResult& r, Index lo, Index hi, double fs_hz, FddMode& m) {
     crossing = kept;
   }
   if (tt.size() < 3 || crossing.size() < 3) {
-    m.note = "EFDD: fewer than 3 extremes between 0.9 and 0.1 of the bell's correlation (a wider bell: lower efdd_mac)";
+    m.note = "EFDD: fewer than 3 extremes between 0.9 and 0.3 of the bell's correlation (a wider bell: lower efdd_mac)";
     return;
   }
   auto slope = [](const std::vector<double>& x, const std::vector<double>& v) {

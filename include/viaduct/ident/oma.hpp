@@ -164,7 +164,7 @@ struct FddResult {
 
 /// Singular values of the Welch cross-spectral density matrix (SciPy's scaling, one-sided) line
 /// by line; peaks of the first; EFDD damping and frequency from each peak's bell back in time
-/// (zero crossings and log decrement of its correlation function between 0.9 and 0.1 of its
+/// (zero crossings and log decrement of its correlation function between 0.9 and 0.3 of its
 /// start). A quick look: the Hann window widens the bell, so EFDD's ζ is biased high when the
 /// half-power bandwidth 2ζf spans few lines (docs/identification.md gives the measured error).
 FddResult fdd(const Matrix& y, double fs_hz, const FddOptions& o = {});
