@@ -54,6 +54,12 @@ done
 within "$(col "$WORK/o2/tracked.csv" t_start_s track 1 | tail -1)" 68400 68400 "the last record's start time (19 h)"
 within "$(col "$WORK/o2/tracked.csv" temperature_degC track 1 | tail -1)" 19.5 19.5 "the carried temperature's mean"
 
+# A table of records (as viaduct passages reads, files relative to it): the same modes as the folder's.
+printf 'file,train\nrec/record_01.csv,\nrec/record_02.csv,\n' > "$WORK/table.csv"
+expect 0 "" -- "$VIADUCT" oma --records "$WORK/table.csv" --carry temperature --f-min-hz 1 --max-order 30 --jackknife-blocks 0 --quiet --out "$WORK/o2t"
+is "$(awk -F, 'NR>1 && NR<=7{print $6}' "$WORK/o2t/tracked.csv")" "$(awk -F, 'NR>1 && NR<=7{print $6}' "$WORK/o2/tracked.csv")" "the table's records as the folder's"
+expect 2 "no records" -- "$VIADUCT" oma --out "$WORK/none"
+
 # Windows of a record: two of 150 s.
 expect 0 "" -- "$VIADUCT" oma "$WORK/rec/record_02.csv" --channel acc_a --channel acc_b --channel acc_c --window-s 150 --f-min-hz 1 --max-order 30 --min-periods 150 --quiet --out "$WORK/o3"
 is "$(awk -F, 'NR>1{print $1}' "$WORK/o3/tracked.csv" | sort -u | wc -l | tr -d ' ')" "2" "two windows"
@@ -101,6 +107,12 @@ f2=$(awk '$1=="2"{print $2; exit}' "$WORK/modes.txt")
 within "$(col "$WORK/o4/modes.csv" frequency_hz method ssi-cov | sed -n 1p)" "$(awk -v f="$f1" 'BEGIN{print f*0.995}')" "$(awk -v f="$f1" 'BEGIN{print f*1.005}')" "free decay: first bending ($f1 Hz)"
 within "$(col "$WORK/o4/modes.csv" frequency_hz method ssi-cov | sed -n 2p)" "$(awk -v f="$f2" 'BEGIN{print f*0.995}')" "$(awk -v f="$f2" 'BEGIN{print f*1.005}')" "free decay: second bending ($f2 Hz)"
 within "$(col "$WORK/o4/modes.csv" damping_ratio method ssi-cov | sed -n 1p)" 0.017 0.023 "free decay: damping of the first (0.02)"
+# The start from a train's passage instead (as decay takes it): a 400 m train entering at 0 s
+# leaves the 15 m span at (400 + 15) m / 200 km/h = 7.47 s.
+expect 0 "" -- "$VIADUCT" oma "$WORK/passage/history.csv" --free-decay --entry-s 0 --speed-kmh 200 --train-length-m 400 --bridge-length-m 15 \
+  --channel q1_acc --channel mid_acc --channel q3_acc --decimate 5 --f-min-hz 2 --f-max-hz 60 --max-order 20 --quiet --out "$WORK/o5"
+within "$(awk -F, 'NR==2{print $3}' "$WORK/o5/tracked.csv")" 7.47 7.47 "the decay starts at (400 + 15) m / 200 km/h"
+expect 2 "go together" -- "$VIADUCT" oma "$WORK/passage/history.csv" --free-decay --entry-s 0 --out "$WORK/o6"
 
 # fit takes oma's modes: EI back from a start 22 % low (7.694e9 N m2 made the record; 1e-4).
 expect 0 "" -- "$VIADUCT" fit "$WORK/span.toml" --set bridge.EI=6e9 --modes "$WORK/o4" --modes-method ssi-cov --map q1_acc_mps2=q1 \

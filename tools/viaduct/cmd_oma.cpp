@@ -6,6 +6,7 @@
 #include <map>
 
 #include "cli.hpp"
+#include "viaduct/ident/decay.hpp"
 #include "viaduct/ident/modal_fit.hpp"
 #include "viaduct/ident/oma.hpp"
 #include "viaduct/io/record.hpp"
@@ -16,8 +17,8 @@ namespace viaduct::cli {
 namespace {
 
 struct OmaCliOptions {
-  std::vector<std::string> channels, references, carry;
-  std::optional<double> f_min_hz, f_max_hz, start_s, end_s;
+  std::vector<std::string> channels, references, carry, records;
+  std::optional<double> f_min_hz, f_max_hz, start_s, end_s, entry_s, speed_kmh, train_length_m, bridge_length_m;
   ident::OmaPlan plan;
   ident::TrackingOptions tracking;
   bool free_decay = false;
@@ -77,16 +78,32 @@ std::vector<std::string> carried_means(const io::Record& r, const std::vector<st
   return out;
 }
 
-std::vector<std::string> expand_oma_records(const Common& o) {
-  std::vector<std::string> sources{o.scenario}, files;
+// The positionals (files, or folders of them in name order) and --records (folders, or tables
+// with a file column as `viaduct passages` reads them, files relative to the table's folder).
+std::vector<std::string> expand_oma_records(const Common& o, const std::vector<std::string>& records) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> sources, files;
+  if (!o.scenario.empty()) sources.push_back(o.scenario);
   sources.insert(sources.end(), o.more.begin(), o.more.end());
   for (const auto& s : sources) {
-    if (std::filesystem::is_directory(s)) {
+    if (fs::is_directory(s)) {
       for (const auto& f : record_files_in(s)) files.push_back(f);
     } else {
       files.push_back(s);
     }
   }
+  for (const auto& r : records) {
+    if (fs::is_directory(r)) {
+      for (const auto& f : record_files_in(r)) files.push_back(f);
+    } else if (fs::exists(r)) {
+      const fs::path base = fs::path(r).parent_path();
+      for (const auto& e : io::read_passage_table(r))
+        files.push_back(fs::path(e.file).is_absolute() || fs::exists(e.file) ? e.file : (base / e.file).string());
+    } else {
+      throw InputError("--records " + r + ": no such folder or table");
+    }
+  }
+  if (files.empty()) throw InputError("no records: give record files or folders, or --records FOLDER|TABLE");
   return files;
 }
 
@@ -114,7 +131,11 @@ void oma_declare(po::options_description& d, OmaCliOptions& k) {
       "fdd-prominence-db", value(k.plan.fdd.min_prominence_db), "FDD: least prominence of a peak of the first singular value [dB]")(
       "track-tol-frequency", value(k.tracking.tol_frequency), "tracking: relative frequency change between windows")(
       "track-min-mac", value(k.tracking.min_mac), "tracking: least MAC between windows")(
-      "carry", list_value(k.carry), "a channel (e.g. temperature) whose mean per window goes into tracked.csv (repeatable)");
+      "carry", list_value(k.carry), "a channel (e.g. temperature) whose mean per window goes into tracked.csv (repeatable)")(
+      "records", list_value(k.records), "a folder of records, or a table (CSV with a file column, as viaduct passages reads; repeatable)")(
+      "entry-s", optional_value(k.entry_s), "--free-decay: time the first axle enters the bridge [s] ...")(
+      "speed-kmh", optional_value(k.speed_kmh), "... the train speed [km/h] ...")("train-length-m", optional_value(k.train_length_m), "... its length [m] ...")(
+      "bridge-length-m", optional_value(k.bridge_length_m), "... and the bridge length [m]: the decay starts when the last axle leaves");
 }
 
 int oma_body(const Common& o, const OmaCliOptions& k) {
@@ -125,7 +146,13 @@ int oma_body(const Common& o, const OmaCliOptions& k) {
   if (k.end_s) plan.end_s = *k.end_s;
   plan.ssi.free_decay = k.free_decay;
   if (k.free_decay && plan.window_s > 0.0) throw InputError("--free-decay and --window-s exclude each other (a passage's decay is one window)");
-  const std::vector<std::string> files = expand_oma_records(o);
+  const int n_train = int{k.entry_s.has_value()} + int{k.speed_kmh.has_value()} + int{k.train_length_m.has_value()} +
+                      int{k.bridge_length_m.has_value()};
+  if (n_train != 0 && n_train != 4) throw InputError("--entry-s, --speed-kmh, --train-length-m and --bridge-length-m go together");
+  if (n_train == 4 && !k.free_decay) throw InputError("--entry-s, --speed-kmh, --train-length-m and --bridge-length-m need --free-decay");
+  if (n_train == 4 && k.start_s) throw InputError("give --start-s or the train's passage, not both");
+  if (n_train == 4) plan.start_s = ident::passage_end_time(*k.entry_s, *k.train_length_m, *k.bridge_length_m, *k.speed_kmh / 3.6);
+  const std::vector<std::string> files = expand_oma_records(o, k.records);
   OmaTables t;
   std::vector<std::vector<ident::OmaMode>> all_modes;
   std::vector<std::vector<std::string>> window_info;  // record, t_start, t_end, carried_means...
@@ -225,11 +252,13 @@ int oma_body(const Common& o, const OmaCliOptions& k) {
 }  // namespace
 
 Command oma_command() {
-  Command c = record_command("oma", "RECORD...", "output-only modal identification (SSI-COV, FDD) of ambient or post-passage records, tracked");
+  Command c = record_command("oma", "[RECORD...]", "output-only modal identification (SSI-COV, FDD) of ambient or post-passage records, tracked");
   c.many_positionals = true;
+  c.needs_scenario = false;  // --records may give them all
   c.usage_and_samples =
-      "Records (files, or folders of them in name order) of ambient vibration, or of passages with\n"
-      "--free-decay. Each record, or each --window-s of it, is identified by covariance-driven SSI\n"
+      "Records (files, folders of them in name order, or --records TABLE) of ambient vibration, or of\n"
+      "passages with --free-decay (the start detected, --start-s, or the train's passage as decay takes it).\n"
+      "Each record, or each --window-s of it, is identified by covariance-driven SSI\n"
       "with reference channels over model orders --min-order..--max-order: poles stable in frequency,\n"
       "damping and shape from order to order are clustered into modes (f, damping, their jackknife\n"
       "standard deviations, shapes), and by FDD/EFDD as a quick look. Modes are tracked from window\n"
