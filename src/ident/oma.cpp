@@ -774,7 +774,16 @@ std::vector<OmaWindow> identify_output_only(const Matrix& y0, double fs0, double
   check_oma_record(y0, fs0, names, 1, 0.0, std::numeric_limits<double>::infinity(), 0.0);
   Matrix y = y0;
   double fs = fs0;
+  OmaPlan p = plan;
   if (plan.decimate > 1) {
+    // The decimating low-pass (scipy.signal.decimate's) passes up to 0.8 of the new Nyquist
+    // frequency; above, it bends the modal peaks: the band stops there.
+    const double edge = 0.8 * 0.5 * fs0 / plan.decimate;
+    if (plan.ssi.f_min_hz >= edge || (std::isfinite(plan.ssi.f_max_hz) && plan.ssi.f_max_hz > edge))
+      throw InputError("the band (" + format_number(plan.ssi.f_min_hz) + " to " + format_number(plan.ssi.f_max_hz) +
+                       " Hz) reaches above " + format_number(edge) + " Hz, the passband edge of the low-pass that decimating by " +
+                       std::to_string(plan.decimate) + " applies (0.8 x the new Nyquist frequency): decimate less");
+    if (!std::isfinite(plan.ssi.f_max_hz)) p.ssi.f_max_hz = edge;
     const Index n = (y0.rows() + plan.decimate - 1) / plan.decimate;
     y.resize(n, y0.cols());
     for (Index c = 0; c < y0.cols(); ++c) y.col(c) = signal::decimate(y0.col(c), plan.decimate);
@@ -788,8 +797,8 @@ std::vector<OmaWindow> identify_output_only(const Matrix& y0, double fs0, double
                      format_number(t_end_record) + " s)");
   auto sample = [&](double t) { return std::clamp<Index>(static_cast<Index>(std::llround((t - t0_s) * fs)), 0, y.rows()); };
   Index i0 = sample(from), i1 = std::min(sample(to) + 1, y.rows());
-  const double f_low = plan.ssi.f_min_hz;
-  const double f_high = std::isfinite(plan.ssi.f_max_hz) ? plan.ssi.f_max_hz : std::numeric_limits<double>::infinity();
+  const double f_low = p.ssi.f_min_hz;
+  const double f_high = p.ssi.f_max_hz;
   std::vector<std::pair<Index, Index>> spans;
   if (plan.ssi.free_decay) {
     const double rms_s = plan.decay_rms_s > 0.0 ? plan.decay_rms_s : f_low > 0.0 ? 2.0 / f_low : 0.5;
@@ -803,9 +812,9 @@ std::vector<OmaWindow> identify_output_only(const Matrix& y0, double fs0, double
   } else {
     spans.push_back({i0, i1});
   }
-  FddOptions fo = plan.fdd;
-  fo.f_min_hz = plan.ssi.f_min_hz;
-  fo.f_max_hz = plan.ssi.f_max_hz;
+  FddOptions fo = p.fdd;
+  fo.f_min_hz = p.ssi.f_min_hz;
+  fo.f_max_hz = p.ssi.f_max_hz;
   std::vector<OmaWindow> out;
   for (const auto& [a, b] : spans) {
     OmaWindow w;
@@ -813,8 +822,8 @@ std::vector<OmaWindow> identify_output_only(const Matrix& y0, double fs0, double
     w.t_end_s = t0_s + static_cast<double>(b - 1) / fs;
     try {
       const Matrix piece = y.middleRows(a, b - a);
-      check_oma_record(piece, fs, names, 2, f_low, f_high, plan.ssi.free_decay ? 0.0 : plan.min_periods);
-      w.ssi = ssi_cov(piece, fs, plan.ssi);
+      check_oma_record(piece, fs, names, 2, f_low, f_high, p.ssi.free_decay ? 0.0 : p.min_periods);
+      w.ssi = ssi_cov(piece, fs, p.ssi);
       if (fo.nperseg == 0 || fo.nperseg <= piece.rows()) w.fdd = fdd(piece, fs, fo);
     } catch (const InputError& e) {
       w.error = e.what();

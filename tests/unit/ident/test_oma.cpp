@@ -230,6 +230,10 @@ TEST_CASE("windows of a record, decimated, and modes tracked across them") {
     CHECK(check_targets(x.ssi.modes, modes, false) == 0);
     found.push_back(x.ssi.modes);
   }
+  // Decimating by 4 passes up to 0.8 of the new Nyquist frequency (20 Hz): a band beyond is refused.
+  ident::OmaPlan wide = plan;
+  wide.ssi.f_max_hz = 22.0;
+  CHECK_THROWS_WITH(ident::identify_output_only(y, 200.0, 50.0, {"a", "b", "c"}, wide), Contains("passband edge"));
   const auto tracks = ident::track_modes(found);
   for (std::size_t k = 0; k < found.size(); ++k)
     for (std::size_t m = 0; m < found[k].size(); ++m) CHECK(tracks[k][m] == static_cast<int>(m));
