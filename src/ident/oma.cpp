@@ -494,6 +494,18 @@ SsiResult ssi_cov(const Matrix& y, double fs_hz, const SsiOptions& o) {
       m.note += std::string(m.note.empty() ? "" : "; ") + "only " + format_number(duration * m.frequency_hz, 3) +
                 " periods in the record (200 or more advised)";
   }
+  // A mode close to a better-supported one with a similar shape may be that mode split by the
+  // clustering (its poles wander between orders): said where the user reads it, not dropped, as
+  // two real modes can be that close.
+  for (std::size_t a = 0; a < r.modes.size(); ++a)
+    for (std::size_t b = 0; b < r.modes.size(); ++b) {
+      const OmaMode &ma = r.modes[a], &mb = r.modes[b];
+      const double mac = mac_of(ma.shape, mb.shape);
+      if (a == b || mb.n_poles <= ma.n_poles || std::abs(ma.frequency_hz - mb.frequency_hz) > 0.03 * mb.frequency_hz || mac < 0.9) continue;
+      r.modes[a].note += std::string(ma.note.empty() ? "" : "; ") + "beside the mode at " + format_number(mb.frequency_hz, 4) +
+                         " Hz with more poles and a similar shape (MAC " + format_number(mac, 2) + "): perhaps that mode split";
+      break;
+    }
   if (blocks >= 4 && !r.modes.empty()) jackknife(c, i, l, fs_hz, r.modes);
   return r;
 }

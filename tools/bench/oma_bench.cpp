@@ -88,6 +88,8 @@ int main(int argc, char** argv) {
                 std::abs(e.damping_ratio - m.zeta) / e.damping_std, efdd);
   }
   for (std::size_t k = 0; k < r.modes.size(); ++k)
-    if (!used[k]) std::printf("spurious %.4f Hz zeta %.4f (%ld poles)\n", r.modes[k].frequency_hz, r.modes[k].damping_ratio, static_cast<long>(r.modes[k].n_poles));
+    if (!used[k])
+      std::printf("spurious %.4f Hz zeta %.4f (%ld poles) %s\n", r.modes[k].frequency_hz, r.modes[k].damping_ratio,
+                  static_cast<long>(r.modes[k].n_poles), r.modes[k].note.c_str());
   return 0;
 }
