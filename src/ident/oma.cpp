@@ -280,8 +280,9 @@ Correlations output_correlations(const Matrix& y0, const std::vector<Index>& ref
   const Index n = y0.rows(), l = y0.cols(), r = static_cast<Index>(refs.size());
   blocks = std::max<Index>(1, blocks);
   const Index piece = n / blocks;
-  if (piece <= n_lags) throw InputError("the record (" + std::to_string(n) + " samples) is too short for " + std::to_string(n_lags) +
-                                        " lags in " + std::to_string(blocks) + " pieces");
+  if (piece <= n_lags)
+    throw InputError("the record (" + std::to_string(n) + " samples) is too short for " + std::to_string(n_lags) + " lags in each of " +
+                     std::to_string(blocks) + " pieces (fewer jackknife blocks, fewer block rows, or a longer record)");
   const Eigen::RowVectorXd mean = y0.colwise().mean();  // removed piece by piece: no copy of the record
   Correlations c;
   c.unbiased = unbiased;
@@ -818,6 +819,9 @@ std::vector<OmaWindow> identify_output_only(const Matrix& y0, double fs0, double
     spans.push_back({i0, i1});
   } else if (plan.window_s > 0.0) {
     const Index w = static_cast<Index>(std::llround(plan.window_s * fs));
+    if (w < 64)
+      throw InputError("the window (" + format_number(plan.window_s) + " s) holds " + std::to_string(w) + " samples at " +
+                       format_number(fs) + " Hz; at least 64 are needed");
     if (w > i1 - i0) throw InputError("the window (" + format_number(plan.window_s) + " s) is longer than the record (" +
                                       format_number(static_cast<double>(i1 - i0) / fs) + " s)");
     for (Index s = i0; s + w <= i1; s += w) spans.push_back({s, s + w});

@@ -206,6 +206,9 @@ TEST_CASE("output-only identification refuses what it cannot identify, naming th
   const ident::OmaMode* top_mode = nearest(w[0].ssi.modes, modes.back());
   REQUIRE(top_mode);
   CHECK_THAT(top_mode->note, Contains("band's edge"));
+  ident::OmaPlan tiny = plan;
+  tiny.window_s = 0.001;  // rounds to no sample at 100 Hz: refused, not an endless loop
+  CHECK_THROWS_WITH(ident::identify_output_only(y, 100.0, 0.0, names, tiny), Contains("at least 64"));
   ident::OmaPlan odd = plan;
   odd.ssi.max_order = 21;
   CHECK_THAT(error_of(y, odd), Contains("max_order"));
