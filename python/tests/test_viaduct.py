@@ -386,8 +386,10 @@ def test_oma_equals_the_cli(src, cli, tmp_path):
     assert list(w[0]["poles"]["status"]) == stab["status"]
     # Tracking two windows of the same record: the same tracks.
     assert viaduct.track_modes([w[0], w[0]]) == [list(range(len(modes)))] * 2
-    # A window that cannot be identified says why in its "error" (the others stand).
-    assert "at least 2 channels" in viaduct.oma(y[:, :1], hist.fs_hz, free_decay=True, decimate=10)[0]["error"]
+    # A window that cannot be identified says why in its "error" (the others stand), and warns.
+    with pytest.warns(UserWarning, match="at least 2 channels"):
+        bad = viaduct.oma(y[:, :1], hist.fs_hz, free_decay=True, decimate=10)
+    assert "at least 2 channels" in bad[0]["error"]
     with pytest.raises(TypeError, match="unexpected keyword"):
         viaduct.oma(y, hist.fs_hz, tol_frequenzy=0.01)
 

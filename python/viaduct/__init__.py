@@ -356,7 +356,7 @@ def oma(y, fs_hz, t0_s=0.0, names=None, f_min_hz=0.0, f_max_hz=None, references=
     A list of windows, each a dict: t_start_s, t_end_s, error ("" when it went well),
     block_rows, "modes" (modes.csv's columns), "shapes" (complex, channels x modes), "poles"
     (stabilization.csv's), "fdd" (frequency_hz, singular_values, peak_hz, efdd_frequency_hz,
-    efdd_damping_ratio)."""
+    efdd_damping_ratio). A window that fails warns (UserWarning) besides its "error"."""
     plan = _viaduct.OmaPlan()
     ssi = plan.ssi
     ssi.f_min_hz = f_min_hz
@@ -382,6 +382,9 @@ def oma(y, fs_hz, t0_s=0.0, names=None, f_min_hz=0.0, f_max_hz=None, references=
     for w in windows:
         w["modes"] = _table(w["modes"])
         w["poles"] = _table(w["poles"])
+        if w["error"]:  # said where the user sees it, as the CLI names each failed window on stderr
+            import warnings
+            warnings.warn("oma: window %g to %g s: %s" % (w["t_start_s"], w["t_end_s"], w["error"]), stacklevel=2)
     return windows
 
 
