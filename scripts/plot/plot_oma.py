@@ -72,8 +72,8 @@ def stabilization(d, window, out):
     ax.patch.set_visible(False)
     ax.legend(loc="upper left", fontsize=7, ncol=2, framealpha=0.9)
     ax.grid(True, alpha=0.3)
-    rec = modes[0]["record"] if modes else (poles[0]["window"] if poles else "")
-    ax.set_title(f"SSI-COV stabilization diagram, window {window}: {os.path.basename(rec)}")
+    rec = f": {os.path.basename(modes[0]['record'])}" if modes else " (no mode found)"
+    ax.set_title(f"SSI-COV stabilization diagram, window {window}{rec}")
     fig.tight_layout()
     plotlib.save(fig, out, "plot_oma")
 
