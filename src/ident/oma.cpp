@@ -785,7 +785,7 @@ std::vector<OmaWindow> identify_output_only(const Matrix& y0, double fs0, double
   require_valid(plan, "output-only identification");
   // The whole record first (NaN, constant, clipped channels), before decimation hides them.
   check_oma_record(y0, fs0, names, 1, 0.0, std::numeric_limits<double>::infinity(), 0.0);
-  Matrix y = y0;
+  Matrix decimated;  // only when decimating: otherwise the record is read where it is, not copied
   double fs = fs0;
   OmaPlan p = plan;
   if (plan.decimate > 1) {
@@ -798,10 +798,11 @@ std::vector<OmaWindow> identify_output_only(const Matrix& y0, double fs0, double
                        std::to_string(plan.decimate) + " applies (0.8 x the new Nyquist frequency): decimate less");
     if (!std::isfinite(plan.ssi.f_max_hz)) p.ssi.f_max_hz = edge;
     const Index n = (y0.rows() + plan.decimate - 1) / plan.decimate;
-    y.resize(n, y0.cols());
-    for (Index c = 0; c < y0.cols(); ++c) y.col(c) = signal::decimate(y0.col(c), plan.decimate);
+    decimated.resize(n, y0.cols());
+    for (Index c = 0; c < y0.cols(); ++c) decimated.col(c) = signal::decimate(y0.col(c), plan.decimate);
     fs = fs0 / plan.decimate;
   }
+  const Matrix& y = plan.decimate > 1 ? decimated : y0;
   const double t_end_record = t0_s + static_cast<double>(y.rows() - 1) / fs;
   const double from = std::isnan(plan.start_s) ? t0_s : plan.start_s;
   const double to = std::isnan(plan.end_s) ? t_end_record : plan.end_s;
