@@ -6,7 +6,7 @@
 #include <map>
 #include <set>
 
-#include <Eigen/Eigenvalues>
+#include "viaduct/core/eigensolvers.hpp"
 
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/options.hpp"

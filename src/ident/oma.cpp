@@ -5,7 +5,7 @@
 #include <map>
 #include <numeric>
 
-#include <Eigen/Eigenvalues>
+#include "viaduct/core/eigensolvers.hpp"
 #include <Eigen/QR>
 #include <Eigen/SVD>
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "viaduct/core/eigensolvers.hpp"
 #include "viaduct/core/error.hpp"
 
 namespace viaduct::model {

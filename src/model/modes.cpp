@@ -7,6 +7,7 @@
 #include <Spectra/MatOp/SymShiftInvert.h>
 #include <Spectra/SymGEigsShiftSolver.h>
 
+#include "viaduct/core/eigensolvers.hpp"
 #include "viaduct/core/error.hpp"
 
 namespace viaduct::model {

@@ -4,7 +4,7 @@
 #include <complex>
 #include <cmath>
 
-#include <Eigen/Eigenvalues>
+#include "viaduct/core/eigensolvers.hpp"
 #include <Eigen/LU>
 #include <Eigen/SparseCholesky>
 #include <unsupported/Eigen/MatrixFunctions>

@@ -14,7 +14,7 @@
 #include <mutex>
 #include <sstream>
 
-#include <Eigen/Eigenvalues>
+#include "viaduct/core/eigensolvers.hpp"
 
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/options.hpp"

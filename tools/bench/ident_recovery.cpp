@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Eigenvalues>
+#include "viaduct/core/eigensolvers.hpp"
 
 #include "../../tests/unit/ident/synthetic.hpp"
 #include "viaduct/ident/decay.hpp"

@@ -81,7 +81,7 @@ TEST_CASE("H1 is unbiased under output noise, H2 is biased by 1/coherence") {
   CHECK_THROWS_AS(welch_frf(x, Matrix(y.head(n - 1)), fs, o), InputError);      // mismatched lengths
 }
 
-TEST_CASE("Stepped sine recovers the FRF of a 2-DOF system point by point") {
+TEST_CASE("Stepped sine recovers the FRF of a 2-DOF system point by point", "[long]") {
   vt::ModalSystem m;
   m.f_hz = {5.0, 5.1};
   m.zeta = {0.01, 0.01};

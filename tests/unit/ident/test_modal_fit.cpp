@@ -53,7 +53,7 @@ TEST_CASE("Circle fit ignores a constant offset from other modes and a rotated m
   CHECK(rel(cf.damping_ratio, 0.01) < 0.01);
 }
 
-TEST_CASE("LSCF, peak picking and circle fit recover a single mode from 0.5 % to 5 % damping at 40 dB SNR") {
+TEST_CASE("LSCF, peak picking and circle fit recover a single mode from 0.5 % to 5 % damping at 40 dB SNR", "[long]") {
   for (double zeta : {0.005, 0.01, 0.02, 0.05}) {
     INFO("zeta " << zeta);
     const auto sys = sdof(5.0, zeta);

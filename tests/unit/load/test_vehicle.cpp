@@ -1,6 +1,6 @@
 #include <catch2/catch.hpp>
 
-#include <Eigen/Eigenvalues>
+#include "viaduct/core/eigensolvers.hpp"
 
 #include "viaduct/core/error.hpp"
 #include "viaduct/load/vehicle.hpp"

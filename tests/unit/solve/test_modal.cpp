@@ -4,6 +4,7 @@
 
 #include <Eigen/SparseCholesky>
 
+#include "viaduct/core/eigensolvers.hpp"
 #include "viaduct/core/error.hpp"
 #include "viaduct/solve/modal.hpp"
 #include "viaduct/solve/newmark.hpp"

@@ -7,7 +7,7 @@
 #include <limits>
 #include <memory>
 
-#include <Eigen/Eigenvalues>
+#include "viaduct/core/eigensolvers.hpp"
 
 #include "coupled_fixtures.hpp"
 #include "viaduct/core/error.hpp"

@@ -28,7 +28,7 @@ TEST_CASE("normalised coordinates map the bounds onto [0, 1] and back") {
   REQUIRE(from_unit(ln, 0.25) == Approx(0.0).margin(1e-15));
 }
 
-TEST_CASE("fit recovers stiffness and damping from a noisy synthetic record") {
+TEST_CASE("fit recovers stiffness and damping from a noisy synthetic record", "[long]") {
   const std::vector<double> truth = {5.5e9, 0.025};
   FitProblem p;
   p.params = {param("bridge.EI", 3e9, 8e9, 5.0e9), param("bridge.damping.ratio", 0.005, 0.08, 0.015)};
@@ -140,7 +140,7 @@ TEST_CASE("a strain channel fits the stiffness through the model's strain at the
   REQUIRE_THROWS_WITH(fit(p, o), Catch::Contains("has no stations[].fibre_m"));
 }
 
-TEST_CASE("a parameter the data do not depend on is flagged, not reported as fitted") {
+TEST_CASE("a parameter the data do not depend on is flagged, not reported as fitted", "[long]") {
   // Bearing damping on rigid bearings changes nothing.
   FitProblem p;
   p.params = {param("bridge.EI", 3e9, 8e9, 5e9), param("bridge.damping.ratio", 0.005, 0.08, 0.02),
@@ -329,7 +329,7 @@ TEST_CASE("inconsistent fit problems are refused with the reason") {
   expect(p, oo, "FitOptions::starts = 0: violated constraint starts >= 1");
 }
 
-TEST_CASE("a train speed 5 % off is recovered through the spectral pre-stage") {
+TEST_CASE("a train speed 5 % off is recovered through the spectral pre-stage", "[long]") {
   // The time misfit is full of local minima in speed (every axle shifts); the amplitude spectra
   // are not, so each start fits them first.
   FitProblem p;

@@ -203,7 +203,7 @@ Vector gauge_record(const load::Train& train, double v, double entry, double hal
 
 }  // namespace
 
-TEST_CASE("speed from the train alone: axle or bogie peaks matched to the train's geometry (issue #39 item 5)") {
+TEST_CASE("speed from the train alone: axle or bogie peaks matched to the train's geometry (issue #39 item 5)", "[long]") {
   const load::Train a1 = load::hslm_a("HSLM-A1", load::hslm_a_row(1));
   const double fs = 1000.0;
   TrainTimingOptions o;
