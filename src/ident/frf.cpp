@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/options.hpp"

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <sstream>
 
 #include "viaduct/core/error.hpp"

@@ -3,6 +3,7 @@
 // identification tests: exact FRFs, noise at a given signal-to-noise ratio, time responses.
 #include <cmath>
 #include <complex>
+#include <functional>
 #include <random>
 #include <vector>
 
