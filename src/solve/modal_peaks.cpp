@@ -103,15 +103,22 @@ struct LoadCursor {
     }
   }
   // One step: three additions per channel (n_ch, n_res: the caller's sizes, constants in the
-  // unrolled kernels), then the lanes whose head X crossed a breakpoint start their new piece.
-  VIADUCT_ALWAYS_INLINE void advance(std::size_t n_ch, std::size_t n_res, const lanes& X) {
+  // unrolled kernels), then the lanes whose head X crossed a breakpoint start their new piece. The
+  // residuals' curvature advances only for the outputs in acc_idx when it is given (the others'
+  // accelerations are not read; reinit sets every one afresh).
+  VIADUCT_ALWAYS_INLINE void advance(std::size_t n_ch, std::size_t n_res, const lanes& X,
+                                     const std::size_t* acc_idx = nullptr, std::size_t n_acc = 0) {
     for (std::size_t e = 0; e < nx; ++e) pt[e] = lanes{0.0, 0.0, 0.0, 0.0};
     for (std::size_t k = 0; k < n_ch; ++k) {
       f[k] += d1[k];
       d1[k] += d2[k];
       d2[k] += d3[k];
     }
-    for (std::size_t j = 0; j < n_res; ++j) c[j] += dc[j];
+    if (!acc_idx) {
+      for (std::size_t j = 0; j < n_res; ++j) c[j] += dc[j];
+    } else if (n_res) {
+      for (std::size_t a = 0; a < n_acc; ++a) c[acc_idx[a]] += dc[acc_idx[a]];
+    }
     for (std::size_t l = 0; l < W; ++l)
       if (X[l] >= next[l]) reinit(l, X[l]);
   }
@@ -124,14 +131,15 @@ struct LoadCursor {
 VIADUCT_ALWAYS_INLINE void emit_stations(std::size_t no, bool flex, const lanes* dj, const lanes* aj,
                                          const lanes* f_res, const lanes* c, lanes* md, lanes* mn, lanes* ma,
                                          double* hist, std::size_t stride, std::size_t nh, const Index* n_steps, Index k,
-                                         const lanes& live, const std::size_t* acc_idx = nullptr, std::size_t n_acc = 0) {
+                                         const lanes& live, bool all_live, const std::size_t* acc_idx = nullptr,
+                                         std::size_t n_acc = 0) {
   // Plain loops: the same with two lambdas per output made the 31-station sweep of
   // docs/benchmarks.md three times as slow (measured: 15.6 s against 5.5 s on one thread).
   const lanes zero = {0.0, 0.0, 0.0, 0.0};
   for (std::size_t j = 0; j < no; ++j) {
     lanes dv = dj[j];
     if (flex) dv += f_res[j];
-    dv = live * dv;
+    if (!all_live) dv = live * dv;  // 1·x = x: the mask matters only once a lane has finished
     const lanes nv = -dv;
     md[j] = dv > md[j] ? dv : md[j];
     mn[j] = nv > mn[j] ? nv : mn[j];
@@ -143,7 +151,8 @@ VIADUCT_ALWAYS_INLINE void emit_stations(std::size_t no, bool flex, const lanes*
     lanes av = aj[j];
     if (flex) av += c[j];
     if (hist && j < nh) store_history(hist, stride, nh, j, n_steps, k, av);
-    av = live * (av < zero ? -av : av);
+    av = av < zero ? -av : av;
+    if (!all_live) av = live * av;
     ma[j] = av > ma[j] ? av : ma[j];
   }
 }
@@ -210,19 +219,19 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
   const std::size_t nr = flex ? no : 0;  // residual channels used (the stations')
   constexpr std::size_t cm = NM ? NM : 1, cc = NC ? NC : 1, co = NO ? NO : 1;
   const lanes zero = {0.0, 0.0, 0.0, 0.0}, one = zero + 1.0;
-  lanes q_f[cm], qd_f[cm], pp_f[cm], f_f[cc], d1_f[cc], d2_f[cc], d3_f[cc], c_f[co], dc_f[co], ma_f[co], md_f[co],
+  lanes q_f[cm], qd_f[cm], pp_f[cm], am_f[cm], f_f[cc], d1_f[cc], d2_f[cc], d3_f[cc], c_f[co], dc_f[co], ma_f[co], md_f[co],
       mn_f[co], dj_f[co], aj_f[co];
-  lanes *q = q_f, *qd = qd_f, *pp = pp_f, *f = f_f, *d1 = d1_f, *d2 = d2_f, *d3 = d3_f, *c = c_f, *dc = dc_f,
+  lanes *q = q_f, *qd = qd_f, *pp = pp_f, *am = am_f, *f = f_f, *d1 = d1_f, *d2 = d2_f, *d3 = d3_f, *c = c_f, *dc = dc_f,
         *ma = ma_f, *md = md_f, *mn = mn_f, *dj = dj_f, *aj = aj_f;
   std::vector<double> dyn;
   if constexpr (!fixed) {
-    dyn.assign((3 * nm + 4 * nc + 7 * no + 1) * W, 0.0);
+    dyn.assign((4 * nm + 4 * nc + 7 * no + 1) * W, 0.0);
     lanes* at = align_lanes(dyn.data());  // one spare group at the end
-    for (lanes** a : {&q, &qd, &pp}) *a = at, at += nm;
+    for (lanes** a : {&q, &qd, &pp, &am}) *a = at, at += nm;
     for (lanes** a : {&f, &d1, &d2, &d3}) *a = at, at += nc;
     for (lanes** a : {&c, &dc, &ma, &md, &mn, &dj, &aj}) *a = at, at += no;
   }
-  for (std::size_t i = 0; i < nm; ++i) q[i] = qd[i] = pp[i] = zero;
+  for (std::size_t i = 0; i < nm; ++i) q[i] = qd[i] = pp[i] = am[i] = zero;
   for (std::size_t ch = 0; ch < nc; ++ch) f[ch] = d1[ch] = d2[ch] = d3[ch] = zero;
   for (std::size_t j = 0; j < no; ++j) c[j] = dc[j] = ma[j] = md[j] = mn[j] = zero;
 
@@ -241,10 +250,11 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
   cur.f = f, cur.d1 = d1, cur.d2 = d2, cur.d3 = d3, cur.c = c, cur.dc = dc;
   if (in.point) cur.point = in.point, cur.nx = in.n_extra, cur.pt = sums.pt;
   const double half_dt = 0.5 * in.dt;
+  const Index min_steps = *std::min_element(in.n_steps, in.n_steps + W);
   auto emit = [&](Index k) {
     const lanes live = static_cast<double>(k) <= n_steps ? one : zero;
     emit_stations(no, flex, dj, aj, f + nm, c, md, mn, ma, in.hist, in.stride, in.nh, in.n_steps, k, live,
-                  fixed ? nullptr : in.acc_idx, in.n_acc);
+                  k <= min_steps, fixed ? nullptr : in.acc_idx, in.n_acc);
     if (!fixed && in.n_sums) emit_sums(in.sums, in.n_sums, flex, dj, aj, f + nm, c, f + in.extra0, half_dt, k, live, sums);
   };
   cur.start(in.v, in.dt, in.x_start);
@@ -257,29 +267,32 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
   for (Index k = 1; k <= in.n_max; ++k) {
     check_cancel(k);  // the Python package's Ctrl-C
     for (std::size_t i = 0; i < nm; ++i) pp[i] = f[i];
-    cur.advance(nc, nr, x_start + v * (static_cast<double>(k) * in.dt));
-    for (std::size_t j = 0; j < no; ++j) dj[j] = aj[j] = zero;
+    cur.advance(nc, nr, x_start + v * (static_cast<double>(k) * in.dt), fixed ? nullptr : in.acc_idx, in.n_acc);
     for (std::size_t i = 0; i < nm; ++i) {
       const double* cf = in.c8 + 8 * i;
       const lanes q0 = q[i], v0 = qd[i], p0 = pp[i], p1 = f[i];
       const lanes q1 = cf[0] * q0 + cf[1] * v0 + cf[2] * p0 + cf[3] * p1;
       const lanes v1 = cf[4] * q0 + cf[5] * v0 + cf[6] * p0 + cf[7] * p1;
-      const lanes a1 = p1 - in.two_zw[i] * v1 - in.w2[i] * q1;
+      am[i] = p1 - in.two_zw[i] * v1 - in.w2[i] * q1;
       q[i] = q1;
       qd[i] = v1;
-      if (fixed || !in.acc_idx) {
-        for (std::size_t j = 0; j < no; ++j) {
-          const double sji = in.S[j * nm + i];
-          dj[j] += sji * q1;
-          aj[j] += sji * a1;
-        }
-      } else {  // the acceleration of the outputs that need it only
-        for (std::size_t j = 0; j < no; ++j) dj[j] += in.S[j * nm + i] * q1;
-        for (std::size_t a = 0; a < in.n_acc; ++a) {
-          const std::size_t j = in.acc_idx[a];
-          aj[j] += in.S[j * nm + i] * a1;
-        }
-      }
+    }
+    // Output by output over the modes (a row of S at a time, the sum in a register), in the
+    // modes' order as before: the same sums. Accelerations of the outputs in acc_idx only, when
+    // given (the others' are not read).
+    for (std::size_t j = 0; j < no; ++j) {
+      const double* sj = in.S + j * nm;
+      lanes d = zero;
+      for (std::size_t i = 0; i < nm; ++i) d += sj[i] * q[i];
+      dj[j] = d;
+    }
+    const std::size_t n_a = (fixed || !in.acc_idx) ? no : in.n_acc;
+    for (std::size_t a = 0; a < n_a; ++a) {
+      const std::size_t j = (fixed || !in.acc_idx) ? a : in.acc_idx[a];
+      const double* sj = in.S + j * nm;
+      lanes acc = zero;
+      for (std::size_t i = 0; i < nm; ++i) acc += sj[i] * am[i];
+      aj[j] = acc;
     }
     emit(k);
   }
@@ -377,10 +390,11 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
   cur.f = f, cur.d1 = d1, cur.d2 = d2, cur.d3 = d3, cur.c = c, cur.dc = dc;
   if (in.point) cur.point = in.point, cur.nx = in.n_extra, cur.pt = sums.pt;
   const double half_dt = 0.5 * in.dt;
+  const Index min_steps = *std::min_element(in.n_steps, in.n_steps + W);
   auto emit = [&](Index k) {
     const lanes live = static_cast<double>(k) <= n_steps ? one : zero;
     emit_stations(no, in.flex, dj, aj, f + nch, c, md, mn, ma, in.hist, in.stride, in.nh, in.n_steps, k, live,
-                  in.acc_idx, in.n_acc);
+                  k <= min_steps, in.acc_idx, in.n_acc);
     if (in.n_sums) emit_sums(in.sums, in.n_sums, in.flex, dj, aj, f + nch, c, f + in.extra0, half_dt, k, live, sums);
   };
   // The coordinates' outputs for the current y and the load channels u = f.
@@ -403,8 +417,7 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
   for (Index step = 1; step <= in.n_max; ++step) {
     check_cancel(step);  // the Python package's Ctrl-C
     for (std::size_t k = 0; k < nch; ++k) pp[k] = f[k];
-    cur.advance(nc, nr, x_start + v * (static_cast<double>(step) * in.dt));
-    for (std::size_t j = 0; j < no; ++j) dj[j] = aj[j] = zero;
+    cur.advance(nc, nr, x_start + v * (static_cast<double>(step) * in.dt), in.acc_idx, in.n_acc);
     for (std::size_t k = 0; k < nk; ++k) {
       const double* e = in.co + 6 * k;
       const std::size_t cc = in.ch[k];
@@ -415,22 +428,27 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
       const lanes ni_ = e[0] * b + e[1] * a + e[2] * u0i + e[3] * u0r + e[4] * u1i + e[5] * u1r;
       yr[k] = nr_;
       yi[k] = ni_;
-      if (!in.acc_idx) {
-        for (std::size_t j = 0; j < no; ++j) {
-          const double* r = in.rows + 6 * (j * nk + k);
-          dj[j] += r[0] * nr_ - r[1] * ni_;
-          aj[j] += r[2] * nr_ - r[3] * ni_ + r[4] * u1r - r[5] * u1i;
-        }
-      } else {  // the acceleration of the outputs that need it only
-        for (std::size_t j = 0; j < no; ++j) {
-          const double* r = in.rows + 6 * (j * nk + k);
-          dj[j] += r[0] * nr_ - r[1] * ni_;
-        }
-        for (std::size_t n = 0; n < in.n_acc; ++n) {
-          const double* r = in.rows + 6 * (in.acc_idx[n] * nk + k);
-          aj[in.acc_idx[n]] += r[2] * nr_ - r[3] * ni_ + r[4] * u1r - r[5] * u1i;
-        }
+    }
+    // Output by output over the coordinates (a station's rows contiguous, the sum in a register),
+    // in the coordinates' order as before: the same sums. Accelerations of the outputs in acc_idx
+    // only, when given (the others' are not read).
+    for (std::size_t j = 0; j < no; ++j) {
+      const double* r = in.rows + 6 * j * nk;
+      lanes d = zero;
+      for (std::size_t k = 0; k < nk; ++k, r += 6) d += r[0] * yr[k] - r[1] * yi[k];
+      dj[j] = d;
+    }
+    const std::size_t n_a = in.acc_idx ? in.n_acc : no;
+    for (std::size_t n = 0; n < n_a; ++n) {
+      const std::size_t j = in.acc_idx ? in.acc_idx[n] : n;
+      const double* r = in.rows + 6 * j * nk;
+      lanes acc = zero;
+      for (std::size_t k = 0; k < nk; ++k, r += 6) {
+        const std::size_t cc = in.ch[k];
+        const lanes u1r = f[cc], u1i = in.pair[k] ? f[cc + 1] : zero;
+        acc += r[2] * yr[k] - r[3] * yi[k] + r[4] * u1r - r[5] * u1i;
       }
+      aj[j] = acc;
     }
     emit(step);
   }
