@@ -3,7 +3,7 @@
 #   1. preset "ci": optimised, warnings as errors; every test (labels unit, cli, verification, long);
 #   2. preset "sanitize" (the dev preset at -g1, without the benchmark programs): AddressSanitizer +
 #      UndefinedBehaviorSanitizer on every test but those labelled "long" (bad input must give
-#      clear errors, never a crash, under the sanitizers). The long ones (over 10 s under the
+#      clear errors, never a crash, under the sanitizers). The long ones (over 5 s under the
 #      sanitizers, up to minutes) repeat on larger models the code paths that the shorter unit,
 #      verification and CLI tests take under the sanitizers, and run in step 1; so do the CLI
 #      tests that check results, outputs and sample runs (the bad- and extreme-input ones, the
