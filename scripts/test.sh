@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds and runs every test (about 20 to 25 minutes on 2 cores: 1181 s to 1483 s from fresh clones on 2026-12-04, the spread the machine's; docs/benchmarks.md).
+# Installs what is missing, builds and runs every test (about 20 to 25 minutes on 2 cores: 1181 s to 1483 s (5752820: 1367 s) from fresh clones on 2026-12-04, the spread the machine's; docs/benchmarks.md).
 #   1. preset "ci": optimised, warnings as errors; every test (labels unit, cli, verification, long);
 #   2. preset "sanitize" (the dev preset at -g1, without the benchmark programs): AddressSanitizer +
 #      UndefinedBehaviorSanitizer on every test but those labelled "long" (bad input must give
