@@ -29,7 +29,15 @@ def rows_of(path):
 def draw_matrix(fig, ax, cycles, damage):
     """The rainflow matrix of the channel with the largest damage: cycles per range and mean bin
     on the bins' regular grid (cycles.csv lists only the bins that hold cycles)."""
-    worst = max(damage, key=lambda d: plotlib.number(d["damage"]) or 0.0)["channel"]
+    def d_of(d):
+        x = plotlib.number(d["damage"])
+        return x if x is not None and math.isfinite(x) else 0.0
+    counted = {r["channel"] for r in cycles}
+    ranked = [d for d in damage if d["channel"] in counted]
+    if not ranked:  # no channel with a cycle: nothing to draw
+        ax.set_axis_off()
+        return
+    worst = max(ranked, key=d_of)["channel"]
     cells = [(float(r["range_low_mpa"]), float(r["range_high_mpa"]), float(r["mean_low_mpa"]),
               float(r["mean_high_mpa"]), float(r["count"])) for r in cycles if r["channel"] == worst]
     wr, wm = cells[0][1] - cells[0][0], cells[0][3] - cells[0][2]
