@@ -3,7 +3,8 @@
 # Needs root (or sudo) when something is missing; does nothing otherwise.
 #   --tests: also what only the tests need (scripts/test.sh passes it): Chromium and pdftotext,
 #            which render assess's report.html and read its report.pdf (tests/cli/report_html.sh).
-#            viaduct assess prints report.pdf with Chromium when it is there.
+#            viaduct assess prints report.pdf with Chromium when it is there. And ccache, through
+#            which the ci and sanitize presets compile (CI builds a fresh clone each time).
 set -euo pipefail
 
 packages=(
@@ -26,6 +27,7 @@ packages=(
 )
 if [ "${1:-}" = "--tests" ]; then
   packages+=(chromium poppler-utils)  # report.html rendered headless, report.pdf's text (tests only)
+  packages+=(ccache)  # compiler cache: a fresh clone reuses the objects of earlier builds (CMakeLists.txt, VIADUCT_CCACHE)
 fi
 
 missing=()

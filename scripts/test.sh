@@ -1,5 +1,9 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds and runs every test (about 20 to 25 minutes on 2 cores: 1181 s to 1483 s (5752820: 1367 s) from fresh clones on 2026-12-04, the spread the machine's; docs/benchmarks.md).
+# Installs what is missing, builds and runs every test. Both presets compile through ccache
+# (installed here; CMakeLists.txt, VIADUCT_CCACHE): on a machine that has run it before, a fresh
+# clone recompiles only what changed and the run takes about 10 minutes on 2 cores, the tests most
+# of it; the first run on a machine, or after a change to a header every module includes, about 20
+# to 25 minutes (docs/benchmarks.md, "Build and CI time").
 #   1. preset "ci": optimised, warnings as errors; every test (labels unit, cli, verification, long);
 #   2. preset "sanitize" (the dev preset at -g1, without the benchmark programs): AddressSanitizer +
 #      UndefinedBehaviorSanitizer on every test but those labelled "long" (bad input must give
@@ -18,7 +22,7 @@ while [ $# -gt 0 ]; do
   case "$1" in
     --no-sanitize) sanitize=0 ;;
     --jobs) jobs=$2; shift ;;
-    -h|--help) sed -n '2,8p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,/^# Options/p' "$0"; exit 0 ;;
     *) echo "test.sh: unknown option $1" >&2; exit 2 ;;
   esac
   shift

@@ -25,7 +25,6 @@
 #include "atomic_file.hpp"
 #include "csv_cells.hpp"
 #include "viaduct/io/scenario.hpp"
-#include "git_commit.hpp"  // VIADUCT_GIT_COMMIT, written at build time (cmake/git_commit.cmake)
 
 namespace viaduct::io {
 
@@ -322,8 +321,6 @@ void write_table_csv(const std::string& path, const std::vector<std::string>& he
   for (const auto& r : rows) line(r);
   f.commit();
 }
-
-std::string git_commit() { return VIADUCT_GIT_COMMIT; }
 
 std::vector<std::pair<std::string, std::string>> settings_as_run(const study::RunSettings& s) {
   // TOML literals as the scenario writes them (Value::to_toml: numbers round-trip, strings escaped).

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "../source_dir.hpp"
 #include "harness.hpp"
 #include "viaduct/io/scenario.hpp"
 

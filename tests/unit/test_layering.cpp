@@ -9,6 +9,7 @@
 #include <map>
 #include <regex>
 #include <set>
+#include "source_dir.hpp"
 
 namespace fs = std::filesystem;
 

@@ -5,6 +5,7 @@
 #include "viaduct/io/scenario.hpp"
 #include "viaduct/model/modes.hpp"
 #include "viaduct/study/simulation.hpp"
+#include "source_dir.hpp"
 
 namespace vt {
 

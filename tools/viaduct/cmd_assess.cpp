@@ -10,17 +10,11 @@
 #include <fstream>
 #include <limits>
 
+#include "build_paths.hpp"
 #include "cli.hpp"
 #include "viaduct/io/assessment.hpp"
 #include "viaduct/io/report_html.hpp"
 #include "viaduct/io/results.hpp"
-
-#ifndef VIADUCT_SOURCE_DIR
-#define VIADUCT_SOURCE_DIR ""
-#endif
-#ifndef VIADUCT_INSTALLED_SCRIPTS
-#define VIADUCT_INSTALLED_SCRIPTS ""
-#endif
 
 namespace viaduct::cli {
 
@@ -36,8 +30,8 @@ bool make_figures(const std::string& out, bool quiet) {
   // VIADUCT_PLOT_DIR, then the installed scripts, then the source tree the tool was built from.
   const char* env = std::getenv("VIADUCT_PLOT_DIR");
   std::string script;
-  for (const std::string& dir : {std::string(env ? env : ""), std::string(VIADUCT_INSTALLED_SCRIPTS),
-                                std::string(VIADUCT_SOURCE_DIR) + "/scripts/plot"})
+  for (const std::string& dir : {std::string(env ? env : ""), std::string(installed_scripts_dir()),
+                                std::string(built_source_dir()) + "/scripts/plot"})
     if (!dir.empty() && std::ifstream(dir + "/plot_assess.py").good()) {
       script = dir + "/plot_assess.py";
       break;

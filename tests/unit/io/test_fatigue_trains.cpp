@@ -3,6 +3,7 @@
 #include <string>
 
 #include "viaduct/io/scenario.hpp"
+#include "source_dir.hpp"
 
 using namespace viaduct;
 

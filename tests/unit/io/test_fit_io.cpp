@@ -4,6 +4,7 @@
 #include "viaduct/io/fit.hpp"
 #include "viaduct/io/scenario.hpp"
 #include "../scratch.hpp"
+#include "source_dir.hpp"
 
 using namespace viaduct;
 using namespace viaduct::io;

@@ -10,6 +10,7 @@
 #include "viaduct/core/error.hpp"
 #include "viaduct/io/record.hpp"
 #include "../scratch.hpp"
+#include "source_dir.hpp"
 
 using namespace viaduct;
 using namespace viaduct::io;

@@ -5,6 +5,7 @@
 
 #include "viaduct/io/results.hpp"
 #include "viaduct/io/scenario.hpp"
+#include "source_dir.hpp"
 
 using namespace viaduct;
 

@@ -9,6 +9,7 @@
 #include "viaduct/io/scenario.hpp"
 #include "viaduct/signal/iir.hpp"
 #include "viaduct/study/simulation.hpp"
+#include "source_dir.hpp"
 
 using namespace viaduct;
 using namespace viaduct::io;

@@ -6,6 +6,7 @@
 
 #include "viaduct/core/error.hpp"
 #include "viaduct/signal/iir.hpp"
+#include "source_dir.hpp"
 
 using namespace viaduct;
 using namespace viaduct::signal;

@@ -7,6 +7,7 @@
 
 #include "viaduct/core/error.hpp"
 #include "viaduct/signal/spectrum.hpp"
+#include "source_dir.hpp"
 
 using namespace viaduct;
 using namespace viaduct::signal;

@@ -6,6 +6,7 @@
 #include "viaduct/study/guards.hpp"
 #include "viaduct/study/simulation.hpp"
 #include "viaduct/study/tradeoff.hpp"
+#include "source_dir.hpp"
 
 using namespace viaduct;
 

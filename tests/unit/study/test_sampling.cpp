@@ -12,6 +12,7 @@
 #include "viaduct/core/error.hpp"
 #include "viaduct/study/sampling.hpp"
 #include "viaduct/study/statistics.hpp"
+#include "source_dir.hpp"
 
 using namespace viaduct;
 using study::Distribution;
