@@ -13,6 +13,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <mutex>
 #include <optional>
 #include <chrono>
 #include <future>
@@ -23,6 +24,7 @@
 #include "viaduct/io/assessment.hpp"
 #include "viaduct/io/report_html.hpp"
 #include "viaduct/io/output_dir.hpp"
+#include "viaduct/io/passages.hpp"
 #include "viaduct/io/record.hpp"
 #include "viaduct/io/results.hpp"
 #include "viaduct/io/sampled.hpp"
@@ -200,6 +202,60 @@ py::tuple assess(const viaduct::io::FlatScenario& flat_in, int threads, const py
   return py::make_tuple(columns_dict(io::assessment_check_columns(r.checks)), tables, info);
 }
 
+// Recorded passages over the model's envelope (viaduct passages): io::run_passages, the CLI's
+// function; with `out` its four tables there too (no manifest).
+py::tuple passages(const viaduct::io::FlatScenario& flat, const std::vector<std::string>& records, const std::vector<std::string>& maps,
+                   std::optional<std::string> train, std::optional<double> v_min_kmh, std::optional<double> v_max_kmh,
+                   double speed_band, double noise_band, const std::string& zero, const std::string& time_column,
+                   std::optional<double> fs_hz, int threads, const py::object& progress, const std::optional<std::string>& out) {
+  namespace io = viaduct::io;
+  io::PassagesRequest q;
+  q.records = records;
+  q.maps = maps;
+  q.train = std::move(train);
+  q.v_min_kmh = v_min_kmh;
+  q.v_max_kmh = v_max_kmh;
+  q.speed_band = speed_band;
+  q.noise_band = noise_band;
+  q.zero = zero;
+  q.read.time_column = time_column;
+  q.read.fs_hz = fs_hz;
+  q.threads = threads_of(threads);
+  // What reading repaired and what was cut are warnings here (the CLI prints them as they come).
+  std::vector<std::string> read_warnings;
+  std::mutex read_mutex;
+  q.on_read = [&](const std::string& path, const io::ImportReport& rep) {
+    const auto lines = io::describe(rep);
+    std::lock_guard<std::mutex> lock(read_mutex);
+    for (std::size_t i = lines.size() - rep.repairs.size(); i < lines.size(); ++i) read_warnings.push_back(path + ": " + lines[i]);
+  };
+  q.on_cut = [&](const std::string& note) {
+    std::lock_guard<std::mutex> lock(read_mutex);
+    read_warnings.push_back(note);
+  };
+  std::atomic<std::size_t> done{0}, total{0};
+  std::atomic<bool> cancel{false};
+  q.progress = [&](std::size_t d, std::size_t n) {
+    done = d;
+    total = n;
+  };
+  const io::PassagesOutcome r = interruptible([&] { return io::run_passages(flat, q); }, progress, done, total, cancel);
+  if (out) {
+    io::begin_outputs(*out);
+    io::write_passages_tables(*out, r);
+  }
+  py::dict tables;
+  tables["passages_summary"] = columns_dict(io::passage_summary_columns(r));
+  tables["model_envelope"] = columns_dict(io::passage_envelope_columns(r));
+  tables["failures"] = columns_dict(io::passage_failure_columns(r));
+  py::dict info;
+  read_warnings.insert(read_warnings.end(), r.warnings.begin(), r.warnings.end());
+  info["warnings"] = read_warnings;
+  info["n_passages"] = r.study.passages.size();
+  info["n_failed"] = r.n_failed;
+  return py::make_tuple(columns_dict(io::passage_columns(r)), tables, info);
+}
+
 viaduct::signal::Cheby1Spec cheby_of(double low_hz, double high_hz, int order, double ripple_db, const std::string& band) {
   viaduct::signal::Cheby1Spec spec;
   spec.order = order;
@@ -330,6 +386,9 @@ void bind(py::module_& m) {
         py::arg("progress") = py::none());
   m.def("assess", &assess, py::arg("flat"), py::arg("threads") = 1, py::arg("progress") = py::none(),
         py::arg("out") = py::none());
+  m.def("passages", &passages, py::arg("flat"), py::arg("records"), py::arg("maps"), py::arg("train"), py::arg("v_min_kmh"),
+        py::arg("v_max_kmh"), py::arg("speed_band"), py::arg("noise_band"), py::arg("zero"), py::arg("time_column"),
+        py::arg("fs_hz"), py::arg("threads"), py::arg("progress"), py::arg("out"));
   m.def(
       "read_record",
       [](const std::string& path, const std::string& time_column, std::optional<double> fs_hz, int header_line, int skip_lines) {

@@ -437,6 +437,39 @@ def test_fit_equals_the_cli(src, cli, tmp_path):
         viaduct.fit(sc, {"bridge.EJ": (1.0, 2.0)}, records=[tmp_path / "a4/history.csv"], map={"mid_acc_mps2": "mid"})
 
 
+def test_passages_equal_the_cli(src, cli, tmp_path):
+    # viaduct.passages runs the CLI's workflow (io::run_passages): the same four tables byte for
+    # byte, with a record that cannot be read kept as a failure while the others complete.
+    d = src / "data/records/passages"
+    table = tmp_path / "passages.csv"
+    table.write_text((d / "passages.csv").read_text().replace("passage-", str(d) + "/passage-")
+                     .replace("../../trains/", str(src / "data/trains") + "/") + "missing.csv,HSLM-A1,,\n")
+    scenario = src / "scenarios/hslm-simply-supported.toml"
+    sets = {"analysis.method": "modal", "sweep.speed_step_kmh": 20.0}
+    run_cli(cli, "passages", scenario, "--records", table, "--map", "mid_acc=mid", "--map", "mid_disp=mid",
+            "--set", "analysis.method=\"modal\"", "--set", "sweep.speed_step_kmh=20", "-q", "--out", tmp_path / "cli", code=1)
+    seen = []
+    r = viaduct.passages(viaduct.load_scenario(scenario, set=sets), table, {"mid_acc": "mid", "mid_disp": "mid"}, threads=2,
+                         out=tmp_path / "py", progress=lambda done, total: seen.append((done, total)))
+    for name in ("passages.csv", "passages_summary.csv", "model_envelope.csv", "failures.csv"):
+        assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
+    ref = read_csv(tmp_path / "cli/passages.csv")
+    assert list(r["passage"]) == ref["passage"] and len(ref["passage"]) == 6  # three passages x two channels
+    close_to_printed(r["ratio"], ref["ratio"], 8)
+    assert [bool(w) for w in r["within"]] == [w == "true" for w in ref["within"]]
+    info = r.attrs if hasattr(r, "attrs") else r["attrs"]
+    assert info["n_passages"] == 4 and info["n_failed"] == 1
+    assert len(info["failures"]["passage"]) == 1 and list(info["failures"]["passage"])[0].endswith("missing.csv")
+    assert seen and seen[-1][0] == seen[-1][1]
+    import tomllib
+    with open(tmp_path / "cli/manifest.toml", "rb") as f:
+        manifest = tomllib.load(f)
+    # the manifest's warnings are Python's (which add what reading the records repaired)
+    assert set(manifest["run"].get("warnings", [])) <= set(info["warnings"])
+    with pytest.raises(viaduct.InputError, match="no station 'S9'"):
+        viaduct.passages(viaduct.load_scenario(scenario), table, {"mid_acc": "S9"})
+
+
 def test_cmake_install_puts_an_importable_package(tmp_path):
     build = os.environ.get("VIADUCT_BUILD")
     if not build:

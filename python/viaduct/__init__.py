@@ -15,7 +15,7 @@ import math
 from . import _viaduct
 from ._viaduct import InputError, SolverError
 
-__all__ = ["Scenario", "load_scenario", "scenario_from_dict", "run", "sweep", "assess", "Record", "read_record", "filter",
+__all__ = ["Scenario", "load_scenario", "scenario_from_dict", "run", "sweep", "assess", "passages", "Record", "read_record", "filter",
            "spectrum", "welch", "compare", "peaks", "identify_speed", "frf", "record_frf", "read_frf", "modal_fit",
            "decay", "oma", "track_modes", "fit", "InputError", "SolverError", "version"]
 
@@ -154,6 +154,42 @@ def assess(scenario, threads=1, progress=False, out=None):
     checks, tables, info = _viaduct.assess(scenario._flat, threads, cb, None if out is None else str(out))
     info.update({k: _table(v) for k, v in tables.items()})
     table = _table(checks)
+    try:
+        table.attrs.update(info)
+    except AttributeError:
+        table["attrs"] = info
+    return table
+
+
+def passages(scenario, records, map, train=None, v_min_kmh=None, v_max_kmh=None, speed_band=3.0, noise_band=4.0,
+             zero="keep", time_column="", fs_hz=None, threads=1, progress=False, out=None):
+    """Recorded passages over the model's speed envelope, as ``viaduct passages`` (docs/records.md):
+    each record's speed identified from the train's signature (or a table's speed_kmh), each mapped
+    channel's peak under the scenario's [filter] against the model's at that speed and over the
+    speed's uncertainty, and the model's envelope at the scenario's sweep speeds.
+
+    records  folders of records, or tables (CSV: file[,train][,speed_kmh]; files relative to it)
+    map      {channel: station}, in order: the first channel identifies the speed
+    train    the train of records without one: a scenario train's name or a train file
+    zero     deflection and strain channels' zero: "keep", "pre-entry" or "START:END"
+    time_column, fs_hz  how the records are read, as the CLI's --time-column and --rate-hz
+    out      a directory for the CLI's tables (passages.csv, passages_summary.csv,
+             model_envelope.csv, failures.csv); None: none written
+
+    Returns passages.csv's columns (one row per passage and channel: measured, predicted,
+    predicted_low/high, ratio, noise_rms, within, residual, speed and its uncertainty, ...);
+    ``attrs``: "passages_summary", "model_envelope", "failures" (tables), "warnings" (what the CLI
+    prints as warnings, what reading the records repaired first), n_passages, n_failed. A record
+    that cannot be read is a row of "failures" and the others complete. Ctrl-C stops the
+    simulations and raises KeyboardInterrupt."""
+    if isinstance(records, (str, bytes)) or hasattr(records, "__fspath__"):
+        records = [records]
+    cb = _progress_printer("passages") if progress is True else (progress or None)
+    rows, tables, info = _viaduct.passages(scenario._flat, [str(r) for r in records], [f"{k}={v}" for k, v in map.items()],
+                                           train, v_min_kmh, v_max_kmh, speed_band, noise_band, zero, time_column, fs_hz,
+                                           threads, cb, None if out is None else str(out))
+    info.update({k: _table(v) for k, v in tables.items()})
+    table = _table(rows)
     try:
         table.attrs.update(info)
     except AttributeError:

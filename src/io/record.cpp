@@ -10,6 +10,7 @@
 #include <initializer_list>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <set>
@@ -188,6 +189,19 @@ std::vector<PassageEntry> read_passage_table(const std::string& path) {
   }
   if (out.empty()) throw InputError(SourceLocation{path, t.header_line, "file"}, "no passages in the table");
   return out;
+}
+
+std::vector<std::string> record_files_in(const std::string& folder) {
+  static const char* exts[] = {".csv", ".txt", ".tsv", ".dat", ".uff", ".unv", ".mat"};
+  std::vector<std::string> files;
+  for (const auto& f : std::filesystem::directory_iterator(folder)) {
+    const std::string e = f.path().extension().string(), name = f.path().filename().string();
+    if (f.is_regular_file() && name.front() != '.' && std::any_of(std::begin(exts), std::end(exts), [&](const char* x) { return e == x; }))
+      files.push_back(f.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  if (files.empty()) throw InputError(folder + ": no record files (.csv, .txt, .tsv, .dat, .uff, .unv, .mat) in the folder");
+  return files;
 }
 
 }  // namespace viaduct::io

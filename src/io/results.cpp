@@ -322,6 +322,26 @@ void write_table_csv(const std::string& path, const std::vector<std::string>& he
   f.commit();
 }
 
+void write_table_columns_csv(const std::string& path, const std::vector<TableColumn>& columns, int significant) {
+  std::vector<std::string> header;
+  std::size_t n = 0;
+  for (const auto& c : columns) {
+    header.push_back(c.name);
+    n = std::max(n, c.kind == TableColumn::Kind::text ? c.cells.size() : c.kind == TableColumn::Kind::number ? c.values.size() : c.flags.size());
+  }
+  std::vector<std::vector<std::string>> rows(n, std::vector<std::string>(columns.size()));
+  for (std::size_t j = 0; j < columns.size(); ++j) {
+    const TableColumn& c = columns[j];
+    const std::size_t len = c.kind == TableColumn::Kind::text ? c.cells.size() : c.kind == TableColumn::Kind::number ? c.values.size() : c.flags.size();
+    if (len != n) throw InputError("write_table_columns_csv: column " + c.name + " differs in length");
+    for (std::size_t i = 0; i < n; ++i)
+      rows[i][j] = c.kind == TableColumn::Kind::text     ? c.cells[i]
+                   : c.kind == TableColumn::Kind::number ? table_cell(c.values[i], significant)
+                                                         : (c.flags[i] ? "true" : "false");
+  }
+  write_table_csv(path, header, rows);
+}
+
 std::vector<std::pair<std::string, std::string>> settings_as_run(const study::RunSettings& s) {
   // TOML literals as the scenario writes them (Value::to_toml: numbers round-trip, strings escaped).
   auto num = [](double v) {

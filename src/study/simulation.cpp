@@ -512,6 +512,22 @@ const load::Train& passage_train(const Scenario& sc, const std::optional<std::st
   throw InputError("no train named '" + *name + "'; the scenario has:" + names);
 }
 
+std::size_t station_index(const Scenario& sc, const std::string& name, const std::string& who) {
+  for (std::size_t i = 0; i < sc.stations.size(); ++i)
+    if (sc.stations[i].name == name) return i;
+  std::string have;
+  for (const auto& s : sc.stations) have += " " + s.name;
+  throw InputError(who + ": no station '" + name + "' in the scenario; it has:" + have);
+}
+
+void require_strain_fibre(const Scenario& sc, std::size_t station, const std::string& channel, ResponseKind k,
+                          const std::string& who) {
+  // Strain against the model's <station>_strain_ue = 1e6 M y / EI at the gauge's fibre.
+  if (k == ResponseKind::strain && sc.stations[station].fibre_m == 0.0)
+    throw InputError(who + ": channel '" + channel + "' is a strain; station '" + sc.stations[station].name +
+                     "' has no stations[].fibre_m (the gauge's distance below the neutral axis) to give the model's strain");
+}
+
 RunResult simulate(const PreparedModel& m, const load::Train& train, double speed, const RunSettings& settings) {
   if (settings.vehicle.model != VehicleModel::forces) {
     RunResult r = simulate_vehicles(m, train, speed, settings);

@@ -211,22 +211,6 @@ const load::Train& train_of(const study::Scenario& sc, const std::optional<std::
   return study::passage_train(sc, name);
 }
 
-std::size_t station_index(const study::Scenario& sc, const std::string& name, const std::string& who) {
-  for (std::size_t i = 0; i < sc.stations.size(); ++i)
-    if (sc.stations[i].name == name) return i;
-  std::string have;
-  for (const auto& s : sc.stations) have += " " + s.name;
-  throw InputError(who + ": no station '" + name + "' in the scenario; it has:" + have);
-}
-
-void require_strain_fibre(const study::Scenario& sc, std::size_t station, const std::string& channel, study::ResponseKind k,
-                          const std::string& who) {
-  // Strain against the model's <station>_strain_ue = 1e6 M y / EI at the gauge's fibre.
-  if (k == study::ResponseKind::strain && sc.stations[station].fibre_m == 0.0)
-    throw InputError(who + ": channel '" + channel + "' is a strain; station '" + sc.stations[station].name +
-                     "' has no stations[].fibre_m (the gauge's distance below the neutral axis) to give the model's strain");
-}
-
 io::FlatScenario load_scenario(const Common& o) {
   for (const auto& s : o.set)
     for (const auto& u : o.unset) {

@@ -78,9 +78,7 @@ Command record_command(std::string name, std::string positional, std::string sum
 
 /// Channels named by --channel (every channel when none).
 std::vector<std::size_t> selected(const io::Record& r, const std::vector<std::string>& channels);
-/// The record files (.csv, .txt, .tsv, .dat, .uff, .unv, .mat; not hidden) of `folder`, in name
-/// order; InputError when there are none.
-std::vector<std::string> record_files_in(const std::string& folder);
+using io::record_files_in;  // io/record.hpp
 /// --channel for the record commands (repeatable).
 void add_channel_option(po::options_description& d, std::vector<std::string>& channels);
 
@@ -124,14 +122,8 @@ void print_import_report(const std::string& path, const io::ImportReport& report
 /// The command's scenario with --set and --unset applied (io::load_flat).
 io::FlatScenario load_scenario(const Common& o);
 
-/// The index of the scenario's station `name`; InputError "WHO: no station 'NAME' in the
-/// scenario; it has: ..." otherwise.
-std::size_t station_index(const study::Scenario& sc, const std::string& name, const std::string& who);
-
-/// A record channel of kind `k` mapped to station `station` (--map, --channel): a strain needs
-/// the station's stations[].fibre_m to give the model's strain; InputError naming both otherwise.
-void require_strain_fibre(const study::Scenario& sc, std::size_t station, const std::string& channel, study::ResponseKind k,
-                          const std::string& who);
+using study::require_strain_fibre;  // the stations of --map and --channel (study/simulation.hpp)
+using study::station_index;
 
 /// Creates the output directory (throws SolverError when it cannot).
 void make_out_dir(const std::string& dir);

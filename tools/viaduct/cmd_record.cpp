@@ -33,19 +33,6 @@ std::vector<std::size_t> selected(const io::Record& r, const std::vector<std::st
   return out;
 }
 
-std::vector<std::string> record_files_in(const std::string& folder) {
-  static const char* exts[] = {".csv", ".txt", ".tsv", ".dat", ".uff", ".unv", ".mat"};
-  std::vector<std::string> files;
-  for (const auto& f : std::filesystem::directory_iterator(folder)) {
-    const std::string e = f.path().extension().string(), name = f.path().filename().string();
-    if (f.is_regular_file() && name.front() != '.' && std::any_of(std::begin(exts), std::end(exts), [&](const char* x) { return e == x; }))
-      files.push_back(f.path().string());
-  }
-  std::sort(files.begin(), files.end());
-  if (files.empty()) throw InputError(folder + ": no record files (.csv, .txt, .tsv, .dat, .uff, .unv, .mat) in the folder");
-  return files;
-}
-
 void add_channel_option(po::options_description& d, std::vector<std::string>& channels) {
   d.add_options()("channel", list_value(channels), "channel to process (repeatable; default: all), full name or without its unit");
 }

@@ -152,6 +152,10 @@ struct PassageEntry {
 /// missing file column, an empty file cell or a speed that is not a number > 0.
 std::vector<PassageEntry> read_passage_table(const std::string& path);
 
+/// The record files (.csv, .txt, .tsv, .dat, .uff, .unv, .mat; not hidden) of `folder`, in name
+/// order; InputError when there are none.
+std::vector<std::string> record_files_in(const std::string& folder);
+
 /// Writes `r` with a t_s column (t0 + k/fs) as header and rows only (pandas.read_csv reads it
 /// as is; the reader takes the rate from the time column), atomically. Throws SolverError on
 /// I/O failure and for a non-finite sample (named by channel), which is never written.

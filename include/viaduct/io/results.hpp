@@ -80,6 +80,10 @@ void write_columns_csv(const std::string& path, const std::vector<std::string>& 
 void write_table_csv(const std::string& path, const std::vector<std::string>& header,
                      const std::vector<std::vector<std::string>>& rows);
 
+/// A table of columns (TableColumn: the Python package's tables) as write_table_csv writes it:
+/// numbers by table_cell(value, significant) (NaN an empty cell), flags true/false, text as is.
+void write_table_columns_csv(const std::string& path, const std::vector<TableColumn>& columns, int significant);
+
 /// A number as a table cell: `significant` digits, or "" when it is NaN (not known: a damping a
 /// method could not tell, a standard error not determined). An infinity stays one, and
 /// write_table_csv refuses it.

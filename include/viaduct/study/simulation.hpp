@@ -200,6 +200,15 @@ double passage_speed(const Scenario& sc, const std::optional<double>& speed_kmh,
 /// The train called `name`, else the scenario's first; InputError listing the scenario's trains.
 const load::Train& passage_train(const Scenario& sc, const std::optional<std::string>& name);
 
+/// The index of the scenario's station `name`; InputError "WHO: no station 'NAME' in the
+/// scenario; it has: ..." otherwise.
+std::size_t station_index(const Scenario& sc, const std::string& name, const std::string& who);
+
+/// A record channel of kind `k` mapped to station `station` (--map, --channel): a strain needs
+/// the station's stations[].fibre_m to give the model's strain; InputError naming both otherwise.
+void require_strain_fibre(const Scenario& sc, std::size_t station, const std::string& channel, ResponseKind k,
+                          const std::string& who);
+
 /// Runs `train` at `speed` [m/s] from the entry of its first axle until free_vibration_s after
 /// the last axle has left, with settings.method, and records every station at every step.
 /// InputError when the histories would exceed kMaxHistoryBytes.
