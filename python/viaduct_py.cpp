@@ -125,7 +125,7 @@ py::tuple run(const viaduct::io::FlatScenario& flat, std::optional<double> speed
 py::tuple sweep(const viaduct::io::FlatScenario& flat, int threads, bool load_effects, const py::object& progress) {
   namespace study = viaduct::study;
   if (viaduct::io::is_sampled(flat))
-    throw InputError(flat.at("sweep.mode").where, "sampled studies run with viaduct sweep (the package runs plain sweeps)");
+    throw InputError(flat.at("sweep.mode").where, "a sampled study (sweep.mode = \"sample\"): run it with viaduct.sampled_sweep(scenario, out)");
   const std::vector<study::Variant> variants = viaduct::io::sweep_variants(flat, /*isolate_failures=*/true);
   if (variants.front().scenario.sweep_speeds.empty())
     throw InputError("no speeds: give sweep.speeds_kmh, sweep.speed_min/max/step_kmh or sweep.speed_min/max_mps with n_speeds");
@@ -200,6 +200,34 @@ py::tuple assess(const viaduct::io::FlatScenario& flat_in, int threads, const py
   info["warnings"] = r.plan.warnings;
   info["report"] = report;
   return py::make_tuple(columns_dict(io::assessment_check_columns(r.checks)), tables, info);
+}
+
+// A sampled study (viaduct sweep on sweep.mode = "sample"): io::run_sampled, the CLI's function,
+// into `out` (its files: the statistics are streamed from the peaks on disk). Returns what ran.
+py::dict sampled_sweep(const viaduct::io::FlatScenario& flat, const std::string& out, int threads, bool resume,
+                       const py::object& progress) {
+  namespace io = viaduct::io;
+  if (!io::is_sampled(flat)) throw InputError("sampled_sweep: the scenario is not a sampled study (sweep.mode = \"sample\"); use sweep()");
+  io::SampledRunRequest q;
+  q.out = out;
+  q.threads = threads_of(threads);
+  q.resume = resume;
+  std::atomic<std::size_t> done{0}, total{0};
+  std::atomic<bool> cancel{false};
+  q.progress = [&](std::size_t d, std::size_t n) {
+    done = d;
+    total = n;
+  };
+  const io::SampledRunOutcome r = interruptible([&] { return io::run_sampled(flat, q); }, progress, done, total, cancel);
+  py::dict info;
+  info["n_samples_total"] = r.study.n_total();
+  info["n_samples_run"] = r.summary.n_samples;
+  info["n_cases_run"] = r.summary.n_cases;
+  info["n_failed_run"] = r.summary.n_failed;
+  info["sensitivity"] = r.study.spec.sensitivity;
+  info["fingerprint"] = r.study.fingerprint;
+  info["warnings"] = r.warnings;
+  return info;
 }
 
 // Recorded passages over the model's envelope (viaduct passages): io::run_passages, the CLI's
@@ -386,6 +414,8 @@ void bind(py::module_& m) {
         py::arg("progress") = py::none());
   m.def("assess", &assess, py::arg("flat"), py::arg("threads") = 1, py::arg("progress") = py::none(),
         py::arg("out") = py::none());
+  m.def("sampled_sweep", &sampled_sweep, py::arg("flat"), py::arg("out"), py::arg("threads"), py::arg("resume"),
+        py::arg("progress"));
   m.def("passages", &passages, py::arg("flat"), py::arg("records"), py::arg("maps"), py::arg("train"), py::arg("v_min_kmh"),
         py::arg("v_max_kmh"), py::arg("speed_band"), py::arg("noise_band"), py::arg("zero"), py::arg("time_column"),
         py::arg("fs_hz"), py::arg("threads"), py::arg("progress"), py::arg("out"));

@@ -470,6 +470,32 @@ def test_passages_equal_the_cli(src, cli, tmp_path):
         viaduct.passages(viaduct.load_scenario(scenario), table, {"mid_acc": "S9"})
 
 
+def test_sampled_sweep_equals_the_cli_and_resumes_after_ctrl_c(src, cli, tmp_path):
+    # viaduct.sampled_sweep runs the CLI's io::run_sampled: cut by Ctrl-C after its first batch of
+    # samples, it leaves the whole batches before it, and resumed it writes the CLI's files.
+    og = src / "scenarios/old-guadiana-sampled.toml"
+    run_cli(cli, "sweep", og, "--set", "sweep.n_samples=3", "--set", "sweep.n_speeds=2", "--set", "sweep.batch=1", "-q",
+            "--out", tmp_path / "cli")
+    sc = viaduct.load_scenario(og, set={"sweep.n_samples": 3, "sweep.n_speeds": 2, "sweep.batch": 1})
+
+    def stop(done, total):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        viaduct.sampled_sweep(sc, tmp_path / "py", progress=stop)
+    assert (tmp_path / "py/sample_progress.toml").exists() and not (tmp_path / "py/peak_percentiles.csv").exists()
+    t = viaduct.sampled_sweep(sc, tmp_path / "py", resume=True)
+    for name in ("samples.csv", "sample_peaks.csv", "failures.csv", "percentiles.csv", "peak_percentiles.csv"):
+        assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
+    info = t.attrs if hasattr(t, "attrs") else t["attrs"]
+    assert info["n_samples_total"] == 3 and info["n_failed_run"] == 0 and 0 < info["n_samples_run"] < 3
+    assert len(info["sample_peaks"]["sample"]) == len(read_csv(tmp_path / "cli/sample_peaks.csv")["sample"])
+    with pytest.raises(viaduct.InputError, match="sampled_sweep"):  # sweep() on a sampled study points here
+        viaduct.sweep(sc)
+    with pytest.raises(viaduct.InputError, match="not a sampled study"):
+        viaduct.sampled_sweep(viaduct.load_scenario(src / "scenarios/hslm-simply-supported.toml"), tmp_path / "no")
+
+
 def test_cmake_install_puts_an_importable_package(tmp_path):
     build = os.environ.get("VIADUCT_BUILD")
     if not build:

@@ -15,7 +15,7 @@ import math
 from . import _viaduct
 from ._viaduct import InputError, SolverError
 
-__all__ = ["Scenario", "load_scenario", "scenario_from_dict", "run", "sweep", "assess", "passages", "Record", "read_record", "filter",
+__all__ = ["Scenario", "load_scenario", "scenario_from_dict", "run", "sweep", "assess", "passages", "sampled_sweep", "Record", "read_record", "filter",
            "spectrum", "welch", "compare", "peaks", "identify_speed", "frf", "record_frf", "read_frf", "modal_fit",
            "decay", "oma", "track_modes", "fit", "InputError", "SolverError", "version"]
 
@@ -154,6 +154,52 @@ def assess(scenario, threads=1, progress=False, out=None):
     checks, tables, info = _viaduct.assess(scenario._flat, threads, cb, None if out is None else str(out))
     info.update({k: _table(v) for k, v in tables.items()})
     table = _table(checks)
+    try:
+        table.attrs.update(info)
+    except AttributeError:
+        table["attrs"] = info
+    return table
+
+
+def _read_table(path):
+    """A CSV the library wrote, as _table gives tables (a DataFrame with pandas, else columns)."""
+    try:
+        import pandas
+        return pandas.read_csv(path)
+    except ImportError:
+        import csv
+        import numpy as np
+        with open(path, newline="") as f:
+            rows = list(csv.reader(f))
+        columns = {}
+        for j, name in enumerate(rows[0]):
+            cells = [r[j] for r in rows[1:]]
+            try:
+                columns[name] = np.array([float(c) if c else np.nan for c in cells])
+            except ValueError:
+                columns[name] = cells
+        return columns
+
+
+def sampled_sweep(scenario, out, threads=1, resume=False, progress=False):
+    """A sampled study (sweep.mode = "sample", docs/sampled.md), as ``viaduct sweep`` runs it: the
+    samples' peaks streamed into ``out`` batch by batch, then the statistics. Returns
+    peak_percentiles.csv (per train and station: the peak over the speeds, its mean, sd,
+    percentiles and probability of exceeding the limit with its standard error); ``attrs``:
+    "percentiles" (per speed), "samples", "sample_peaks", "failures", with sweep.sensitivity
+    "sensitivity" and "peak_sensitivity" (tables read from ``out``), n_samples_total,
+    n_samples_run, n_cases_run, n_failed_run, warnings. ``resume=True`` carries on an interrupted
+    run in ``out``. Ctrl-C stops the running samples and raises KeyboardInterrupt; ``out`` then holds
+    the whole batches before it, which ``resume=True`` carries on (as the CLI's --resume)."""
+    import os
+    cb = _progress_printer("sampled sweep") if progress is True else (progress or None)
+    info = _viaduct.sampled_sweep(scenario._flat, str(out), threads, resume, cb)
+    names = ["percentiles", "samples", "sample_peaks", "failures"]
+    if info["sensitivity"]:
+        names += ["sensitivity", "peak_sensitivity"]
+    for name in names:
+        info[name] = _read_table(os.path.join(str(out), name + ".csv"))
+    table = _read_table(os.path.join(str(out), "peak_percentiles.csv"))
     try:
         table.attrs.update(info)
     except AttributeError:

@@ -1,15 +1,12 @@
 // viaduct sweep with sweep.mode = "sample" (streamed, resumable, sharded) and viaduct merge.
 #include <chrono>
 #include <cstdio>
-#include <exception>
 #include <fstream>
-#include <optional>
 
 #include "cli.hpp"
 #include "viaduct/io/output_dir.hpp"
 #include "viaduct/io/sampled.hpp"
 #include "viaduct/io/sweep_shard.hpp"
-#include "viaduct/study/guards.hpp"
 
 namespace viaduct::cli {
 
@@ -38,74 +35,33 @@ int exit_code(const study::SampledRunSummary& s) {
 
 int run_sampled_sweep(const Common& o, const io::FlatScenario& flat, const SampleCliOptions& opts) {
   const auto t0 = std::chrono::steady_clock::now();
-  const io::SampledStudy st = io::sampled_study(flat);
-  study::Scenario reference = io::to_scenario(flat);
-  // Under MPI rank 0 writes every file and prints; the other ranks compute.
-  const study::MpiWorld world = study::mpi_world();
-  const bool writer = world.rank == 0;
-  const bool quiet = o.quiet || !writer;
-  reference.settings.ida.log = log_printer(quiet);
-  if (reference.sweep_speeds.empty())
-    throw InputError(flat.at("sweep.mode").where,
-                     "no speeds: give sweep.speeds_kmh, sweep.speed_min/max/step_kmh or sweep.speed_min/max_mps with n_speeds");
-  const study::SampleDesign design = study::sample_design(st.spec);
-  Index begin = 0, end = st.n_total();
-  int shard_k = 0, shard_n = 0;
-  if (!opts.shard.empty()) {
-    std::tie(shard_k, shard_n) = io::parse_shard(opts.shard);
-    std::tie(begin, end) = io::shard_range(shard_k, shard_n, st.n_total(), st.spec.sensitivity ? Index(st.keys.size()) + 2 : 1);
-  }
-  std::optional<io::SampleStream> stream;
-  Index start = -1;
-  std::exception_ptr setup_failed;
-  if (writer) {
-    try {
-      make_out_dir(o.out);
-      if (!opts.resume && std::ifstream(o.out + "/sample_progress.toml"))
-        std::fprintf(stderr, "viaduct sweep: note: %s holds an interrupted sampled run: starting over (--resume carries it on)\n",
-                     o.out.c_str());
-      io::write_samples_csv(o.out + "/samples.csv", st, design, begin, end);
-      if (opts.resume) stream.emplace(io::SampleStream::resume(o.out, begin, end, st.fingerprint));
-      else stream.emplace(o.out, begin, end, st.fingerprint);
-      start = stream->next();
-    } catch (...) {
-      setup_failed = std::current_exception();
-    }
-  }
-  start = study::mpi_broadcast(start);
-  if (setup_failed) std::rethrow_exception(setup_failed);
-  if (start < 0) return runtime_failure;  // rank 0 said why
-  if (!quiet)
-    std::printf("%s %lld samples%s of %zu keys (%s), %zu speeds x %zu trains each; from sample %lld%s\n",
-                opts.resume ? "resuming" : "running", static_cast<long long>(end - begin),
-                shard_n ? (" (shard " + opts.shard + ")").c_str() : "", st.keys.size(), flat.at("sweep.sampling").s.c_str(),
-                reference.sweep_speeds.size(), reference.trains.size(), static_cast<long long>(start),
-                world.size > 1 ? (" over " + std::to_string(world.size) + " MPI ranks").c_str() : "");
-  study::SampledRunOptions ro;
-  ro.threads = o.threads;
-  ro.batch = st.batch;
-  ro.progress = progress_printer("sweep", quiet, "samples");
-  auto make = [&](Index s) {
-    study::Variant v = io::sample_variant(flat, st, design, s, reference);
-    v.scenario.settings.ida.log = reference.settings.ida.log;
-    return v;
+  io::SampledRunRequest q;
+  q.out = o.out;
+  q.threads = o.threads;
+  q.shard = opts.shard;
+  q.resume = opts.resume;
+  // Under MPI only rank 0 reports (io::run_sampled tells it alone).
+  q.log = log_printer(o.quiet);
+  q.progress = progress_printer("sweep", o.quiet, "samples");
+  q.on_start = [&o](const std::string& line, bool note) {
+    if (note) std::fprintf(stderr, "viaduct sweep: note: %s\n", line.c_str());
+    else if (!o.quiet) std::printf("%s\n", line.c_str());
   };
-  const study::SampledRunSummary sum =
-      study::run_samples_mpi(start, end, make, [&](const study::SampleBatch& b) { stream->append(b); }, ro);
-  if (!writer) return ok;
-  stream->finish();
+  const io::SampledRunOutcome r = io::run_sampled(flat, q);
+  if (!r.started) return runtime_failure;
+  if (!r.writer) return ok;
+  const io::SampledStudy& st = r.study;
+  const study::SampledRunSummary& sum = r.summary;
   io::Manifest m = start_manifest(o, "sweep");
-  m.warnings = study::scenario_warnings(reference, reference.sweep_speeds);
+  m.warnings = r.warnings;
   print_warnings("sweep", m.warnings);
-  m.as_run = io::settings_as_run(reference.settings);
-  if (shard_n) io::write_shard_toml(o.out + "/shard.toml", shard_k, shard_n, begin, end, st);
-  else io::write_sample_statistics(o.out, io::statistics_spec(st));
+  m.as_run = io::settings_as_run(r.settings);
   m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   m.extra = {{"threads", std::to_string(o.threads)},
-             {"mpi_ranks", std::to_string(world.size)},
+             {"mpi_ranks", std::to_string(r.mpi_ranks)},
              {"n_samples_total", std::to_string(st.n_total())},
-             {"samples_begin", std::to_string(begin)},
-             {"samples_end", std::to_string(end)},
+             {"samples_begin", std::to_string(r.begin)},
+             {"samples_end", std::to_string(r.end)},
              {"n_samples_run", std::to_string(sum.n_samples)},
              {"n_cases_run", std::to_string(sum.n_cases)},
              {"n_failed_run", std::to_string(sum.n_failed)},
@@ -117,9 +73,9 @@ int run_sampled_sweep(const Common& o, const io::FlatScenario& flat, const Sampl
     std::printf("%lld samples (%lld cases, %lld failed) in %.1f s; wrote %s/samples.csv, sample_peaks.csv%s\n",
                 static_cast<long long>(sum.n_samples), static_cast<long long>(sum.n_cases), static_cast<long long>(sum.n_failed),
                 sum.wall_s, o.out.c_str(),
-                shard_n ? " and shard.toml (join the shards with viaduct merge)"
-                        : (st.spec.sensitivity ? ", percentiles.csv, sensitivity.csv" : ", percentiles.csv"));
-    if (!shard_n) sample_cli::print_peaks(o.out, io::statistics_spec(st));
+                r.shard_n ? " and shard.toml (join the shards with viaduct merge)"
+                          : (st.spec.sensitivity ? ", percentiles.csv, sensitivity.csv" : ", percentiles.csv"));
+    if (!r.shard_n) sample_cli::print_peaks(o.out, io::statistics_spec(st));
   }
   return sample_cli::exit_code(sum);
 }

@@ -10,6 +10,7 @@
 /// going, the peaks and failures grow in *.partial files and sample_progress.toml says how far
 /// they are complete; a shard writes shard.toml instead of the statistics.
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -101,6 +102,34 @@ ShardInfo read_shard_toml(const std::string& dir);
 /// concatenated in sample order, then the statistics: the files a one-process run writes, byte
 /// for byte. InputError naming the missing, repeated or foreign shard.
 StatisticsSpec merge_shards(const std::vector<std::string>& dirs, const std::string& out);
+
+/// How a sampled study runs (viaduct sweep on sweep.mode = "sample", viaduct.sampled_sweep).
+struct SampledRunRequest {
+  std::string out;          ///< the study's directory (created; its files as this file's header says)
+  int threads = 1;          ///< >= 1
+  std::string shard;        ///< "K/N": only shard K of N, which writes shard.toml instead of the statistics
+  bool resume = false;      ///< carry on the interrupted run recorded in `out`
+  ProgressSink progress;    ///< samples done of the range; may be empty
+  LogSink log;              ///< IDA's messages; may be empty
+  /// Told what the run is about to do (the samples, keys, speeds and trains, where it starts) and
+  /// that `out` holds an interrupted run it starts over; may be empty. Rank 0 only under MPI.
+  std::function<void(const std::string& line, bool note)> on_start;
+};
+/// What ran. Under MPI every rank runs its part and rank 0 (`writer`) writes every file.
+struct SampledRunOutcome {
+  bool writer = true;
+  bool started = true;      ///< false: rank 0 could not start (it threw; the other ranks return)
+  SampledStudy study;
+  study::SampledRunSummary summary;
+  Index begin = 0, end = 0; ///< the samples of this run (a shard's range)
+  int shard_k = 0, shard_n = 0;
+  int mpi_ranks = 1;
+  std::vector<std::string> warnings;  ///< the scenario's (study::scenario_warnings)
+  study::RunSettings settings;        ///< the reference scenario's, as run
+};
+/// Runs the study of `flat` into request.out: samples.csv, the peaks streamed as batches finish,
+/// then the statistics (or shard.toml). InputError for a study that cannot run.
+SampledRunOutcome run_sampled(const FlatScenario& flat, const SampledRunRequest& request);
 
 /// "K/N" -> (K, N), 1 <= K <= N; InputError otherwise.
 std::pair<int, int> parse_shard(const std::string& text);
