@@ -2,7 +2,6 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <optional>
 
 #include "cli.hpp"
 #include "viaduct/io/passages.hpp"
@@ -12,14 +11,6 @@
 namespace viaduct::cli {
 
 namespace {
-
-struct PassagesOptions {
-  std::vector<std::string> records, maps;
-  std::optional<std::string> train;
-  std::optional<double> v_min_kmh, v_max_kmh;
-  double speed_band = 3.0, noise_band = 4.0;
-  std::string zero = "keep";
-};
 
 void print_passages(const study::PassageStudy& r, double speed_band) {
   std::printf("\n%-34s %-16s %11s %8s  %s\n", "passage", "train", "km/h", "+-", "measured/predicted per channel (* outside the band)");
@@ -36,18 +27,11 @@ void print_passages(const study::PassageStudy& r, double speed_band) {
   }
 }
 
-int passages_body(const Common& o, const PassagesOptions& k) {
+// The options bind straight into the request (io/passages.hpp); the rest comes from Common.
+int passages_body(const Common& o, const io::PassagesRequest& options) {
   const auto t0 = std::chrono::steady_clock::now();
   const io::FlatScenario flat = load_scenario(o);
-  io::PassagesRequest q;
-  q.records = k.records;
-  q.maps = k.maps;
-  q.train = k.train;
-  q.v_min_kmh = k.v_min_kmh;
-  q.v_max_kmh = k.v_max_kmh;
-  q.speed_band = k.speed_band;
-  q.noise_band = k.noise_band;
-  q.zero = k.zero;
+  io::PassagesRequest q = options;
   q.threads = o.threads;
   q.read = o.read;
   q.on_read = [&o](const std::string& path, const io::ImportReport& rep) { print_import_report(path, rep, o); };
@@ -82,7 +66,7 @@ int passages_body(const Common& o, const PassagesOptions& k) {
 Command passages_command() {
   Command c = record_command("passages", "SCENARIO",
                              "recorded passages over the model's speed envelope: measured/predicted peaks per station (passages.csv)");
-  const auto declare = [](po::options_description& d, PassagesOptions& k) {
+  const auto declare = [](po::options_description& d, io::PassagesRequest& k) {
     d.add_options()("records", list_value(k.records),
                     "a folder of records, or a table (CSV: file[,train][,speed_kmh]; files relative to it) (repeatable)")(
         "map", list_value(k.maps), "CHANNEL=STATION: a record channel at a scenario station (repeatable; the first identifies the speed)")(
