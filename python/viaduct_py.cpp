@@ -235,7 +235,8 @@ py::dict sampled_sweep(const viaduct::io::FlatScenario& flat, const std::string&
 py::tuple passages(const viaduct::io::FlatScenario& flat, const std::vector<std::string>& records, const std::vector<std::string>& maps,
                    std::optional<std::string> train, std::optional<double> v_min_kmh, std::optional<double> v_max_kmh,
                    double speed_band, double noise_band, const std::string& zero, const std::string& time_column,
-                   std::optional<double> fs_hz, int threads, const py::object& progress, const std::optional<std::string>& out) {
+                   std::optional<double> fs_hz, int header_line, int skip_lines, int threads, const py::object& progress,
+                   const std::optional<std::string>& out) {
   namespace io = viaduct::io;
   io::PassagesRequest q;
   q.records = records;
@@ -248,6 +249,9 @@ py::tuple passages(const viaduct::io::FlatScenario& flat, const std::vector<std:
   q.zero = zero;
   q.read.time_column = time_column;
   q.read.fs_hz = fs_hz;
+  if (header_line < 0 || skip_lines < 0) throw InputError("passages: header_line and skip_lines must be >= 0");
+  q.read.header_line = header_line;
+  q.read.skip_lines = skip_lines;
   q.threads = threads_of(threads);
   // What reading repaired and what was cut are warnings here (the CLI prints them as they come).
   std::vector<std::string> read_warnings;
@@ -418,7 +422,7 @@ void bind(py::module_& m) {
         py::arg("progress"));
   m.def("passages", &passages, py::arg("flat"), py::arg("records"), py::arg("maps"), py::arg("train"), py::arg("v_min_kmh"),
         py::arg("v_max_kmh"), py::arg("speed_band"), py::arg("noise_band"), py::arg("zero"), py::arg("time_column"),
-        py::arg("fs_hz"), py::arg("threads"), py::arg("progress"), py::arg("out"));
+        py::arg("fs_hz"), py::arg("header_line"), py::arg("skip_lines"), py::arg("threads"), py::arg("progress"), py::arg("out"));
   m.def(
       "read_record",
       [](const std::string& path, const std::string& time_column, std::optional<double> fs_hz, int header_line, int skip_lines) {

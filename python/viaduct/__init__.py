@@ -208,7 +208,7 @@ def sampled_sweep(scenario, out, threads=1, resume=False, progress=False):
 
 
 def passages(scenario, records, map, train=None, v_min_kmh=None, v_max_kmh=None, speed_band=3.0, noise_band=4.0,
-             zero="keep", time_column="", fs_hz=None, threads=1, progress=False, out=None):
+             zero="keep", time_column="", fs_hz=None, header_line=0, skip_lines=0, threads=1, progress=False, out=None):
     """Recorded passages over the model's speed envelope, as ``viaduct passages`` (docs/records.md):
     each record's speed identified from the train's signature (or a table's speed_kmh), each mapped
     channel's peak under the scenario's [filter] against the model's at that speed and over the
@@ -218,7 +218,8 @@ def passages(scenario, records, map, train=None, v_min_kmh=None, v_max_kmh=None,
     map      {channel: station}, in order: the first channel identifies the speed
     train    the train of records without one: a scenario train's name or a train file
     zero     deflection and strain channels' zero: "keep", "pre-entry" or "START:END"
-    time_column, fs_hz  how the records are read, as the CLI's --time-column and --rate-hz
+    time_column, fs_hz, header_line, skip_lines  how the records are read, as the CLI's
+             --time-column, --rate-hz, --header-line and --skip-lines (read_record's)
     out      a directory for the CLI's tables (passages.csv, passages_summary.csv,
              model_envelope.csv, failures.csv); None: none written
 
@@ -233,7 +234,7 @@ def passages(scenario, records, map, train=None, v_min_kmh=None, v_max_kmh=None,
     cb = _progress_printer("passages") if progress is True else (progress or None)
     rows, tables, info = _viaduct.passages(scenario._flat, [str(r) for r in records], [f"{k}={v}" for k, v in map.items()],
                                            train, v_min_kmh, v_max_kmh, speed_band, noise_band, zero, time_column, fs_hz,
-                                           threads, cb, None if out is None else str(out))
+                                           header_line, skip_lines, threads, cb, None if out is None else str(out))
     info.update({k: _table(v) for k, v in tables.items()})
     table = _table(rows)
     try:
