@@ -84,16 +84,15 @@ py::tuple run(const viaduct::io::FlatScenario& flat, std::optional<double> speed
   study::Scenario sc = viaduct::io::to_scenario(flat);
   const double speed = study::passage_speed(sc, speed_kmh, "speed_kmh");
   const viaduct::load::Train t = study::passage_train(sc, train);
-  std::atomic<std::size_t> done{0}, total{1};
-  std::atomic<bool> cancel{false};
+  CallState call(1);
   auto r = std::make_shared<study::RunResult>(interruptible(
       [&] {
         const study::PreparedModel pm = study::prepare_model(sc, /*rail_outputs=*/true, /*with_load_effects=*/true);
         study::RunResult out = study::simulate(pm, t, speed, sc.settings);
-        done = 1;
+        call.done = 1;
         return out;
       },
-      progress, done, total, cancel));
+      progress, call));
   // The columns point into the result: numpy views kept alive by one capsule holding it.
   py::capsule owner(new std::shared_ptr<study::RunResult>(r),
                     [](void* q) { delete static_cast<std::shared_ptr<study::RunResult>*>(q); });
@@ -129,17 +128,13 @@ py::tuple sweep(const viaduct::io::FlatScenario& flat, int threads, bool load_ef
   const std::vector<study::Variant> variants = viaduct::io::sweep_variants(flat, /*isolate_failures=*/true);
   if (variants.front().scenario.sweep_speeds.empty())
     throw InputError("no speeds: give sweep.speeds_kmh, sweep.speed_min/max/step_kmh or sweep.speed_min/max_mps with n_speeds");
-  std::atomic<std::size_t> done{0}, total{study::count_cases(variants)};
-  std::atomic<bool> cancel{false};
+  CallState call(study::count_cases(variants));
   study::SweepOptions so;
   so.threads = threads_of(threads);
   so.load_effects = load_effects;
-  so.cancel = &cancel;
-  so.progress = [&](std::size_t d, std::size_t n) {
-    done = d;
-    total = n;
-  };
-  const study::SweepResult r = interruptible([&] { return study::run_sweep(variants, so); }, progress, done, total, cancel);
+  so.cancel = &call.cancel;
+  so.progress = call.sink();
+  const study::SweepResult r = interruptible([&] { return study::run_sweep(variants, so); }, progress, call);
   if (r.summary.cancelled) {  // cut without a Ctrl-C reaching this thread: still never a partial table
     PyErr_SetString(PyExc_KeyboardInterrupt, "the sweep was cancelled: its cases are incomplete");
     throw py::error_already_set();
@@ -164,16 +159,12 @@ py::tuple assess(const viaduct::io::FlatScenario& flat_in, int threads, const py
   namespace io = viaduct::io;
   io::FlatScenario flat = flat_in;
   const study::AssessPlan plan = io::plan_assessment(flat, flat.path);
-  std::atomic<std::size_t> done{0}, total{study::count_cases(plan.variants)};
-  std::atomic<bool> cancel{false};
+  CallState call(study::count_cases(plan.variants));
   study::AssessOptions ao;
   ao.threads = threads_of(threads);
-  ao.cancel = &cancel;
-  ao.progress = [&](std::size_t d, std::size_t n) {
-    done = d;
-    total = n;
-  };
-  const study::AssessResult r = interruptible([&] { return study::run_assessment(plan, ao); }, progress, done, total, cancel);
+  ao.cancel = &call.cancel;
+  ao.progress = call.sink();
+  const study::AssessResult r = interruptible([&] { return study::run_assessment(plan, ao); }, progress, call);
   if (r.sweep.summary.cancelled) {
     PyErr_SetString(PyExc_KeyboardInterrupt, "the assessment was cancelled: its cases are incomplete");
     throw py::error_already_set();
@@ -212,13 +203,9 @@ py::dict sampled_sweep(const viaduct::io::FlatScenario& flat, const std::string&
   q.out = out;
   q.threads = threads_of(threads);
   q.resume = resume;
-  std::atomic<std::size_t> done{0}, total{0};
-  std::atomic<bool> cancel{false};
-  q.progress = [&](std::size_t d, std::size_t n) {
-    done = d;
-    total = n;
-  };
-  const io::SampledRunOutcome r = interruptible([&] { return io::run_sampled(flat, q); }, progress, done, total, cancel);
+  CallState call;
+  q.progress = call.sink();
+  const io::SampledRunOutcome r = interruptible([&] { return io::run_sampled(flat, q); }, progress, call);
   py::dict info;
   info["n_samples_total"] = r.study.n_total();
   info["n_samples_run"] = r.summary.n_samples;
@@ -265,13 +252,9 @@ py::tuple passages(const viaduct::io::FlatScenario& flat, const std::vector<std:
     std::lock_guard<std::mutex> lock(read_mutex);
     read_warnings.push_back(note);
   };
-  std::atomic<std::size_t> done{0}, total{0};
-  std::atomic<bool> cancel{false};
-  q.progress = [&](std::size_t d, std::size_t n) {
-    done = d;
-    total = n;
-  };
-  const io::PassagesOutcome r = interruptible([&] { return io::run_passages(flat, q); }, progress, done, total, cancel);
+  CallState call;
+  q.progress = call.sink();
+  const io::PassagesOutcome r = interruptible([&] { return io::run_passages(flat, q); }, progress, call);
   if (out) {
     io::begin_outputs(*out);
     io::write_passages_tables(*out, r);

@@ -15,6 +15,7 @@
 
 #include "viaduct/core/cancel.hpp"
 #include "viaduct/core/error.hpp"
+#include "viaduct/core/log.hpp"
 #include "viaduct/core/types.hpp"
 
 namespace viaduct_py {
@@ -102,6 +103,24 @@ auto interruptible(F f, const py::object& progress, const std::atomic<std::size_
     }
     if (ready) return result.get();
   }
+}
+
+// A long call's state as the waiting thread sees it: cases done of total (set from any thread by
+// the workflow's progress callback, sink()) and the call's cancellation flag.
+struct CallState {
+  std::atomic<std::size_t> done{0}, total{0};
+  std::atomic<bool> cancel{false};
+  explicit CallState(std::size_t n_total = 0) : total(n_total) {}
+  viaduct::ProgressSink sink() {
+    return [this](std::size_t d, std::size_t n) {
+      done = d;
+      total = n;
+    };
+  }
+};
+template <class F>
+auto interruptible(F f, const py::object& progress, CallState& state) -> decltype(f()) {
+  return interruptible(std::move(f), progress, state.done, state.total, state.cancel);
 }
 
 // --threads as the CLI takes it: 0 is every core.

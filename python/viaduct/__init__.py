@@ -194,6 +194,10 @@ def sampled_sweep(scenario, out, threads=1, resume=False, progress=False):
     import os
     cb = _progress_printer("sampled sweep") if progress is True else (progress or None)
     info = _viaduct.sampled_sweep(scenario._flat, str(out), threads, resume, cb)
+    if info["n_failed_run"]:  # as the CLI's exit 1: the statistics use the samples that completed
+        import warnings
+        warnings.warn(f"sampled_sweep: {info['n_failed_run']} of {info['n_cases_run']} cases failed ({out}/failures.csv); "
+                      "the statistics use the samples that completed", stacklevel=2)
     names = ["percentiles", "samples", "sample_peaks", "failures"]
     if info["sensitivity"]:
         names += ["sensitivity", "peak_sensitivity"]
@@ -226,8 +230,9 @@ def passages(scenario, records, map, train=None, v_min_kmh=None, v_max_kmh=None,
     Returns passages.csv's columns (one row per passage and channel: measured, predicted,
     predicted_low/high, ratio, noise_rms, within, residual, speed and its uncertainty, ...);
     ``attrs``: "passages_summary", "model_envelope", "failures" (tables), "warnings" (what the CLI
-    prints as warnings, what reading the records repaired first), n_passages, n_failed. A record
-    that cannot be read is a row of "failures" and the others complete. Ctrl-C stops the
+    prints as warnings, what reading the records repaired first), n_passages, n_failed; each warning
+    and each failed passage is also a UserWarning. A record that cannot be read is a row of
+    "failures" and the others complete. Ctrl-C stops the
     simulations and raises KeyboardInterrupt."""
     if isinstance(records, (str, bytes)) or hasattr(records, "__fspath__"):
         records = [records]
@@ -236,6 +241,13 @@ def passages(scenario, records, map, train=None, v_min_kmh=None, v_max_kmh=None,
                                            train, v_min_kmh, v_max_kmh, speed_band, noise_band, zero, time_column, fs_hz,
                                            header_line, skip_lines, threads, cb, None if out is None else str(out))
     info.update({k: _table(v) for k, v in tables.items()})
+    # What the CLI prints on stderr (and exits 1 for) is a UserWarning here, not only in attrs.
+    import warnings
+    for w in info["warnings"]:
+        warnings.warn("passages: " + w, stacklevel=2)
+    failures = tables["failures"]
+    for name, message in zip(failures["passage"], failures["message"]):
+        warnings.warn(f"passages: failed: {name}: {message}", stacklevel=2)
     table = _table(rows)
     try:
         table.attrs.update(info)

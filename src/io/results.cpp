@@ -323,21 +323,20 @@ void write_table_csv(const std::string& path, const std::vector<std::string>& he
 }
 
 void write_table_columns_csv(const std::string& path, const std::vector<TableColumn>& columns, int significant) {
+  using Kind = TableColumn::Kind;
+  auto length = [](const TableColumn& c) {
+    return c.kind == Kind::text ? c.cells.size() : c.kind == Kind::number ? c.values.size() : c.flags.size();
+  };
+  const std::size_t n = columns.empty() ? 0 : length(columns.front());
   std::vector<std::string> header;
-  std::size_t n = 0;
-  for (const auto& c : columns) {
-    header.push_back(c.name);
-    n = std::max(n, c.kind == TableColumn::Kind::text ? c.cells.size() : c.kind == TableColumn::Kind::number ? c.values.size() : c.flags.size());
-  }
   std::vector<std::vector<std::string>> rows(n, std::vector<std::string>(columns.size()));
   for (std::size_t j = 0; j < columns.size(); ++j) {
     const TableColumn& c = columns[j];
-    const std::size_t len = c.kind == TableColumn::Kind::text ? c.cells.size() : c.kind == TableColumn::Kind::number ? c.values.size() : c.flags.size();
-    if (len != n) throw InputError("write_table_columns_csv: column " + c.name + " differs in length");
+    if (length(c) != n) throw InputError("write_table_columns_csv: column " + c.name + " differs in length");
+    header.push_back(c.name);
     for (std::size_t i = 0; i < n; ++i)
-      rows[i][j] = c.kind == TableColumn::Kind::text     ? c.cells[i]
-                   : c.kind == TableColumn::Kind::number ? table_cell(c.values[i], significant)
-                                                         : (c.flags[i] ? "true" : "false");
+      rows[i][j] = c.kind == Kind::text ? c.cells[i] : c.kind == Kind::number ? table_cell(c.values[i], significant)
+                                                                              : (c.flags[i] ? "true" : "false");
   }
   write_table_csv(path, header, rows);
 }
