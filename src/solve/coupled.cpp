@@ -428,16 +428,8 @@ CoupledSummary coupled_newmark(const SparseMatrix& M, const SparseMatrix& C, con
   out.airborne_s.resize(static_cast<Index>(veh.n_contacts()));
   for (std::size_t q = 0; q < veh.n_contacts(); ++q)
     out.airborne_s[static_cast<Index>(q)] = static_cast<double>(out.steps_released[q]) * grid.dt;
-  Summary& s = out.summary;
-  s.kernel = "newmark-vehicles";
-  s.n_steps = n_steps;
-  s.n_samples = n_steps + 1;
-  s.n_factorisations = 1;
-  s.n_dofs = n;
-  s.t_reached = n_steps * grid.dt;
-  s.stop_reason = "t_end reached";
   out.n_cached_columns = run.cached();
-  s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  out.summary = detail::fixed_step_summary(Kernel::newmark_vehicles, n_steps, grid.dt, n, 0, 1, detail::seconds_since(wall0));
   return out;
 }
 

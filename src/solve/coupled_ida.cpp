@@ -359,7 +359,7 @@ class Run {
     y().setZero();
     consistent(0.0);
     create(opt);
-    s().kernel = "ida-vehicles";
+    s().kernel = Kernel::ida_vehicles;
     out_.steps_released.assign(nw_, 0);
     out_.airborne_s = Vector::Zero(static_cast<Index>(nw_));
     u_.resize(n_), v_.resize(n_), a_.resize(n_), z_.resize(nv_), zv_.resize(nv_), za_.resize(nv_);

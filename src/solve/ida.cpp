@@ -211,7 +211,7 @@ Summary ida(const SecondOrderSystem& sys, const TimeGrid& grid, const IdaOptions
   std::size_t next_event = 0;
 
   Summary s;
-  s.kernel = "ida";
+  s.kernel = Kernel::ida;
   Vector u(n), v(n), a(n);
   auto emit = [&](Index k, double t) {
     u = y.head(n), v = y.tail(n), a = ydot.tail(n);

@@ -19,8 +19,24 @@ bool TimeGrid::is_valid(std::string* why) const {
                    "t_end/dt <= 2e9 steps (dt = " + format_number(dt, 6) + " s)");
 }
 
+const char* kernel_name(Kernel k) {
+  switch (k) {
+    case Kernel::none: return "none";
+    case Kernel::newmark: return "newmark";
+    case Kernel::newmark_batch: return "newmark-batch";
+    case Kernel::modal: return "modal";
+    case Kernel::modal_complex: return "modal-complex";
+    case Kernel::modal_peaks: return "modal-peaks";
+    case Kernel::ida: return "ida";
+    case Kernel::newmark_vehicles: return "newmark-vehicles";
+    case Kernel::modal_vehicles: return "modal-vehicles";
+    case Kernel::ida_vehicles: return "ida-vehicles";
+  }
+  throw std::logic_error("kernel_name: unknown kernel");
+}
+
 std::string Summary::describe() const {
-  if (kernel != "ida" && kernel != "ida-vehicles") return stop_reason;
+  if (kernel != Kernel::ida && kernel != Kernel::ida_vehicles) return stop_reason;
   return stop_reason + " (" + std::to_string(n_steps) + " internal steps, " + std::to_string(n_residuals) +
          " residuals, " + std::to_string(n_factorisations) + " factorisations, " + std::to_string(n_rejected_steps) +
          " error-test and " + std::to_string(n_nonlinear_failures) + " Newton failures, " +
@@ -160,7 +176,7 @@ void require_plain(const Recording& rec, const char* who) {
 }
 
 // The coupled kernels' messages name the kernel that ran.
-CoupledSummary named(CoupledSummary s, const char* kernel) {
+CoupledSummary named(CoupledSummary s, Kernel kernel) {
   s.summary.kernel = kernel;
   return s;
 }
@@ -269,7 +285,7 @@ class ModalIntegrator : public Integrator {
   Coordinates coupled_coordinates() const override { return Coordinates::modal; }
   CoupledSummary run_coupled(const CoupledCase& c) const override {
     require_coupled(c, "modal superposition with vehicles");
-    return named(coupled_newmark(*c.M, *c.C, *c.K, *c.vehicle, *c.path, c.grid, newmark_, c.observe, c.bound), "modal-vehicles");
+    return named(coupled_newmark(*c.M, *c.C, *c.K, *c.vehicle, *c.path, c.grid, newmark_, c.observe, c.bound), Kernel::modal_vehicles);
   }
 
   CaseResult run(const LoadCase& c, const Recording& rec) const override {

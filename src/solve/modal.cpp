@@ -481,16 +481,7 @@ Summary ModalReduction::integrate(ModalForce& force, const TimeGrid& grid, const
       throw SolverError("modal superposition: state became non-finite at t = " + modal_num(t) + " s");
     emit(k, t);
   }
-  Summary s;
-  s.kernel = "modal";
-  s.n_steps = n_steps;
-  s.n_samples = n_steps + 1;
-  s.n_modes = m;
-  s.n_dofs = n;
-  s.t_reached = n_steps * dt;
-  s.stop_reason = "t_end reached";
-  s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-  return s;
+  return detail::fixed_step_summary(Kernel::modal, n_steps, dt, n, m, 0, detail::seconds_since(wall0));
 }
 
 Summary ModalReduction::integrate_complex(ModalForce& force, const TimeGrid& grid, const ModalOptions& opt,
@@ -588,16 +579,7 @@ Summary ModalReduction::integrate_complex(ModalForce& force, const TimeGrid& gri
       throw SolverError("modal superposition: state became non-finite at t = " + modal_num(t) + " s");
     emit(step, t);
   }
-  Summary s;
-  s.kernel = "modal-complex";
-  s.n_steps = n_steps;
-  s.n_samples = n_steps + 1;
-  s.n_modes = n_modes();
-  s.n_dofs = n_dofs();
-  s.t_reached = n_steps * h;
-  s.stop_reason = "t_end reached";
-  s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-  return s;
+  return detail::fixed_step_summary(Kernel::modal_complex, n_steps, h, n_dofs(), n_modes(), 0, detail::seconds_since(wall0));
 }
 
 }  // namespace viaduct::solve

@@ -17,6 +17,7 @@
 #include <limits>
 #include <utility>
 
+#include "checks.hpp"
 #include "lanes.hpp"
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/cancel.hpp"
@@ -25,8 +26,16 @@ namespace viaduct::solve::detail {
 
 namespace {
 
-
 constexpr std::size_t W = kLanes;  // cases (speeds of one train) advanced together, one per SIMD lane
+
+// The lanes' speeds [m/s] and step counts of `in` (a KernelInput or ComplexInput) as lanes.
+template <class Input>
+void lane_speeds(const Input& in, lanes& v, lanes& n_steps) {
+  for (std::size_t l = 0; l < W; ++l) {
+    v[l] = in.v[l];
+    n_steps[l] = static_cast<double>(in.n_steps[l]);
+  }
+}
 
 struct KernelInput {
   const double *c8, *two_zw, *w2;  // per mode: exact step coefficients, 2ζω, ω²
@@ -92,6 +101,20 @@ struct LoadCursor {
     }
     if (point && x == breaks[i])
       for (std::size_t e = 0; e < nx; ++e) pt[e][l] = point[i * nx + e];
+  }
+  // The folded train of `in` (a KernelInput or ComplexInput): nc channels, nload of them loads,
+  // nr residuals used; the values and differences in f … dc, extra channels at break hits in pt.
+  template <class Input>
+  void bind(const Input& in, std::size_t n_channels, std::size_t n_load, std::size_t n_res, lanes* f_, lanes* d1_,
+            lanes* d2_, lanes* d3_, lanes* c_, lanes* dc_, lanes* pt_) {
+    breaks = in.breaks;
+    coef = in.coef;
+    n_pieces = in.n_pieces;
+    nc = n_channels;
+    nload = n_load;
+    nr = n_res;
+    f = f_, d1 = d1_, d2 = d2_, d3 = d3_, c = c_, dc = dc_;
+    if (in.point) point = in.point, nx = in.n_extra, pt = pt_;
   }
   // Every lane at the path's start, speeds v [m/s], step dt.
   VIADUCT_ALWAYS_INLINE void start(const double* v, double dt, double x_start) {
@@ -236,19 +259,9 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
   for (std::size_t j = 0; j < no; ++j) c[j] = dc[j] = ma[j] = md[j] = mn[j] = zero;
 
   lanes v = zero, n_steps = zero;
-  for (std::size_t l = 0; l < W; ++l) {
-    v[l] = in.v[l];
-    n_steps[l] = static_cast<double>(in.n_steps[l]);
-  }
+  lane_speeds(in, v, n_steps);
   LoadCursor cur;
-  cur.breaks = in.breaks;
-  cur.coef = in.coef;
-  cur.n_pieces = in.n_pieces;
-  cur.nc = nc;
-  cur.nload = nm;
-  cur.nr = nr;
-  cur.f = f, cur.d1 = d1, cur.d2 = d2, cur.d3 = d3, cur.c = c, cur.dc = dc;
-  if (in.point) cur.point = in.point, cur.nx = in.n_extra, cur.pt = sums.pt;
+  cur.bind(in, nc, nm, nr, f, d1, d2, d3, c, dc, sums.pt);
   const double half_dt = 0.5 * in.dt;
   const Index min_steps = *std::min_element(in.n_steps, in.n_steps + W);
   auto emit = [&](Index k) {
@@ -376,19 +389,9 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
   lanes *yr = at, *yi = yr + nk, *pp = yi + nk, *f = pp + nch, *d1 = f + nc, *d2 = d1 + nc, *d3 = d2 + nc,
         *c = d3 + nc, *dc = c + no, *ma = dc + no, *md = ma + no, *mn = md + no, *dj = mn + no, *aj = dj + no;
   lanes v = zero, n_steps = zero;
-  for (std::size_t l = 0; l < W; ++l) {
-    v[l] = in.v[l];
-    n_steps[l] = static_cast<double>(in.n_steps[l]);
-  }
+  lane_speeds(in, v, n_steps);
   LoadCursor cur;
-  cur.breaks = in.breaks;
-  cur.coef = in.coef;
-  cur.n_pieces = in.n_pieces;
-  cur.nc = nc;
-  cur.nload = nch;
-  cur.nr = nr;
-  cur.f = f, cur.d1 = d1, cur.d2 = d2, cur.d3 = d3, cur.c = c, cur.dc = dc;
-  if (in.point) cur.point = in.point, cur.nx = in.n_extra, cur.pt = sums.pt;
+  cur.bind(in, nc, nch, nr, f, d1, d2, d3, c, dc, sums.pt);
   const double half_dt = 0.5 * in.dt;
   const Index min_steps = *std::min_element(in.n_steps, in.n_steps + W);
   auto emit = [&](Index k) {
@@ -704,22 +707,15 @@ std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingCh
       ci.stride = stride;
       complex_kernel(ci, state.data(), ma.data(), md.data(), mn.data(), su);
     }
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    const double wall = detail::seconds_since(wall0);
     for (std::size_t l = 0; l < n_lanes; ++l) {
       PeaksCaseResult res =
           lane_result(l, no, ma, md, mn, state[l], record_acc ? &hist : nullptr, nh, stride, n_steps[l], v[l]);
       take_sums(su, n_sums, l, v[l], res);
       for (std::size_t j = 0; j < no; ++j)
         if (!has_acc[j]) res.max_abs_acc[static_cast<Index>(j)] = 0.0;
-      Summary& s = res.summary;
-      s.kernel = "modal-peaks";
-      s.n_steps = n_steps[l];
-      s.n_samples = n_steps[l] + 1;
-      s.n_modes = r.n_modes();
-      s.n_dofs = r.n_dofs();
-      s.t_reached = static_cast<double>(n_steps[l]) * dt;
-      s.stop_reason = "t_end reached";
-      s.wall_s = wall / static_cast<double>(n_lanes);
+      res.summary = detail::fixed_step_summary(Kernel::modal_peaks, n_steps[l], dt, r.n_dofs(), r.n_modes(), 0,
+                                               wall / static_cast<double>(n_lanes));
       out.push_back(std::move(res));
     }
   }

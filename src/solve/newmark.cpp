@@ -170,16 +170,7 @@ Summary newmark(const SecondOrderSystem& sys, const TimeGrid& grid, const Newmar
       throw SolverError("Newmark: state became non-finite at t = " + num(t) + " s");
     if (observe) observe(k, t, u, v, a);
   }
-  Summary s;
-  s.kernel = "newmark";
-  s.n_steps = n_steps;
-  s.n_samples = n_steps + 1;
-  s.n_factorisations = 1;
-  s.n_dofs = n;
-  s.t_reached = n_steps * dt;
-  s.stop_reason = "t_end reached";
-  s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-  return s;
+  return detail::fixed_step_summary(Kernel::newmark, n_steps, dt, n, 0, 1, detail::seconds_since(wall0));
 }
 
 }  // namespace viaduct::solve
@@ -487,17 +478,10 @@ std::vector<BatchHistories> newmark_batch(const std::vector<BatchCase>& cases, d
 #else
   batch_loop(R);
 #endif
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  const double wall = detail::seconds_since(wall0);
   for (std::size_t l = 0; l < cases.size(); ++l) {
-    Summary& s = out[l].summary;
-    s.kernel = "newmark-batch";
-    s.n_steps = R.n_steps[l];
-    s.n_samples = R.n_steps[l] + 1;
-    s.n_factorisations = 1;
-    s.n_dofs = n;
-    s.t_reached = static_cast<double>(R.n_steps[l]) * dt;
-    s.stop_reason = "t_end reached";
-    s.wall_s = wall / static_cast<double>(cases.size());
+    out[l].summary = detail::fixed_step_summary(Kernel::newmark_batch, R.n_steps[l], dt, n, 0, 1,
+                                                wall / static_cast<double>(cases.size()));
   }
   return out;
 }

@@ -101,7 +101,7 @@ TEST_CASE("sprung mass crossing a simply supported beam against an independent m
       rs.modal.n_modes = 20;
       const auto r = study::simulate(s, stations, train, kV, rs);
       REQUIRE(r.vehicles.model == "sprung");
-      REQUIRE(r.summary.kernel == (method == study::Method::modal ? "modal-vehicles" : "newmark-vehicles"));
+      REQUIRE(r.summary.kernel == (method == study::Method::modal ? solve::Kernel::modal_vehicles : solve::Kernel::newmark_vehicles));
       const double e_mid = max_error(r.stations[0].disp, dt, ref.t, ref.mid, peak(ref.mid));
       const double e_acc = max_error(r.vehicles.body_acc.col(0), dt, ref.t, ref.body_acc, peak(ref.body_acc));
       const double e_contact = max_error(r.vehicles.contact_force.col(0), dt, ref.t, ref.contact, kMv * kG);
@@ -402,7 +402,7 @@ TEST_CASE("IDA with vehicles is the limit the modal fast path converges to") {
     return study::simulate(m, train, 25.0, rs);  // leaves the span at t = 1 s, on every step
   };
   const auto ref = run(study::Method::ida, 2.5e-4);
-  REQUIRE(ref.summary.kernel == "ida-vehicles");
+  REQUIRE(ref.summary.kernel == solve::Kernel::ida_vehicles);
   const double peak_mid = ref.stations[0].disp.cwiseAbs().maxCoeff();
   std::vector<double> e_mid, e_contact;
   for (const double dt : {1e-3, 5e-4, 2.5e-4, 1.25e-4, 6.25e-5}) {

@@ -18,9 +18,26 @@ struct TimeGrid {
   bool is_valid(std::string* why) const;
 };
 
+/// The time-stepping kernel that ran a case: one per loop in src/solve.
+enum class Kernel {
+  none,              ///< nothing ran (a default Summary)
+  newmark,           ///< Newmark/HHT on every DOF, one case
+  newmark_batch,     ///< Newmark/HHT on every DOF, four cases per pass
+  modal,             ///< modal superposition, classical modes
+  modal_complex,     ///< modal superposition, complex modes (non-proportional damping)
+  modal_peaks,       ///< the fused modal kernel of envelope sweeps (peaks and sums of outputs only)
+  ida,               ///< SUNDIALS IDA on every DOF
+  newmark_vehicles,  ///< Newmark/HHT, structure and vehicles coupled through the contact
+  modal_vehicles,    ///< the same on the structure's modes
+  ida_vehicles,      ///< IDA, structure and vehicles coupled
+};
+/// "newmark", "newmark-batch", "modal", "modal-complex", "modal-peaks", "ida",
+/// "newmark-vehicles", "modal-vehicles", "ida-vehicles" ("none").
+const char* kernel_name(Kernel k);
+
 /// What a run did, the same for every kernel.
 struct Summary {
-  std::string kernel;          ///< "newmark", "newmark-batch", "modal", "modal-complex", "modal-peaks", "ida"
+  Kernel kernel = Kernel::none;  ///< the kernel that ran (kernel_name() for messages)
   Index n_steps = 0;           ///< steps: one per sample interval (fixed-step kernels), internal steps (IDA)
   Index n_samples = 0;         ///< samples delivered, t = 0 included
   Index n_rejected_steps = 0;  ///< IDA: steps rejected by the error test (0 for fixed-step kernels)

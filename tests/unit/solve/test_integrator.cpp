@@ -124,12 +124,12 @@ TEST_CASE("vehicles go through the integration face: each method runs its couple
     INFO(solve::method_name(m));
     REQUIRE(faced.size() == direct.size());
     if (m == solve::Method::ida) {
-      CHECK(r.summary.kernel == "ida-vehicles");
+      CHECK(r.summary.kernel == solve::Kernel::ida_vehicles);
       double e = 0, sc = 0;
       for (std::size_t k = 0; k < direct.size(); ++k) e = std::max(e, std::abs(faced[k] - direct[k])), sc = std::max(sc, std::abs(direct[k]));
       CHECK(e < 0.05 * sc);  // BDF against Newmark (γ = 0.6 damps): the same motion, not the same numbers
     } else {
-      CHECK(r.summary.kernel == (m == solve::Method::newmark ? "newmark-vehicles" : "modal-vehicles"));
+      CHECK(r.summary.kernel == (m == solve::Method::newmark ? solve::Kernel::newmark_vehicles : solve::Kernel::modal_vehicles));
       CHECK(faced == direct);  // the same kernel with the same options: bit for bit
     }
   }
