@@ -131,6 +131,15 @@ def _table(columns):
     return pandas.DataFrame(columns)
 
 
+def _with_attrs(table, info):
+    """`table` with `info` in its attrs (a DataFrame), or under "attrs" (the dict of columns)."""
+    try:
+        table.attrs.update(info)
+    except AttributeError:
+        table["attrs"] = info
+    return table
+
+
 def _progress_printer(what):
     import sys
 
@@ -154,11 +163,7 @@ def assess(scenario, threads=1, progress=False, out=None):
     checks, tables, info = _viaduct.assess(scenario._flat, threads, cb, None if out is None else str(out))
     info.update({k: _table(v) for k, v in tables.items()})
     table = _table(checks)
-    try:
-        table.attrs.update(info)
-    except AttributeError:
-        table["attrs"] = info
-    return table
+    return _with_attrs(table, info)
 
 
 def _read_table(path):
@@ -204,11 +209,7 @@ def sampled_sweep(scenario, out, threads=1, resume=False, progress=False):
     for name in names:
         info[name] = _read_table(os.path.join(str(out), name + ".csv"))
     table = _read_table(os.path.join(str(out), "peak_percentiles.csv"))
-    try:
-        table.attrs.update(info)
-    except AttributeError:
-        table["attrs"] = info
-    return table
+    return _with_attrs(table, info)
 
 
 def passages(scenario, records, map, train=None, v_min_kmh=None, v_max_kmh=None, speed_band=3.0, noise_band=4.0,
@@ -249,11 +250,7 @@ def passages(scenario, records, map, train=None, v_min_kmh=None, v_max_kmh=None,
     for name, message in zip(failures["passage"], failures["message"]):
         warnings.warn(f"passages: failed: {name}: {message}", stacklevel=2)
     table = _table(rows)
-    try:
-        table.attrs.update(info)
-    except AttributeError:
-        table["attrs"] = info
-    return table
+    return _with_attrs(table, info)
 
 
 def run(scenario, speed_kmh=None, train=None, progress=None):
@@ -267,11 +264,7 @@ def run(scenario, speed_kmh=None, train=None, progress=None):
     if "vehicles" in info:
         info["vehicles"] = _table(info["vehicles"])
     table = _table(dict(zip(names, columns)))
-    try:
-        table.attrs.update(info)
-    except AttributeError:
-        table["attrs"] = info
-    return table
+    return _with_attrs(table, info)
 
 
 def sweep(scenario, threads=1, load_effects=False, progress=False):

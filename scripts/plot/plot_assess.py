@@ -11,19 +11,17 @@ Reads DIR/envelope.csv, DIR/phi_dyn.csv and DIR/manifest.toml (the acceleration 
   - DIR/phi_dyn.png: the largest dynamic increment phi'dyn per quantity, with its train.
 viaduct assess runs it itself when Python with matplotlib is there; report.md links the figures.
 """
-import argparse
 import collections
 import csv
 import os
 import sys
 
 import numpy as np
-import matplotlib
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import plotlib  # noqa: E402
+
+plt = plotlib.pyplot()
 from plot_envelope import peaks_of  # noqa: E402
 
 
@@ -155,11 +153,9 @@ def phi_dyn(rows, title, path, dpi):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("dir")
+    ap = plotlib.dir_parser(__doc__)
     ap.add_argument("--dpi", type=int, default=110)
-    a = ap.parse_args()
-    plotlib.check_outputs(a.dir, "plot_assess")
+    a = plotlib.parse_dir(ap, "plot_assess")
     env, phi = os.path.join(a.dir, "envelope.csv"), os.path.join(a.dir, "phi_dyn.csv")
     for p in (env, phi):
         plotlib.need(p, "plot_assess", "assess")

@@ -8,25 +8,17 @@ DIR/compare.png: one row per channel, filtered time histories (record and aligne
 left, amplitude spectra on the right, the metrics in each title. Units in engineering form
 (deflections in mm, accelerations in m/s²), the scenario's title on top.
 """
-import argparse
 import csv
 import os
-import sys
 
-import matplotlib
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
 
 import plotlib  # noqa: E402
 
+plt = plotlib.pyplot()
+
 
 def table(path):
-    if not os.path.exists(path):
-        sys.exit("plot_compare: %s not found (run viaduct compare first)" % path)
-    with open(path, newline="") as f:
-        header = next(csv.reader(f))
-    return header, np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    return plotlib.numeric_table(path, "plot_compare", "run viaduct compare first")
 
 
 def val(row, key):
@@ -36,12 +28,10 @@ def val(row, key):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("dir")
+    ap = plotlib.dir_parser(__doc__)
     ap.add_argument("--out")
     ap.add_argument("--fmax", type=float, default=0.0, help="upper frequency of the spectra [Hz] (default: 1.5 x highest peak)")
-    a = ap.parse_args()
-    plotlib.check_outputs(a.dir, "plot_compare")
+    a = plotlib.parse_dir(ap, "plot_compare")
     th, td = table(os.path.join(a.dir, "compare_time.csv"))
     fh, fd = table(os.path.join(a.dir, "compare_spectrum.csv"))
     with open(os.path.join(a.dir, "compare_metrics.csv"), newline="") as f:

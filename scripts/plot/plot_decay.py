@@ -8,27 +8,21 @@ with the fitted linear laws) and DIR/decay_summary.csv; draws damping ratio and 
 frequency against amplitude, one colour per record, with each record's law as a line, and the
 mean ± standard deviation over the records in the title. Writes DIR/decay.png.
 """
-import argparse
 import os
 import sys
 
-import matplotlib
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 
 import plotlib  # noqa: E402
 
+plt = plotlib.pyplot()
 
-def rows_of(path):
-    return plotlib.rows(path, "plot_decay", "decay")
+rows_of = plotlib.rows_reader("plot_decay", "decay")
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("dir")
+    ap = plotlib.dir_parser(__doc__)
     ap.add_argument("--out")
-    a = ap.parse_args()
-    plotlib.check_outputs(a.dir, "plot_decay")
+    a = plotlib.parse_dir(ap, "plot_decay")
     pts = rows_of(os.path.join(a.dir, "decay_amplitude.csv"))
     recs = rows_of(os.path.join(a.dir, "decay.csv"))
     if not pts:
@@ -73,8 +67,7 @@ def main():
     fig.suptitle(title)
     fig.tight_layout()
     out = a.out or os.path.join(a.dir, "decay.png")
-    fig.savefig(out, dpi=120)
-    print(f"wrote {out}")
+    plotlib.save(fig, out, "plot_decay", dpi=120)
 
 
 if __name__ == "__main__":

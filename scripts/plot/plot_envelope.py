@@ -15,17 +15,15 @@ Reads DIR/envelope.csv (and failures.csv, manifest.toml if present) and writes D
 The title is the scenario's; the acceleration limit is drawn with its clause (3.5 m/s²,
 ballasted track, EN 1990 A2.4.4.2.1; --limit 5 for direct fastening, 0 for none).
 """
-import argparse
 import collections
 import csv
 import os
 import sys
 
-import matplotlib
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 
 import plotlib  # noqa: E402
+
+plt = plotlib.pyplot()
 
 
 def read(path):
@@ -81,14 +79,12 @@ def layout(rows, variants):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("dir")
+    ap = plotlib.dir_parser(__doc__)
     ap.add_argument("--quantity", choices=["acc", "disp"], default="acc")
     ap.add_argument("--limit", type=float, default=3.5, help="acceleration limit line [m/s²] (0: none)")
     ap.add_argument("--out", help="output PNG (default DIR/envelope.png)")
     ap.add_argument("--dpi", type=int, default=110, help="resolution of the PNG")
-    a = ap.parse_args()
-    plotlib.check_outputs(a.dir, "plot_envelope")
+    a = plotlib.parse_dir(ap, "plot_envelope")
     env = os.path.join(a.dir, "envelope.csv")
     plotlib.need(env, "plot_envelope", "sweep")
     rows = read(env)

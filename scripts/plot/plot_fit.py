@@ -10,21 +10,17 @@ DIR/fit_trace.png: every parameter against the iteration (each start a line, the
 pre-stage then the fit; estimate and +-2 standard errors shaded, bounds dotted) and the cost on a
 log scale.
 """
-import argparse
 import math
 import os
 import sys
 
-import matplotlib
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 
 import plotlib  # noqa: E402
+
+plt = plotlib.pyplot()
 import numpy as np  # noqa: E402
 
-
-def rows_of(path):
-    return plotlib.rows(path, "plot_fit", "fit")
+rows_of = plotlib.rows_reader("plot_fit", "fit")
 
 
 def plot_time(d, out):
@@ -106,11 +102,9 @@ def plot_trace(d, out):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("dir")
+    ap = plotlib.dir_parser(__doc__)
     ap.add_argument("--out-prefix", help="path prefix of the PNGs (default: DIR/)")
-    a = ap.parse_args()
-    plotlib.check_outputs(a.dir, "plot_fit")
+    a = plotlib.parse_dir(ap, "plot_fit")
     out = a.out_prefix if a.out_prefix else os.path.join(a.dir, "")
     for p in (plot_time(a.dir, out), plot_trace(a.dir, out)):
         if p:

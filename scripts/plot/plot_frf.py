@@ -13,11 +13,10 @@ import math
 import os
 import sys
 
-import matplotlib
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 
 import plotlib  # noqa: E402
+
+plt = plotlib.pyplot()
 
 
 def read(path):
@@ -84,8 +83,7 @@ def main():
                  ": frequency response functions")
     fig.tight_layout()
     out = a.out or os.path.join(os.path.dirname(os.path.abspath(a.files[0])), "frf.png")
-    fig.savefig(out, dpi=120)
-    print(f"wrote {out}")
+    plotlib.save(fig, out, "plot_frf", dpi=120)
 
 
 if __name__ == "__main__":

@@ -6,32 +6,22 @@ Usage: scripts/plot/plot_history.py DIR [--out FILE] [--raw]
 Reads DIR/history.csv and writes DIR/history.png: per station, deck (or rail) deflection in mm
 and filtered acceleration (raw acceleration too with --raw), one row per station.
 """
-import argparse
-import csv
 import os
-import sys
 
-import matplotlib
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 
 import plotlib  # noqa: E402
+
+plt = plotlib.pyplot()
 import numpy as np  # noqa: E402
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("dir")
+    ap = plotlib.dir_parser(__doc__)
     ap.add_argument("--out", help="output PNG (default DIR/history.png)")
     ap.add_argument("--raw", action="store_true", help="also draw the unfiltered acceleration")
-    a = ap.parse_args()
-    plotlib.check_outputs(a.dir, "plot_history")
+    a = plotlib.parse_dir(ap, "plot_history")
     path = os.path.join(a.dir, "history.csv")
-    if not os.path.exists(path):
-        sys.exit("plot_history: %s not found (run viaduct run first)" % path)
-    with open(path, newline="") as f:
-        header = next(csv.reader(f))
-    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    header, data = plotlib.numeric_table(path, "plot_history", "run viaduct run first")
     col = {name: i for i, name in enumerate(header)}
     t = data[:, col["t_s"]]
     stations = []  # deck stations have <st>_acc_mps2, rail stations <st>_rail_acc_mps2
@@ -67,11 +57,7 @@ def main():
         ax.grid(alpha=0.3)
     for ax in axes[-1]:
         ax.set_xlabel("time [s]")
-    run = plotlib.manifest(a.dir).get("run", {})
-    case = ""
-    if "train" in run and "speed_kmh" in run:
-        case = ": %s at %.1f km/h" % (run["train"], float(run["speed_kmh"]))
-    fig.suptitle(plotlib.scenario_title(a.dir) + case + " — time histories")
+    fig.suptitle(plotlib.scenario_title(a.dir) + plotlib.run_case(a.dir) + " — time histories")
     fig.tight_layout()
     plotlib.save(fig, a.out or os.path.join(a.dir, "history.png"), "plot_history")
 

@@ -11,16 +11,14 @@ and smallest, with the quasi-static values of the train crawling (dashed). From 
 Phi x LM71 x alpha ("dynamic design effect vs LM71" rows: the larger governs the design).
 Writes DIR/load_effects_along.png.
 """
-import argparse
 import os
 import re
 import sys
 
-import matplotlib
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 
 import plotlib  # noqa: E402
+
+plt = plotlib.pyplot()
 
 ALONG = re.compile(r"^(?P<line>.+)_(?P<x>\d+\.\d+)m_(?P<kind>moment_Nm|shear_N)$")
 KINDS = (("moment_Nm", "bending moment M(x)", 1e-3, "kN·m"), ("shear_N", "shear force V(x)", 1e-3, "kN"))
@@ -116,11 +114,9 @@ def draw(directory, out=None, tool="plot_load_effects"):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("dir")
+    ap = plotlib.dir_parser(__doc__)
     ap.add_argument("--out")
-    a = ap.parse_args()
-    plotlib.check_outputs(a.dir, "plot_load_effects")
+    a = plotlib.parse_dir(ap, "plot_load_effects")
     if not draw(a.dir, a.out):
         sys.exit("plot_load_effects.py: %s/load_effects.csv has no stations along a span (give a station "
                  "stations[].every_m)" % a.dir)

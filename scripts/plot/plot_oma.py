@@ -12,23 +12,19 @@ and, with more than one window, DIR/oma_tracked.png: each tracked mode's frequen
 against the windows' start times (± one standard deviation), and against a carried channel
 (e.g. temperature) when there is one.
 """
-import argparse
 import os
 from collections import defaultdict
 
-import matplotlib
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import MaxNLocator  # noqa: E402
 
 import plotlib  # noqa: E402
 
+plt = plotlib.pyplot()
+
 FIXED = ["window", "record", "t_start_s", "t_end_s", "track", "frequency_hz", "damping_ratio",
          "frequency_std_hz", "damping_std", "mac_to_previous"]
 
-
-def rows_of(path):
-    return plotlib.rows(path, "plot_oma", "oma")
+rows_of = plotlib.rows_reader("plot_oma", "oma")
 
 
 def stabilization(d, window, out):
@@ -128,12 +124,10 @@ def tracked(d, out):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("dir")
+    ap = plotlib.dir_parser(__doc__)
     ap.add_argument("--window", default="1")
     ap.add_argument("--out-prefix")
-    a = ap.parse_args()
-    plotlib.check_outputs(a.dir, "plot_oma")
+    a = plotlib.parse_dir(ap, "plot_oma")
     prefix = a.out_prefix or os.path.join(a.dir, "oma")
     stabilization(a.dir, a.window, prefix + "_stabilization.png")
     tracked(a.dir, prefix + "_tracked.png")

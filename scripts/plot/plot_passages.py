@@ -9,15 +9,13 @@ passage a point of its train's colour at its identified speed with error bars (s
 uncertainty; peak: the noise band, noise_band × noise_rms), hollow when outside the model's band.
 The title names the passage with the largest measured/predicted ratio of each panel.
 """
-import argparse
 import os
 import sys
 
-import matplotlib
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 
 import plotlib  # noqa: E402
+
+plt = plotlib.pyplot()
 
 LABELS = {"acc": "deck acceleration", "disp": "deflection", "strain": "strain"}
 
@@ -27,11 +25,9 @@ def rows(path):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("dir")
+    ap = plotlib.dir_parser(__doc__)
     ap.add_argument("--out", help="output PNG (default DIR/passages.png)")
-    a = ap.parse_args()
-    plotlib.check_outputs(a.dir, "plot_passages")
+    a = plotlib.parse_dir(ap, "plot_passages")
     passages = rows(os.path.join(a.dir, "passages.csv"))
     curves = rows(os.path.join(a.dir, "model_envelope.csv"))
     if not passages:

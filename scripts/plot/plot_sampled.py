@@ -13,16 +13,14 @@ peak_sensitivity.csv: per station, the total index of each key against speed (wh
 acceleration is worth it: its median above a tenth of the largest), and the first-order and total
 indices of the peak over the speeds with their bootstrap intervals.
 """
-import argparse
 import collections
 import csv
 import os
 
-import matplotlib
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 
 import plotlib  # noqa: E402
+
+plt = plotlib.pyplot()
 
 TOOL = "plot_sampled.py"
 
@@ -157,12 +155,10 @@ def plot_sensitivity(directory, rows, peak_rows, dpi):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("dir")
+    ap = plotlib.dir_parser(__doc__)
     ap.add_argument("--limit", type=float, default=None, help="acceleration limit [m/s²] (default: the study's)")
     ap.add_argument("--dpi", type=int, default=110)
-    a = ap.parse_args()
-    plotlib.check_outputs(a.dir, "plot_sampled")
+    a = plotlib.parse_dir(ap, "plot_sampled")
     path = os.path.join(a.dir, "percentiles.csv")
     plotlib.need(path, TOOL, "sweep on a sampled study")
     rows = read(path)

@@ -8,18 +8,16 @@ NAME_psd_UNIT2_per_hz) and the frequency peaks of DIR/peaks.csv or PEAKS_DIR/pea
 present; writes DIR/spectrum.png: one panel per channel, amplitudes in engineering units
 (deflection in mm), densities on a log axis, each peak marked with its frequency.
 """
-import argparse
 import collections
 import csv
 import os
 import sys
 
-import matplotlib
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import plotlib  # noqa: E402
+
+plt = plotlib.pyplot()
 
 PSD_UNITS = {"m2": "m²/Hz", "mps22": "(m/s²)²/Hz", "mps2": "(m/s)²/Hz", "N2": "N²/Hz", "kN2": "kN²/Hz"}
 
@@ -40,18 +38,14 @@ def channels_of(header):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("dir")
+    ap = plotlib.dir_parser(__doc__)
     ap.add_argument("--peaks", help="directory of a viaduct peaks run (default: DIR if it holds peaks.csv)")
     ap.add_argument("--f-max", type=float, default=0.0, help="highest frequency drawn [Hz] (default: all)")
     ap.add_argument("--out")
-    a = ap.parse_args()
-    plotlib.check_outputs(a.dir, "plot_spectrum")
+    a = plotlib.parse_dir(ap, "plot_spectrum")
     path = os.path.join(a.dir, "spectrum.csv")
     plotlib.need(path, "plot_spectrum", "spectrum")
-    with open(path, newline="") as f:
-        header = next(csv.reader(f))
-    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    header, data = plotlib.numeric_table(path, "plot_spectrum", "run viaduct spectrum first")
     chans = channels_of(header)
     if not chans:
         sys.exit("plot_spectrum: %s has no spectrum columns" % path)

@@ -8,31 +8,25 @@ DIR/modes.csv; draws the poles against frequency and model order (o new, + frequ
 filled: frequency and damping stable), the selected LSCF modes as vertical lines, and, with
 --frf, the sum of the FRF magnitudes behind them. Writes DIR/stabilization.png.
 """
-import argparse
 import csv
 import math
 import os
 import sys
 
-import matplotlib
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import MaxNLocator  # noqa: E402
 
 import plotlib  # noqa: E402
 
+plt = plotlib.pyplot()
 
-def rows_of(path):
-    return plotlib.rows(path, "plot_stabilization", "modal-fit")
+rows_of = plotlib.rows_reader("plot_stabilization", "modal-fit")
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("dir")
+    ap = plotlib.dir_parser(__doc__)
     ap.add_argument("--frf")
     ap.add_argument("--out")
-    a = ap.parse_args()
-    plotlib.check_outputs(a.dir, "plot_stabilization")
+    a = plotlib.parse_dir(ap, "plot_stabilization")
     poles = rows_of(os.path.join(a.dir, "stabilization.csv"))
     modes = [m for m in rows_of(os.path.join(a.dir, "modes.csv")) if m["method"] == "lscf"]
     fig, ax = plt.subplots(figsize=(9, 5))
@@ -65,8 +59,7 @@ def main():
     ax.set_title(plotlib.scenario_title(a.dir, "modal fit") + ": LSCF stabilization diagram")
     fig.tight_layout()
     out = a.out or os.path.join(a.dir, "stabilization.png")
-    fig.savefig(out, dpi=120)
-    print(f"wrote {out}")
+    plotlib.save(fig, out, "plot_stabilization", dpi=120)
 
 
 if __name__ == "__main__":

@@ -9,24 +9,20 @@ modal (with and without static correction) and unit-response rungs in distinct m
 Pareto front (no other rung both faster and more accurate) joined by a line. The reference rung,
 whose error is zero by definition, is marked on the time axis.
 """
-import argparse
 import csv
 import os
 import sys
 
-import matplotlib
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 
 import plotlib  # noqa: E402
 
+plt = plotlib.pyplot()
+
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("dir")
+    ap = plotlib.dir_parser(__doc__)
     ap.add_argument("--out")
-    a = ap.parse_args()
-    plotlib.check_outputs(a.dir, "plot_tradeoff")
+    a = plotlib.parse_dir(ap, "plot_tradeoff")
     path = os.path.join(a.dir, "tradeoff.csv")
     if not os.path.exists(path):
         sys.exit(f"plot_tradeoff.py: {path} not found (run viaduct tradeoff first)")
@@ -103,8 +99,7 @@ def main():
     listing.text(0.0, 1.0, "\n".join(lines), va="top", ha="left", fontsize=7.5, family="monospace", transform=listing.transAxes)
     fig.suptitle(plotlib.scenario_title(a.dir) + ": accuracy against wall time")
     out = a.out or os.path.join(a.dir, "tradeoff.png")
-    fig.savefig(out, dpi=130)
-    print(f"wrote {out}")
+    plotlib.save(fig, out, "plot_tradeoff", dpi=130)
 
 
 if __name__ == "__main__":

@@ -8,31 +8,34 @@ every axle against time over its static load (the axle with the largest unloadin
 named, the zero line marked: below it the wheel would have lifted), the smallest and largest
 contact force per axle, and the car bodies' accelerations (the largest named).
 """
-import argparse
 import csv
 import os
-import sys
 
-import matplotlib
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 
 import plotlib  # noqa: E402
+
+plt = plotlib.pyplot()
 import numpy as np  # noqa: E402
 
 
+def label(ax, xlabel, ylabel, title, zero=False, legend=True):
+    """An axis's labels, title, legend and grid (and the zero line of a force)."""
+    if zero:
+        ax.axhline(0.0, color="k", lw=0.8, ls="--")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    if legend:
+        ax.legend(fontsize=8, loc="upper right")
+    ax.grid(alpha=0.3)
+
+
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("dir")
+    ap = plotlib.dir_parser(__doc__)
     ap.add_argument("--out", help="output PNG (default DIR/vehicles.png)")
-    a = ap.parse_args()
-    plotlib.check_outputs(a.dir, "plot_vehicles")
+    a = plotlib.parse_dir(ap, "plot_vehicles")
     path = os.path.join(a.dir, "vehicles.csv")
-    if not os.path.exists(path):
-        sys.exit("plot_vehicles: %s not found (viaduct run with train.vehicle = sprung or multibody writes it)" % path)
-    with open(path, newline="") as f:
-        header = next(csv.reader(f))
-    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    header, data = plotlib.numeric_table(path, "plot_vehicles", "viaduct run with train.vehicle = sprung or multibody writes it")
     t = data[:, 0]
     contact = [i for i, n in enumerate(header) if n.endswith("_contact_N")]
     bodies = [i for i, n in enumerate(header) if n.endswith("_acc_mps2")]
@@ -48,12 +51,7 @@ def main():
     ax.plot(t, ratio, lw=0.4, color="0.65")
     ax.plot(t, ratio[:, worst], lw=1.0, color="C3",
             label="%s: min %.2f, max %.2f of its static load" % (rows[worst]["axle"], lo[worst] / static[worst], hi[worst] / static[worst]))
-    ax.axhline(0.0, color="k", lw=0.8, ls="--")
-    ax.set_xlabel("time [s]")
-    ax.set_ylabel("contact force / static load [-]")
-    ax.set_title("contact force of every axle (grey)")
-    ax.legend(fontsize=8, loc="upper right")
-    ax.grid(alpha=0.3)
+    label(ax, "time [s]", "contact force / static load [-]", "contact force of every axle (grey)", zero=True)
     ax = axes[1]
     k = np.arange(1, len(rows) + 1)
     ax.vlines(k, lo / 1e3, hi / 1e3, color="C0", lw=2.0)
@@ -61,12 +59,7 @@ def main():
     lost = lo < 0.0
     if lost.any():
         ax.plot(k[lost], lo[lost] / 1e3, "v", color="C3", label="would have lifted (%d of %d axles)" % (lost.sum(), len(rows)))
-    ax.axhline(0.0, color="k", lw=0.8, ls="--")
-    ax.set_xlabel("axle (from the head)")
-    ax.set_ylabel("contact force [kN]")
-    ax.set_title("smallest and largest contact force per axle")
-    ax.legend(fontsize=8, loc="upper right")
-    ax.grid(alpha=0.3)
+    label(ax, "axle (from the head)", "contact force [kN]", "smallest and largest contact force per axle", zero=True)
     ax = axes[2]
     if bodies:
         peak = [np.abs(data[:, i]).max() for i in bodies]
@@ -74,16 +67,9 @@ def main():
         for i in bodies:
             ax.plot(t, data[:, i], lw=0.4, color="0.65")
         ax.plot(t, data[:, top], lw=1.0, color="C2", label="%s: max |a| = %.3f m/s²" % (header[top][: -len("_acc_mps2")], max(peak)))
-        ax.legend(fontsize=8, loc="upper right")
-    ax.set_xlabel("time [s]")
-    ax.set_ylabel("car-body acceleration [m/s²]")
-    ax.set_title("car-body vertical acceleration, unfiltered (grey: every body)")
-    ax.grid(alpha=0.3)
-    run = plotlib.manifest(a.dir).get("run", {})
-    case = ""
-    if "train" in run and "speed_kmh" in run:
-        case = ": %s at %.1f km/h" % (run["train"], float(run["speed_kmh"]))
-    fig.suptitle(plotlib.scenario_title(a.dir) + case + " — vehicles")
+    label(ax, "time [s]", "car-body acceleration [m/s²]", "car-body vertical acceleration, unfiltered (grey: every body)",
+          legend=bool(bodies))
+    fig.suptitle(plotlib.scenario_title(a.dir) + plotlib.run_case(a.dir) + " — vehicles")
     fig.tight_layout()
     plotlib.save(fig, a.out or os.path.join(a.dir, "vehicles.png"), "plot_vehicles")
 

@@ -119,3 +119,51 @@ def rows(path, tool, command):
     need(path, tool, command)
     with open(path, newline="") as f:
         return list(csv.DictReader(f))
+
+
+def dir_parser(doc):
+    """The argument parser of a script that draws one result directory: `dir`, then the
+    script's own options (its docstring as the description)."""
+    import argparse
+    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("dir")
+    return ap
+
+
+def parse_dir(ap, tool):
+    """The parsed arguments of `dir_parser`'s parser, once `dir` holds one finished run."""
+    a = ap.parse_args()
+    check_outputs(a.dir, tool)
+    return a
+
+
+def run_case(directory):
+    """': TRAIN at V km/h' of a `viaduct run` directory ('' when its manifest does not say)."""
+    run = manifest(directory).get("run", {})
+    if "train" in run and "speed_kmh" in run:
+        return ": %s at %.1f km/h" % (run["train"], float(run["speed_kmh"]))
+    return ""
+
+
+def numeric_table(path, tool, hint):
+    """(header, data): the column names of a numeric CSV viaduct wrote and its rows as a 2-D
+    array; exits '<tool>: <path> not found (<hint>)' when it is missing."""
+    import numpy as np
+    if not os.path.exists(path):
+        sys.exit("%s: %s not found (%s)" % (tool, path, hint))
+    with open(path, newline="") as f:
+        header = next(csv.reader(f))
+    return header, np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+
+
+def pyplot():
+    """matplotlib.pyplot on the Agg backend: every plot is a file, drawn without a display."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def rows_reader(tool, command):
+    """rows() of `tool` for the files of `viaduct COMMAND`: a function of the path."""
+    return lambda path: rows(path, tool, command)

@@ -50,6 +50,11 @@ struct Writer {
     put(std::uint64_t(s.size()));
     bytes.insert(bytes.end(), s.begin(), s.end());
   }
+  void put(bool b) { put(char(b)); }
+  template <class... T>
+  void operator()(const T&... x) {
+    (put(x), ...);
+  }
 };
 struct Reader {
   const std::vector<char>& bytes;
@@ -67,63 +72,52 @@ struct Reader {
     s.assign(bytes.data() + at, n);
     at += n;
   }
+  void get(bool& b) {
+    char c = 0;
+    get(c);
+    b = c != 0;
+  }
+  template <class... T>
+  void operator()(T&... x) {
+    (get(x), ...);
+  }
 };
+
+// The fields sent, in their order: one list each for pack and unpack (Io: Writer or Reader).
+template <class Io, class Batch>
+void header_fields(Io& io, Batch& b) {
+  io(b.begin, b.end, b.n_cases, b.n_steps);
+}
+template <class Io, class Peak>
+void peak_fields(Io& io, Peak& p) {
+  io(p.sample, p.train, p.station, p.speed, p.max_abs_acc, p.max_abs_disp);
+}
+template <class Io, class Failure>
+void failure_fields(Io& io, Failure& f) {
+  io(f.sample, f.train, f.speed, f.message, f.input_error);
+}
 
 std::vector<char> pack(const SampleBatch& b) {
   Writer w;
-  w.put(b.begin);
-  w.put(b.end);
-  w.put(b.n_cases);
-  w.put(b.n_steps);
+  header_fields(w, b);
   w.put(std::uint64_t(b.peaks.size()));
-  for (const auto& p : b.peaks) {
-    w.put(p.sample);
-    w.put(p.train);
-    w.put(p.station);
-    w.put(p.speed);
-    w.put(p.max_abs_acc);
-    w.put(p.max_abs_disp);
-  }
+  for (const auto& p : b.peaks) peak_fields(w, p);
   w.put(std::uint64_t(b.failures.size()));
-  for (const auto& f : b.failures) {
-    w.put(f.sample);
-    w.put(f.train);
-    w.put(f.speed);
-    w.put(f.message);
-    w.put(char(f.input_error));
-  }
+  for (const auto& f : b.failures) failure_fields(w, f);
   return w.bytes;
 }
 
 SampleBatch unpack(const std::vector<char>& bytes) {
   Reader r{bytes};
   SampleBatch b;
-  r.get(b.begin);
-  r.get(b.end);
-  r.get(b.n_cases);
-  r.get(b.n_steps);
+  header_fields(r, b);
   std::uint64_t n = 0;
   r.get(n);
   b.peaks.resize(n);
-  for (auto& p : b.peaks) {
-    r.get(p.sample);
-    r.get(p.train);
-    r.get(p.station);
-    r.get(p.speed);
-    r.get(p.max_abs_acc);
-    r.get(p.max_abs_disp);
-  }
+  for (auto& p : b.peaks) peak_fields(r, p);
   r.get(n);
   b.failures.resize(n);
-  for (auto& f : b.failures) {
-    char ie = 0;
-    r.get(f.sample);
-    r.get(f.train);
-    r.get(f.speed);
-    r.get(f.message);
-    r.get(ie);
-    f.input_error = ie != 0;
-  }
+  for (auto& f : b.failures) failure_fields(r, f);
   return b;
 }
 

@@ -32,6 +32,27 @@ same() {
   for f in "$@"; do expect 0 "" -- cmp "$a/$f" "$b/$f"; done
 }
 
+# Writes scenario file $1: a 15 m span without track (EI 7.694e9 N·m², 15 t/m, 1.35 % damping),
+# trains $2 (TOML list items), dt 2 ms and a mid-span station; the caller appends the rest.
+light_span() {
+  cat > "$1" <<EOF
+[bridge]
+span_lengths = [15.0]
+EI = 7.694e9
+mass_per_m = 15000.0
+[bridge.damping]
+ratio = 0.0135
+[train]
+files = [$2]
+[analysis]
+dt = 0.002
+[[stations]]
+name = "mid"
+span = 1
+at = 0.5
+EOF
+}
+
 finish() {
   echo "$n_pass passed, $n_fail failed"
   [ "$n_fail" -eq 0 ]

@@ -20,21 +20,8 @@ if [ "$SIZE" = full ]; then
   SC=$OG; NA=7; SHARDS="1 7"; KEYS="track.pad.k_factor,track.pad.c_factor,track.ballast.k_factor,track.ballast.c_factor"; LABEL=Kp; NB=12
 else
   SC=$WORK/light.toml; NA=3; SHARDS="3"; KEYS="bridge.EI_factor,bridge.mass_per_m_factor"; LABEL=EI; NB=8
-  cat > "$SC" <<EOF
-[bridge]
-span_lengths = [15.0]
-EI = 7.694e9
-mass_per_m = 15000.0
-[bridge.damping]
-ratio = 0.0135
-[train]
-files = ["hslm:A1"]
-[analysis]
-dt = 0.002
-[[stations]]
-name = "mid"
-span = 1
-at = 0.5
+  light_span "$SC" '"hslm:A1"'
+  cat >> "$SC" <<EOF
 [sweep]
 speed_min_mps = 80.0
 speed_max_mps = 90.0

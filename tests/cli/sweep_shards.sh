@@ -35,21 +35,8 @@ same "$WORK/hslm-7-2" "$WORK/hslm-7-2-again" envelope.csv governing.csv  # a sha
 
 # Variants, one of which breaks its key's rule (factor 0: its cases fail, the sweep exits 1),
 # with load effects: every file, and the exit code, as one process.
-cat > "$WORK/variants.toml" <<EOT
-[bridge]
-span_lengths = [15.0]
-EI = 7.694e9
-mass_per_m = 15000.0
-[bridge.damping]
-ratio = 0.0135
-[train]
-files = ["hslm:A1", "hslm:A4"]
-[analysis]
-dt = 0.002
-[[stations]]
-name = "mid"
-span = 1
-at = 0.5
+light_span "$WORK/variants.toml" '"hslm:A1", "hslm:A4"'
+cat >> "$WORK/variants.toml" <<EOT
 [[stations]]
 name = "quarter"
 span = 1

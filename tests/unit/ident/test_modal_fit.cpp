@@ -19,6 +19,24 @@ vt::ModalSystem sdof(double f, double zeta) {
   m.shapes = {{1.0}};
   return m;
 }
+
+// As many modes as m has, each within 0.1 % of its frequency and 5 % of its damping ratio.
+void check_modes(const std::vector<IdentifiedMode>& modes, const vt::ModalSystem& m) {
+  REQUIRE(modes.size() == m.f_hz.size());
+  for (std::size_t k = 0; k < m.f_hz.size(); ++k) {
+    CHECK(rel(modes[k].frequency_hz, m.f_hz[k]) < 1e-3);
+    CHECK(rel(modes[k].damping_ratio, m.zeta[k]) < 0.05);
+  }
+}
+
+// LSCF at max_order on `frf` of `m`, its modes checked (check_modes).
+LscfResult lscf_finds(const vt::ModalSystem& m, const Frf& frf, int max_order) {
+  LscfOptions o;
+  o.max_order = max_order;
+  const LscfResult r = lscf(frf, o);
+  check_modes(r.modes, m);
+  return r;
+}
 }  // namespace
 
 TEST_CASE("Peak picking and circle fit are exact on a noise-free isolated viscous mode") {
@@ -88,14 +106,8 @@ TEST_CASE("LSCF separates two modes 2 % apart and recovers their shapes", "[long
     m.zeta = {zeta, zeta};
     m.shapes = {{1.0, 0.8, 0.4}, {0.5, -0.6, 1.0}};  // three sensors
     m.input = 0;
-    const Frf frf = m.frf(vt::grid(4.5, 7.5, 3001), FrfQuantity::accelerance, 40.0, 3);
-    LscfOptions o;
-    o.max_order = 32;
-    const LscfResult r = lscf(frf, o);
-    REQUIRE(r.modes.size() == 2);
+    const LscfResult r = lscf_finds(m, m.frf(vt::grid(4.5, 7.5, 3001), FrfQuantity::accelerance, 40.0, 3), 32);
     for (int k = 0; k < 2; ++k) {
-      CHECK(rel(r.modes[k].frequency_hz, m.f_hz[k]) < 1e-3);
-      CHECK(rel(r.modes[k].damping_ratio, m.zeta[k]) < 0.05);
       ComplexMatrix a(3, 1), b(3, 1);
       for (int o2 = 0; o2 < 3; ++o2) b(o2, 0) = m.shapes[k][o2];
       a.col(0) = r.modes[k].shape;
@@ -114,15 +126,9 @@ TEST_CASE("Two modes 0.5 % apart with 3 % damping are identified and a single mo
   m.f_hz = {10.01, 10.06};
   m.zeta = {0.03, 0.03};
   m.shapes = {{1.0, 0.72, 0.64}, {0.64, 0.46, -1.0}};
-  const Frf frf = m.frf(vt::grid(8.0, 12.0, 81), FrfQuantity::accelerance, 60.0, 21);
+  lscf_finds(m, m.frf(vt::grid(8.0, 12.0, 81), FrfQuantity::accelerance, 60.0, 21), 20);
   LscfOptions o;
   o.max_order = 20;
-  const LscfResult r = lscf(frf, o);
-  REQUIRE(r.modes.size() == 2);
-  for (int k = 0; k < 2; ++k) {
-    CHECK(rel(r.modes[k].frequency_hz, m.f_hz[k]) < 1e-3);
-    CHECK(rel(r.modes[k].damping_ratio, m.zeta[k]) < 0.05);
-  }
   // A single mode is not split: the second pole explains only noise.
   vt::ModalSystem one;
   one.f_hz = {10.01};
@@ -131,23 +137,20 @@ TEST_CASE("Two modes 0.5 % apart with 3 % damping are identified and a single mo
   CHECK(lscf(one.frf(vt::grid(8.0, 12.0, 81), FrfQuantity::accelerance, 60.0, 22), o).modes.size() == 1);
   // The split test by itself: from one mode between the two at 40 dB (where the diagram has no
   // stable cluster), two modes within the targets; the single mode stays one.
-  std::vector<IdentifiedMode> start(1);
-  start[0].frequency_hz = 10.035;
-  start[0].damping_ratio = 0.03;
-  const Frf noisy = m.frf(vt::grid(8.0, 12.0, 81), FrfQuantity::accelerance, 40.0, 23);
-  refine_poles(noisy, 8.0, 12.0, start);
-  REQUIRE(split_hidden_modes(noisy, 8.0, 12.0, start) == 1);
-  REQUIRE(start.size() == 2);
-  for (int k = 0; k < 2; ++k) {
-    CHECK(rel(start[k].frequency_hz, m.f_hz[k]) < 1e-3);
-    CHECK(rel(start[k].damping_ratio, m.zeta[k]) < 0.05);
-  }
-  std::vector<IdentifiedMode> single(1);
-  single[0].frequency_hz = 10.0;
-  single[0].damping_ratio = 0.03;
-  const Frf one_noisy = one.frf(vt::grid(8.0, 12.0, 81), FrfQuantity::accelerance, 40.0, 24);
-  refine_poles(one_noisy, 8.0, 12.0, single);
-  CHECK(split_hidden_modes(one_noisy, 8.0, 12.0, single) == 0);
+  // From one mode at f [Hz] with 3 % damping, on `sys`'s FRF over 8-12 Hz at 40 dB: the poles
+  // refined, then the modes split off (returned) and the modes.
+  const auto split_from = [](const vt::ModalSystem& sys, double f, unsigned seed, std::vector<IdentifiedMode>& modes) {
+    modes.assign(1, IdentifiedMode{});
+    modes[0].frequency_hz = f;
+    modes[0].damping_ratio = 0.03;
+    const Frf noisy = sys.frf(vt::grid(8.0, 12.0, 81), FrfQuantity::accelerance, 40.0, seed);
+    refine_poles(noisy, 8.0, 12.0, modes);
+    return split_hidden_modes(noisy, 8.0, 12.0, modes);
+  };
+  std::vector<IdentifiedMode> start, single;
+  REQUIRE(split_from(m, 10.035, 23, start) == 1);
+  check_modes(start, m);
+  CHECK(split_from(one, 10.0, 24, single) == 0);
   CHECK(rel(single[0].frequency_hz, 10.01) < 1e-3);
 }
 

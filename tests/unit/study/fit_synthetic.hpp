@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "viaduct/study/fit.hpp"
@@ -80,6 +81,16 @@ inline FitParameter param(const std::string& key, double lo, double hi, double x
   p.upper = hi;
   p.initial = x0;
   p.scale = scale;
+  return p;
+}
+
+// EI in [3e9, 8e9] N·m² from ei0 and the damping ratio in [0.005, 0.08] from zeta0 on small_scenario,
+// against `records` (default: one of EI 5.5e9, ζ 2 % with 1 % noise).
+inline FitProblem ei_damping_problem(double ei0, double zeta0, std::vector<FitRecord> records = {}) {
+  FitProblem p;
+  p.params = {param("bridge.EI", 3e9, 8e9, ei0), param("bridge.damping.ratio", 0.005, 0.08, zeta0)};
+  p.records = records.empty() ? std::vector<FitRecord>{synthetic_record({5.5e9, 0.02}, 0.01)} : std::move(records);
+  p.scenario_at = small_scenario;
   return p;
 }
 

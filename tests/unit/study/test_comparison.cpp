@@ -2,6 +2,7 @@
 #include <cmath>
 #include <random>
 
+#include "span_run.hpp"
 #include "viaduct/core/error.hpp"
 #include "viaduct/study/comparison.hpp"
 #include "viaduct/study/simulation.hpp"
@@ -11,17 +12,7 @@ using namespace viaduct::study;
 
 TEST_CASE("comparison recovers a known time shift and gain on a simulated record") {
   // The model: a 12 m span under three 100 kN axles at 30 m/s, recorded every 2 ms.
-  model::BridgeParams b;
-  b.spans = {{12.0, 5e9, 10000.0}};
-  b.element_size = 0.5;
-  b.damping.ratio = 0.02;
-  const model::Structure s = model::build_structure(b, std::nullopt);
-  const auto st = resolve_stations(s, {{"mid", true, 0, 6.0, 0.0}});
-  RunSettings rs;
-  rs.dt = 2e-3;
-  rs.filter.enabled = false;
-  rs.free_vibration_s = 1.5;
-  const RunResult r = simulate(s, st, load::regular_train("t", 3, 8.0, 100e3), 30.0, rs);
+  const RunResult r = test::mid_span_run(12.0, 5e9, 10000.0, load::regular_train("t", 3, 8.0, 100e3), 30.0, 1.5);
   const Vector& acc = r.stations[0].acc;
   // The "measurement": gain 1.25, the train arriving 0.8 s after the logger started at
   // t0 = 10 s, sampled at 800 Hz, with 2 % noise.

@@ -16,6 +16,7 @@ using viaduct::test::small_scenario;
 using viaduct::test::synthetic_record;
 
 using viaduct::test::param;
+using viaduct::test::ei_damping_problem;
 
 TEST_CASE("normalised coordinates map the bounds onto [0, 1] and back") {
   const FitParameter lg = param("k", 1e6, 1e9, 1e7);
@@ -30,10 +31,7 @@ TEST_CASE("normalised coordinates map the bounds onto [0, 1] and back") {
 
 TEST_CASE("fit recovers stiffness and damping from a noisy synthetic record", "[long]") {
   const std::vector<double> truth = {5.5e9, 0.025};
-  FitProblem p;
-  p.params = {param("bridge.EI", 3e9, 8e9, 5.0e9), param("bridge.damping.ratio", 0.005, 0.08, 0.015)};
-  p.records = {synthetic_record(truth, 0.03)};
-  p.scenario_at = small_scenario;
+  FitProblem p = ei_damping_problem(5.0e9, 0.015, {synthetic_record(truth, 0.03)});
   FitOptions o;
   o.threads = 2;
   const FitResult r = fit(p, o);
@@ -241,10 +239,7 @@ TEST_CASE("bounds hold: a value beyond them stops on the bound and is flagged") 
 }
 
 TEST_CASE("a fit that cannot finish says why instead of hanging", "[long]") {
-  FitProblem p;
-  p.params = {param("bridge.EI", 3e9, 8e9, 3.5e9), param("bridge.damping.ratio", 0.005, 0.08, 0.06)};
-  p.records = {synthetic_record({5.5e9, 0.02}, 0.01)};
-  p.scenario_at = small_scenario;
+  FitProblem p = ei_damping_problem(3.5e9, 0.06);
   FitOptions o;
   o.max_iterations = 1;
   FitResult r = fit(p, o);
@@ -266,10 +261,7 @@ TEST_CASE("a fit that cannot finish says why instead of hanging", "[long]") {
 }
 
 TEST_CASE("several starts: every start reported, the best kept", "[long]") {
-  FitProblem p;
-  p.params = {param("bridge.EI", 3e9, 8e9, 3.2e9), param("bridge.damping.ratio", 0.005, 0.08, 0.07)};
-  p.records = {synthetic_record({5.5e9, 0.02}, 0.01)};
-  p.scenario_at = small_scenario;
+  FitProblem p = ei_damping_problem(3.2e9, 0.07);
   FitOptions o;
   o.starts = 3;
   o.threads = 2;
@@ -383,11 +375,8 @@ TEST_CASE("the damping objective recovers a damping ratio from identified modal 
 TEST_CASE("several passages are fitted jointly", "[long]") {
   // Two passages at 30 and 24 m/s, both channels each: four time-history blocks in one fit.
   const std::vector<double> truth = {5.5e9, 0.025};
-  FitProblem p;
-  p.params = {param("bridge.EI", 3e9, 8e9, 5.0e9), param("bridge.damping.ratio", 0.005, 0.08, 0.015)};
-  p.records = {synthetic_record(truth, 0.03, 3, 30.0), synthetic_record(truth, 0.03, 4, 24.0)};
+  FitProblem p = ei_damping_problem(5.0e9, 0.015, {synthetic_record(truth, 0.03, 3, 30.0), synthetic_record(truth, 0.03, 4, 24.0)});
   p.records[1].name = "slow";
-  p.scenario_at = small_scenario;
   FitOptions o;
   o.threads = 2;
   const FitResult r = fit(p, o);
