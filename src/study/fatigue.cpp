@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "viaduct/core/error.hpp"
+#include "viaduct/core/thread_pool.hpp"
 
 namespace viaduct::study {
 
@@ -90,6 +91,48 @@ double equivalent_range_2e6(double damage, const SnCurve& curve) {
   // On the first branch N = N_1 (S_1/S)^m: the range whose 2e6 cycles do D.
   const double n1 = curve.knee_n.front(), s1 = curve.knee_s.front(), m = curve.first_slope;
   return s1 * std::pow(damage * n1 / 2e6, 1.0 / m);
+}
+
+CountedHistory count_history(const Vector& x, double to_pa, const FatigueCount& f) {
+  CountedHistory out{MinerSum(f.curve, to_pa, f.gamma_ff, f.gamma_mf), {}};
+  const double mpa = to_pa * 1e-6;  // MPa per unit of the history
+  signal::Rainflow rf(
+      [&](const signal::Cycle& c) {
+        out.miner.add(c);
+        out.bins[{static_cast<long>(std::floor(c.range * mpa / f.range_bin_mpa)), static_cast<long>(std::floor(c.mean * mpa / f.mean_bin_mpa))}] +=
+            c.count;
+      },
+      f.method, f.hysteresis_mpa / mpa);
+  rf.push(x);
+  rf.finish();
+  return out;
+}
+
+MixDamage traffic_damage(const PreparedModel& m, const RunSettings& settings, std::size_t effect, double to_pa,
+                         const TrafficMix& mix, const FatigueCount& f, int threads) {
+  if (effect >= m.effects.size()) throw InputError("traffic_damage: the model was prepared without that load effect");
+  (void)MinerSum(f.curve, to_pa, f.gamma_ff, f.gamma_mf);  // the curve, unit and factors checked once, before any run
+  MixDamage out;
+  out.trains.resize(mix.trains.size());
+  parallel_for(mix.trains.size(), threads, [&](std::size_t i, int) {
+    const MixTrain& t = mix.trains[i];
+    TrainDamage& d = out.trains[i];
+    d.name = t.name;
+    d.per_day = t.per_day;
+    d.speed = t.speed;
+    try {
+      const RunResult r = simulate(m, t.train, t.speed, settings);
+      d.passage = count_history(r.effects[effect].value, to_pa, f);
+      d.per_year = d.passage->miner.damage * t.per_day * 365.0;
+    } catch (const std::exception& e) {
+      d.error = e.what();
+    }
+  });
+  for (const TrainDamage& d : out.trains) {
+    if (!d.error.empty()) ++out.n_failed;
+    out.per_year += d.per_year;
+  }
+  return out;
 }
 
 }  // namespace viaduct::study

@@ -57,6 +57,29 @@ expect 0 "" -- "$VIADUCT" fatigue "$WORK/gap.csv" --channel s --channel e --deta
 within "$(cell "$WORK/f7/damage.csv" damage)" "$(awk -v d="$D" 'BEGIN{print d*(1-1e-6)}')" "$(awk -v d="$D" 'BEGIN{print d*(1+1e-6)}')" \
   "a NaN run in another channel leaves the stress channel's damage whole"
 
+# A traffic mix (--mix): two of Annex D's trains over the 15 m span, the mid-span moment. Each
+# train's damage a year is its passage's x its trains a day x 365, the total their sum, and a
+# train's passage is what `fatigue` counts on that train's own run at its speed (1e-4: history.csv
+# holds the moment to 10 significant digits).
+printf 'title = "two trains"\n[[trains]]\nfile = "%s"\nper_day = 3\nspeed_kmh = 120\n[[trains]]\nfile = "%s"\nper_day = 2.5\nspeed_kmh = 100\n' \
+  "$SRC/data/trains/fatigue/type9.csv" "$SRC/data/trains/fatigue/type10.csv" > "$WORK/mix.toml"
+SPAN=("$SRC/scenarios/hslm-simply-supported.toml" --set 'analysis.method="modal"')
+expect 0 "two trains at mid_moment_Nm: D = " -- "$VIADUCT" fatigue "${SPAN[@]}" --mix "$WORK/mix.toml" --channel mid_moment \
+  --section-modulus-m3 0.01 --detail 71 --threads 2 --out "$WORK/mix"
+within "$(awk -F, 'NR==1{for(i=1;i<=NF;i++) c[$i]=i; next} $1!="total"{s+=$c["damage_per_year"]} $1=="total"{t=$c["damage_per_year"]}
+  END{print s/t}' "$WORK/mix/damage.csv")" 0.999999 1.000001 "the mix's damage a year is the trains' sum"
+within "$(awk -F, 'NR==1{for(i=1;i<=NF;i++) c[$i]=i; next} $1=="type9"{print $c["damage_per_year"]/($c["damage_per_passage"]*3*365)}' "$WORK/mix/damage.csv")" \
+  0.999999 1.000001 "a train's damage a year: its passage's x 3 a day x 365"
+expect 0 "" -- "$VIADUCT" run "${SPAN[@]}" --set 'train.files=["'"$SRC"'/data/trains/fatigue/type9.csv"]' --speed-kmh 120 --out "$WORK/t9" --quiet
+expect 0 "" -- "$VIADUCT" fatigue "$WORK/t9/history.csv" --channel mid_moment --detail 71 --section-modulus-m3 0.01 --out "$WORK/f9" --quiet
+within "$(awk -F, -v d="$(cell "$WORK/f9/damage.csv" damage)" 'NR==1{for(i=1;i<=NF;i++) c[$i]=i; next} $1=="type9"{print $c["damage_per_passage"]/d}' \
+  "$WORK/mix/damage.csv")" 0.9999 1.0001 "type 9's passage in the mix = fatigue on its own run"
+sed 's/type10.csv/type13.csv/' "$WORK/mix.toml" > "$WORK/mix-bad.toml"
+expect 2 "mix-bad.toml:7: key 'trains[1].file': no train file" -- "$VIADUCT" fatigue "${SPAN[@]}" --mix "$WORK/mix-bad.toml" --channel mid_moment --detail 71 --section-modulus-m3 0.01 --out "$WORK/o"
+expect 2 "--channel mid_shear: the scenario has no such load effect; fatigue takes mid_moment" -- "$VIADUCT" fatigue "${SPAN[@]}" \
+  --mix "$WORK/mix.toml" --channel mid_shear --detail 71 --out "$WORK/o"
+expect 2 "--mix: give one --channel" -- "$VIADUCT" fatigue "${SPAN[@]}" --mix "$WORK/mix.toml" --detail 71 --out "$WORK/o"
+
 # Mistakes: a moment without W, an acceleration, an unknown category, two curves, no curve.
 expect 2 "is a moment [N m]: give --section-modulus-m3" -- "$VIADUCT" fatigue "$WORK/sine.csv" --channel m --detail 71 --out "$WORK/o"
 expect 2 "channel a_mps2 is in mps2: fatigue needs a stress" -- "$VIADUCT" fatigue "$WORK/sine.csv" --channel s --channel a --detail 71 --out "$WORK/o"

@@ -1,10 +1,15 @@
 // viaduct fatigue: rainflow cycles and Miner damage of a record's stress, strain or moment
-// channels (issue #42, first part: measured and simulated histories; docs/fatigue.md).
+// channels, or of a traffic mix run over a scenario's model (issue #42; docs/fatigue.md).
+#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <map>
 
 #include "cli.hpp"
 #include "viaduct/io/results.hpp"
+#include "viaduct/io/scenario.hpp"
+#include "viaduct/io/traffic_mix.hpp"
 #include "viaduct/signal/rainflow.hpp"
 #include "viaduct/study/fatigue.hpp"
 
@@ -23,22 +28,24 @@ struct FatigueOptions {
   std::string method = "three-point";
   double hysteresis_mpa = 0.0;
   double range_bin_mpa = 1.0, mean_bin_mpa = 5.0;
+  std::optional<std::string> mix;  ///< a traffic mix file: the positional is then a scenario
 };
 
-// [Pa] per unit of a channel, or an InputError naming what fatigue takes.
-double to_pa(const io::Record& r, std::size_t ch, const FatigueOptions& k) {
-  const std::string& u = r.units[ch];
+// [Pa] per unit `u` of channel `name`, or an InputError naming what fatigue takes.
+double unit_to_pa(const std::string& name, const std::string& u, const FatigueOptions& k) {
   if (u == "Pa") return 1.0;
   if (u == "ue") return k.youngs_modulus_pa * 1e-6;
   if (u == "Nm") {
     if (!k.section_modulus_m3)
-      throw InputError("channel " + r.channels[ch] + " is a moment [N m]: give --section-modulus-m3 W (sigma = M / W at the detail)");
+      throw InputError("channel " + name + " is a moment [N m]: give --section-modulus-m3 W (sigma = M / W at the detail)");
     return 1.0 / *k.section_modulus_m3;
   }
-  throw InputError("channel " + r.channels[ch] + " is in " + u +
+  throw InputError("channel " + name + " is in " + u +
                    ": fatigue needs a stress (Pa, MPa), a strain (microstrain, times --youngs-modulus-pa) or a moment "
                    "(N m, over --section-modulus-m3)");
 }
+
+double to_pa(const io::Record& r, std::size_t ch, const FatigueOptions& k) { return unit_to_pa(r.channels[ch], r.units[ch], k); }
 
 study::SnCurve curve_of(const FatigueOptions& k) {
   if (k.detail_mpa.has_value() == k.delta_c_mpa.has_value())
@@ -48,6 +55,18 @@ study::SnCurve curve_of(const FatigueOptions& k) {
   c.name = "user curve: " + format_number(*k.delta_c_mpa, 6) + " MPa at 2e6 cycles with slopes " + format_number(k.m1, 3) + " and " +
            format_number(k.m2, 3);
   return c;
+}
+
+study::FatigueCount count_of(const FatigueOptions& k) {
+  study::FatigueCount f;
+  f.curve = curve_of(k);
+  f.gamma_ff = k.gamma_ff;
+  f.gamma_mf = k.gamma_mf;
+  f.method = signal::rainflow_method(k.method, "--method");
+  f.hysteresis_mpa = k.hysteresis_mpa;
+  f.range_bin_mpa = k.range_bin_mpa;
+  f.mean_bin_mpa = k.mean_bin_mpa;
+  return f;
 }
 
 void check_options(const FatigueOptions& k) {
@@ -64,40 +83,146 @@ void check_options(const FatigueOptions& k) {
 
 std::string fatigue_cell(double v) { return io::table_cell(v, 8); }
 
+// cycles.csv's rows of one history (its name first).
+void add_cycle_rows(const std::string& name, const study::CountedHistory& h, const study::FatigueCount& f,
+                    std::vector<std::vector<std::string>>& rows) {
+  for (const auto& [b, n] : h.bins)
+    rows.push_back({name, fatigue_cell(b.first * f.range_bin_mpa), fatigue_cell((b.first + 1) * f.range_bin_mpa), fatigue_cell(b.second * f.mean_bin_mpa),
+                    fatigue_cell((b.second + 1) * f.mean_bin_mpa), fatigue_cell(n)});
+}
+
+std::string years_cell(double years) { return std::isfinite(years) ? fatigue_cell(years) : ""; }
+
 // One channel: its cycles binned (range × mean, MPa) and its damage row.
-void count_channel(const io::Record& in, std::size_t ch, const FatigueOptions& k, const study::SnCurve& curve,
+void count_channel(const io::Record& in, std::size_t ch, const FatigueOptions& k, const study::FatigueCount& f,
                    std::vector<std::vector<std::string>>& cycle_rows, std::vector<std::vector<std::string>>& damage_rows, bool quiet) {
-  const double pa = to_pa(in, ch, k);
-  study::MinerSum miner(curve, pa, k.gamma_ff, k.gamma_mf);
-  std::map<std::pair<long, long>, double> bins;  // (range bin, mean bin) → count, in MPa of the history
-  const double mpa = pa * 1e-6;
-  signal::Rainflow rf(
-      [&](const signal::Cycle& c) {
-        miner.add(c);
-        bins[{static_cast<long>(std::floor(c.range * mpa / k.range_bin_mpa)), static_cast<long>(std::floor(c.mean * mpa / k.mean_bin_mpa))}] +=
-            c.count;
-      },
-      signal::rainflow_method(k.method, "--method"), k.hysteresis_mpa / mpa);
-  rf.push(Vector(in.data.col(static_cast<Index>(ch))));
-  rf.finish();
-  for (const auto& [b, n] : bins)
-    cycle_rows.push_back({in.channels[ch], fatigue_cell(b.first * k.range_bin_mpa), fatigue_cell((b.first + 1) * k.range_bin_mpa), fatigue_cell(b.second * k.mean_bin_mpa),
-                          fatigue_cell((b.second + 1) * k.mean_bin_mpa), fatigue_cell(n)});
+  const study::CountedHistory h = study::count_history(Vector(in.data.col(static_cast<Index>(ch))), to_pa(in, ch, k), f);
+  const study::MinerSum& miner = h.miner;
+  add_cycle_rows(in.channels[ch], h, f, cycle_rows);
   const double duration = static_cast<double>(in.n_samples() - 1) / in.fs_hz;
   const double years = miner.damage > 0.0 ? duration / miner.damage / (365.25 * 86400.0) : std::numeric_limits<double>::infinity();
-  damage_rows.push_back({in.channels[ch], curve.name, fatigue_cell(k.gamma_ff), fatigue_cell(k.gamma_mf), fatigue_cell(miner.cycles), fatigue_cell(miner.damaging),
-                         fatigue_cell(miner.max_range_pa * 1e-6), fatigue_cell(miner.damage), fatigue_cell(study::equivalent_range_2e6(miner.damage, curve) * 1e-6),
-                         fatigue_cell(duration), std::isfinite(years) ? fatigue_cell(years) : ""});
+  damage_rows.push_back({in.channels[ch], f.curve.name, fatigue_cell(k.gamma_ff), fatigue_cell(k.gamma_mf), fatigue_cell(miner.cycles), fatigue_cell(miner.damaging),
+                         fatigue_cell(miner.max_range_pa * 1e-6), fatigue_cell(miner.damage), fatigue_cell(study::equivalent_range_2e6(miner.damage, f.curve) * 1e-6),
+                         fatigue_cell(duration), years_cell(years)});
   if (!quiet)
     std::printf("%-22s %.1f cycles (%.1f above the cut-off), largest range %.4g MPa; D = %.4g (%s years to D = 1 at this record's rate)\n",
                 in.channels[ch].c_str(), miner.cycles, miner.damaging, miner.max_range_pa * 1e-6, miner.damage,
                 std::isfinite(years) ? format_number(years, 4).c_str() : "no");
 }
 
+int run_records(const Common& o, const FatigueOptions& k, const study::FatigueCount& f) {
+  if (!o.set.empty() || !o.unset.empty())
+    throw InputError("--set and --unset change scenario keys: a record has none (with --mix the positional is a scenario)");
+  const io::Record whole = read_record(o.scenario, o);
+  const auto chans = selected(whole, k.channels);
+  for (std::size_t ch : chans) to_pa(whole, ch, k);  // every channel's unit checked before counting
+  std::vector<std::vector<std::string>> cycle_rows, damage_rows;
+  // Each channel over its own valid span: a gap in one channel cuts no other (usable() warns).
+  for (std::size_t ch : chans) count_channel(usable(whole, {ch}, o), ch, k, f, cycle_rows, damage_rows, o.quiet);
+  make_out_dir(o.out);
+  io::write_table_csv(o.out + "/cycles.csv", {"channel", "range_low_mpa", "range_high_mpa", "mean_low_mpa", "mean_high_mpa", "count"},
+                      cycle_rows);
+  write_table_outputs(o, "damage.csv",
+                      {"channel", "curve", "gamma_ff", "gamma_mf", "cycles", "damaging_cycles", "max_range_mpa", "damage",
+                       "equivalent_range_2e6_mpa", "duration_s", "years_to_d1_at_record_rate"},
+                      damage_rows);
+  if (!o.quiet) std::printf("wrote %s/cycles.csv, damage.csv\n", o.out.c_str());
+  return ok;
+}
+
+// The load effect --channel names (<station>_moment or <station>_strain, as history.csv names its
+// columns without the unit): its index, or an InputError listing those fatigue takes.
+std::size_t mix_effect(const study::PreparedModel& pm, const FatigueOptions& k) {
+  if (k.channels.size() != 1)
+    throw InputError("--mix: give one --channel, a deck station's moment or strain: <station>_moment or <station>_strain");
+  std::string names;
+  for (std::size_t i = 0; i < pm.effects.size(); ++i) {
+    const std::string& n = pm.effects[i].name;
+    const auto cut = n.rfind('_');
+    const std::string unit = n.substr(cut + 1);
+    if (unit != "Nm" && unit != "ue") continue;
+    if (n.substr(0, cut) == k.channels[0]) return i;
+    names += (names.empty() ? "" : ", ") + n.substr(0, cut);
+  }
+  throw InputError("--channel " + k.channels[0] + ": the scenario has no such load effect; fatigue takes " +
+                   (names.empty() ? std::string("none (no deck station)") : names) +
+                   " (a strain needs the station's fibre_m)");
+}
+
+std::vector<std::string> mix_damage_row(const study::TrainDamage& d, const study::FatigueCount& f, double total_per_year) {
+  if (!d.passage) return {d.name, fatigue_cell(d.per_day), fatigue_cell(d.speed * 3.6), f.curve.name, "", "", "", "", "", "", "", "", d.error};
+  const study::MinerSum& m = d.passage->miner;
+  return {d.name, fatigue_cell(d.per_day), fatigue_cell(d.speed * 3.6), f.curve.name, fatigue_cell(m.cycles), fatigue_cell(m.damaging),
+          fatigue_cell(m.max_range_pa * 1e-6), fatigue_cell(m.damage), fatigue_cell(d.per_year),
+          total_per_year > 0.0 ? fatigue_cell(d.per_year / total_per_year) : "",
+          fatigue_cell(study::equivalent_range_2e6(d.per_year, f.curve) * 1e-6),
+          years_cell(d.per_year > 0.0 ? 1.0 / d.per_year : std::numeric_limits<double>::infinity()), ""};
+}
+
+// The last row of damage.csv: the mix's passages a day, D a year and years to D = 1.
+std::vector<std::string> mix_total_row(const study::MixDamage& d, const study::FatigueCount& f) {
+  double per_day = 0.0;
+  for (const study::TrainDamage& t : d.trains) per_day += t.per_day;
+  return {"total", fatigue_cell(per_day), "", f.curve.name, "", "", "", "", fatigue_cell(d.per_year), d.per_year > 0.0 ? fatigue_cell(1.0) : "",
+          fatigue_cell(study::equivalent_range_2e6(d.per_year, f.curve) * 1e-6), years_cell(d.years_to_d1()),
+          d.n_failed == 0 ? "" : std::to_string(d.n_failed) + " trains failed: the total lacks them"};
+}
+
+// `s` as a TOML basic string (a mix's title is the user's text).
+std::string toml_text(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+// --mix: every train of the mix over the scenario's model at its speed, the station's stress
+// history counted; damage per passage, per year of the mix and years to D = 1.
+int run_mix(const Common& o, const FatigueOptions& k, const study::FatigueCount& f) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const io::FlatScenario flat = load_scenario(o);
+  study::Scenario sc = io::to_scenario(flat);
+  const study::TrafficMix mix = io::read_traffic_mix(*k.mix);
+  const study::PreparedModel pm = study::prepare_model(sc, /*rail_outputs=*/true, /*with_load_effects=*/true);
+  const std::size_t effect = mix_effect(pm, k);
+  const std::string& name = pm.effects[effect].name;
+  const double to_pa = unit_to_pa(name, name.substr(name.rfind('_') + 1), k);
+  const study::MixDamage d = study::traffic_damage(pm, sc.settings, effect, to_pa, mix, f, o.threads);
+  std::vector<std::vector<std::string>> cycle_rows, damage_rows;
+  io::Manifest man = start_manifest(o, "fatigue", {o.scenario, *k.mix});
+  for (const study::TrainDamage& t : d.trains) {
+    if (t.passage) add_cycle_rows(t.name, *t.passage, f, cycle_rows);
+    else man.warnings.push_back(t.name + " failed: " + t.error + " (the mix's damage lacks it)");
+    damage_rows.push_back(mix_damage_row(t, f, d.per_year));
+  }
+  damage_rows.push_back(mix_total_row(d, f));
+  make_out_dir(o.out);
+  io::write_table_csv(o.out + "/cycles.csv", {"train", "range_low_mpa", "range_high_mpa", "mean_low_mpa", "mean_high_mpa", "count"}, cycle_rows);
+  io::write_table_csv(o.out + "/damage.csv",
+                      {"train", "per_day", "speed_kmh", "curve", "cycles", "damaging_cycles", "max_range_mpa", "damage_per_passage", "damage_per_year",
+                       "share_of_year", "equivalent_range_2e6_mpa", "years_to_d1", "message"},
+                      damage_rows);
+  print_warnings("fatigue", man.warnings);
+  man.extra = {{"mix", toml_text(mix.title)}, {"channel", toml_text(name)}, {"curve", toml_text(f.curve.name)}};
+  man.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  io::write_manifest(o.out + "/manifest.toml", man, flat);
+  if (!o.quiet) {
+    for (const study::TrainDamage& t : d.trains)
+      if (t.passage)
+        std::printf("%-10s %6.4g a day at %5.1f km/h: largest range %.4g MPa, D = %.4g a passage, %.4g a year\n", t.name.c_str(), t.per_day,
+                    t.speed * 3.6, t.passage->miner.max_range_pa * 1e-6, t.passage->miner.damage, t.per_year);
+    std::printf("%s at %s: D = %.4g a year (%s years to D = 1), %s; wrote %s/cycles.csv, damage.csv\n", mix.title.c_str(), name.c_str(), d.per_year,
+                std::isfinite(d.years_to_d1()) ? format_number(d.years_to_d1(), 4).c_str() : "no damage: no", f.curve.name.c_str(), o.out.c_str());
+  }
+  return d.n_failed == 0 ? ok : runtime_failure;
+}
+
 }  // namespace
 
 Command fatigue_command() {
-  Command c = record_command("fatigue", "RECORD", "rainflow cycles and Miner damage of stress, strain or moment channels (cycles.csv, damage.csv)");
+  Command c = record_command("fatigue", "RECORD|SCENARIO", "rainflow cycles and Miner damage of stress, strain or moment channels (cycles.csv, damage.csv)");
   const auto declare = [](po::options_description& d, FatigueOptions& k) {
     add_channel_option(d, k.channels);
     d.add_options()("detail", optional_value(k.detail_mpa), "EN 1993-1-9 detail category [MPa] (36 … 160)")(
@@ -111,7 +236,9 @@ Command fatigue_command() {
         "method", value(k.method), "three-point (ASTM E1049 5.4.4) or four-point")(
         "hysteresis-mpa", value(k.hysteresis_mpa), "reversals smaller than this are not turning points [MPa] (0: every one)")(
         "range-bin-mpa", value(k.range_bin_mpa), "cycles.csv: width of a range bin [MPa]")(
-        "mean-bin-mpa", value(k.mean_bin_mpa), "cycles.csv: width of a mean bin [MPa]");
+        "mean-bin-mpa", value(k.mean_bin_mpa), "cycles.csv: width of a mean bin [MPa]")(
+        "mix", optional_value(k.mix), "a traffic mix file (data/trains/fatigue/mix-*.toml): the positional is a scenario, "
+        "--channel a deck station's <station>_moment or <station>_strain");
   };
   c.usage_and_samples =
       "Counts the rainflow cycles of each channel (ASTM E1049 three-point with half cycles for the\n"
@@ -122,27 +249,19 @@ Command fatigue_command() {
       "in MPa without the factors, count: the range-mean matrix, long format), OUT/damage.csv (channel, curve,\n"
       "factors, cycles, cycles above the cut-off, largest range, damage D, the equivalent range at\n"
       "2e6 cycles, the record's duration, years to D = 1 if the record's traffic repeated) and\n"
-      "manifest.toml. Method and limits: docs/fatigue.md.\n\n"
+      "manifest.toml. Method and limits: docs/fatigue.md.\n"
+      "With --mix MIX the positional is a scenario: each train of the mix runs over its model at its\n"
+      "speed (viaduct run's simulation), the --channel load effect's history is counted, and\n"
+      "OUT/damage.csv holds per train the passages a day, the cycles, the damage of a passage and of\n"
+      "a year (365 days), its share, and a last row 'total': D a year and years to D = 1. EN 1991-2\n"
+      "Annex D's trains and mixes: data/trains/fatigue/ (to confirm against the standard).\n\n"
       "Sample runs:\n"
-      "  viaduct fatigue data/records/passages/passage-01.csv --channel mid_strain --detail 71 --hysteresis-mpa 1 --out out/fatigue\n";
+      "  viaduct fatigue data/records/passages/passage-01.csv --channel mid_strain --detail 71 --hysteresis-mpa 1 --out out/fatigue\n"
+      "  viaduct fatigue scenarios/hslm-simply-supported.toml --mix data/trains/fatigue/mix-standard.toml --channel mid_moment --section-modulus-m3 0.05 --detail 71 --out out/fatigue-mix\n";
   const auto body = [](const Common& o, const FatigueOptions& k) {
     check_options(k);
-    const study::SnCurve curve = curve_of(k);
-    const io::Record whole = read_record(o.scenario, o);
-    const auto chans = selected(whole, k.channels);
-    for (std::size_t ch : chans) to_pa(whole, ch, k);  // every channel's unit checked before counting
-    std::vector<std::vector<std::string>> cycle_rows, damage_rows;
-    // Each channel over its own valid span: a gap in one channel cuts no other (usable() warns).
-    for (std::size_t ch : chans) count_channel(usable(whole, {ch}, o), ch, k, curve, cycle_rows, damage_rows, o.quiet);
-    make_out_dir(o.out);
-    io::write_table_csv(o.out + "/cycles.csv", {"channel", "range_low_mpa", "range_high_mpa", "mean_low_mpa", "mean_high_mpa", "count"},
-                        cycle_rows);
-    write_table_outputs(o, "damage.csv",
-                        {"channel", "curve", "gamma_ff", "gamma_mf", "cycles", "damaging_cycles", "max_range_mpa", "damage",
-                         "equivalent_range_2e6_mpa", "duration_s", "years_to_d1_at_record_rate"},
-                        damage_rows);
-    if (!o.quiet) std::printf("wrote %s/cycles.csv, damage.csv\n", o.out.c_str());
-    return ok;
+    const study::FatigueCount f = count_of(k);
+    return k.mix ? run_mix(o, k, f) : run_records(o, k, f);
   };
   return bound(std::move(c), +declare, +body);
 }

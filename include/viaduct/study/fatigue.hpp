@@ -11,10 +11,16 @@
 /// 8(1): γFf Δσ against Δσ_C / γMf, which is the same for every branch of a power law).
 
 #include <limits>
+#include <map>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "viaduct/core/types.hpp"
+#include "viaduct/load/train.hpp"
 #include "viaduct/signal/rainflow.hpp"
+#include "viaduct/study/simulation.hpp"
 
 namespace viaduct::study {
 
@@ -59,5 +65,60 @@ struct MinerSum {
 /// The equivalent constant range at 2·10⁶ cycles of a damage D against `curve`'s first branch
 /// (Δσ_E,2 = Δσ_C (D)^(1/m) for the EN curve): what EN 1993-1-9's check compares with Δσ_C.
 double equivalent_range_2e6(double damage, const SnCurve& curve);
+
+/// How a history's cycles are counted and what they damage.
+struct FatigueCount {
+  SnCurve curve;
+  double gamma_ff = 1.0, gamma_mf = 1.0;  ///< partial factors (EN 1993-1-9 γFf, γMf)
+  signal::RainflowMethod method = signal::RainflowMethod::three_point;
+  double hysteresis_mpa = 0.0;                     ///< reversals smaller than this are no turning points
+  double range_bin_mpa = 1.0, mean_bin_mpa = 5.0;  ///< bins of the range–mean matrix, > 0
+};
+
+/// The cycles of one history and their damage.
+struct CountedHistory {
+  MinerSum miner;
+  /// (range bin, mean bin) → cycles, the bins FatigueCount's widths in MPa without the factors
+  /// (bin k holds [k·width, (k+1)·width)).
+  std::map<std::pair<long, long>, double> bins;
+};
+
+/// Counts `x` (in a unit that times `to_pa` is Pa), streamed, and sums its damage.
+CountedHistory count_history(const Vector& x, double to_pa, const FatigueCount& f);
+
+/// A traffic mix (EN 1991-2 Annex D Tables D.1–D.3, or a line's own): trains a day at their speeds.
+struct MixTrain {
+  std::string name;      ///< as the mix names it (its file's stem)
+  load::Train train;
+  double per_day = 0.0;  ///< passages a day, >= 0
+  double speed = 0.0;    ///< [m/s] > 0
+};
+struct TrafficMix {
+  std::string title;
+  std::vector<MixTrain> trains;
+};
+
+/// One train of a mix: the damage of one passage, and of a year.
+struct TrainDamage {
+  std::string name;
+  double per_day = 0.0, speed = 0.0;
+  std::optional<CountedHistory> passage;  ///< one passage's cycles (none when the run failed: `error`)
+  double per_year = 0.0;   ///< passage damage × per_day × 365
+  std::string error;       ///< why the train's run failed (empty: it ran)
+};
+struct MixDamage {
+  std::vector<TrainDamage> trains;  ///< in the mix's order
+  double per_year = 0.0;            ///< Σ over the trains that ran
+  std::size_t n_failed = 0;         ///< trains whose run failed: per_year then lacks them
+  /// Years of this traffic to D = 1 (∞ without damage).
+  double years_to_d1() const { return per_year > 0.0 ? 1.0 / per_year : std::numeric_limits<double>::infinity(); }
+};
+
+/// Every train of `mix` over the model at its speed (simulate() with `settings`): the history of
+/// load effect `effect` (an index into m.effects: prepare_model with load effects), times `to_pa`,
+/// counted and summed per passage and per year of 365 days. A train whose run fails is recorded
+/// with its message and left out of the sum (n_failed says so). Trains run on `threads`.
+MixDamage traffic_damage(const PreparedModel& m, const RunSettings& settings, std::size_t effect, double to_pa,
+                         const TrafficMix& mix, const FatigueCount& f, int threads);
 
 }  // namespace viaduct::study

@@ -1,0 +1,76 @@
+// Traffic mix files (EN 1991-2 Annex D Tables D.1-D.3 under data/trains/fatigue/, or a line's own):
+// [[trains]] tables of a train file, passages a day and a speed.
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include <toml.hpp>
+
+#include "toml_file.hpp"
+#include "viaduct/core/error.hpp"
+#include "viaduct/io/scenario.hpp"
+#include "viaduct/io/traffic_mix.hpp"
+
+namespace viaduct::io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The number at `key` of table `t` (an integer or a float), or InputError at its line.
+double mix_number(const detail::TomlFile& parsed, const toml::value& t, const std::string& key, const SourceLocation& at) {
+  if (!t.contains(key)) throw InputError(at, "required");
+  const toml::value& v = t.at(key);
+  const SourceLocation here{at.file, parsed.line_of(v), at.key};
+  if (v.is_integer()) return static_cast<double>(v.as_integer());
+  if (v.is_floating()) return v.as_floating();
+  throw InputError(here, "must be a number");
+}
+
+}  // namespace
+
+study::TrafficMix read_traffic_mix(const std::string& path) {
+  if (!fs::exists(path)) throw InputError("traffic mix file not found: " + path);
+  detail::TomlFile parsed;
+  try {
+    parsed = detail::parse_toml_file(path);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(std::string("TOML syntax error: ") + e.what());
+  }
+  const toml::value& root = parsed.root;
+  auto where = [&](const toml::value& v, const std::string& key) { return SourceLocation{path, parsed.line_of(v), key}; };
+  for (const auto& [k, v] : root.as_table())
+    if (k != "title" && k != "trains") throw InputError(where(v, k), "unknown traffic mix key (title, [[trains]])");
+  study::TrafficMix mix;
+  mix.title = root.contains("title") && root.at("title").is_string() ? root.at("title").as_string().str : fs::path(path).stem().string();
+  if (!root.contains("trains") || !root.at("trains").is_array() || root.at("trains").as_array().empty())
+    throw InputError(SourceLocation{path, root.contains("trains") ? parsed.line_of(root.at("trains")) : 1, "trains"},
+                     "a traffic mix needs [[trains]] tables (file, per_day, speed_kmh)");
+  const auto& trains = root.at("trains").as_array();
+  for (std::size_t i = 0; i < trains.size(); ++i) {
+    const toml::value& t = trains[i];
+    const std::string item = "trains[" + std::to_string(i) + "]";
+    if (!t.is_table()) throw InputError(where(t, item), "must be a table (file, per_day, speed_kmh)");
+    const SourceLocation at{path, parsed.line_of(t), item};
+    for (const auto& [k, v] : t.as_table())
+      if (k != "file" && k != "per_day" && k != "speed_kmh") throw InputError(where(v, item + "." + k), "unknown key (file, per_day, speed_kmh)");
+    if (!t.contains("file") || !t.at("file").is_string()) throw InputError(SourceLocation{path, at.line, item + ".file"}, "required: the train file (relative to this file)");
+    study::MixTrain mt;
+    const std::string file = (fs::path(path).parent_path() / t.at("file").as_string().str).lexically_normal().string();
+    if (!fs::exists(file)) throw InputError(where(t.at("file"), item + ".file"), "no train file " + file);
+    mt.train = read_train_file(file);
+    mt.name = fs::path(file).stem().string();
+    mt.per_day = mix_number(parsed, t, "per_day", SourceLocation{path, at.line, item + ".per_day"});
+    if (!(mt.per_day >= 0.0) || !std::isfinite(mt.per_day))
+      throw InputError(where(t.at("per_day"), item + ".per_day"), "violated constraint per_day >= 0 (passages a day)");
+    const double kmh = mix_number(parsed, t, "speed_kmh", SourceLocation{path, at.line, item + ".speed_kmh"});
+    if (!(kmh > 0.0) || !std::isfinite(kmh)) throw InputError(where(t.at("speed_kmh"), item + ".speed_kmh"), "violated constraint speed_kmh > 0");
+    mt.speed = kmh / 3.6;
+    mix.trains.push_back(std::move(mt));
+  }
+  return mix;
+}
+
+}  // namespace viaduct::io
