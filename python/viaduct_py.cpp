@@ -29,6 +29,7 @@
 #include "viaduct/io/results.hpp"
 #include "viaduct/io/sampled.hpp"
 #include "viaduct/io/scenario.hpp"
+#include "viaduct/io/traffic_mix.hpp"
 #include "viaduct/signal/iir.hpp"
 #include "viaduct/signal/rainflow.hpp"
 #include "viaduct/study/fatigue.hpp"
@@ -217,6 +218,45 @@ py::dict sampled_sweep(const viaduct::io::FlatScenario& flat, const std::string&
   return info;
 }
 
+// A traffic mix over the scenario's model (viaduct fatigue SCENARIO --mix): the library's
+// functions the CLI calls, its two tables as columns, what the total says.
+py::tuple fatigue_mix(const viaduct::io::FlatScenario& flat, const std::string& mix_path, const std::string& channel,
+                      std::optional<double> detail, std::optional<double> delta_c_mpa, double m1, double m2,
+                      std::optional<double> section_modulus_m3, double youngs_modulus_pa, double gamma_ff, double gamma_mf,
+                      const std::string& method, double hysteresis_mpa, double range_bin_mpa, double mean_bin_mpa, int threads) {
+  namespace study = viaduct::study;
+  namespace io = viaduct::io;
+  study::FatigueCount f;
+  f.curve = study::sn_curve(detail, delta_c_mpa, m1, m2);
+  f.gamma_ff = gamma_ff;
+  f.gamma_mf = gamma_mf;
+  f.method = viaduct::signal::rainflow_method(method, "method");
+  f.hysteresis_mpa = hysteresis_mpa;
+  f.range_bin_mpa = range_bin_mpa;
+  f.mean_bin_mpa = mean_bin_mpa;
+  if (!(range_bin_mpa > 0.0) || !(mean_bin_mpa > 0.0) || !(hysteresis_mpa >= 0.0))
+    throw InputError("fatigue_mix: range_bin_mpa and mean_bin_mpa must be > 0, hysteresis_mpa >= 0");
+  const study::Scenario sc = io::to_scenario(flat);
+  const study::TrafficMix mix = io::read_traffic_mix(mix_path);
+  CallState call(mix.trains.size());
+  const study::MixDamage d = interruptible(
+      [&] {
+        const study::PreparedModel pm = study::prepare_model(sc, true, /*with_load_effects=*/true);
+        const std::size_t effect = study::fatigue_effect(pm, channel);
+        const std::string& name = pm.effects[effect].name;
+        const double to_pa = study::stress_per_unit(name, name.substr(name.rfind('_') + 1), youngs_modulus_pa, section_modulus_m3);
+        return study::traffic_damage(pm, sc.settings, effect, to_pa, mix, f, threads_of(threads));
+      },
+      py::none(), call);
+  py::dict info;
+  info["title"] = mix.title;
+  info["curve"] = f.curve.name;
+  info["damage_per_year"] = d.per_year;
+  info["years_to_d1"] = d.years_to_d1();
+  info["n_failed"] = d.n_failed;
+  return py::make_tuple(columns_dict(io::fatigue_mix_damage_columns(d, f)), columns_dict(io::fatigue_mix_cycle_columns(d, f)), info);
+}
+
 // Recorded passages over the model's envelope (viaduct passages): io::run_passages, the CLI's
 // function; with `out` its four tables there too (no manifest).
 py::tuple passages(const viaduct::io::FlatScenario& flat, const std::vector<std::string>& records, const std::vector<std::string>& maps,
@@ -403,6 +443,10 @@ void bind(py::module_& m) {
         py::arg("out") = py::none());
   m.def("sampled_sweep", &sampled_sweep, py::arg("flat"), py::arg("out"), py::arg("threads"), py::arg("resume"),
         py::arg("progress"));
+  m.def("fatigue_mix", &fatigue_mix, py::arg("flat"), py::arg("mix"), py::arg("channel"), py::arg("detail"), py::arg("delta_c_mpa"),
+        py::arg("m1"), py::arg("m2"), py::arg("section_modulus_m3"), py::arg("youngs_modulus_pa"), py::arg("gamma_ff"),
+        py::arg("gamma_mf"), py::arg("method"), py::arg("hysteresis_mpa"), py::arg("range_bin_mpa"), py::arg("mean_bin_mpa"),
+        py::arg("threads"));
   m.def("passages", &passages, py::arg("flat"), py::arg("records"), py::arg("maps"), py::arg("train"), py::arg("v_min_kmh"),
         py::arg("v_max_kmh"), py::arg("speed_band"), py::arg("noise_band"), py::arg("zero"), py::arg("time_column"),
         py::arg("fs_hz"), py::arg("header_line"), py::arg("skip_lines"), py::arg("threads"), py::arg("progress"), py::arg("out"));

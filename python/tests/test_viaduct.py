@@ -541,6 +541,33 @@ def test_assess_equals_the_cli(src, cli, tmp_path):
         assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()
 
 
+def test_fatigue_mix_equals_the_cli(src, cli, tmp_path):
+    # Annex D's light mix over the 15 m span: the CLI's damage.csv and cycles.csv, cell for cell.
+    sc = viaduct.load_scenario(src / "scenarios/hslm-simply-supported.toml")
+    sc.set("analysis.method", "modal")
+    mix = src / "data/trains/fatigue/mix-light.toml"
+    d = viaduct.fatigue_mix(sc, mix, "mid_moment", detail=71, section_modulus_m3=0.05, threads=2)
+    run_cli(cli, "fatigue", src / "scenarios/hslm-simply-supported.toml", "--set", 'analysis.method="modal"', "--mix", mix,
+            "--channel", "mid_moment", "--detail", 71, "--section-modulus-m3", 0.05, "-q", "--out", tmp_path / "m")
+    for table, name in ((d, "damage.csv"), (d.attrs["cycles"], "cycles.csv")):
+        ref = read_csv(tmp_path / "m" / name)
+        assert list(ref) == list(table.columns)
+        for col, want in ref.items():
+            got = list(table[col])
+            if isinstance(got[0], str):
+                assert got == list(want), col
+            else:  # numbers, an empty cell NaN (8 significant digits in the file)
+                want = np.array([float(c) if c != "" else np.nan for c in want], dtype=float)
+                assert np.allclose(np.asarray(got, dtype=float), want, rtol=1e-7, atol=0, equal_nan=True), col
+    assert list(d["train"]) == ["type1", "type2", "type5", "type9", "total"]
+    assert d.attrs["damage_per_year"] == pytest.approx(d["damage_per_year"].iloc[-1], rel=1e-7)
+    assert d.attrs["n_failed"] == 0
+    with pytest.raises(viaduct.InputError, match="no such load effect"):
+        viaduct.fatigue_mix(sc, mix, "mid_shear", detail=71)
+    with pytest.raises(viaduct.InputError, match="exactly one of --detail"):
+        viaduct.fatigue_mix(sc, mix, "mid_moment", section_modulus_m3=0.05)
+
+
 def test_rainflow_and_miner_damage_equal_the_cli(src, cli, tmp_path):
     # ASTM E1049's example, then a passage's strain: the CLI's damage from the same cycles.
     r, m, n = viaduct.rainflow([-2, 1, -3, 5, -1, 3, -4, 4, -2])

@@ -17,7 +17,7 @@ from ._viaduct import InputError, SolverError
 
 __all__ = ["Scenario", "load_scenario", "scenario_from_dict", "run", "sweep", "assess", "passages", "sampled_sweep", "Record", "read_record", "filter",
            "spectrum", "welch", "compare", "peaks", "identify_speed", "frf", "record_frf", "read_frf", "modal_fit",
-           "decay", "oma", "track_modes", "fit", "InputError", "SolverError", "version"]
+           "decay", "oma", "track_modes", "fit", "rainflow", "miner_damage", "fatigue_mix", "InputError", "SolverError", "version"]
 
 
 def version():
@@ -359,6 +359,27 @@ def miner_damage(ranges, counts, detail=None, delta_c_mpa=None, m1=3.0, m2=5.0, 
     EN 1993-1-9's curve of a ``detail`` category [MPa], or a curve of your own (``delta_c_mpa``
     at 2e6 cycles, slopes ``m1`` to 5e6 and ``m2`` to 1e8), each range times gamma_ff*gamma_mf."""
     return _viaduct.miner_damage(ranges, counts, detail or 0.0, delta_c_mpa or 0.0, m1, m2, to_pa, gamma_ff, gamma_mf)
+
+
+def fatigue_mix(scenario, mix, channel, detail=None, delta_c_mpa=None, m1=3.0, m2=5.0, section_modulus_m3=None,
+                youngs_modulus_pa=210e9, gamma_ff=1.0, gamma_mf=1.0, method="three-point", hysteresis_mpa=0.0,
+                range_bin_mpa=1.0, mean_bin_mpa=5.0, threads=1):
+    """Fatigue damage of a traffic mix over the scenario's model (`viaduct fatigue SCENARIO --mix`):
+    each train of `mix` (a mix file, e.g. data/trains/fatigue/mix-standard.toml) runs at its speed,
+    the `channel` load effect ("<station>_moment" over `section_modulus_m3`, or "<station>_strain"
+    times `youngs_modulus_pa`) is counted against `detail` (an EN 1993-1-9 category) or a curve of
+    your own (`delta_c_mpa`, `m1`, `m2`). Returns damage.csv's table (a row per train, the last
+    "total"); ``attrs``: "cycles" (cycles.csv's table), title, curve, damage_per_year, years_to_d1,
+    n_failed. A train whose run failed is a UserWarning and is left out of the total."""
+    import warnings
+    damage, cycles, info = _viaduct.fatigue_mix(scenario._flat, str(mix), channel, detail, delta_c_mpa, m1, m2,
+                                                section_modulus_m3, youngs_modulus_pa, gamma_ff, gamma_mf, method,
+                                                hysteresis_mpa, range_bin_mpa, mean_bin_mpa, threads)
+    for name, message in zip(damage["train"], damage["message"]):
+        if message and name != "total":
+            warnings.warn(f"fatigue_mix: {name} failed: {message}", stacklevel=2)
+    info["cycles"] = _table(cycles)
+    return _with_attrs(_table(damage), info)
 
 
 def compare(record, fs_record, model, fs_model, t0_record=0.0, low_hz=1.0, high_hz=30.0, order=3, ripple_db=0.5,

@@ -2,6 +2,7 @@
 // [[trains]] tables of a train file, passages a day and a speed.
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <string>
 
 #include <toml.hpp>
@@ -71,6 +72,65 @@ study::TrafficMix read_traffic_mix(const std::string& path) {
     mix.trains.push_back(std::move(mt));
   }
   return mix;
+}
+
+std::vector<TableColumn> fatigue_mix_damage_columns(const study::MixDamage& d, const study::FatigueCount& f) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto finite = [&](double v) { return std::isfinite(v) ? v : nan; };  // ∞ years: no damage, an empty cell
+  std::vector<TableColumn> c;
+  auto text = [&](const char* name) { c.push_back({name, TableColumn::Kind::text, {}, {}, {}}); };
+  auto number = [&](const char* name) { c.push_back({name, TableColumn::Kind::number, {}, {}, {}}); };
+  text("train");
+  for (const char* n : {"per_day", "speed_kmh"}) number(n);
+  text("curve");
+  for (const char* n : {"cycles", "damaging_cycles", "max_range_mpa", "damage_per_passage", "damage_per_year", "share_of_year",
+                        "equivalent_range_2e6_mpa", "years_to_d1"})
+    number(n);
+  text("message");
+  // m: the passage's sum (none for the total and a train that failed); ran: a year's damage to show.
+  auto row = [&](const std::string& name, double per_day, double kmh, const study::MinerSum* m, bool ran, double per_year,
+                 double share, const std::string& message) {
+    c[0].cells.push_back(name);
+    c[1].values.push_back(per_day);
+    c[2].values.push_back(kmh);
+    c[3].cells.push_back(f.curve.name);
+    c[4].values.push_back(m ? m->cycles : nan);
+    c[5].values.push_back(m ? m->damaging : nan);
+    c[6].values.push_back(m ? m->max_range_pa * 1e-6 : nan);
+    c[7].values.push_back(m ? m->damage : nan);
+    c[8].values.push_back(ran ? per_year : nan);
+    c[9].values.push_back(ran ? share : nan);
+    c[10].values.push_back(ran ? study::equivalent_range_2e6(per_year, f.curve) * 1e-6 : nan);
+    c[11].values.push_back(ran ? finite(per_year > 0.0 ? 1.0 / per_year : nan) : nan);
+    c[12].cells.push_back(message);
+  };
+  double per_day = 0.0;
+  for (const study::TrainDamage& t : d.trains) {
+    per_day += t.per_day;
+    row(t.name, t.per_day, t.speed * 3.6, t.passage ? &t.passage->miner : nullptr, t.passage.has_value(), t.per_year,
+        d.per_year > 0.0 ? t.per_year / d.per_year : nan, t.error);
+  }
+  row("total", per_day, nan, nullptr, true, d.per_year, d.per_year > 0.0 ? 1.0 : nan,
+      d.n_failed == 0 ? "" : std::to_string(d.n_failed) + " trains failed: the total lacks them");
+  return c;
+}
+
+std::vector<TableColumn> fatigue_mix_cycle_columns(const study::MixDamage& d, const study::FatigueCount& f) {
+  std::vector<TableColumn> c = {{"train", TableColumn::Kind::text, {}, {}, {}}};
+  for (const char* n : {"range_low_mpa", "range_high_mpa", "mean_low_mpa", "mean_high_mpa", "count"})
+    c.push_back({n, TableColumn::Kind::number, {}, {}, {}});
+  for (const study::TrainDamage& t : d.trains) {
+    if (!t.passage) continue;
+    for (const auto& [b, n] : t.passage->bins) {
+      c[0].cells.push_back(t.name);
+      c[1].values.push_back(static_cast<double>(b.first) * f.range_bin_mpa);
+      c[2].values.push_back(static_cast<double>(b.first + 1) * f.range_bin_mpa);
+      c[3].values.push_back(static_cast<double>(b.second) * f.mean_bin_mpa);
+      c[4].values.push_back(static_cast<double>(b.second + 1) * f.mean_bin_mpa);
+      c[5].values.push_back(n);
+    }
+  }
+  return c;
 }
 
 }  // namespace viaduct::io

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "viaduct/core/cancel.hpp"
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/thread_pool.hpp"
 
@@ -108,6 +109,44 @@ CountedHistory count_history(const Vector& x, double to_pa, const FatigueCount& 
   return out;
 }
 
+SnCurve sn_curve(std::optional<double> detail_mpa, std::optional<double> delta_c_mpa, double m1, double m2) {
+  if (detail_mpa.has_value() == delta_c_mpa.has_value())
+    throw InputError("give exactly one of --detail (an EN 1993-1-9 category, MPa) or --delta-c-mpa (a curve of your own)");
+  if (detail_mpa) return SnCurve::en1993_1_9(*detail_mpa);
+  SnCurve c = SnCurve::two_slopes(*delta_c_mpa * 1e6, m1, m2);
+  c.name = "user curve: " + format_number(*delta_c_mpa, 6) + " MPa at 2e6 cycles with slopes " + format_number(m1, 3) + " and " +
+           format_number(m2, 3);
+  return c;
+}
+
+double stress_per_unit(const std::string& channel, const std::string& unit, double youngs_modulus_pa,
+                       std::optional<double> section_modulus_m3) {
+  if (unit == "Pa") return 1.0;
+  if (unit == "ue") return youngs_modulus_pa * 1e-6;
+  if (unit == "Nm") {
+    if (!section_modulus_m3)
+      throw InputError("channel " + channel + " is a moment [N m]: give --section-modulus-m3 W (sigma = M / W at the detail; Python: section_modulus_m3)");
+    return 1.0 / *section_modulus_m3;
+  }
+  throw InputError("channel " + channel + " is in " + unit +
+                   ": fatigue needs a stress (Pa, MPa), a strain (microstrain, times --youngs-modulus-pa) or a moment "
+                   "(N m, over --section-modulus-m3)");
+}
+
+std::size_t fatigue_effect(const PreparedModel& m, const std::string& channel) {
+  std::string names;
+  for (std::size_t i = 0; i < m.effects.size(); ++i) {
+    const std::string& n = m.effects[i].name;
+    const auto cut = n.rfind('_');
+    const std::string unit = n.substr(cut + 1);
+    if (unit != "Nm" && unit != "ue") continue;
+    if (n.substr(0, cut) == channel) return i;
+    names += (names.empty() ? "" : ", ") + n.substr(0, cut);
+  }
+  throw InputError("channel " + channel + ": the scenario has no such load effect; fatigue takes " +
+                   (names.empty() ? std::string("none (no deck station)") : names) + " (a strain needs the station's fibre_m)");
+}
+
 MixDamage traffic_damage(const PreparedModel& m, const RunSettings& settings, std::size_t effect, double to_pa,
                          const TrafficMix& mix, const FatigueCount& f, int threads) {
   if (effect >= m.effects.size()) throw InputError("traffic_damage: the model was prepared without that load effect");
@@ -128,6 +167,7 @@ MixDamage traffic_damage(const PreparedModel& m, const RunSettings& settings, st
       d.error = e.what();
     }
   });
+  if (cancel_requested()) throw Cancelled();  // the runs cut short are not failures of the model
   for (const TrainDamage& d : out.trains) {
     if (!d.error.empty()) ++out.n_failed;
     out.per_year += d.per_year;

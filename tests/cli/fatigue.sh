@@ -76,7 +76,7 @@ within "$(awk -F, -v d="$(cell "$WORK/f9/damage.csv" damage)" 'NR==1{for(i=1;i<=
   "$WORK/mix/damage.csv")" 0.9999 1.0001 "type 9's passage in the mix = fatigue on its own run"
 sed 's/type10.csv/type13.csv/' "$WORK/mix.toml" > "$WORK/mix-bad.toml"
 expect 2 "mix-bad.toml:7: key 'trains[1].file': no train file" -- "$VIADUCT" fatigue "${SPAN[@]}" --mix "$WORK/mix-bad.toml" --channel mid_moment --detail 71 --section-modulus-m3 0.01 --out "$WORK/o"
-expect 2 "--channel mid_shear: the scenario has no such load effect; fatigue takes mid_moment" -- "$VIADUCT" fatigue "${SPAN[@]}" \
+expect 2 "channel mid_shear: the scenario has no such load effect; fatigue takes mid_moment" -- "$VIADUCT" fatigue "${SPAN[@]}" \
   --mix "$WORK/mix.toml" --channel mid_shear --detail 71 --out "$WORK/o"
 expect 2 "--mix: give one --channel" -- "$VIADUCT" fatigue "${SPAN[@]}" --mix "$WORK/mix.toml" --detail 71 --out "$WORK/o"
 

@@ -31,35 +31,16 @@ struct FatigueOptions {
   std::optional<std::string> mix;  ///< a traffic mix file: the positional is then a scenario
 };
 
-// [Pa] per unit `u` of channel `name`, or an InputError naming what fatigue takes.
+// [Pa] per unit `u` of channel `name` (study::stress_per_unit with the options' E and W).
 double unit_to_pa(const std::string& name, const std::string& u, const FatigueOptions& k) {
-  if (u == "Pa") return 1.0;
-  if (u == "ue") return k.youngs_modulus_pa * 1e-6;
-  if (u == "Nm") {
-    if (!k.section_modulus_m3)
-      throw InputError("channel " + name + " is a moment [N m]: give --section-modulus-m3 W (sigma = M / W at the detail)");
-    return 1.0 / *k.section_modulus_m3;
-  }
-  throw InputError("channel " + name + " is in " + u +
-                   ": fatigue needs a stress (Pa, MPa), a strain (microstrain, times --youngs-modulus-pa) or a moment "
-                   "(N m, over --section-modulus-m3)");
+  return study::stress_per_unit(name, u, k.youngs_modulus_pa, k.section_modulus_m3);
 }
 
 double to_pa(const io::Record& r, std::size_t ch, const FatigueOptions& k) { return unit_to_pa(r.channels[ch], r.units[ch], k); }
 
-study::SnCurve curve_of(const FatigueOptions& k) {
-  if (k.detail_mpa.has_value() == k.delta_c_mpa.has_value())
-    throw InputError("give exactly one of --detail (an EN 1993-1-9 category, MPa) or --delta-c-mpa (a curve of your own)");
-  if (k.detail_mpa) return study::SnCurve::en1993_1_9(*k.detail_mpa);
-  study::SnCurve c = study::SnCurve::two_slopes(*k.delta_c_mpa * 1e6, k.m1, k.m2);
-  c.name = "user curve: " + format_number(*k.delta_c_mpa, 6) + " MPa at 2e6 cycles with slopes " + format_number(k.m1, 3) + " and " +
-           format_number(k.m2, 3);
-  return c;
-}
-
 study::FatigueCount count_of(const FatigueOptions& k) {
   study::FatigueCount f;
-  f.curve = curve_of(k);
+  f.curve = study::sn_curve(k.detail_mpa, k.delta_c_mpa, k.m1, k.m2);
   f.gamma_ff = k.gamma_ff;
   f.gamma_mf = k.gamma_mf;
   f.method = signal::rainflow_method(k.method, "--method");
@@ -81,7 +62,7 @@ void check_options(const FatigueOptions& k) {
   signal::rainflow_method(k.method, "--method");
 }
 
-std::string fatigue_cell(double v) { return io::table_cell(v, 8); }
+std::string fatigue_cell(double v) { return io::table_cell(v, io::kFatigueDigits); }
 
 // cycles.csv's rows of one history (its name first).
 void add_cycle_rows(const std::string& name, const study::CountedHistory& h, const study::FatigueCount& f,
@@ -130,44 +111,6 @@ int run_records(const Common& o, const FatigueOptions& k, const study::FatigueCo
   return ok;
 }
 
-// The load effect --channel names (<station>_moment or <station>_strain, as history.csv names its
-// columns without the unit): its index, or an InputError listing those fatigue takes.
-std::size_t mix_effect(const study::PreparedModel& pm, const FatigueOptions& k) {
-  if (k.channels.size() != 1)
-    throw InputError("--mix: give one --channel, a deck station's moment or strain: <station>_moment or <station>_strain");
-  std::string names;
-  for (std::size_t i = 0; i < pm.effects.size(); ++i) {
-    const std::string& n = pm.effects[i].name;
-    const auto cut = n.rfind('_');
-    const std::string unit = n.substr(cut + 1);
-    if (unit != "Nm" && unit != "ue") continue;
-    if (n.substr(0, cut) == k.channels[0]) return i;
-    names += (names.empty() ? "" : ", ") + n.substr(0, cut);
-  }
-  throw InputError("--channel " + k.channels[0] + ": the scenario has no such load effect; fatigue takes " +
-                   (names.empty() ? std::string("none (no deck station)") : names) +
-                   " (a strain needs the station's fibre_m)");
-}
-
-std::vector<std::string> mix_damage_row(const study::TrainDamage& d, const study::FatigueCount& f, double total_per_year) {
-  if (!d.passage) return {d.name, fatigue_cell(d.per_day), fatigue_cell(d.speed * 3.6), f.curve.name, "", "", "", "", "", "", "", "", d.error};
-  const study::MinerSum& m = d.passage->miner;
-  return {d.name, fatigue_cell(d.per_day), fatigue_cell(d.speed * 3.6), f.curve.name, fatigue_cell(m.cycles), fatigue_cell(m.damaging),
-          fatigue_cell(m.max_range_pa * 1e-6), fatigue_cell(m.damage), fatigue_cell(d.per_year),
-          total_per_year > 0.0 ? fatigue_cell(d.per_year / total_per_year) : "",
-          fatigue_cell(study::equivalent_range_2e6(d.per_year, f.curve) * 1e-6),
-          years_cell(d.per_year > 0.0 ? 1.0 / d.per_year : std::numeric_limits<double>::infinity()), ""};
-}
-
-// The last row of damage.csv: the mix's passages a day, D a year and years to D = 1.
-std::vector<std::string> mix_total_row(const study::MixDamage& d, const study::FatigueCount& f) {
-  double per_day = 0.0;
-  for (const study::TrainDamage& t : d.trains) per_day += t.per_day;
-  return {"total", fatigue_cell(per_day), "", f.curve.name, "", "", "", "", fatigue_cell(d.per_year), d.per_year > 0.0 ? fatigue_cell(1.0) : "",
-          fatigue_cell(study::equivalent_range_2e6(d.per_year, f.curve) * 1e-6), years_cell(d.years_to_d1()),
-          d.n_failed == 0 ? "" : std::to_string(d.n_failed) + " trains failed: the total lacks them"};
-}
-
 // `s` as a TOML basic string (a mix's title is the user's text).
 std::string toml_text(const std::string& s) {
   std::string out = "\"";
@@ -185,25 +128,19 @@ int run_mix(const Common& o, const FatigueOptions& k, const study::FatigueCount&
   const io::FlatScenario flat = load_scenario(o);
   study::Scenario sc = io::to_scenario(flat);
   const study::TrafficMix mix = io::read_traffic_mix(*k.mix);
+  if (k.channels.size() != 1)
+    throw InputError("--mix: give one --channel, a deck station's moment or strain: <station>_moment or <station>_strain");
   const study::PreparedModel pm = study::prepare_model(sc, /*rail_outputs=*/true, /*with_load_effects=*/true);
-  const std::size_t effect = mix_effect(pm, k);
+  const std::size_t effect = study::fatigue_effect(pm, k.channels[0]);
   const std::string& name = pm.effects[effect].name;
   const double to_pa = unit_to_pa(name, name.substr(name.rfind('_') + 1), k);
   const study::MixDamage d = study::traffic_damage(pm, sc.settings, effect, to_pa, mix, f, o.threads);
-  std::vector<std::vector<std::string>> cycle_rows, damage_rows;
   io::Manifest man = start_manifest(o, "fatigue", {o.scenario, *k.mix});
-  for (const study::TrainDamage& t : d.trains) {
-    if (t.passage) add_cycle_rows(t.name, *t.passage, f, cycle_rows);
-    else man.warnings.push_back(t.name + " failed: " + t.error + " (the mix's damage lacks it)");
-    damage_rows.push_back(mix_damage_row(t, f, d.per_year));
-  }
-  damage_rows.push_back(mix_total_row(d, f));
+  for (const study::TrainDamage& t : d.trains)
+    if (!t.passage) man.warnings.push_back(t.name + " failed: " + t.error + " (the mix's damage lacks it)");
   make_out_dir(o.out);
-  io::write_table_csv(o.out + "/cycles.csv", {"train", "range_low_mpa", "range_high_mpa", "mean_low_mpa", "mean_high_mpa", "count"}, cycle_rows);
-  io::write_table_csv(o.out + "/damage.csv",
-                      {"train", "per_day", "speed_kmh", "curve", "cycles", "damaging_cycles", "max_range_mpa", "damage_per_passage", "damage_per_year",
-                       "share_of_year", "equivalent_range_2e6_mpa", "years_to_d1", "message"},
-                      damage_rows);
+  io::write_table_columns_csv(o.out + "/cycles.csv", io::fatigue_mix_cycle_columns(d, f), io::kFatigueDigits);
+  io::write_table_columns_csv(o.out + "/damage.csv", io::fatigue_mix_damage_columns(d, f), io::kFatigueDigits);
   print_warnings("fatigue", man.warnings);
   man.extra = {{"mix", toml_text(mix.title)}, {"channel", toml_text(name)}, {"curve", toml_text(f.curve.name)}};
   man.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -43,6 +43,11 @@ struct SnCurve {
   static SnCurve two_slopes(double delta_c_pa, double m1, double m2, double n_c = 2e6, double n_d = 5e6, double n_l = 1e8);
 };
 
+/// EN 1993-1-9's curve of detail category `detail_mpa`, or a user curve of Δσ_C = `delta_c_mpa` at
+/// 2e6 cycles with slopes m1 and m2 (SnCurve::two_slopes, named with its values): exactly one of
+/// the two (InputError otherwise, naming the CLI's --detail and --delta-c-mpa).
+SnCurve sn_curve(std::optional<double> detail_mpa, std::optional<double> delta_c_mpa, double m1 = 3.0, double m2 = 5.0);
+
 /// The detail categories of EN 1993-1-9 Tables 8.1–8.10 [MPa].
 const std::vector<double>& en1993_1_9_categories();
 
@@ -114,10 +119,21 @@ struct MixDamage {
   double years_to_d1() const { return per_year > 0.0 ? 1.0 / per_year : std::numeric_limits<double>::infinity(); }
 };
 
+/// [Pa] per unit of a history named `channel` in `unit`: Pa 1, µε ("ue") E·1e-6, N·m ("Nm") 1/W.
+/// InputError for a moment without W, or a unit that is none of these (naming what fatigue takes).
+double stress_per_unit(const std::string& channel, const std::string& unit, double youngs_modulus_pa,
+                       std::optional<double> section_modulus_m3);
+
+/// The load effect of `m` (prepared with load effects) that `channel` names: a deck station's
+/// "<station>_moment" or "<station>_strain" (history.csv's column without its unit). InputError
+/// listing those there are otherwise.
+std::size_t fatigue_effect(const PreparedModel& m, const std::string& channel);
+
 /// Every train of `mix` over the model at its speed (simulate() with `settings`): the history of
 /// load effect `effect` (an index into m.effects: prepare_model with load effects), times `to_pa`,
 /// counted and summed per passage and per year of 365 days. A train whose run fails is recorded
-/// with its message and left out of the sum (n_failed says so). Trains run on `threads`.
+/// with its message and left out of the sum (n_failed says so); a cancelled call (core/cancel.hpp)
+/// throws Cancelled. Trains run on `threads`.
 MixDamage traffic_damage(const PreparedModel& m, const RunSettings& settings, std::size_t effect, double to_pa,
                          const TrafficMix& mix, const FatigueCount& f, int threads);
 
