@@ -19,7 +19,7 @@ mix=$B/all-types.toml
 } > "$mix"
 now() { date +%s.%N; }
 run() {  # THREADS OUT
-  "$V" fatigue scenarios/old-guadiana-sensitivity.toml --mix "$mix" --channel S1_mid_moment --section-modulus-m3 0.5 \
+  "$V" fatigue scenarios/old-guadiana-sensitivity.toml --mix "$mix" --channel S1_mid_moment --section-modulus-m3 0.02 \
     --detail 71 --threads "$1" --quiet --out "$2"
 }
 walls=()
