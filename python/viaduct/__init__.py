@@ -274,9 +274,16 @@ def sweep(scenario, threads=1, load_effects=False, progress=False):
     running cases' time stepping, skips the others and raises KeyboardInterrupt. The sweep's other
     files are in the table's ``attrs`` (DataFrames) or, without pandas, under these keys of the
     dict: "failures" (failures.csv), "governing" (governing.csv), with ``load_effects``
-    "load_effects" (load_effects.csv), with vehicle models "vehicles" (vehicles.csv)."""
+    "load_effects" (load_effects.csv), with vehicle models "vehicles" (vehicles.csv). Failed cases
+    (the CLI lists them and exits 1) are a UserWarning naming how many and the first: the envelope
+    lacks them."""
+    import warnings
     cb = _progress_printer("sweep") if progress is True else (progress or None)
     tables, failures, governing = _viaduct.sweep(scenario._flat, threads, load_effects, cb)
+    if failures:
+        v, t, kmh, err = failures[0]
+        warnings.warn(f"sweep: {len(failures)} cases failed and are not in the envelope (attrs['failures']); "
+                      f"the first: {t} at {kmh:.6g} km/h ({v}): {err}", stacklevel=2)
     fail = {"variant": [f[0] for f in failures], "train": [f[1] for f in failures],
             "speed_kmh": [f[2] for f in failures], "error": [f[3] for f in failures]}
     gov_names = ["station", "max_abs_acc_mps2", "acc_variant", "acc_train", "acc_speed_kmh", "max_abs_disp_m",
