@@ -1,5 +1,6 @@
 // The scenario schema: every key with type, default, unit, constraint, doc and, for the keys that
-// set one field of study::Scenario, that field (DESIGN.md §3.9 and §5: deal.II's add_parameter).
+// set one field of study::Scenario, that field's setter and getter (DESIGN.md §3.9 and §5: deal.II's
+// add_parameter; the getter lets a test hold the field's initialiser to the schema's default).
 // to_scenario (convert.cpp) applies the setters; it reads by hand only what combines several keys
 // (per-span lists, the rail's E·I and ρ·A, trains, stations, speeds, the preset, fit sections).
 #include <stdexcept>
@@ -9,42 +10,38 @@
 namespace viaduct::io {
 
 namespace {
-// Enumerations: the schema's constraint has already refused any other string, so a value not
-// listed here is a logic error (a new enum value added to the schema but not mapped), never a
-// silent default.
-model::DampingKind damping_kind(const std::string& s) {
-  if (s == "none") return model::DampingKind::none;
-  if (s == "modal") return model::DampingKind::modal;
-  if (s == "rayleigh") return model::DampingKind::rayleigh;
-  throw std::logic_error("bridge.damping.kind: unmapped value '" + s + "'");
+// Enumerations: each value's name once, read both ways (the setter, the getter that the tests
+// compare with the default). The schema's constraint has already refused any other string, so a
+// value not listed here is a logic error (a new enum value added to the schema but not mapped),
+// never a silent default.
+template <class E>
+struct Named {
+  const char* name;
+  E value;
+};
+const Named<model::DampingKind> kDampingKinds[] = {
+    {"none", model::DampingKind::none}, {"modal", model::DampingKind::modal}, {"rayleigh", model::DampingKind::rayleigh}};
+const Named<study::Method> kMethods[] = {
+    {"newmark", study::Method::newmark}, {"modal", study::Method::modal}, {"ida", study::Method::ida}};
+const Named<study::Superposition> kSuperpositions[] = {
+    {"direct", study::Superposition::direct}, {"unit-response", study::Superposition::unit_response}};
+const Named<study::VehicleModel> kVehicleModels[] = {
+    {"forces", study::VehicleModel::forces}, {"sprung", study::VehicleModel::sprung}, {"multibody", study::VehicleModel::multibody}};
+const Named<study::ContactModel> kContacts[] = {{"hertz", study::ContactModel::hertz}, {"rigid", study::ContactModel::rigid}};
+const Named<signal::BandType> kBands[] = {
+    {"lowpass", signal::BandType::lowpass}, {"highpass", signal::BandType::highpass}, {"bandpass", signal::BandType::bandpass}};
+
+template <class E, std::size_t N>
+E enum_of(const Named<E> (&names)[N], const std::string& s, const char* key) {
+  for (const Named<E>& n : names)
+    if (s == n.name) return n.value;
+  throw std::logic_error(std::string(key) + ": unmapped value '" + s + "'");
 }
-study::Method method_of(const std::string& s) {
-  if (s == "newmark") return study::Method::newmark;
-  if (s == "modal") return study::Method::modal;
-  if (s == "ida") return study::Method::ida;
-  throw std::logic_error("analysis.method: unmapped value '" + s + "'");
-}
-study::Superposition superposition_of(const std::string& s) {
-  if (s == "direct") return study::Superposition::direct;
-  if (s == "unit-response") return study::Superposition::unit_response;
-  throw std::logic_error("analysis.superposition: unmapped value '" + s + "'");
-}
-study::VehicleModel vehicle_of(const std::string& s) {
-  if (s == "forces") return study::VehicleModel::forces;
-  if (s == "sprung") return study::VehicleModel::sprung;
-  if (s == "multibody") return study::VehicleModel::multibody;
-  throw std::logic_error("train.vehicle: unmapped value '" + s + "'");
-}
-study::ContactModel contact_of(const std::string& s) {
-  if (s == "hertz") return study::ContactModel::hertz;
-  if (s == "rigid") return study::ContactModel::rigid;
-  throw std::logic_error("train.contact: unmapped value '" + s + "'");
-}
-signal::BandType band_of(const std::string& s) {
-  if (s == "lowpass") return signal::BandType::lowpass;
-  if (s == "highpass") return signal::BandType::highpass;
-  if (s == "bandpass") return signal::BandType::bandpass;
-  throw std::logic_error("filter.band: unmapped value '" + s + "'");
+template <class E, std::size_t N>
+std::string name_of(const Named<E> (&names)[N], E v, const char* key) {
+  for (const Named<E>& n : names)
+    if (v == n.value) return n.name;
+  throw std::logic_error(std::string(key) + ": an enum value without a name");
 }
 
 using T = ValueType;
@@ -55,7 +52,7 @@ using V = Value;
 std::vector<KeySpec> general_keys() {  // general
   return {
       {"title", T::string, "\"\"", "", "", "Free text shown in outputs.",
-       [](S& sc, const V& v) { sc.title = v.s; }},
+       [](S& sc, const V& v) { sc.title = v.s; }, nullptr, [](const S& sc) { return sc.title; }},
       {"description", T::string, "\"\"", "", "", "Free text: what the scenario studies and where its numbers come from."},
   };
 }
@@ -68,33 +65,47 @@ std::vector<KeySpec> bridge_keys() {  // bridge
       {"bridge.EI", T::number_or_list, "", "N·m²", "> 0", "Bending stiffness: one value for all spans or one per span (required)."},
       {"bridge.mass_per_m", T::number_or_list, "", "kg/m", "> 0", "Mass per metre: one value or one per span (required)."},
       {"bridge.mass_includes_track", T::boolean, "false", "", "", "true: mass_per_m includes the track on the deck; a modelled track's mass per metre is then taken off the deck.",
-       [](S& sc, const V& v) { sc.bridge.mass_includes_track = v.b; }},
+       [](S& sc, const V& v) { sc.bridge.mass_includes_track = v.b; },
+       [](const S& sc) { return static_cast<double>(sc.bridge.mass_includes_track); }},
       {"bridge.added_mass_per_m", T::number, "0.0", "kg/m", ">= 0", "Non-structural mass added to every span.",
-       [](S& sc, const V& v) { sc.bridge.added_mass_per_m = v.x; }},
+       [](S& sc, const V& v) { sc.bridge.added_mass_per_m = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.bridge.added_mass_per_m); }},
       {"bridge.element_size", T::number, "0.5", "m", "> 0", "Target deck element length (each span gets a whole number of equal elements).",
-       [](S& sc, const V& v) { sc.bridge.element_size = v.x; }},
+       [](S& sc, const V& v) { sc.bridge.element_size = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.bridge.element_size); }},
       {"bridge.continuous", T::boolean, "false", "", "", "true: the spans form one continuous deck over intermediate supports (one bearing per support, nodes shared); false: a chain of simply supported spans.",
-       [](S& sc, const V& v) { sc.bridge.continuous = v.b; }},
+       [](S& sc, const V& v) { sc.bridge.continuous = v.b; },
+       [](const S& sc) { return static_cast<double>(sc.bridge.continuous); }},
       {"bridge.bearings.rigid", T::boolean, "true", "", "", "true: span ends fixed vertically; false: springs k and dashpots c.",
-       [](S& sc, const V& v) { sc.bridge.bearings.rigid = v.b; }},
+       [](S& sc, const V& v) { sc.bridge.bearings.rigid = v.b; },
+       [](const S& sc) { return static_cast<double>(sc.bridge.bearings.rigid); }},
       {"bridge.bearings.k", T::number, "0.0", "N/m", ">= 0", "Vertical stiffness of each bearing (span end) when not rigid; must then be > 0.",
-       [](S& sc, const V& v) { sc.bridge.bearings.k = v.x; }},
+       [](S& sc, const V& v) { sc.bridge.bearings.k = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.bridge.bearings.k); }},
       {"bridge.bearings.c", T::number, "0.0", "N·s/m", ">= 0", "Vertical damping of each bearing when not rigid.",
-       [](S& sc, const V& v) { sc.bridge.bearings.c = v.x; }},
+       [](S& sc, const V& v) { sc.bridge.bearings.c = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.bridge.bearings.c); }},
       {"bridge.bearings.rotational_k", T::number, "0.0", "N·m/rad", ">= 0", "Rotational spring at each span end (integral or frame abutments): 0 free (simply supported), very large (1e15) clamped.",
-       [](S& sc, const V& v) { sc.bridge.bearings.rotational_k = v.x; }},
+       [](S& sc, const V& v) { sc.bridge.bearings.rotational_k = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.bridge.bearings.rotational_k); }},
       {"bridge.damping.kind", T::string, "\"modal\"", "", "none|modal|rayleigh", "Structural damping of the bridge: one ratio for every span mode, or Rayleigh through two (frequency, ratio) pairs.",
-       [](S& sc, const V& v) { sc.bridge.damping.kind = damping_kind(v.s); }},
+       [](S& sc, const V& v) { sc.bridge.damping.kind = enum_of(kDampingKinds, v.s, "bridge.damping.kind"); }, nullptr,
+       [](const S& sc) { return name_of(kDampingKinds, sc.bridge.damping.kind, "bridge.damping.kind"); }},
       {"bridge.damping.ratio", T::number, "0.0", "-", "[0, 1)", "modal: ratio of critical damping for every span mode (0.01565 = 1.565 %).",
-       [](S& sc, const V& v) { sc.bridge.damping.ratio = v.x; }},
+       [](S& sc, const V& v) { sc.bridge.damping.ratio = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.bridge.damping.ratio); }},
       {"bridge.damping.f1_hz", T::number, "0.0", "Hz", ">= 0", "rayleigh: first frequency.",
-       [](S& sc, const V& v) { sc.bridge.damping.f1_hz = v.x; }},
+       [](S& sc, const V& v) { sc.bridge.damping.f1_hz = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.bridge.damping.f1_hz); }},
       {"bridge.damping.ratio1", T::number, "0.0", "-", "[0, 1)", "rayleigh: damping ratio at f1_hz.",
-       [](S& sc, const V& v) { sc.bridge.damping.ratio1 = v.x; }},
+       [](S& sc, const V& v) { sc.bridge.damping.ratio1 = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.bridge.damping.ratio1); }},
       {"bridge.damping.f2_hz", T::number, "0.0", "Hz", ">= 0", "rayleigh: second frequency (> f1_hz).",
-       [](S& sc, const V& v) { sc.bridge.damping.f2_hz = v.x; }},
+       [](S& sc, const V& v) { sc.bridge.damping.f2_hz = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.bridge.damping.f2_hz); }},
       {"bridge.damping.ratio2", T::number, "0.0", "-", "[0, 1)", "rayleigh: damping ratio at f2_hz.",
-       [](S& sc, const V& v) { sc.bridge.damping.ratio2 = v.x; }},
+       [](S& sc, const V& v) { sc.bridge.damping.ratio2 = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.bridge.damping.ratio2); }},
   };
 }
 
@@ -104,45 +115,62 @@ std::vector<KeySpec> track_keys() {  // track
       {"track.notes", T::string, "\"\"", "", "", "Free text: sources and readings of the parameters."},
       {"track.rails", T::string, "\"unstated\"", "", "unstated|one|both",
        "What the track's values describe: one rail line (with half a deck: each rail carries half of each axle, train.load_factor = 0.5) or both rails summed (the whole deck, load_factor = 1). A mismatch with train.load_factor is warned of.",
-       [](S& sc, const V& v) { sc.track_rails = v.s; }},
+       [](S& sc, const V& v) { sc.track_rails = v.s; }, nullptr, [](const S& sc) { return sc.track_rails; }},
       {"track.approach_length", T::number, "20.0", "m", ">= 0", "Track before the bridge (axles enter at its start); rounded down to whole sleeper bays with exit_length.",
-       [](S& sc, const V& v) { sc.track->approach_length = v.x; }},
+       [](S& sc, const V& v) { sc.track->approach_length = v.x; },
+       [](const S&) { return static_cast<double>(model::TrackParams{}.approach_length); }},
       {"track.exit_length", T::number, "20.0", "m", ">= 0", "Track after the bridge.",
-       [](S& sc, const V& v) { sc.track->exit_length = v.x; }},
+       [](S& sc, const V& v) { sc.track->exit_length = v.x; },
+       [](const S&) { return static_cast<double>(model::TrackParams{}.exit_length); }},
       {"track.sleeper_spacing", T::number, "0.6", "m", "> 0", "Distance between sleepers (rail seats).",
-       [](S& sc, const V& v) { sc.track->sleeper_spacing = v.x; }},
+       [](S& sc, const V& v) { sc.track->sleeper_spacing = v.x; },
+       [](const S&) { return static_cast<double>(model::TrackParams{}.sleeper_spacing); }},
       {"track.first_sleeper_offset", T::number, "", "m", ">= 0", "Where the sleepers sit: the first sleeper on the bridge this far from its start (< sleeper_spacing); the approach track then begins at the first sleeper at or before approach_length. Unset: the track starts at -approach_length with a sleeper. Identical spans coupled by the track are sensitive to it (docs/model.md).",
-       [](S& sc, const V& v) { sc.track->first_sleeper_offset = v.x; }},
+       [](S& sc, const V& v) { sc.track->first_sleeper_offset = v.x; },
+       [](const S&) { return static_cast<double>(model::TrackParams{}.first_sleeper_offset); }},
       {"track.rail_elements_per_bay", T::integer, "1", "-", ">= 1", "Rail beam elements between two sleepers.",
-       [](S& sc, const V& v) { sc.track->rail_elements_per_bay = static_cast<int>(v.x); }},
+       [](S& sc, const V& v) { sc.track->rail_elements_per_bay = static_cast<int>(v.x); },
+       [](const S&) { return static_cast<double>(model::TrackParams{}.rail_elements_per_bay); }},
       {"track.rail.E", T::number, "", "Pa", "> 0", "Rail Young's modulus (required)."},
       {"track.rail.I", T::number, "", "m⁴", "> 0", "Rail second moment of area (required)."},
       {"track.rail.A", T::number, "", "m²", "> 0", "Rail cross-section area (required)."},
       {"track.rail.density", T::number, "7850.0", "kg/m³", "> 0", "Rail density."},
       {"track.sleeper_mass", T::number, "", "kg", "> 0", "Sleeper mass per rail seat (required).",
-       [](S& sc, const V& v) { sc.track->sleeper_mass = v.x; }},
+       [](S& sc, const V& v) { sc.track->sleeper_mass = v.x; },
+       [](const S&) { return static_cast<double>(model::TrackParams{}.sleeper_mass); }},
       {"track.ballast_mass", T::number, "", "kg", "> 0", "Vibrating ballast mass per rail seat (required).",
-       [](S& sc, const V& v) { sc.track->ballast_mass = v.x; }},
+       [](S& sc, const V& v) { sc.track->ballast_mass = v.x; },
+       [](const S&) { return static_cast<double>(model::TrackParams{}.ballast_mass); }},
       {"track.pad.k", T::number, "", "N/m", "> 0", "Rail pad stiffness per rail seat (required).",
-       [](S& sc, const V& v) { sc.track->pad.k = v.x; }},
+       [](S& sc, const V& v) { sc.track->pad.k = v.x; },
+       [](const S&) { return static_cast<double>(model::TrackParams{}.pad.k); }},
       {"track.pad.c", T::number, "0.0", "N·s/m", ">= 0", "Rail pad damping per rail seat.",
-       [](S& sc, const V& v) { sc.track->pad.c = v.x; }},
+       [](S& sc, const V& v) { sc.track->pad.c = v.x; },
+       [](const S&) { return static_cast<double>(model::TrackParams{}.pad.c); }},
       {"track.ballast.k", T::number, "", "N/m", "> 0", "Ballast stiffness per rail seat, sleeper to ballast mass (required).",
-       [](S& sc, const V& v) { sc.track->ballast.k = v.x; }},
+       [](S& sc, const V& v) { sc.track->ballast.k = v.x; },
+       [](const S&) { return static_cast<double>(model::TrackParams{}.ballast.k); }},
       {"track.ballast.c", T::number, "0.0", "N·s/m", ">= 0", "Ballast damping per rail seat.",
-       [](S& sc, const V& v) { sc.track->ballast.c = v.x; }},
+       [](S& sc, const V& v) { sc.track->ballast.c = v.x; },
+       [](const S&) { return static_cast<double>(model::TrackParams{}.ballast.c); }},
       {"track.shear.k", T::number, "0.0", "N/m", ">= 0", "Ballast shear stiffness between neighbouring ballast masses.",
-       [](S& sc, const V& v) { sc.track->shear.k = v.x; }},
+       [](S& sc, const V& v) { sc.track->shear.k = v.x; },
+       [](const S&) { return static_cast<double>(model::TrackParams{}.shear.k); }},
       {"track.shear.c", T::number, "0.0", "N·s/m", ">= 0", "Ballast shear damping between neighbouring ballast masses.",
-       [](S& sc, const V& v) { sc.track->shear.c = v.x; }},
+       [](S& sc, const V& v) { sc.track->shear.c = v.x; },
+       [](const S&) { return static_cast<double>(model::TrackParams{}.shear.c); }},
       {"track.subgrade.k", T::number, "", "N/m", "> 0", "Subgrade stiffness per rail seat off the bridge, ballast mass to ground (required).",
-       [](S& sc, const V& v) { sc.track->subgrade.k = v.x; }},
+       [](S& sc, const V& v) { sc.track->subgrade.k = v.x; },
+       [](const S&) { return static_cast<double>(model::TrackParams{}.subgrade.k); }},
       {"track.subgrade.c", T::number, "0.0", "N·s/m", ">= 0", "Subgrade damping per rail seat off the bridge.",
-       [](S& sc, const V& v) { sc.track->subgrade.c = v.x; }},
+       [](S& sc, const V& v) { sc.track->subgrade.c = v.x; },
+       [](const S&) { return static_cast<double>(model::TrackParams{}.subgrade.c); }},
       {"track.subgrade_on_bridge.k", T::number, "", "N/m", "> 0", "Ballast mass to deck stiffness per rail seat on the bridge (required).",
-       [](S& sc, const V& v) { sc.track->subgrade_on_bridge.k = v.x; }},
+       [](S& sc, const V& v) { sc.track->subgrade_on_bridge.k = v.x; },
+       [](const S&) { return static_cast<double>(model::TrackParams{}.subgrade_on_bridge.k); }},
       {"track.subgrade_on_bridge.c", T::number, "0.0", "N·s/m", ">= 0", "Ballast mass to deck damping per rail seat on the bridge.",
-       [](S& sc, const V& v) { sc.track->subgrade_on_bridge.c = v.x; }},
+       [](S& sc, const V& v) { sc.track->subgrade_on_bridge.c = v.x; },
+       [](const S&) { return static_cast<double>(model::TrackParams{}.subgrade_on_bridge.c); }},
   };
 }
 
@@ -150,21 +178,29 @@ std::vector<KeySpec> train_keys() {  // trains
   return {
       {"train.files", T::string_list, "", "", "", "Train files (.toml: hslm, regular or axles; .csv: position_m,load_kN), relative to the referencing file (required); \"hslm:A1-A10\" (or hslm:A4, hslm:A1,A5) names the Eurocode HSLM-A trains without files."},
       {"train.load_factor", T::number, "1.0", "-", "> 0", "Multiplies every axle load (0.5: one rail of a half-deck model carries half of each axle).",
-       [](S& sc, const V& v) { sc.settings.load_factor = v.x; }},
+       [](S& sc, const V& v) { sc.settings.load_factor = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.settings.load_factor); }},
       {"train.vehicle", T::string, "\"forces\"", "", "forces|sprung|multibody", "How the trains act on the rail (docs/vehicles.md): forces, constant axle loads; sprung, one sprung mass on one unsprung mass per axle (train.unsprung_mass_kg and train.suspension_*, or each train's coaches); multibody, 2D coaches with bogies (trains of kind \"coaches\" only).",
-       [](S& sc, const V& v) { sc.settings.vehicle.model = vehicle_of(v.s); }},
+       [](S& sc, const V& v) { sc.settings.vehicle.model = enum_of(kVehicleModels, v.s, "train.vehicle"); }, nullptr,
+       [](const S& sc) { return name_of(kVehicleModels, sc.settings.vehicle.model, "train.vehicle"); }},
       {"train.contact", T::string, "\"hertz\"", "", "hertz|rigid", "Wheel-rail contact of sprung and multibody vehicles: a linearised Hertz spring per axle, or the wheel following the rail.",
-       [](S& sc, const V& v) { sc.settings.vehicle.contact = contact_of(v.s); }},
+       [](S& sc, const V& v) { sc.settings.vehicle.contact = enum_of(kContacts, v.s, "train.contact"); }, nullptr,
+       [](const S& sc) { return name_of(kContacts, sc.settings.vehicle.contact, "train.contact"); }},
       {"train.comfort_lowpass_hz", T::number, "0.0", "Hz", ">= 0", "Sprung and multibody vehicles: the car-body floor accelerations of the comfort check (max_floor_acc_mps2) low-passed at this frequency (zero-phase Chebyshev I of filter.order and filter.ripple_db, from rest); 0: unfiltered.",
-       [](S& sc, const V& v) { sc.settings.vehicle.comfort_lowpass_hz = v.x; }},
+       [](S& sc, const V& v) { sc.settings.vehicle.comfort_lowpass_hz = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.settings.vehicle.comfort_lowpass_hz); }},
       {"train.contact_release", T::boolean, "true", "", "", "Sprung and multibody vehicles: true, a wheel whose contact force would pull leaves the rail and lands again (unilateral contact; the time in the air is reported); false, the linear contact holds it with a tensile force (reported as a lost contact).",
-       [](S& sc, const V& v) { sc.settings.vehicle.release = v.b; }},
+       [](S& sc, const V& v) { sc.settings.vehicle.release = v.b; },
+       [](const S& sc) { return static_cast<double>(sc.settings.vehicle.release); }},
       {"train.contact_stiffness_N_m", T::number, "", "N/m", "> 0", "Contact stiffness per axle, both rails (default: linearised Hertz at the static wheel load, 3 P^(1/3)/G with G = 4.57e-8 R^-0.149, Zhai's conical tread).",
-       [](S& sc, const V& v) { sc.settings.vehicle.contact_stiffness = v.x; }},
+       [](S& sc, const V& v) { sc.settings.vehicle.contact_stiffness = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.settings.vehicle.contact_stiffness); }},
       {"train.wheel_radius_m", T::number, "0.43", "m", "> 0", "Wheel radius R of the Hertz contact stiffness.",
-       [](S& sc, const V& v) { sc.settings.vehicle.wheel_radius = v.x; }},
+       [](S& sc, const V& v) { sc.settings.vehicle.wheel_radius = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.settings.vehicle.wheel_radius); }},
       {"train.end_transition_m", T::number, "10.0", "m", ">= 0", "Sprung and multibody vehicles on a track: within this length of either end of the load path a wheel's load passes gradually (a cosine) between rigid ground and the rail, the rail's level under it weighted alike: a free rail end, deflecting several times more than the track, would otherwise be a dip every wheel hits. Shorter than the approach and exit track.",
-       [](S& sc, const V& v) { sc.settings.vehicle.end_transition = v.x; }},
+       [](S& sc, const V& v) { sc.settings.vehicle.end_transition = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.settings.vehicle.end_transition); }},
       {"train.unsprung_mass_kg", T::number, "", "kg", ">= 0", "Sprung vehicles: unsprung mass per axle (with train.suspension_stiffness_N_m; the sprung mass is the axle load / g minus it). Not set: each train's coaches give the sprung masses.",},
       {"train.suspension_stiffness_N_m", T::number, "", "N/m", "> 0", "Sprung vehicles: suspension stiffness per axle.",},
       {"train.suspension_damping_Ns_m", T::number, "0.0", "N·s/m", ">= 0", "Sprung vehicles: suspension damping per axle."},
@@ -174,73 +210,101 @@ std::vector<KeySpec> train_keys() {  // trains
 std::vector<KeySpec> irregularity_keys() {  // irregularity
   return {
       {"irregularity.spectrum", T::string, "\"\"", "", "|fra1|fra2|fra3|fra4|fra5|fra6|german-low|german-high", "Random vertical rail profile seen by sprung and multibody vehicles (viaduct irregularity draws it): an FRA class or a German spectrum; \"\" a smooth rail.",
-       [](S& sc, const V& v) { sc.settings.irregularity.spectrum = v.s; }},
+       [](S& sc, const V& v) { sc.settings.irregularity.spectrum = v.s; }, nullptr,
+       [](const S& sc) { return sc.settings.irregularity.spectrum; }},
       {"irregularity.profile", T::string, "", "", "", "A measured profile instead (x_m,z_mm CSV, x along the load path, z up), relative to this file; it must cover the run-in, the load path and taper_m past its end."},
       {"irregularity.seed", T::integer, "1", "-", ">= 0", "Seed of the random profile (same seed, same profile).",
-       [](S& sc, const V& v) { sc.settings.irregularity.seed = static_cast<std::uint64_t>(v.x); }},
+       [](S& sc, const V& v) { sc.settings.irregularity.seed = static_cast<std::uint64_t>(v.x); },
+       [](const S& sc) { return static_cast<double>(sc.settings.irregularity.seed); }},
       {"irregularity.min_wavelength_m", T::number, "1.0", "m", "> 0", "Shortest wavelength of the random profile.",
-       [](S& sc, const V& v) { sc.settings.irregularity.lambda_min = v.x; }},
+       [](S& sc, const V& v) { sc.settings.irregularity.lambda_min = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.settings.irregularity.lambda_min); }},
       {"irregularity.max_wavelength_m", T::number, "80.0", "m", "> 0", "Longest wavelength of the random profile.",
-       [](S& sc, const V& v) { sc.settings.irregularity.lambda_max = v.x; }},
+       [](S& sc, const V& v) { sc.settings.irregularity.lambda_max = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.settings.irregularity.lambda_max); }},
       {"irregularity.step_m", T::number, "0.05", "m", "> 0", "Sampling step of the random profile.",
-       [](S& sc, const V& v) { sc.settings.irregularity.dx = v.x; }},
+       [](S& sc, const V& v) { sc.settings.irregularity.dx = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.settings.irregularity.dx); }},
       {"irregularity.run_in_m", T::number, "100.0", "m", ">= 0", "Rigid, irregular track rolled over before the first axle reaches the load path (the run starts run_in_m / v earlier; histories still start with the first axle at the path's start), so that the vehicles arrive moving; at least taper_m.",
-       [](S& sc, const V& v) { sc.settings.irregularity.run_in = v.x; }},
+       [](S& sc, const V& v) { sc.settings.irregularity.run_in = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.settings.irregularity.run_in); }},
       {"irregularity.taper_m", T::number, "20.0", "m", ">= 0", "The profile fades in over the first taper_m of the run-in and out over taper_m past the load path's end (the vehicles start on a smooth rail).",
-       [](S& sc, const V& v) { sc.settings.irregularity.taper = v.x; }},
+       [](S& sc, const V& v) { sc.settings.irregularity.taper = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.settings.irregularity.taper); }},
   };
 }
 
 std::vector<KeySpec> analysis_keys() {  // analysis
   return {
       {"analysis.dt", T::number, "0.001", "s", "> 0", "Analysis step of every method: the Newmark step, the load-sampling interval of modal superposition and the recording interval (IDA chooses its own steps and is sampled at it).",
-       [](S& sc, const V& v) { sc.settings.dt = v.x; }},
+       [](S& sc, const V& v) { sc.settings.dt = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.settings.dt); }},
       {"analysis.beta", T::number, "0.25", "-", "> 0", "Newmark β (0.25: constant average acceleration); not given with analysis.alpha != 0: (1-alpha)²/4. With alpha != 0 it must satisfy 2 beta >= gamma (unconditional stability).",
-       [](S& sc, const V& v) { sc.settings.newmark.beta = v.x; }},
+       [](S& sc, const V& v) { sc.settings.newmark.beta = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.settings.newmark.beta); }},
       {"analysis.gamma", T::number, "0.5", "-", ">= 0.5", "Newmark γ; not given with analysis.alpha != 0: (1-2 alpha)/2. With alpha != 0 it must be >= 1/2 - alpha (unconditional stability).",
-       [](S& sc, const V& v) { sc.settings.newmark.gamma = v.x; }},
+       [](S& sc, const V& v) { sc.settings.newmark.gamma = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.settings.newmark.gamma); }},
       {"analysis.alpha", T::number, "0.0", "-", "[-1/3, 0]", "HHT-α (0: plain Newmark): numerical damping of the highest modes. analysis.beta and analysis.gamma not given take alpha's own, (1-alpha)²/4 and (1-2 alpha)/2; given ones outside the unconditionally stable set (gamma >= 1/2 - alpha, 2 beta >= gamma) are refused.",
-       [](S& sc, const V& v) { sc.settings.newmark.alpha = v.x; }},
+       [](S& sc, const V& v) { sc.settings.newmark.alpha = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.settings.newmark.alpha); }},
       {"analysis.preset", T::string, "\"\"", "", "|fast|default|reference", "Named speed/accuracy setting (docs/accuracy.md): sets analysis.method, analysis.dt and modal.* from the band edge f_c (filter.high_hz, or 30 Hz); keys given explicitly override it. fast and default take modal superposition, or Newmark when the rail's resonance on its pads lies below their modal cut-off (soft pads, docs/reliability.md)."},
       {"analysis.method", T::string, "\"newmark\"", "", "newmark|modal|ida", "newmark: fixed-step integration of the whole model; modal: superposition of its modes up to modal.max_frequency_hz / modal.n_modes, solved exactly per step; ida: adaptive BDF of the whole model (SUNDIALS IDA, ida.* tolerances), sampled every analysis.dt (docs/accuracy.md); with vehicles, of the modes up to modal.max_frequency_hz with the vehicles physical, contact losses and landings located in time (docs/vehicles.md; ida.rtol <= 1e-4).",
-       [](S& sc, const V& v) { sc.settings.method = method_of(v.s); }},
+       [](S& sc, const V& v) { sc.settings.method = enum_of(kMethods, v.s, "analysis.method"); }, nullptr,
+       [](const S& sc) { return name_of(kMethods, sc.settings.method, "analysis.method"); }},
       {"ida.rtol", T::number, "1e-6", "-", "[1e-12, 0.1]", "ida: relative tolerance.",
-       [](S& sc, const V& v) { sc.settings.ida.rtol = v.x; }},
+       [](S& sc, const V& v) { sc.settings.ida.rtol = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.settings.ida.rtol); }},
       {"ida.atol_disp_m", T::number, "1e-10", "m", "> 0", "ida: absolute tolerance of displacements.",
-       [](S& sc, const V& v) { sc.settings.ida.atol_disp = v.x; }},
+       [](S& sc, const V& v) { sc.settings.ida.atol_disp = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.settings.ida.atol_disp); }},
       {"ida.atol_vel_mps", T::number, "1e-8", "m/s", "> 0", "ida: absolute tolerance of velocities.",
-       [](S& sc, const V& v) { sc.settings.ida.atol_vel = v.x; }},
+       [](S& sc, const V& v) { sc.settings.ida.atol_vel = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.settings.ida.atol_vel); }},
       {"ida.max_order", T::integer, "5", "-", "[1, 5]", "ida: highest BDF order.",
-       [](S& sc, const V& v) { sc.settings.ida.max_order = static_cast<int>(v.x); }},
+       [](S& sc, const V& v) { sc.settings.ida.max_order = static_cast<int>(v.x); },
+       [](const S& sc) { return static_cast<double>(sc.settings.ida.max_order); }},
       {"analysis.superposition", T::string, "\"direct\"", "", "direct|unit-response", "direct: one run per train and speed; unit-response: one run of a unit axle per speed, superposed over every train's axles (linear models only; same answer, much less work with several trains).",
-       [](S& sc, const V& v) { sc.settings.superposition = superposition_of(v.s); }},
+       [](S& sc, const V& v) { sc.settings.superposition = enum_of(kSuperpositions, v.s, "analysis.superposition"); }, nullptr,
+       [](const S& sc) { return name_of(kSuperpositions, sc.settings.superposition, "analysis.superposition"); }},
       {"modal.n_modes", T::integer, "0", "-", ">= 0", "modal: keep at most this many of the lowest modes (0: no count limit).",
-       [](S& sc, const V& v) { sc.settings.modal.n_modes = static_cast<Index>(v.x); }},
+       [](S& sc, const V& v) { sc.settings.modal.n_modes = static_cast<Index>(v.x); },
+       [](const S& sc) { return static_cast<double>(sc.settings.modal.n_modes); }},
       {"modal.max_frequency_hz", T::number, "0.0", "Hz", ">= 0", "modal: keep the modes up to this frequency (0: no frequency limit).",
-       [](S& sc, const V& v) { sc.settings.modal.max_frequency_hz = v.x; }},
+       [](S& sc, const V& v) { sc.settings.modal.max_frequency_hz = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.settings.modal.max_frequency_hz); }},
       {"modal.static_correction", T::boolean, "true", "", "", "modal: add the quasi-static response of the dropped modes to displacements and load effects (mode-acceleration method); with vehicles (modal and ida) also to the rail under each wheel.",
-       [](S& sc, const V& v) { sc.settings.modal.static_correction = v.b; }},
+       [](S& sc, const V& v) { sc.settings.modal.static_correction = v.b; },
+       [](const S& sc) { return static_cast<double>(sc.settings.modal.static_correction); }},
       {"modal.damping_vectors", T::integer, "1", "-", "[0, 3]", "modal: blocks of damping-correction vectors (K⁻¹ − ΦΩ⁻²Φᵀ)Cφ appended to the modes when discrete dashpots couple them (the part of the low complex modes that the undamped modes miss; 0: the modes alone; docs/accuracy.md).",
-       [](S& sc, const V& v) { sc.settings.modal.damping_vectors = static_cast<int>(v.x); }},
+       [](S& sc, const V& v) { sc.settings.modal.damping_vectors = static_cast<int>(v.x); },
+       [](const S& sc) { return static_cast<double>(sc.settings.modal.damping_vectors); }},
       {"analysis.free_vibration_s", T::number, "1.0", "s", ">= 0", "Time simulated after the last axle has left the model.",
-       [](S& sc, const V& v) { sc.settings.free_vibration_s = v.x; }},
+       [](S& sc, const V& v) { sc.settings.free_vibration_s = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.settings.free_vibration_s); }},
   };
 }
 
 std::vector<KeySpec> filter_keys() {  // filter
   return {
       {"filter.enabled", T::boolean, "true", "", "", "Filter accelerations before taking maxima.",
-       [](S& sc, const V& v) { sc.settings.filter.enabled = v.b; }},
+       [](S& sc, const V& v) { sc.settings.filter.enabled = v.b; },
+       [](const S& sc) { return static_cast<double>(sc.settings.filter.enabled); }},
       {"filter.band", T::string, "\"bandpass\"", "", "lowpass|highpass|bandpass", "Filter band.",
-       [](S& sc, const V& v) { sc.settings.filter.cheby.band = band_of(v.s); }},
+       [](S& sc, const V& v) { sc.settings.filter.cheby.band = enum_of(kBands, v.s, "filter.band"); }, nullptr,
+       [](const S& sc) { return name_of(kBands, sc.settings.filter.cheby.band, "filter.band"); }},
       {"filter.order", T::integer, "3", "-", ">= 1", "Chebyshev I order N (band-pass: 2N poles), SciPy's convention.",
-       [](S& sc, const V& v) { sc.settings.filter.cheby.order = static_cast<int>(v.x); }},
+       [](S& sc, const V& v) { sc.settings.filter.cheby.order = static_cast<int>(v.x); },
+       [](const S& sc) { return static_cast<double>(sc.settings.filter.cheby.order); }},
       {"filter.ripple_db", T::number, "0.5", "dB", "> 0", "Passband ripple; edges are where one pass drops below -ripple_db (zero-phase: -2·ripple_db).",
-       [](S& sc, const V& v) { sc.settings.filter.cheby.ripple_db = v.x; }},
+       [](S& sc, const V& v) { sc.settings.filter.cheby.ripple_db = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.settings.filter.cheby.ripple_db); }},
       {"filter.low_hz", T::number, "1.0", "Hz", "> 0", "Lower band edge (highpass, bandpass).",
-       [](S& sc, const V& v) { sc.settings.filter.cheby.low_hz = v.x; }},
+       [](S& sc, const V& v) { sc.settings.filter.cheby.low_hz = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.settings.filter.cheby.low_hz); }},
       {"filter.high_hz", T::number, "30.0", "Hz", "> 0", "Upper band edge (lowpass, bandpass); must be below 1/(2·dt).",
-       [](S& sc, const V& v) { sc.settings.filter.cheby.high_hz = v.x; }},
+       [](S& sc, const V& v) { sc.settings.filter.cheby.high_hz = v.x; },
+       [](const S& sc) { return static_cast<double>(sc.settings.filter.cheby.high_hz); }},
   };
 }
 

@@ -35,6 +35,11 @@ struct Value {
 /// Sets the field of a scenario that a key declares (values already checked against the key's
 /// type and constraint).
 using KeySetter = void (*)(study::Scenario&, const Value&);
+/// The field a number or boolean key sets, read from a scenario (booleans as 0/1; a track key from
+/// model::TrackParams{}): what a test compares with the key's default.
+using KeyGetter = double (*)(const study::Scenario&);
+/// The same for a string key (an enumeration's value by its name).
+using KeyTextGetter = std::string (*)(const study::Scenario&);
 
 /// Declaration of one key. "[]" in a key stands for an array index ("stations[].name").
 struct KeySpec {
@@ -47,6 +52,10 @@ struct KeySpec {
   /// The study::Scenario field the key sets; null for keys read by hand (several keys to one
   /// field, arrays, files) or not read into the scenario (notes, fit sections).
   KeySetter set = nullptr;
+  /// With `set` for a number or boolean key: the field it sets (the struct's default on a
+  /// default-constructed scenario equals default_toml: tests/unit/io/test_scenario.cpp).
+  KeyGetter get = nullptr;
+  KeyTextGetter get_text = nullptr;  ///< with `set` for a string key: the same as `get`
   bool required() const { return doc.find("(required)") != std::string::npos; }
 };
 const std::vector<KeySpec>& scenario_schema();

@@ -619,3 +619,34 @@ TEST_CASE("the filter keys' schema defaults equal signal::Cheby1Spec's") {
   CHECK(io::find_key_spec("filter.band")->default_toml == "\"bandpass\"");
   CHECK(spec.band == signal::BandType::bandpass);
 }
+
+// Keys declared once (issue #37 item 3): a key's default is written in the schema and, for the
+// keys that set one field, in that field's initialiser; a program that fills study::Scenario
+// itself (the Python package's dictionaries, code using the library) gets the struct's. Every
+// such number and boolean must be the same in both.
+TEST_CASE("every key that sets a field: its schema default equals the study::Scenario field's default") {
+  const study::Scenario defaults;
+  int checked = 0;
+  for (const io::KeySpec& k : io::scenario_schema()) {
+    if (!k.get || k.default_toml.empty()) continue;
+    INFO(k.key << " = " << k.default_toml);
+    const double want = k.type == io::ValueType::boolean ? (k.default_toml == "true" ? 1.0 : 0.0) : std::stod(k.default_toml);
+    CHECK(k.get(defaults) == want);
+    ++checked;
+  }
+  CHECK(checked >= 50);  // the number and boolean keys that set a field (60 when this was written)
+  int texts = 0;
+  for (const io::KeySpec& k : io::scenario_schema()) {
+    if (!k.get_text || k.default_toml.empty()) continue;
+    INFO(k.key << " = " << k.default_toml);
+    CHECK("\"" + k.get_text(defaults) + "\"" == k.default_toml);
+    ++texts;
+  }
+  CHECK(texts == 9);  // title, the six enumerations, irregularity.spectrum, track.rails
+  // Every key that sets a field can be read back (a setter without a getter escapes the check).
+  for (const io::KeySpec& k : io::scenario_schema())
+    if (k.set && k.key != "run.speed_kmh") {
+      INFO(k.key);
+      CHECK((k.get != nullptr || k.get_text != nullptr));
+    }
+}
