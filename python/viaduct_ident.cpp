@@ -101,8 +101,7 @@ py::dict estimate(const py::handle& force, const py::handle& responses, double f
   if (estimator != "h1" && estimator != "h2") throw InputError("estimator must be h1 or h2, got '" + estimator + "'");
   eo.h2 = estimator == "h2";
   eo.welch.nperseg = nperseg;
-  if (window == "rectangular") eo.welch.window = viaduct::signal::Window::rectangular;
-  else if (window != "hann") throw InputError("window must be hann or rectangular, got '" + window + "'");
+  eo.welch.window = viaduct::signal::window_of(window);
   eo.f_min_hz = f_min_hz;
   eo.f_max_hz = f_max_hz;
   for (const auto& [a, b, f] : steps) eo.steps.push_back({a, b, f});

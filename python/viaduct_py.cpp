@@ -359,11 +359,6 @@ py::dict compare(const py::handle& record, double fs_record, const py::handle& m
   return d;
 }
 
-viaduct::signal::Window window_of(const std::string& w) {
-  if (w == "hann") return viaduct::signal::Window::hann;
-  if (w == "rectangular" || w == "boxcar") return viaduct::signal::Window::rectangular;
-  throw InputError("window must be hann or rectangular, got '" + w + "'");
-}
 
 // Rainflow counting and Miner damage (viaduct fatigue's functions; docs/fatigue.md).
 void bind_fatigue(py::module_& m) {
@@ -491,7 +486,7 @@ void bind(py::module_& m) {
       [](const py::handle& x, double fs_hz, const std::string& window) {
         py::array_t<double, py::array::c_style | py::array::forcecast> keep;
         const Vector in = view(x, keep, "spectrum");
-        signal::AmplitudeSpectrum a = signal::amplitude_spectrum(in, fs_hz, window_of(window));
+        signal::AmplitudeSpectrum a = signal::amplitude_spectrum(in, fs_hz, signal::window_of(window));
         return py::make_tuple(to_numpy(std::move(a.frequency_hz)), to_numpy(std::move(a.amplitude)));
       },
       py::arg("x"), py::arg("fs_hz"), py::arg("window") = "hann");
@@ -503,11 +498,8 @@ void bind(py::module_& m) {
         signal::WelchOptions o;
         o.nperseg = nperseg;
         o.noverlap = noverlap;
-        o.window = window_of(window);
-        if (detrend == "constant") o.detrend = signal::Detrend::constant;
-        else if (detrend == "linear") o.detrend = signal::Detrend::linear;
-        else if (detrend == "none") o.detrend = signal::Detrend::none;
-        else throw InputError("detrend must be constant, linear or none, got '" + detrend + "'");
+        o.window = signal::window_of(window);
+        o.detrend = signal::detrend_of(detrend);
         signal::Psd p = signal::welch(in, fs_hz, o);
         return py::make_tuple(to_numpy(std::move(p.frequency_hz)), to_numpy(std::move(p.density)));
       },

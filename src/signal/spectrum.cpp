@@ -21,6 +21,19 @@ int overflow_exponent(const Vector& x) {
   return (peak > 1e100 || (peak > 0.0 && peak < 1e-100)) && std::isfinite(peak) ? std::max(std::ilogb(peak), -1022) : 0;
 }
 
+Window window_of(const std::string& name, const std::string& key) {
+  if (name == "hann") return Window::hann;
+  if (name == "rectangular" || name == "boxcar") return Window::rectangular;
+  throw InputError(key + " must be hann or rectangular, got '" + name + "'");
+}
+
+Detrend detrend_of(const std::string& name, const std::string& key) {
+  if (name == "constant") return Detrend::constant;
+  if (name == "linear") return Detrend::linear;
+  if (name == "none") return Detrend::none;
+  throw InputError(key + " must be constant, linear or none, got '" + name + "'");
+}
+
 Vector make_window(Window w, Index n) {
   if (n < 1) throw InputError("window length must be >= 1");
   Vector v(n);

@@ -147,8 +147,7 @@ ident::FrfEstimateOptions estimate_options(const FrfOptions& fo) {
     if (fo.estimator != "h1" && fo.estimator != "h2") throw InputError("--estimator must be h1 or h2, got '" + fo.estimator + "'");
     eo.h2 = fo.estimator == "h2";
     eo.welch.nperseg = fo.nperseg;
-    if (fo.window == "rectangular") eo.welch.window = signal::Window::rectangular;
-    else if (fo.window != "hann") throw InputError("--window must be hann or rectangular, got '" + fo.window + "'");
+    eo.welch.window = signal::window_of(fo.window, "--window");
   }
   eo.f_min_hz = fo.f_min;
   eo.f_max_hz = fo.f_max;
@@ -293,7 +292,7 @@ Command frf_command() {
         "method", value(f.method), "record: welch, stepped or swept")(
         "estimator", value(f.estimator), "welch: h1 or h2")(
         "nperseg", value(f.nperseg), "welch: samples per segment")(
-        "window", value(f.window), "welch: hann or rectangular (half-overlapping segments)")(
+        "window", value(f.window), "welch: hann or rectangular (boxcar: SciPy's name for it) (half-overlapping segments)")(
         "steps", optional_value(f.steps), "stepped: the schedule CSV (t_start_s,t_end_s,frequency_hz); default: detected from the force")(
         "settle-cycles", value(f.settle_cycles), "stepped: drive cycles discarded per step")(
         "settle-s", value(f.settle_s), "stepped: at least this long discarded [s]");

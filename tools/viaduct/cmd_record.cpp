@@ -43,11 +43,7 @@ std::string base_name(const io::Record& r, std::size_t c) {
   return r.channels[c].substr(0, r.channels[c].size() - r.units[c].size() - 1);
 }
 
-signal::Window window_option(const std::string& w) {
-  if (w == "hann") return signal::Window::hann;
-  if (w == "rectangular") return signal::Window::rectangular;
-  throw InputError("--window must be hann or rectangular, got '" + w + "'");
-}
+signal::Window window_option(const std::string& w) { return signal::window_of(w, "--window"); }
 
 // The selected channels of `in`, each transformed by `fn` (which may change the length), as a
 // record at rate fs_hz starting where `in` starts.
@@ -193,7 +189,7 @@ Command spectrum_command() {
     d.add_options()("welch", po::bool_switch(&s.welch), "Welch power spectral density instead of the amplitude spectrum")(
         "nperseg", value(s.nperseg), "Welch: samples per segment")(
         "noverlap", value(s.noverlap), "Welch: overlap in samples (-1: half a segment)")(
-        "window", value(s.window), "hann or rectangular")(
+        "window", value(s.window), "hann or rectangular (boxcar: SciPy's name for it)")(
         "detrend", value(s.detrend), "Welch: constant, linear or none");
     add_window_band_options(d, s.wb);
   };
@@ -220,11 +216,7 @@ Command spectrum_command() {
       wo.nperseg = s.nperseg;
       wo.noverlap = s.noverlap;
       wo.window = w;
-      const std::string& d = s.detrend;
-      if (d == "constant") wo.detrend = signal::Detrend::constant;
-      else if (d == "linear") wo.detrend = signal::Detrend::linear;
-      else if (d == "none") wo.detrend = signal::Detrend::none;
-      else throw InputError("--detrend must be constant, linear or none");
+      wo.detrend = signal::detrend_of(s.detrend, "--detrend");
       for (std::size_t ch : chans) {
         const signal::Psd p = signal::welch(in.data.col(static_cast<Index>(ch)), in.fs_hz, wo);
         f = p.frequency_hz;
@@ -261,7 +253,7 @@ Command peaks_command() {
   const auto declare = [](po::options_description& d, PeaksOptions& p) {
     add_channel_option(d, p.channels);
     d.add_options()("time", po::bool_switch(&p.time), "pick peaks of the time history (default: of the amplitude spectrum)")(
-        "window", value(p.window), "spectrum window: hann or rectangular")(
+        "window", value(p.window), "spectrum window: hann or rectangular (boxcar)")(
         "min-height", optional_value(p.min_height), "keep peaks at least this high (channel unit)")(
         "min-prominence", value(p.min_prominence), "keep peaks at least this prominent (SciPy's definition)")(
         "min-distance", value(p.min_distance), "between kept peaks: Hz (spectrum) or s (time)")(

@@ -34,6 +34,12 @@ Vector rfft_frequencies(Index n, double fs_hz);
 
 enum class Window { rectangular, hann };
 enum class Detrend { none, constant, linear };
+/// The window named `name`: "hann", "rectangular" (or SciPy's "boxcar"); InputError
+/// "<key> must be hann or rectangular, got '...'" otherwise. The CLI and the Python package read
+/// their window options through it.
+Window window_of(const std::string& name, const std::string& key = "window");
+/// The detrending named `name`: "constant", "linear" or "none"; InputError naming `key` otherwise.
+Detrend detrend_of(const std::string& name, const std::string& key = "detrend");
 
 /// Window of n points; hann is SciPy's periodic ("DFT-even") window used for spectral analysis.
 Vector make_window(Window w, Index n);

@@ -174,3 +174,16 @@ TEST_CASE("irfft inverts rfft and best_lag finds a known delay to a fraction of 
   REQUIRE(best_lag(y, xp, 500) == Approx(-123.4).margin(0.05));
   REQUIRE(best_lag(xp, y, 100) == Approx(100).margin(1e-9));     // clipped to the search range
 }
+
+// One reading of the window and detrend names for the CLI and the Python package (issue #37
+// item 3: Python took SciPy's "boxcar", the CLI refused it).
+TEST_CASE("window and detrend names: read once, the key named in the error") {
+  CHECK(window_of("hann") == Window::hann);
+  CHECK(window_of("rectangular") == Window::rectangular);
+  CHECK(window_of("boxcar") == Window::rectangular);
+  CHECK_THROWS_WITH(window_of("hamming", "--window"), "--window must be hann or rectangular, got 'hamming'");
+  CHECK(detrend_of("constant") == Detrend::constant);
+  CHECK(detrend_of("linear") == Detrend::linear);
+  CHECK(detrend_of("none") == Detrend::none);
+  CHECK_THROWS_WITH(detrend_of("quadratic"), "detrend must be constant, linear or none, got 'quadratic'");
+}
