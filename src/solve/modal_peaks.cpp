@@ -364,7 +364,10 @@ struct ComplexInput {
   const double* co = nullptr;    // per coordinate: Er, Ei, αr, αi, βr, βi
   const std::size_t* ch = nullptr;
   const unsigned char* pair = nullptr;
-  const double* rows = nullptr;  // per station and coordinate: Dr, Di, Lr, Li (= Re, Im of acc·λ), Ar, Ai
+  // Per output, per coordinate: the deflection's Dr, Di (disp_rows) and the acceleration's Lr, Li
+  // (= Re, Im of acc·λ), Ar, Ai (acc_rows): apart, so the deflections' sums read only theirs.
+  const double* disp_rows = nullptr;
+  const double* acc_rows = nullptr;
   const double *breaks = nullptr, *coef = nullptr;
   std::size_t n_pieces = 0;
   double x_start = 0.0, dt = 0.0;
@@ -384,10 +387,13 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
                                         double* mn_out, SumState& sums) {
   const std::size_t nk = in.nk, nch = in.nch, nc = in.nc, no = in.no, nr = in.flex ? no : 0;
   const lanes zero = {0.0, 0.0, 0.0, 0.0}, one = zero + 1.0;
-  std::vector<double> buf((2 * nk + nch + 4 * nc + 7 * no + 1) * W, 0.0);
+  std::vector<double> buf((6 * nk + 4 * nc + 7 * no + 1) * W, 0.0);
   lanes* at = align_lanes(buf.data());
-  lanes *yr = at, *yi = yr + nk, *pp = yi + nk, *f = pp + nch, *d1 = f + nc, *d2 = d1 + nc, *d3 = d2 + nc,
-        *c = d3 + nc, *dc = c + no, *ma = dc + no, *md = ma + no, *mn = md + no, *dj = mn + no, *aj = dj + no;
+  // y and each coordinate's input u = p[c] + i p[c+1] at the step's start (u0) and end (u1),
+  // gathered once a step from the load channels.
+  lanes *yr = at, *yi = yr + nk, *u0r = yi + nk, *u0i = u0r + nk, *u1r = u0i + nk, *u1i = u1r + nk, *f = u1i + nk,
+        *d1 = f + nc, *d2 = d1 + nc, *d3 = d2 + nc, *c = d3 + nc, *dc = c + no, *ma = dc + no, *md = ma + no, *mn = md + no,
+        *dj = mn + no, *aj = dj + no;
   lanes v = zero, n_steps = zero;
   lane_speeds(in, v, n_steps);
   LoadCursor cur;
@@ -400,35 +406,43 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
                   k <= min_steps, in.acc_idx, in.n_acc);
     if (in.n_sums) emit_sums(in.sums, in.n_sums, in.flex, dj, aj, f + nch, c, f + in.extra0, half_dt, k, live, sums);
   };
-  // The coordinates' outputs for the current y and the load channels u = f.
+  // Each coordinate's input from the load channels f, into (ur, ui).
+  auto gather = [&](lanes* ur, lanes* ui) {
+    for (std::size_t k = 0; k < nk; ++k) {
+      const std::size_t cc = in.ch[k];
+      ur[k] = f[cc];
+      ui[k] = in.pair[k] ? f[cc + 1] : zero;
+    }
+  };
+  // The coordinates' outputs for the current y and the inputs u1 (every output: the first sample).
   auto outputs = [&]() {
     for (std::size_t j = 0; j < no; ++j) dj[j] = aj[j] = zero;
     for (std::size_t k = 0; k < nk; ++k) {
-      const std::size_t cc = in.ch[k];
-      const lanes ur = f[cc], ui = in.pair[k] ? f[cc + 1] : zero, a = yr[k], b = yi[k];
+      const lanes a = yr[k], b = yi[k];
       for (std::size_t j = 0; j < no; ++j) {
-        const double* r = in.rows + 6 * (j * nk + k);
+        const double* r = in.disp_rows + 2 * (j * nk + k);
+        const double* q = in.acc_rows + 4 * (j * nk + k);
         dj[j] += r[0] * a - r[1] * b;
-        aj[j] += r[2] * a - r[3] * b + r[4] * ur - r[5] * ui;
+        aj[j] += q[0] * a - q[1] * b + q[2] * u1r[k] - q[3] * u1i[k];
       }
     }
   };
   cur.start(in.v, in.dt, in.x_start);
+  gather(u1r, u1i);
   outputs();
   emit(0);
   const lanes x_start = zero + in.x_start;
   for (Index step = 1; step <= in.n_max; ++step) {
     check_cancel(step);  // the Python package's Ctrl-C
-    for (std::size_t k = 0; k < nch; ++k) pp[k] = f[k];
+    std::swap(u0r, u1r);  // the last step's end is this step's start
+    std::swap(u0i, u1i);
     cur.advance(nc, nr, x_start + v * (static_cast<double>(step) * in.dt), in.acc_idx, in.n_acc);
+    gather(u1r, u1i);
     for (std::size_t k = 0; k < nk; ++k) {
       const double* e = in.co + 6 * k;
-      const std::size_t cc = in.ch[k];
-      const bool pr_ = in.pair[k] != 0;
-      const lanes u0r = pp[cc], u0i = pr_ ? pp[cc + 1] : zero, u1r = f[cc], u1i = pr_ ? f[cc + 1] : zero;
       const lanes a = yr[k], b = yi[k];
-      const lanes nr_ = e[0] * a - e[1] * b + e[2] * u0r - e[3] * u0i + e[4] * u1r - e[5] * u1i;
-      const lanes ni_ = e[0] * b + e[1] * a + e[2] * u0i + e[3] * u0r + e[4] * u1i + e[5] * u1r;
+      const lanes nr_ = e[0] * a - e[1] * b + e[2] * u0r[k] - e[3] * u0i[k] + e[4] * u1r[k] - e[5] * u1i[k];
+      const lanes ni_ = e[0] * b + e[1] * a + e[2] * u0i[k] + e[3] * u0r[k] + e[4] * u1i[k] + e[5] * u1r[k];
       yr[k] = nr_;
       yi[k] = ni_;
     }
@@ -436,21 +450,17 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
     // in the coordinates' order as before: the same sums. Accelerations of the outputs in acc_idx
     // only, when given (the others' are not read).
     for (std::size_t j = 0; j < no; ++j) {
-      const double* r = in.rows + 6 * j * nk;
+      const double* r = in.disp_rows + 2 * j * nk;
       lanes d = zero;
-      for (std::size_t k = 0; k < nk; ++k, r += 6) d += r[0] * yr[k] - r[1] * yi[k];
+      for (std::size_t k = 0; k < nk; ++k, r += 2) d += r[0] * yr[k] - r[1] * yi[k];
       dj[j] = d;
     }
     const std::size_t n_a = in.acc_idx ? in.n_acc : no;
     for (std::size_t n = 0; n < n_a; ++n) {
       const std::size_t j = in.acc_idx ? in.acc_idx[n] : n;
-      const double* r = in.rows + 6 * j * nk;
+      const double* q = in.acc_rows + 4 * j * nk;
       lanes acc = zero;
-      for (std::size_t k = 0; k < nk; ++k, r += 6) {
-        const std::size_t cc = in.ch[k];
-        const lanes u1r = f[cc], u1i = in.pair[k] ? f[cc + 1] : zero;
-        acc += r[2] * yr[k] - r[3] * yi[k] + r[4] * u1r - r[5] * u1i;
-      }
+      for (std::size_t k = 0; k < nk; ++k, q += 4) acc += q[0] * yr[k] - q[1] * yi[k] + q[2] * u1r[k] - q[3] * u1i[k];
       aj[j] = acc;
     }
     emit(step);
@@ -489,7 +499,7 @@ struct PeaksSetup {
   bool complex = false;
   std::vector<double> c8, two_zw, w2;  // classical
   KernelInput in;
-  std::vector<double> co, rows;        // complex
+  std::vector<double> co, disp_rows, acc_rows;  // complex
   std::vector<std::size_t> chan;
   std::vector<unsigned char> pair;
   ComplexInput ci;
@@ -535,13 +545,15 @@ void prepare_complex(const ModalReduction& r, const MovingChannels& L, double dt
     k.chan[c] = static_cast<std::size_t>(cf.channel[c]);
     k.pair[c] = cf.pair[c] ? 1 : 0;
   }
-  k.rows.resize(6 * no * nk);
+  k.disp_rows.resize(2 * no * nk);
+  k.acc_rows.resize(4 * no * nk);
   for (std::size_t j = 0; j < no; ++j)
     for (std::size_t c = 0; c < nk; ++c) {
       const auto jj = static_cast<Index>(j), kk = static_cast<Index>(c);
       const cd d = cf.disp(jj, kk), a = cf.acc(jj, kk), al = a * cf.lambda[c];
-      const double v6[6] = {d.real(), d.imag(), al.real(), al.imag(), a.real(), a.imag()};
-      std::copy(v6, v6 + 6, k.rows.begin() + static_cast<std::ptrdiff_t>(6 * (j * nk + c)));
+      const double d2[2] = {d.real(), d.imag()}, a4[4] = {al.real(), al.imag(), a.real(), a.imag()};
+      std::copy(d2, d2 + 2, k.disp_rows.begin() + static_cast<std::ptrdiff_t>(2 * (j * nk + c)));
+      std::copy(a4, a4 + 4, k.acc_rows.begin() + static_cast<std::ptrdiff_t>(4 * (j * nk + c)));
     }
   ComplexInput& ci = k.ci;
   ci.nk = nk;
@@ -552,7 +564,8 @@ void prepare_complex(const ModalReduction& r, const MovingChannels& L, double dt
   ci.co = k.co.data();
   ci.ch = k.chan.data();
   ci.pair = k.pair.data();
-  ci.rows = k.rows.data();
+  ci.disp_rows = k.disp_rows.data();
+  ci.acc_rows = k.acc_rows.data();
   ci.breaks = L.breaks.data();
   ci.coef = L.coef.data();
   ci.n_pieces = L.breaks.size() - 1;
