@@ -223,7 +223,8 @@ py::dict sampled_sweep(const viaduct::io::FlatScenario& flat, const std::string&
 py::tuple fatigue_mix(const viaduct::io::FlatScenario& flat, const std::string& mix_path, const std::string& channel,
                       std::optional<double> detail, std::optional<double> delta_c_mpa, double m1, double m2,
                       std::optional<double> section_modulus_m3, double youngs_modulus_pa, double gamma_ff, double gamma_mf,
-                      const std::string& method, double hysteresis_mpa, double range_bin_mpa, double mean_bin_mpa, int threads) {
+                      const std::string& method, double hysteresis_mpa, double range_bin_mpa, double mean_bin_mpa, int threads,
+                      const py::object& progress) {
   namespace study = viaduct::study;
   namespace io = viaduct::io;
   study::FatigueCount f;
@@ -245,9 +246,9 @@ py::tuple fatigue_mix(const viaduct::io::FlatScenario& flat, const std::string& 
         const std::size_t effect = study::fatigue_effect(pm, channel);
         const std::string& name = pm.effects[effect].name;
         const double to_pa = study::stress_per_unit(name, name.substr(name.rfind('_') + 1), youngs_modulus_pa, section_modulus_m3);
-        return study::traffic_damage(pm, sc.settings, effect, to_pa, mix, f, threads_of(threads));
+        return study::traffic_damage(pm, sc.settings, effect, to_pa, mix, f, threads_of(threads), call.sink());
       },
-      py::none(), call);
+      progress, call);
   py::dict info;
   info["title"] = mix.title;
   info["curve"] = f.curve.name;
@@ -441,7 +442,7 @@ void bind(py::module_& m) {
   m.def("fatigue_mix", &fatigue_mix, py::arg("flat"), py::arg("mix"), py::arg("channel"), py::arg("detail"), py::arg("delta_c_mpa"),
         py::arg("m1"), py::arg("m2"), py::arg("section_modulus_m3"), py::arg("youngs_modulus_pa"), py::arg("gamma_ff"),
         py::arg("gamma_mf"), py::arg("method"), py::arg("hysteresis_mpa"), py::arg("range_bin_mpa"), py::arg("mean_bin_mpa"),
-        py::arg("threads"));
+        py::arg("threads"), py::arg("progress") = py::none());
   m.def("passages", &passages, py::arg("flat"), py::arg("records"), py::arg("maps"), py::arg("train"), py::arg("v_min_kmh"),
         py::arg("v_max_kmh"), py::arg("speed_band"), py::arg("noise_band"), py::arg("zero"), py::arg("time_column"),
         py::arg("fs_hz"), py::arg("header_line"), py::arg("skip_lines"), py::arg("threads"), py::arg("progress"), py::arg("out"));

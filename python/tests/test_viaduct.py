@@ -547,7 +547,10 @@ def test_fatigue_mix_equals_the_cli(src, cli, tmp_path):
     sc = viaduct.load_scenario(src / "scenarios/hslm-simply-supported.toml")
     sc.set("analysis.method", "modal")
     mix = src / "data/trains/fatigue/mix-light.toml"
-    d = viaduct.fatigue_mix(sc, mix, "mid_moment", detail=71, section_modulus_m3=0.05, threads=2)
+    seen = []
+    d = viaduct.fatigue_mix(sc, mix, "mid_moment", detail=71, section_modulus_m3=0.05, threads=2,
+                            progress=lambda done, total: seen.append((done, total)))
+    assert seen and seen[-1] == (4, 4)  # the four trains, done
     run_cli(cli, "fatigue", src / "scenarios/hslm-simply-supported.toml", "--set", 'analysis.method="modal"', "--mix", mix,
             "--channel", "mid_moment", "--detail", 71, "--section-modulus-m3", 0.05, "-q", "--out", tmp_path / "m")
     for table, name in ((d, "damage.csv"), (d.attrs["cycles"], "cycles.csv")):

@@ -370,18 +370,20 @@ def miner_damage(ranges, counts, detail=None, delta_c_mpa=None, m1=3.0, m2=5.0, 
 
 def fatigue_mix(scenario, mix, channel, detail=None, delta_c_mpa=None, m1=3.0, m2=5.0, section_modulus_m3=None,
                 youngs_modulus_pa=210e9, gamma_ff=1.0, gamma_mf=1.0, method="three-point", hysteresis_mpa=0.0,
-                range_bin_mpa=1.0, mean_bin_mpa=5.0, threads=1):
+                range_bin_mpa=1.0, mean_bin_mpa=5.0, threads=1, progress=False):
     """Fatigue damage of a traffic mix over the scenario's model (`viaduct fatigue SCENARIO --mix`):
     each train of `mix` (a mix file, e.g. data/trains/fatigue/mix-standard.toml) runs at its speed,
     the `channel` load effect ("<station>_moment" over `section_modulus_m3`, or "<station>_strain"
     times `youngs_modulus_pa`) is counted against `detail` (an EN 1993-1-9 category) or a curve of
     your own (`delta_c_mpa`, `m1`, `m2`). Returns damage.csv's table (a row per train, the last
     "total"); ``attrs``: "cycles" (cycles.csv's table), title, curve, damage_per_year, years_to_d1,
-    n_failed. A train whose run failed is a UserWarning and is left out of the total."""
+    n_failed. A train whose run failed is a UserWarning and is left out of the total. ``progress``:
+    True prints to stderr, or a callable(done, total) of trains; Ctrl-C raises KeyboardInterrupt."""
     import warnings
+    cb = _progress_printer("fatigue_mix") if progress is True else (progress or None)
     damage, cycles, info = _viaduct.fatigue_mix(scenario._flat, str(mix), channel, detail, delta_c_mpa, m1, m2,
                                                 section_modulus_m3, youngs_modulus_pa, gamma_ff, gamma_mf, method,
-                                                hysteresis_mpa, range_bin_mpa, mean_bin_mpa, threads)
+                                                hysteresis_mpa, range_bin_mpa, mean_bin_mpa, threads, cb)
     for name, message in zip(damage["train"], damage["message"]):
         if message and name != "total":
             warnings.warn(f"fatigue_mix: {name} failed: {message}", stacklevel=2)

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 
 #include "viaduct/core/cancel.hpp"
 #include "viaduct/core/error.hpp"
@@ -148,11 +149,13 @@ std::size_t fatigue_effect(const PreparedModel& m, const std::string& channel) {
 }
 
 MixDamage traffic_damage(const PreparedModel& m, const RunSettings& settings, std::size_t effect, double to_pa,
-                         const TrafficMix& mix, const FatigueCount& f, int threads) {
+                         const TrafficMix& mix, const FatigueCount& f, int threads, const ProgressSink& progress) {
   if (effect >= m.effects.size()) throw InputError("traffic_damage: the model was prepared without that load effect");
   (void)MinerSum(f.curve, to_pa, f.gamma_ff, f.gamma_mf);  // the curve, unit and factors checked once, before any run
   MixDamage out;
   out.trains.resize(mix.trains.size());
+  std::mutex done_mutex;
+  std::size_t done = 0;
   parallel_for(mix.trains.size(), threads, [&](std::size_t i, int) {
     const MixTrain& t = mix.trains[i];
     TrainDamage& d = out.trains[i];
@@ -165,6 +168,10 @@ MixDamage traffic_damage(const PreparedModel& m, const RunSettings& settings, st
       d.per_year = d.passage->miner.damage * t.per_day * 365.0;
     } catch (const std::exception& e) {
       d.error = e.what();
+    }
+    if (progress) {
+      const std::lock_guard<std::mutex> lock(done_mutex);
+      progress(++done, mix.trains.size());
     }
   });
   if (cancel_requested()) throw Cancelled();  // the runs cut short are not failures of the model

@@ -134,7 +134,8 @@ int run_mix(const Common& o, const FatigueOptions& k, const study::FatigueCount&
   const std::size_t effect = study::fatigue_effect(pm, k.channels[0]);
   const std::string& name = pm.effects[effect].name;
   const double to_pa = unit_to_pa(name, name.substr(name.rfind('_') + 1), k);
-  const study::MixDamage d = study::traffic_damage(pm, sc.settings, effect, to_pa, mix, f, o.threads);
+  const study::MixDamage d =
+      study::traffic_damage(pm, sc.settings, effect, to_pa, mix, f, o.threads, progress_printer("fatigue", o.quiet, "trains"));
   io::Manifest man = start_manifest(o, "fatigue", {o.scenario, *k.mix});
   for (const study::TrainDamage& t : d.trains)
     if (!t.passage) man.warnings.push_back(t.name + " failed: " + t.error + " (the mix's damage lacks it)");

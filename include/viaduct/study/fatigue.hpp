@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "viaduct/core/log.hpp"
 #include "viaduct/core/types.hpp"
 #include "viaduct/load/train.hpp"
 #include "viaduct/signal/rainflow.hpp"
@@ -133,8 +134,8 @@ std::size_t fatigue_effect(const PreparedModel& m, const std::string& channel);
 /// load effect `effect` (an index into m.effects: prepare_model with load effects), times `to_pa`,
 /// counted and summed per passage and per year of 365 days. A train whose run fails is recorded
 /// with its message and left out of the sum (n_failed says so); a cancelled call (core/cancel.hpp)
-/// throws Cancelled. Trains run on `threads`.
+/// throws Cancelled. Trains run on `threads`; `progress` (may be empty) hears trains done of all.
 MixDamage traffic_damage(const PreparedModel& m, const RunSettings& settings, std::size_t effect, double to_pa,
-                         const TrafficMix& mix, const FatigueCount& f, int threads);
+                         const TrafficMix& mix, const FatigueCount& f, int threads, const ProgressSink& progress = {});
 
 }  // namespace viaduct::study
