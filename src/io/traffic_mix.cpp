@@ -56,13 +56,14 @@ study::TrafficMix read_traffic_mix(const std::string& path) {
     if (!t.is_table()) throw InputError(where(t, item), "must be a table (file, per_day, speed_kmh)");
     const SourceLocation at{path, parsed.line_of(t), item};
     for (const auto& [k, v] : t.as_table())
-      if (k != "file" && k != "per_day" && k != "speed_kmh") throw InputError(where(v, item + "." + k), "unknown key (file, per_day, speed_kmh)");
+      if (k != "file" && k != "per_day" && k != "speed_kmh" && k != "name")
+        throw InputError(where(v, item + "." + k), "unknown key (file, per_day, speed_kmh, name)");
     if (!t.contains("file") || !t.at("file").is_string()) throw InputError(SourceLocation{path, at.line, item + ".file"}, "required: the train file (relative to this file)");
     study::MixTrain mt;
     const std::string file = (fs::path(path).parent_path() / t.at("file").as_string().str).lexically_normal().string();
     if (!fs::exists(file)) throw InputError(where(t.at("file"), item + ".file"), "no train file " + file);
     mt.train = read_train_file(file);
-    mt.name = fs::path(file).stem().string();
+    mt.name = t.contains("name") && t.at("name").is_string() ? t.at("name").as_string().str : fs::path(file).stem().string();
     mt.per_day = mix_number(parsed, t, "per_day", SourceLocation{path, at.line, item + ".per_day"});
     if (!(mt.per_day >= 0.0) || !std::isfinite(mt.per_day))
       throw InputError(where(t.at("per_day"), item + ".per_day"), "violated constraint per_day >= 0 (passages a day)");
@@ -71,6 +72,20 @@ study::TrafficMix read_traffic_mix(const std::string& path) {
     mt.speed = kmh / 3.6;
     mix.trains.push_back(std::move(mt));
   }
+  // A train listed twice (one type at two speeds) is told apart by its speed in damage.csv; the
+  // same name at the same speed twice would be two rows no one can tell apart.
+  for (std::size_t i = 0; i < mix.trains.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (mix.trains[i].name == mix.trains[j].name && mix.trains[i].speed == mix.trains[j].speed)
+        throw InputError(where(trains[i], "trains[" + std::to_string(i) + "]"),
+                         "the same train (" + mix.trains[i].name + ") at the same speed as trains[" + std::to_string(j) +
+                             "]: add their passages a day together, or tell them apart with name = \"...\"");
+  std::vector<int> seen(mix.trains.size(), 0);
+  for (std::size_t i = 0; i < mix.trains.size(); ++i)
+    for (std::size_t j = 0; j < mix.trains.size(); ++j)
+      if (i != j && mix.trains[i].name == mix.trains[j].name) seen[i] = 1;
+  for (std::size_t i = 0; i < mix.trains.size(); ++i)
+    if (seen[i]) mix.trains[i].name += " at " + format_number(mix.trains[i].speed * 3.6, 6) + " km/h";
   return mix;
 }
 

@@ -10,8 +10,10 @@
 namespace viaduct::io {
 
 /// A traffic mix file (data/trains/fatigue/mix-*.toml): `title`, then [[trains]] tables of `file`
-/// (a train file, relative to the mix file), `per_day` (>= 0) and `speed_kmh` (> 0). InputError
-/// with file, line and key for a missing, unknown or invalid key or a train file that is not there.
+/// (a train file, relative to the mix file), `per_day` (>= 0), `speed_kmh` (> 0) and an optional
+/// `name` (default: the file's stem). A name listed more than once (one type at several speeds)
+/// gets " at <speed> km/h"; the same name at the same speed twice is refused. InputError with
+/// file, line and key for a missing, unknown or invalid key or a train file that is not there.
 study::TrafficMix read_traffic_mix(const std::string& path);
 
 /// damage.csv of a mix (`viaduct fatigue --mix`, `viaduct.fatigue_mix`): per train its name,

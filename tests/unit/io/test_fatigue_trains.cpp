@@ -93,5 +93,14 @@ TEST_CASE("a traffic mix file that is wrong says where: file, line and key") {
   CHECK_THROWS_WITH(io::read_traffic_mix(missing),
                     Catch::Contains("missing.toml:2") && Catch::Contains("trains[0].file") && Catch::Contains("type99.csv"));
   CHECK_THROWS_WITH(io::read_traffic_mix(dir.write("empty.toml", "title = \"nothing\"\n")), Catch::Contains("[[trains]]"));
+  // One type at two speeds: told apart by the speed; at one speed twice: refused; a name given.
+  const std::string two = "per_day = 3\nspeed_kmh = 100\n[[trains]]\nfile = \"" + train + "\"\nper_day = 1\nspeed_kmh = ";
+  const study::TrafficMix speeds = io::read_traffic_mix(mix_file("speeds", two + "120\n"));
+  REQUIRE(speeds.trains.size() == 2);
+  CHECK(speeds.trains[0].name == "type1 at 100 km/h");
+  CHECK(speeds.trains[1].name == "type1 at 120 km/h");
+  CHECK_THROWS_WITH(io::read_traffic_mix(mix_file("twice", two + "100\n")),
+                    Catch::Contains("twice.toml:6") && Catch::Contains("the same train (type1) at the same speed as trains[0]"));
+  CHECK(io::read_traffic_mix(mix_file("named", two + "100\nname = \"slow freight\"\n")).trains[1].name == "slow freight");
   CHECK_THROWS_WITH(io::read_traffic_mix((dir.p / "absent.toml").string()), Catch::Contains("not found"));
 }
