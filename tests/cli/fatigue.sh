@@ -74,6 +74,10 @@ expect 0 "" -- "$VIADUCT" run "${SPAN[@]}" --set 'train.files=["'"$SRC"'/data/tr
 expect 0 "" -- "$VIADUCT" fatigue "$WORK/t9/history.csv" --channel mid_moment --detail 71 --section-modulus-m3 0.01 --out "$WORK/f9" --quiet
 within "$(awk -F, -v d="$(cell "$WORK/f9/damage.csv" damage)" 'NR==1{for(i=1;i<=NF;i++) c[$i]=i; next} $1=="type9"{print $c["damage_per_passage"]/d}' \
   "$WORK/mix/damage.csv")" 0.9999 1.0001 "type 9's passage in the mix = fatigue on its own run"
+# A title with a quote and a line break (the user's text) leaves a manifest that reads.
+sed 's/^title = .*/title = "two \\"quoted\\"\\ntrains"/' "$WORK/mix.toml" > "$WORK/mix-title.toml"
+expect 0 "" -- "$VIADUCT" fatigue "${SPAN[@]}" --mix "$WORK/mix-title.toml" --channel mid_moment --section-modulus-m3 0.01 --detail 71 -q --out "$WORK/mixt"
+expect 0 'two "quoted"' -- /usr/bin/python3 -c 'import sys, tomllib; print(tomllib.load(open(sys.argv[1], "rb"))["run"]["mix"])' "$WORK/mixt/manifest.toml"
 sed 's/type10.csv/type13.csv/' "$WORK/mix.toml" > "$WORK/mix-bad.toml"
 expect 2 "mix-bad.toml:7: key 'trains[1].file': no train file" -- "$VIADUCT" fatigue "${SPAN[@]}" --mix "$WORK/mix-bad.toml" --channel mid_moment --detail 71 --section-modulus-m3 0.01 --out "$WORK/o"
 expect 2 "channel mid_shear: the scenario has no such load effect; fatigue takes mid_moment" -- "$VIADUCT" fatigue "${SPAN[@]}" \

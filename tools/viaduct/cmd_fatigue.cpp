@@ -111,14 +111,12 @@ int run_records(const Common& o, const FatigueOptions& k, const study::FatigueCo
   return ok;
 }
 
-// `s` as a TOML basic string (a mix's title is the user's text).
+// `s` as a TOML string, escaped as the scenario's strings are (a mix's title is the user's text).
 std::string toml_text(const std::string& s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out + "\"";
+  io::Value v;
+  v.type = io::ValueType::string;
+  v.s = s;
+  return v.to_toml();
 }
 
 // --mix: every train of the mix over the scenario's model at its speed, the station's stress
