@@ -164,6 +164,8 @@ MixDamage traffic_damage(const PreparedModel& m, const RunSettings& settings, st
     d.speed = t.speed;
     try {
       const RunResult r = simulate(m, t.train, t.speed, settings);
+      if (effect >= r.effects.size() || r.effects[effect].value.size() == 0)
+        throw SolverError("the run recorded no history of " + m.effects[effect].name);  // never an index past the end
       d.passage = count_history(r.effects[effect].value, to_pa, f);
       d.per_year = d.passage->miner.damage * t.per_day * 365.0;
     } catch (const std::exception& e) {
