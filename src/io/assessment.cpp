@@ -38,6 +38,7 @@ study::AssessConfig read_assess_config(const FlatScenario& flat, const std::stri
                        "viaduct assess needs this key (the line's maximum speed and the deck type of EN 1991-2 Table 6.6)");
   c.line_speed = flat.at("assess.line_speed_kmh").x / 3.6;
   c.deck = study::deck_type_of(flat.at("assess.deck_type").s);
+  c.edition = study::edition_of(flat.at("assess.edition").s);
   c.track = flat.at("assess.track").s;
   c.acc_limit = number_or(flat, "assess.acceleration_limit_mps2", c.track == "direct" ? 5.0 : 3.5);
   c.v_max = 1.2 * c.line_speed;
@@ -156,23 +157,24 @@ void plan_damping_and_cutoff(FlatScenario& flat, const study::AssessConfig& c, s
 
 // HSLM-A1…A10, HSLM-B for spans under 7 m (N and d from the keys), then the scenario's other trains.
 std::vector<load::Train> assessment_trains(const FlatScenario& flat, const study::Scenario& sc, study::AssessPlan& p) {
+  const study::Edition ed = p.config.edition;
   std::vector<load::Train> out;
   for (int i = 1; i <= 10; ++i) out.push_back(load::hslm_a("HSLM-A" + std::to_string(i), load::hslm_a_row(i)));
   double shortest = std::numeric_limits<double>::infinity();
   for (const auto& s : sc.bridge.spans) shortest = std::min(shortest, s.length);
   if (sc.bridge.continuous && shortest < 7.0)
-    p.notes.push_back("HSLM-B not run: EN 1991-2 6.4.6.1.1 asks for it on simply supported spans under 7 m; this deck is continuous "
+    p.notes.push_back("HSLM-B not run: " + study::cite(ed, study::Clause::hslm_b) + " asks for it on simply supported spans under 7 m; this deck is continuous "
                       "(HSLM-A1…A10 cover it)");
   if (!sc.bridge.continuous && shortest < 7.0) {
     if (!flat.has("assess.hslm_b_n") || !flat.has("assess.hslm_b_spacing_m"))
       throw InputError(assess_location(flat, flat.path, "assess.hslm_b_n"),
                        "a span of " + format_number(shortest, 4) +
-                           " m is under 7 m: EN 1991-2 6.4.6.1.1 asks for HSLM-B; give assess.hslm_b_n and "
-                           "assess.hslm_b_spacing_m read from Fig. E.4 for this span (viaduct does not carry the figure)");
+                           " m is under 7 m: " + study::cite(ed, study::Clause::hslm_b) + " asks for HSLM-B; give assess.hslm_b_n and "
+                           "assess.hslm_b_spacing_m read from the figure for this span (viaduct does not carry it)");
     const int n = static_cast<int>(flat.at("assess.hslm_b_n").x);
     out.push_back(load::regular_train("HSLM-B", n, flat.at("assess.hslm_b_spacing_m").x, 170e3));
     p.notes.push_back("HSLM-B: " + std::to_string(n) + " forces of 170 kN every " +
-                      format_number(flat.at("assess.hslm_b_spacing_m").x, 4) + " m (from the scenario, Fig. E.4)");
+                      format_number(flat.at("assess.hslm_b_spacing_m").x, 4) + " m (from the scenario, " + study::cite_brief(ed, study::Clause::hslm_b) + ")");
   }
   for (const auto& t : sc.trains) {
     const bool listed = std::any_of(out.begin(), out.end(), [&](const load::Train& x) { return x.name == t.name; });
@@ -209,8 +211,8 @@ std::vector<std::pair<std::string, double>> ballast_bounds(const study::AssessCo
     p.notes.push_back(nominal.track ? "ballast mass per metre taken from the track model's vibrating ballast: " + format_number(ballast, 6) +
                                           " kg/m, far below a real bed's (the bounds then move the mass by " +
                                           format_number(100 * (c.ballast_upper - c.ballast_lower) * ballast / nominal.bridge.spans.front().mass_per_m, 2) +
-                                          " %); give assess.ballast_width_m (and the bed's depth and densities) for EN 1991-2 "
-                                          "6.4.6.3.2's bounds"
+                                          " %); give assess.ballast_width_m (and the bed's depth and densities) for " +
+                                          study::cite(c.edition, study::Clause::mass) + "'s bounds"
                                     : "no ballast mass given (assess.ballast_mass_per_m or assess.ballast_width_m): one mass case, not bounded");
   }
   if (!(ballast > 0.0) || c.ballast_lower == c.ballast_upper) return {{"nominal", 0.0}};
@@ -245,6 +247,12 @@ void plan_variants(FlatScenario& flat, const study::AssessConfig& c, study::Asse
   study::Scenario sc = nominal;
   sc.trains = trains;
   p.warnings = study::scenario_warnings(sc, speeds);
+  if (c.edition != study::Edition::en2003)  // the warnings name the 2003 figure: cite the edition's
+    for (std::string& w : p.warnings)
+      for (const auto& [was, clause] : {std::pair<std::string, study::Clause>{"EN 1991-2 Fig. 6.10", study::Clause::frequency_limits},
+                                         {"Fig. 6.9)", study::Clause::flow_chart}})
+        if (const std::size_t at = w.find(was); at != std::string::npos)
+          w.replace(at, was.size(), study::cite(c.edition, clause) + (was.back() == ')' ? ")" : ""));
 }
 
 void write_checks_csv(const std::string& path, const std::vector<study::AssessCheck>& checks) {
@@ -351,7 +359,7 @@ void report_summary(std::ostringstream& o, const ReportInput& in) {
   if (!in.r.failures.empty() && !none_ran)
     o << " **" << in.r.failures.size() << " case(s) failed to run (failures.csv): the checks leave them out.**";
   if (open) o << " " << open << " row(s) are not checked or wait for their limit (below).";
-  if (dyn) o << " In " << dyn << " quantit" << (dyn > 1 ? "ies" : "y") << " the dynamic effect of the trains exceeds Φ × LM71: design with it (6.4.6.5(3)).";
+  if (dyn) o << " In " << dyn << " quantit" << (dyn > 1 ? "ies" : "y") << " the dynamic effect of the trains exceeds Φ × LM71: design with it (" << study::cite_brief(in.c.edition, study::Clause::design_effect) << ").";
   o << "\n\n";
   if (!in.p.warnings.empty()) {
     o << "**Warnings: read them before the numbers** (a unit slip or a model outside its validity gives a report that looks "
@@ -409,26 +417,27 @@ void report_inputs(std::ostringstream& o, const ReportInput& in) {
   const study::AssessPlan& p = in.p;
   std::size_t n_cases = in.r.summary.n_cases;
   o << "\n## Inputs of the check\n\n";
-  o << "- **Trains** (EN 1991-2 6.4.6.1.1, Annex E): HSLM-A1…A10";
+  const study::Edition ed = c.edition;
+  o << "- **Trains** (" << study::cite(ed, study::Clause::trains) << "): HSLM-A1…A10";
   for (const auto& t : p.real_trains) o << ", " << t;
   o << ". Axle loads × " << rfmt(in.nominal.settings.load_factor) << " (train.load_factor).\n";
-  o << "- **Speeds** (6.4.6.2): " << rfmt(c.v_min * 3.6) << " to " << rfmt(c.v_max * 3.6) << " km/h (1.2 × the line speed "
+  o << "- **Speeds** (" << study::cite_brief(ed, study::Clause::speeds) << "): " << rfmt(c.v_min * 3.6) << " to " << rfmt(c.v_max * 3.6) << " km/h (1.2 × the line speed "
     << rfmt(c.line_speed * 3.6) << " km/h) every " << rfmt(c.step * 3.6) << " km/h, refined to " << rfmt(c.fine_step * 3.6)
     << " km/h within ±" << rfmt(100 * c.band) << " % of each resonance speed f·d/j (j ≤ " << c.harmonics
     << ", f each deck bending frequency below the cut-off, d the train's characteristic distance): " << n_cases << " cases.\n";
   if (p.zeta_given)
-    o << "- **Damping**: ζ = " << rfmt(100 * p.zeta) << " % (assess.damping_ratio, instead of Table 6.6).\n";
+    o << "- **Damping**: ζ = " << rfmt(100 * p.zeta) << " % (assess.damping_ratio, instead of " << study::cite_brief(ed, study::Clause::damping) << ").\n";
   else
-    o << "- **Damping** (Table 6.6, " << study::deck_type_name(c.deck) << ", L = " << rfmt(p.span_for_damping) << " m, the longest span): "
-      << rfmt(100 * p.zeta_table) << " %" << (p.zeta_extra > 0 ? " + Δζ = " + rfmt(100 * p.zeta_extra) + " % (Fig. 6.8, Eq. 6.13: interaction not modelled)" : "")
+    o << "- **Damping** (" << study::cite_brief(ed, study::Clause::damping) << ", " << study::deck_type_name(c.deck) << ", L = " << rfmt(p.span_for_damping) << " m, the longest span): "
+      << rfmt(100 * p.zeta_table) << " %" << (p.zeta_extra > 0 ? " + Δζ = " + rfmt(100 * p.zeta_extra) + " % (" + study::cite_brief(ed, study::Clause::interaction_damping) + ": interaction not modelled)" : "")
       << " = **" << rfmt(100 * p.zeta) << " %** in every deck mode.\n";
-  o << "- **Mass** (6.4.6.3.2):";
+  o << "- **Mass** (" << study::cite_brief(ed, study::Clause::mass) << "):";
   for (const auto& v : p.variants) o << " " << v.label << " " << rfmt(v.scenario.bridge.spans.front().mass_per_m, 6) << " kg/m;";
   if (p.ballast_upper > 0.0)
     o << " ballast " << rfmt(p.ballast_lower, 5) << " kg/m (lower) and " << rfmt(p.ballast_upper, 5) << " kg/m (upper), "
       << p.ballast_basis << ";";
   o << " the lower bound governs accelerations, the upper bound the lowest resonance speeds.\n";
-  o << "- **Frequencies** (EN 1990 A2.4.4.2.1(4)): f1 = " << rfmt(p.f1) << " Hz (the structure); f3 = " << rfmt(p.f3)
+  o << "- **Frequencies** (" << study::cite(ed, study::Clause::cut_off) << "): f1 = " << rfmt(p.f1) << " Hz (the structure); f3 = " << rfmt(p.f3)
     << " Hz, the third bending mode of the member (" << (p.f3_span ? "span " + std::to_string(p.f3_span) + " modelled alone on its bearings with its track" : std::string("the continuous deck"))
     << "): cut-off max(30, 1.5 f1, f3) = **" << rfmt(p.f_cut) << " Hz**, applied as a Chebyshev I low-pass to accelerations.";
   if (p.members.size() > 1) {
@@ -441,12 +450,12 @@ void report_inputs(std::ostringstream& o, const ReportInput& in) {
     << rfmt(c.deflection_ratio) << "; end rotation " << rfmt(c.rotation_limit * 1e3) << " mrad; LM71 α = " << rfmt(c.alpha) << ", "
     << (c.careful ? "Φ2 (careful maintenance)" : "Φ3 (standard maintenance)") << " with Lφ = "
     << (c.determinant_length ? rfmt(*c.determinant_length) + " m (assess.determinant_length_m)"
-        : in.nominal.bridge.continuous ? rfmt(study::assessment_determinant_length("", in.nominal, c)) + " m (Table 6.2, continuous over n spans: to confirm)"
-                                       : std::string("each quantity's span length (Table 6.2)"))
+        : in.nominal.bridge.continuous ? rfmt(study::assessment_determinant_length("", in.nominal, c)) + " m (" + study::cite_brief(ed, study::Clause::determinant_length) + ", continuous over n spans: to confirm)"
+                                       : "each quantity's span length (" + study::cite_brief(ed, study::Clause::determinant_length) + ")")
     << ".\n";
   if (in.nominal.settings.vehicle.model != study::VehicleModel::forces)
     o << "- **Vehicle limits**: car-body vertical acceleration b_v " << rfmt(c.comfort_limit) << " m/s² (comfort level "
-      << c.comfort_level << ", EN 1990 A2.4.4.3.1 Table A2.9: to confirm; assess.comfort_limit_mps2 overrides); wheel unloading "
+      << c.comfort_level << ", " << study::cite(ed, study::Clause::comfort_acceleration) << ": to confirm; assess.comfort_limit_mps2 overrides); wheel unloading "
       << "(P0 − Pmin)/P0 below " << rfmt(c.unloading_limit)
       << (c.unloading_limit < 1.0 ? " (assess.unloading_ratio_limit)" : " (every wheel keeps contact with the rail)") << ".\n";
   o << "- **Model and method**: " << in.nominal.bridge.spans.size() << (in.nominal.bridge.continuous ? " span(s) of one continuous deck, " : " span(s), ")
@@ -482,7 +491,9 @@ void report_model(std::ostringstream& o, const ReportInput& in) {
     o << "- **Track**: not modelled (the axle loads act on the deck).\n";
   }
   o << "- **Damping**: ζ = " << rfmt(100 * in.p.zeta) << " % in every deck mode ("
-    << (in.p.zeta_given ? std::string("assess.damping_ratio") : "EN 1991-2 Table 6.6" + std::string(in.p.zeta_extra > 0 ? " + Eq. 6.13" : ""))
+    << (in.p.zeta_given ? std::string("assess.damping_ratio")
+                        : study::cite(in.c.edition, study::Clause::damping) +
+                              (in.p.zeta_extra > 0 ? " + " + study::cite_brief(in.c.edition, study::Clause::interaction_damping) : std::string()))
     << ")" << (sc.track ? "; the track's dashpots besides" : "") << ".\n";
   const double lf = sc.settings.load_factor;
   o << "- **Convention**: "
@@ -502,7 +513,7 @@ void report_modes(std::ostringstream& o, const ReportInput& in) {
       << d.bending.order << " | " << rfmt(d.deck_share, 3) << " | " << (d.frequency_hz <= in.p.f_cut ? "yes" : "no") << " |\n";
   }
   const std::vector<study::ResonanceSpeed> rs = study::resonance_speeds(in.p);
-  o << "\nResonance speeds v = f·d/j (6.4.6.2) within " << rfmt(in.c.v_min * 3.6) << "–" << rfmt(in.c.v_max * 3.6)
+  o << "\nResonance speeds v = f·d/j (" << study::cite_brief(in.c.edition, study::Clause::speeds) << ") within " << rfmt(in.c.v_min * 3.6) << "–" << rfmt(in.c.v_max * 3.6)
     << " km/h, d the train's characteristic distance, j ≤ " << in.c.harmonics << " (mode: j):\n\n| train | d [m] | speeds [km/h] |\n|---|---:|---|\n";
   for (std::size_t i = 0; i < rs.size();) {
     std::size_t j = i;
@@ -518,9 +529,10 @@ void report_modes(std::ostringstream& o, const ReportInput& in) {
 // EN 1991-2 Fig. 6.9 answered for the bridge, with Fig. 6.10's limits per member.
 void report_flow(std::ostringstream& o, const ReportInput& in) {
   const study::DynamicAnalysisNeed d = study::dynamic_analysis_need(in.p, in.nominal);
-  o << "\n## Is a dynamic analysis required? (EN 1991-2 6.4.4, Fig. 6.9; to confirm against the text)\n\n";
+  const study::Edition ed = in.c.edition;
+  o << "\n## Is a dynamic analysis required? (" << study::cite(ed, study::Clause::flow_chart) << "; to confirm against the text)\n\n";
   for (const auto& s : d.steps) o << "1. " << s.question << " — " << s.answer << "\n";
-  o << "\n**" << d.conclusion << ".**\n\nFig. 6.10's limits of the first natural frequency n0 (6.4.4):\n\n"
+  o << "\n**" << d.conclusion << ".**\n\nThe limits of the first natural frequency n0 (" << study::cite(ed, study::Clause::frequency_limits) << "):\n\n"
        "| member | L [m] | n0 [Hz] | lower [Hz] | upper [Hz] | within |\n|---|---:|---:|---:|---:|---|\n";
   for (const auto& m : d.members)
     o << "| " << (m.span ? "span " + std::to_string(m.span) : std::string("deck (L = Lφ, to confirm)")) << " | " << rfmt(m.length) << " | " << rfmt(m.f1)
@@ -529,7 +541,7 @@ void report_flow(std::ostringstream& o, const ReportInput& in) {
 }
 
 void report_details(std::ostringstream& o, const ReportInput& in) {
-  o << "\n## Deck acceleration per train (A2.4.4.2.1(4))\n\n| train | max acc. [m/s²] | station | speed [km/h] | mass |\n|---|---:|---|---:|---|\n";
+  o << "\n## Deck acceleration per train (" << study::cite_brief(in.c.edition, study::Clause::deck_acceleration) << ")\n\n| train | max acc. [m/s²] | station | speed [km/h] | mass |\n|---|---:|---|---:|---|\n";
   std::map<std::string, const study::EnvelopeRow*> worst;
   std::vector<std::string> order;
   for (const auto& row : in.r.rows) {
@@ -541,7 +553,7 @@ void report_details(std::ostringstream& o, const ReportInput& in) {
     o << "| " << t << " | " << rfmt(worst[t]->max_abs_acc) << " | " << worst[t]->station << " | " << rfmt(worst[t]->speed * 3.6)
       << " | " << worst[t]->variant << " |\n";
   if (in.figures) o << "\n![Envelope over trains and masses, the governing train at each peak](envelope.png)\n";
-  o << "\n## Dynamic increments φ′dyn (6.4.6.5)\n\nThe largest over trains, speeds and masses, per quantity "
+  o << "\n## Dynamic increments φ′dyn (" << study::cite_brief(in.c.edition, study::Clause::increments) << ")\n\nThe largest over trains, speeds and masses, per quantity "
        "(every train in phi_dyn.csv):\n\n| quantity | φ′dyn | train | speed [km/h] | mass | max dynamic | max quasi-static |\n|---|---:|---|---:|---|---:|---:|\n";
   std::map<std::string, const study::AssessIncrement*> top;
   std::vector<std::string> qs;
@@ -559,10 +571,38 @@ void report_details(std::ostringstream& o, const ReportInput& in) {
          "(stations[].every_m)](load_effects_along.png)\n";
 }
 
+// Edition 2023: the values the check takes are the 2003 edition's; each one the 2023 text may
+// revise is a key, listed with the value taken and where the 2023 text has it.
+void report_edition_values(std::ostringstream& o, const ReportInput& in) {
+  const study::AssessConfig& c = in.c;
+  if (c.edition != study::Edition::en2023) return;
+  using study::Clause;
+  const auto cite = [](Clause k) { return study::cite(study::Edition::en2023, k); };
+  o << "\n## Values under EN 1991-2:2023\n\nThe clauses above are the 2023 edition's where viaduct knows them (HSLM-A: Fig. 8.12 "
+       "and Table 8.4; the determinant length: Table 8.2); the others name the 2003 clause, to confirm against the 2023 text. "
+       "The values are the 2003 edition's: where the 2023 text revises one, give its value in the key.\n\n"
+       "| value | taken | key | 2023 clause |\n|---|---|---|---|\n";
+  const study::AssessPlan& p = in.p;
+  o << "| damping ratio | " << rfmt(100 * p.zeta) << " %" << (p.zeta_given ? " (the key's)" : " [2003: Table 6.6" + std::string(p.zeta_extra > 0 ? " + Eq. 6.13]" : "]"))
+    << " | assess.damping_ratio | " << cite(Clause::damping) << " |\n";
+  o << "| deck acceleration limit | " << rfmt(c.acc_limit) << " m/s² | assess.acceleration_limit_mps2 | " << cite(Clause::deck_acceleration) << " |\n";
+  o << "| vertical deflection limit | span/" << rfmt(c.deflection_ratio) << " | assess.deflection_limit_ratio | " << cite(Clause::deformation) << " |\n";
+  o << "| deck end rotation limit | " << rfmt(c.rotation_limit * 1e3) << " mrad | assess.end_rotation_limit_rad | " << cite(Clause::deformation) << " |\n";
+  o << "| determinant length Lφ | " << (c.determinant_length ? rfmt(*c.determinant_length) + " m (the key's)" : std::string("as in the limits above [2003: Table 6.2]"))
+    << " | assess.determinant_length_m | " << cite(Clause::determinant_length) << " |\n";
+  o << "| mass bounds (ballast) | lower × " << rfmt(c.ballast_lower) << ", upper × " << rfmt(c.ballast_upper)
+    << (c.ballast_width ? " (the bed's densities and depth)" : "") << " | assess.ballast_* | " << cite(Clause::mass) << " |\n";
+  o << "| car-body acceleration b_v | " << rfmt(c.comfort_limit) << " m/s² | assess.comfort_limit_mps2 | " << cite(Clause::comfort_acceleration) << " |\n";
+  o << "| comfort by deck deflection L/δ | " << (c.comfort_deflection_ratio ? rfmt(*c.comfort_deflection_ratio) : std::string("not given"))
+    << " | assess.comfort_deflection_ratio | " << cite(Clause::comfort_deflection) << " |\n";
+  o << "| speeds | to 1.2 × the line speed | assess.line_speed_kmh | " << cite(Clause::speeds) << " |\n";
+}
+
 void report_notes(std::ostringstream& o, const ReportInput& in) {
+  report_edition_values(o, in);
   o << "\n## Notes and items to confirm\n\n";
   for (const auto& n : in.p.notes) o << "- " << n << "\n";
-  o << "- To confirm against the text of the standard: φ″ (Annex C) in the design effect; the deflection and end-rotation "
+  o << "- To confirm against the text of the standard: φ″ (" << study::cite_brief(in.c.edition, study::Clause::irregularities) << ") in the design effect; the deflection and end-rotation "
        "limits (given by assess.deflection_limit_ratio and assess.end_rotation_limit_rad).\n";
   if (in.nominal.settings.vehicle.model == study::VehicleModel::forces)
     o << "- Passenger comfort and wheel unloading are checked with vehicle models only (train.vehicle = \"sprung\" or "
@@ -573,7 +613,7 @@ void report_notes(std::ostringstream& o, const ReportInput& in) {
       << (in.nominal.settings.vehicle.comfort_lowpass_hz > 0.0
               ? "low-passed at " + rfmt(in.nominal.settings.vehicle.comfort_lowpass_hz) + " Hz (train.comfort_lowpass_hz)"
               : std::string("unfiltered (train.comfort_lowpass_hz sets a low-pass)"))
-      << ". To confirm: the comfort limits of Table A2.9.\n";
+      << ". To confirm: the comfort limits of " << study::cite_brief(in.c.edition, study::Clause::comfort_acceleration) << ".\n";
   if (!in.r.failures.empty()) o << "- **" << in.r.failures.size() << " case(s) failed** (failures.csv): the checks above leave them out.\n";
   o << "\n## Provenance\n\nScenario `" << in.flat.path << "`; " << version() << " (commit " << git_commit() << "); command `"
     << in.command_line << "`. Tables: checks.csv, envelope.csv, load_effects.csv, phi_dyn.csv, mass_cases.csv, governing.csv, failures.csv"
@@ -608,7 +648,7 @@ void report_layout(std::ostringstream& o, const study::LayoutSensitivity& ls, co
 
 std::string report_text(const ReportInput& in) {
   std::ostringstream o;
-  o << "# Dynamic assessment (EN 1991-2 6.4, EN 1990 A2): " << (in.nominal.title.empty() ? in.flat.path : in.nominal.title) << "\n\n";
+  o << "# Dynamic assessment (" << (in.c.edition == study::Edition::en2023 ? "EN 1991-2:2023 Section 8, EN 1990:2023 Annex A.2" : "EN 1991-2 6.4, EN 1990 A2") << "): " << (in.nominal.title.empty() ? in.flat.path : in.nominal.title) << "\n\n";
   report_summary(o, in);
   report_inputs(o, in);
   report_model(o, in);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "viaduct/core/error.hpp"
 #include "viaduct/model/modes.hpp"
@@ -28,6 +29,82 @@ const char* deck_type_name(DeckType t) {
   }
   return "?";
 }
+
+Edition edition_of(const std::string& name) {
+  if (name == "2003") return Edition::en2003;
+  if (name == "2023") return Edition::en2023;
+  throw InputError("edition '" + name + "' is not one viaduct cites: 2003 (EN 1991-2:2003, EN 1990 Annex A2) or 2023 (EN 1991-2:2023)");
+}
+
+const char* edition_name(Edition e) { return e == Edition::en2023 ? "2023" : "2003"; }
+
+namespace {
+
+// Each clause: the 2003 reference in full (EN 1991-2:2003, or EN 1990:2002/A1:2005 Annex A2) and
+// as a sentence cites it, and the 2023 ones where they are known; empty: the 2023 text places it
+// in Section 8 (EN 1991-2) or Annex A.2 (EN 1990) at a clause to confirm.
+struct ClauseRef {
+  Clause clause;
+  const char *full2003, *brief2003, *full2023, *brief2023;
+};
+
+const ClauseRef kClauses[] = {
+    {Clause::trains, "EN 1991-2 6.4.6.1.1, Annex E", "6.4.6.1.1, Annex E",
+     "EN 1991-2:2023 Section 8, Fig. 8.12 and Table 8.4 (HSLM-A)", "Fig. 8.12, Table 8.4"},
+    {Clause::hslm_b, "EN 1991-2 6.4.6.1.1, Fig. E.4", "Fig. E.4", "", ""},
+    {Clause::speeds, "EN 1991-2 6.4.6.2", "6.4.6.2", "", ""},
+    {Clause::dynamic_analysis, "EN 1991-2 6.4.6", "6.4.6", "", ""},
+    {Clause::damping, "EN 1991-2 Table 6.6", "Table 6.6", "", ""},
+    {Clause::interaction_damping, "EN 1991-2 Fig. 6.8, Eq. 6.13", "Fig. 6.8, Eq. 6.13", "", ""},
+    {Clause::mass, "EN 1991-2 6.4.6.3.2", "6.4.6.3.2", "", ""},
+    {Clause::lm71, "EN 1991-2 6.3.2", "6.3.2", "", ""},
+    {Clause::dynamic_factor, "EN 1991-2 6.4.5.2", "6.4.5.2", "", ""},
+    {Clause::determinant_length, "EN 1991-2 6.4.5.3, Table 6.2", "Table 6.2", "EN 1991-2:2023 Section 8, Table 8.2", "Table 8.2"},
+    {Clause::irregularities, "EN 1991-2 Annex C", "Annex C", "", ""},
+    {Clause::flow_chart, "EN 1991-2 6.4.4, Fig. 6.9", "6.4.4", "", ""},
+    {Clause::frequency_limits, "EN 1991-2 6.4.4, Fig. 6.10", "Fig. 6.10", "", ""},
+    {Clause::speed_frequency_ratio, "EN 1991-2 Annex F", "Annex F", "", ""},
+    {Clause::increments, "EN 1991-2 6.4.6.5", "6.4.6.5", "", ""},
+    {Clause::design_effect, "EN 1991-2 6.4.6.5(3)", "6.4.6.5(3)", "", ""},
+    {Clause::deck_acceleration, "EN 1990 A2.4.4.2.1(4)", "A2.4.4.2.1(4)", "", ""},
+    {Clause::cut_off, "EN 1990 A2.4.4.2.1(4)", "A2.4.4.2.1(4)", "", ""},
+    {Clause::deformation, "EN 1990 A2.4.4.2.3", "A2.4.4.2.3", "", ""},
+    {Clause::comfort_acceleration, "EN 1990 A2.4.4.3.1, Table A2.9", "Table A2.9", "", ""},
+    {Clause::comfort_deflection, "EN 1990 A2.4.4.3.2, Fig. A2.3", "Fig. A2.3", "", ""},
+    {Clause::twist, "EN 1990 A2.4.4.2.2, Table A2.7", "Table A2.7", "", ""},
+    {Clause::lateral, "EN 1990 A2.4.4.2.4(3)", "A2.4.4.2.4(3)", "", ""},
+};
+
+const ClauseRef& clause_ref(Clause c) {
+  for (const ClauseRef& r : kClauses)
+    if (r.clause == c) return r;
+  throw std::logic_error("a clause without its reference");  // every enumerator is in kClauses (test)
+}
+
+// 2023 without a known clause: the document's part that holds it, the 2003 clause, to confirm.
+std::string unknown_2023(const ClauseRef& r, const std::string& was) {
+  const bool en1990 = std::string(r.full2003).rfind("EN 1990 ", 0) == 0;
+  return std::string(en1990 ? "EN 1990:2023 Annex A.2 [2002/A1: " : "EN 1991-2:2023 Section 8 [2003: ") + was + "; to confirm]";
+}
+
+}  // namespace
+
+std::string cite(Edition e, Clause c) {
+  const ClauseRef& r = clause_ref(c);
+  if (e == Edition::en2003) return r.full2003;
+  if (*r.full2023) return r.full2023;
+  const std::string full = r.full2003;
+  return unknown_2023(r, full.substr(full.find(' ', full.find(' ') + 1) + 1));  // the clause past "EN 199x(-2) "
+}
+
+std::string cite_brief(Edition e, Clause c) {
+  const ClauseRef& r = clause_ref(c);
+  if (e == Edition::en2003) return r.brief2003;
+  if (*r.brief2023) return r.brief2023;
+  return unknown_2023(r, r.brief2003);
+}
+
+bool clause_known(Edition e, Clause c) { return e == Edition::en2003 || *clause_ref(c).full2023; }
 
 double damping_lower_bound(DeckType t, double L) {
   require_positive(L, "span length [m]");

@@ -70,8 +70,13 @@ namespace {
 
 std::string flow_num(double x, int sig = 4) { return format_number(x, sig); }
 
+// A clause whose value is to confirm: "(to confirm)" after a known clause (a 2023 one not known
+// says so in its reference already).
+std::string cite_to_confirm(Edition e, Clause c) { return cite(e, c) + (clause_known(e, c) ? " (to confirm)" : ""); }
+
 // The boxes of Fig. 6.9 after "V <= 200 km/h? yes" for a chain of simply supported spans.
-void simple_spans_flow(DynamicAnalysisNeed& d, const Scenario& sc) {
+void simple_spans_flow(DynamicAnalysisNeed& d, const Scenario& sc, Edition ed) {
+  const std::string fig = cite_brief(ed, Clause::frequency_limits);
   auto ask = [&](const std::string& q, const std::string& a) { d.steps.push_back({q, a}); };
   ask("Simple structure (note 1)?", "taken as yes: simply supported beams (skew and the bearings' flexibility to confirm)");
   std::string shorter;
@@ -94,16 +99,17 @@ void simple_spans_flow(DynamicAnalysisNeed& d, const Scenario& sc) {
                                                                    " Hz outside [" + flow_num(m.lower) + ", " + flow_num(m.upper) + "] Hz");
   }
   if (!outside.empty()) {
-    ask("n0 within the limits of Fig. 6.10?", "no: " + outside);
+    ask("n0 within the limits of " + fig + "?", "no: " + outside);
     d.required = true;
-    d.conclusion = "a dynamic analysis is required (6.4.4: n0 outside the limits of Fig. 6.10)";
+    d.conclusion = "a dynamic analysis is required (" + cite_brief(ed, Clause::flow_chart) + ": n0 outside the limits of " + fig + ")";
     return;
   }
-  ask("n0 within the limits of Fig. 6.10?", "yes: " + inside);
+  ask("n0 within the limits of " + fig + "?", "yes: " + inside);
   ask("n_T > 1.2 n0 (first torsional frequency, note 4)?", "not answered: a 2D model has no torsion");
-  ask("v/n0 <= (v/n0)lim (Annex F, notes 2 and 3)?", "not answered: Annex F's tables are not carried");
+  const std::string annex_f = cite_brief(ed, Clause::speed_frequency_ratio);
+  ask("v/n0 <= (v/n0)lim (" + annex_f + ", notes 2 and 3)?", "not answered: the tables of " + annex_f + " are not carried");
   d.required = true;
-  d.conclusion = "not decided: the chart's torsion and Annex F boxes are beyond a 2D model; the dynamic analysis below answers "
+  d.conclusion = "not decided: the chart's torsion and " + annex_f + " boxes are beyond a 2D model; the dynamic analysis below answers "
                  "for them";
 }
 
@@ -127,7 +133,7 @@ DynamicAnalysisNeed dynamic_analysis_need(const AssessPlan& p, const Scenario& s
   if (v > 200.0) {
     d.steps.push_back({"V <= 200 km/h?", "no: the line speed is " + flow_num(v) + " km/h"});
     d.required = true;
-    d.conclusion = "a dynamic analysis is required (6.4.6): the line speed exceeds 200 km/h";
+    d.conclusion = "a dynamic analysis is required (" + cite_brief(p.config.edition, Clause::dynamic_analysis) + "): the line speed exceeds 200 km/h";
     return d;
   }
   d.steps.push_back({"V <= 200 km/h?", "yes: the line speed is " + flow_num(v) + " km/h"});
@@ -139,7 +145,7 @@ DynamicAnalysisNeed dynamic_analysis_need(const AssessPlan& p, const Scenario& s
     return d;
   }
   d.steps.push_back({"Continuous bridge (note 5)?", "no: " + std::to_string(sc.bridge.spans.size()) + " simply supported span(s)"});
-  simple_spans_flow(d, sc);
+  simple_spans_flow(d, sc, p.config.edition);
   return d;
 }
 
@@ -248,7 +254,7 @@ void quantity_checks(std::size_t q, const Statics& st, const std::vector<AssessI
   const double lm = Phi * st.lm71[q].max_abs();
   // (1 + φ′dyn + φ″/2) × the train's static effect, the worst train and mass (6.4.6.5(3)).
   AssessCheck d{"dynamic design effect vs LM71", name, 0.0, lm, "", "", "", std::numeric_limits<double>::quiet_NaN(),
-          "EN 1991-2 6.4.6.5(3)"};
+          cite(c.edition, Clause::design_effect)};
   const AssessIncrement* dyn_max = nullptr;
   for (const auto& i : inc) {
     if (i.quantity != name) continue;
@@ -266,7 +272,7 @@ void quantity_checks(std::size_t q, const Statics& st, const std::vector<AssessI
   if (disp || rot) {
     const double limit = disp ? L / c.deflection_ratio : c.rotation_limit;
     const std::string what = disp ? "vertical deflection" : "deck end rotation";
-    const std::string clause = "EN 1990 A2.4.4.2.3 (limit to confirm)";
+    const std::string clause = cite(c.edition, Clause::deformation) + " (limit to confirm)";
     AssessCheck dy{what + ", trains (dynamic)", name, dyn_max->dynamic, limit, "", dyn_max->variant, dyn_max->train, dyn_max->speed, clause};
     AssessCheck sl{what + ", LM71 x Phi", name, lm, limit, "", "", "LM71", std::numeric_limits<double>::quiet_NaN(), clause};
     for (AssessCheck* k : {&dy, &sl}) {
@@ -298,7 +304,7 @@ void vehicle_checks(const SweepResult& r, const AssessConfig& c, std::vector<Ass
   }
   if (!body) return;
   AssessCheck b{"passenger comfort (car body)", body->peaks.floor_body + "_floor_acc_mps2", body->peaks.max_floor_acc, c.comfort_limit, "",
-          body->variant, body->train, body->speed, "EN 1990 A2.4.4.3.1, Table A2.9 " + c.comfort_level + " (to confirm)"};
+          body->variant, body->train, body->speed, cite(c.edition, Clause::comfort_acceleration) + " " + c.comfort_level + (clause_known(c.edition, Clause::comfort_acceleration) ? " (to confirm)" : "")};
   b.verdict = b.value <= b.limit ? "pass" : "FAIL";
   out.push_back(b);
   AssessCheck u{"wheel unloading (P0 - Pmin)/P0", "unloading_ratio", unload->peaks.max_unloading_ratio, c.unloading_limit, "",
@@ -319,7 +325,7 @@ void comfort_deflection_checks(const Statics& st, const Scenario& sc, const Asse
   for (std::size_t k = 0; k < n; ++k) {
     const double L = sc.bridge.spans[k].length;
     AssessCheck a{"passenger comfort, deck deflection", "", -1.0, std::numeric_limits<double>::quiet_NaN(), "", "", "LM71 x Phi, alpha = 1",
-                  std::numeric_limits<double>::quiet_NaN(), "EN 1990 A2.4.4.3.2, Fig. A2.3 (to confirm)"};
+                  std::numeric_limits<double>::quiet_NaN(), cite_to_confirm(c.edition, Clause::comfort_deflection)};
     for (std::size_t q = 0; q < st.il.names.size(); ++q) {
       const std::string& name = st.il.names[q];
       if (!ends_with(name, "_disp_m") || span_of(name, sc) != k || on_rigid_support(name.substr(0, name.size() - 7), sc)) continue;
@@ -339,12 +345,12 @@ void comfort_deflection_checks(const Statics& st, const Scenario& sc, const Asse
 }
 
 // What a 2D model cannot check, said rather than left out (EN 1990 A2.4.4.2.2 and A2.4.4.2.4).
-void unchecked_rows(std::vector<AssessCheck>& out) {
+void unchecked_rows(Edition ed, std::vector<AssessCheck>& out) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   out.push_back({"deck twist", "deck_twist_mm_per_3m", nan, nan, "not checked (2D model)", "", "", nan,
-                 "EN 1990 A2.4.4.2.2, Table A2.7 (to confirm)"});
+                 cite_to_confirm(ed, Clause::twist)});
   out.push_back({"lateral vibration, first lateral frequency", "lateral_f1_hz", nan, 1.2, "not checked (2D model)", "", "", nan,
-                 "EN 1990 A2.4.4.2.4(3): at least 1.2 Hz (to confirm)"});
+                 cite(ed, Clause::lateral) + ": at least 1.2 Hz" + (clause_known(ed, Clause::lateral) ? " (to confirm)" : "")});
 }
 
 std::vector<AssessCheck> all_checks(const SweepResult& r, const Statics& st, const std::vector<AssessIncrement>& inc,
@@ -353,14 +359,14 @@ std::vector<AssessCheck> all_checks(const SweepResult& r, const Statics& st, con
   for (const auto& g : governing(r.rows)) {
     if (on_rigid_support(g.station, sc)) continue;  // no motion there: no row
     AssessCheck a{"deck acceleration", g.station + "_acc_mps2", g.acc.value, c.acc_limit, "", g.acc.variant, g.acc.train,
-            g.acc.speed, "EN 1990 A2.4.4.2.1(4)"};
+            g.acc.speed, cite(c.edition, Clause::deck_acceleration)};
     a.verdict = a.value <= a.limit ? "pass" : "FAIL";
     out.push_back(a);
   }
   for (std::size_t q = 0; q < st.il.names.size(); ++q) quantity_checks(q, st, inc, r.quantities, sc, c, p, out);
   comfort_deflection_checks(st, sc, c, out);
   vehicle_checks(r, c, out);
-  unchecked_rows(out);
+  unchecked_rows(c.edition, out);
   return out;
 }
 

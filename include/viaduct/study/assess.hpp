@@ -19,6 +19,54 @@ enum class DeckType { steel, composite, prestressed, reinforced, filler_beam };
 DeckType deck_type_of(const std::string& name);
 const char* deck_type_name(DeckType t);
 
+/// The edition of EN 1991-2 (with the EN 1990 Annex A2 it goes with) whose clauses an assessment
+/// cites (assess.edition). The numbers are the 2003 edition's in both: the 2023 edition (second
+/// generation) moves the railway rules into Section 8 and revises values that viaduct cannot
+/// confirm without its text; those values stay keys (REFERENCE.md §9).
+enum class Edition { en2003, en2023 };
+/// "2003" | "2023"; InputError otherwise.
+Edition edition_of(const std::string& name);
+const char* edition_name(Edition e);
+
+/// What the assessment cites a clause for.
+enum class Clause {
+  trains,              ///< HSLM-A and the real trains
+  hslm_b,              ///< HSLM-B, spans under 7 m
+  speeds,              ///< the speeds to 1.2 × the line speed, refined near resonance
+  dynamic_analysis,    ///< when a dynamic analysis is required (V > 200 km/h)
+  damping,             ///< the damping lower bounds
+  interaction_damping, ///< the additional damping for the interaction not modelled
+  mass,                ///< the lower and upper mass bounds (ballast)
+  lm71,                ///< Load Model 71 and α
+  dynamic_factor,      ///< Φ2, Φ3
+  determinant_length,  ///< Lφ
+  irregularities,      ///< φ″
+  flow_chart,          ///< is a dynamic analysis required
+  frequency_limits,    ///< the limits of n0
+  speed_frequency_ratio,  ///< (v/n0)lim of the flow chart
+  increments,          ///< φ′dyn
+  design_effect,       ///< (1 + φ′dyn + φ″/2) × the train against Φ × LM71
+  deck_acceleration,   ///< the peak deck acceleration limits
+  cut_off,             ///< the frequencies to consider, f3 of the member
+  deformation,         ///< vertical deflection and end rotation
+  comfort_acceleration,///< car-body acceleration b_v
+  comfort_deflection,  ///< passenger comfort by deck deflection
+  twist,               ///< deck twist
+  lateral,             ///< first lateral frequency
+};
+
+/// Where `c` is in edition `e`. 2003: EN 1991-2:2003's clause (e.g. "EN 1991-2 6.4.6.5(3)") or
+/// EN 1990:2002/A1:2005's ("EN 1990 A2.4.4.2.1(4)"). 2023: the clause where it is known (HSLM-A
+/// Fig. 8.12 and Table 8.4, the determinant length Table 8.2), otherwise the part that holds it
+/// with the 2003 clause named and "to confirm" ("EN 1991-2:2023 Section 8 [2003: 6.4.6.2; to
+/// confirm]"), never a guessed number.
+std::string cite(Edition e, Clause c);
+/// The same as a sentence cites it within its document: 2003 "Table 6.6", "6.4.6.2"; 2023 as cite().
+std::string cite_brief(Edition e, Clause c);
+/// True when cite(e, c) is a clause viaduct carries as the text has it (every 2003 one; in 2023
+/// only the HSLM-A figure and table and the determinant length's table).
+bool clause_known(Edition e, Clause c);
+
 /// Lower bound of the damping ratio [-] for span L [m], Table 6.6: steel/composite 0.5 + 0.125
 /// (20 − L) %, prestressed 1.0 + 0.07 (20 − L) %, reinforced/filler-beam 1.5 + 0.07 (20 − L) % for
 /// L < 20 m; 0.5, 1.0, 1.5 % from 20 m on.

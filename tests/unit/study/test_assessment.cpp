@@ -137,3 +137,46 @@ TEST_CASE("checks.csv's unit column follows the quantity's suffix") {
   CHECK(study::quantity_unit("lateral_f1_hz") == "Hz");
   CHECK(study::quantity_unit("unloading_ratio") == "-");
 }
+
+TEST_CASE("clauses of both editions: 2003 in full, 2023 where known, else the 2003 clause named to confirm") {
+  using study::Clause;
+  using study::Edition;
+  // Every enumerator from the first to the last has its reference (a new one without it throws).
+  for (int k = static_cast<int>(Clause::trains); k <= static_cast<int>(Clause::lateral); ++k) {
+    const auto c = static_cast<Clause>(k);
+    const std::string old = study::cite(Edition::en2003, c), now = study::cite(Edition::en2023, c);
+    INFO(old << " / " << now);
+    CHECK((old.rfind("EN 1991-2 ", 0) == 0 || old.rfind("EN 1990 ", 0) == 0));
+    CHECK(study::clause_known(Edition::en2003, c));
+    CHECK(now.find("2023") != std::string::npos);
+    if (study::clause_known(Edition::en2023, c)) {
+      CHECK(now.find("Section 8") != std::string::npos);
+      CHECK(now.find("to confirm") == std::string::npos);
+    } else {
+      // the 2003 clause, without its document's name, inside the 2023 reference
+      const std::string clause = old.substr(old.find(' ', old.find(' ') + 1) + 1);
+      CHECK(now.find("[20") != std::string::npos);
+      CHECK(now.find(clause + "; to confirm]") != std::string::npos);
+      CHECK(study::cite_brief(Edition::en2023, c).find("to confirm]") != std::string::npos);
+    }
+  }
+  CHECK(study::cite(Edition::en2003, Clause::design_effect) == "EN 1991-2 6.4.6.5(3)");
+  CHECK(study::cite_brief(Edition::en2003, Clause::damping) == "Table 6.6");
+  CHECK(study::cite(Edition::en2023, Clause::trains) == "EN 1991-2:2023 Section 8, Fig. 8.12 and Table 8.4 (HSLM-A)");
+  CHECK(study::cite(Edition::en2023, Clause::determinant_length) == "EN 1991-2:2023 Section 8, Table 8.2");
+  CHECK(study::cite(Edition::en2023, Clause::speeds) == "EN 1991-2:2023 Section 8 [2003: 6.4.6.2; to confirm]");
+  CHECK(study::cite(Edition::en2023, Clause::deck_acceleration) == "EN 1990:2023 Annex A.2 [2002/A1: A2.4.4.2.1(4); to confirm]");
+  CHECK(study::edition_of("2023") == Edition::en2023);
+  CHECK(std::string(study::edition_name(study::edition_of("2003"))) == "2003");
+  CHECK_THROWS_WITH(study::edition_of("2024"), Catch::Contains("2003") && Catch::Contains("2023"));
+}
+
+TEST_CASE("the flow chart cites the edition chosen") {
+  study::Scenario sc = scenario_of(rigid_chain({20.0}, false));
+  sc.bridge.spans[0].EI = 0.5e10;  // n0 = 2.5 Hz < 4 Hz: the frequency limits decide
+  study::AssessPlan p = plan_of(sc, 160.0);
+  p.config.edition = study::Edition::en2023;
+  const auto d = study::dynamic_analysis_need(p, sc);
+  CHECK(d.conclusion.find("EN 1991-2:2023 Section 8 [2003: Fig. 6.10; to confirm]") != std::string::npos);
+  for (const auto& s : d.steps) CHECK(s.question.find("of Fig. 6.10?") == std::string::npos);
+}
