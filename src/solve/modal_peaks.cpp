@@ -78,6 +78,9 @@ struct LoadCursor {
   lanes* pt = nullptr;
   std::size_t ip[W];
   double next[W], h[W], v2[W];
+  // The residuals whose curvature is kept (null: all nr): those whose acceleration is computed.
+  const std::size_t* curv = nullptr;
+  std::size_t n_curv = 0;
 
   // Lane l at head position x: find its piece, set the values and differences there.
   VIADUCT_ALWAYS_INLINE void reinit(std::size_t l, double x) {
@@ -94,7 +97,8 @@ struct LoadCursor {
       d2[k][l] = 2.0 * a2 * h2 + a3 * (6.0 * s * h2 + 6.0 * h3);
       d3[k][l] = 6.0 * a3 * h3;
     }
-    for (std::size_t j = 0; j < nr; ++j) {
+    for (std::size_t n = 0; n < (curv ? n_curv : nr); ++n) {
+      const std::size_t j = curv ? curv[n] : n;
       const double a2 = d[2 * nc + nload + j], a3 = d[3 * nc + nload + j];
       c[j][l] = v2[l] * (2.0 * a2 + 6.0 * a3 * s);
       dc[j][l] = v2[l] * 6.0 * a3 * hh;
@@ -262,6 +266,9 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
   lane_speeds(in, v, n_steps);
   LoadCursor cur;
   cur.bind(in, nc, nm, nr, f, d1, d2, d3, c, dc, sums.pt);
+  // Only the accelerations computed read a residual's curvature: the others are not set up at
+  // each piece (the 31 stations of load effects of docs/benchmarks.md, where they were most of it).
+  if (!fixed && in.acc_idx && flex) cur.curv = in.acc_idx, cur.n_curv = in.n_acc;
   const double half_dt = 0.5 * in.dt;
   const Index min_steps = *std::min_element(in.n_steps, in.n_steps + W);
   auto emit = [&](Index k) {
@@ -349,10 +356,19 @@ bool dispatch_modes(std::index_sequence<I...>, const KernelInput& in, double* q,
   return ((dispatch_fixed<I + 1, 1>(in, q, qd, ma, md, mn, su) || dispatch_fixed<I + 1, 2>(in, q, qd, ma, md, mn, su)) || ...);
 }
 
+template <std::size_t... I>
+bool dispatch_general(std::index_sequence<I...>, const KernelInput& in, double* q, double* qd, double* ma, double* md,
+                      double* mn, SumState& su) {
+  return ((in.nm == I + 1 ? (kernel<I + 1, 0, 0>(in, q, qd, ma, md, mn, su), true) : false) || ...);
+}
+
 // Bases of up to 6 modes with 1–2 stations (no sums, every output's acceleration) get the
-// unrolled loops; others the general one.
+// unrolled loops; other outputs of up to 6 modes the general loop with the modes' count fixed
+// (each output's sum over the modes unrolled); larger bases the general one.
 void dispatch(const KernelInput& in, double* q, double* qd, double* ma, double* md, double* mn, SumState& su) {
-  if (!dispatch_modes(std::make_index_sequence<6>{}, in, q, qd, ma, md, mn, su)) kernel<0, 0, 0>(in, q, qd, ma, md, mn, su);
+  if (dispatch_modes(std::make_index_sequence<6>{}, in, q, qd, ma, md, mn, su)) return;
+  if (dispatch_general(std::make_index_sequence<6>{}, in, q, qd, ma, md, mn, su)) return;
+  kernel<0, 0, 0>(in, q, qd, ma, md, mn, su);
 }
 
 // Complex modes (damping that couples the modes): per coordinate k, y ← E y + α u₀ + β u₁ with
@@ -398,6 +414,7 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
   lane_speeds(in, v, n_steps);
   LoadCursor cur;
   cur.bind(in, nc, nch, nr, f, d1, d2, d3, c, dc, sums.pt);
+  if (in.acc_idx && in.flex) cur.curv = in.acc_idx, cur.n_curv = in.n_acc;  // as kernel_body: the others' are not read
   const double half_dt = 0.5 * in.dt;
   const Index min_steps = *std::min_element(in.n_steps, in.n_steps + W);
   auto emit = [&](Index k) {
