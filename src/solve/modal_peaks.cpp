@@ -118,6 +118,9 @@ struct LoadCursor {
     nload = n_load;
     nr = n_res;
     f = f_, d1 = d1_, d2 = d2_, d3 = d3_, c = c_, dc = dc_;
+    // Only the accelerations computed read a residual's curvature: the others' is not set up at
+    // each piece (the 31 stations of load effects of docs/benchmarks.md, where it was most of it).
+    if (in.acc_idx && n_res) curv = in.acc_idx, n_curv = in.n_acc;
     if (in.point) point = in.point, nx = in.n_extra, pt = pt_;
   }
   // Every lane at the path's start, speeds v [m/s], step dt.
@@ -266,9 +269,6 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
   lane_speeds(in, v, n_steps);
   LoadCursor cur;
   cur.bind(in, nc, nm, nr, f, d1, d2, d3, c, dc, sums.pt);
-  // Only the accelerations computed read a residual's curvature: the others are not set up at
-  // each piece (the 31 stations of load effects of docs/benchmarks.md, where they were most of it).
-  if (!fixed && in.acc_idx && flex) cur.curv = in.acc_idx, cur.n_curv = in.n_acc;
   const double half_dt = 0.5 * in.dt;
   const Index min_steps = *std::min_element(in.n_steps, in.n_steps + W);
   auto emit = [&](Index k) {
@@ -414,7 +414,6 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
   lane_speeds(in, v, n_steps);
   LoadCursor cur;
   cur.bind(in, nc, nch, nr, f, d1, d2, d3, c, dc, sums.pt);
-  if (in.acc_idx && in.flex) cur.curv = in.acc_idx, cur.n_curv = in.n_acc;  // as kernel_body: the others' are not read
   const double half_dt = 0.5 * in.dt;
   const Index min_steps = *std::min_element(in.n_steps, in.n_steps + W);
   auto emit = [&](Index k) {

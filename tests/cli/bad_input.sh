@@ -72,18 +72,17 @@ expect 2 "--unit b=g: no such column in the header" -- "$VIADUCT" filter "$WORK/
 # fit reads logger files as the record commands do, and says what it converted.
 expect 2 "viaduct fit: $SRC/data/records/logger-semicolon.csv: 'Acc S1 mid [g]' -> Acc_S1_mid_mps2 (x 9.80665)" -- "$VIADUCT" fit "$OG" \
   --record "$SRC/data/records/logger-semicolon.csv" --map 'Nope=S1_mid' --param bridge.EI=5e9:1e10 --out "$WORK/o"
-printf 't_s,a_mps2\nNaN,1\nNaN,1\n' > "$WORK/allnan.csv"
-expect 2 "allnan.csv:2: no time stamp in column 't_s'" -- "$VIADUCT" inspect "$WORK/allnan.csv"
-printf 't_s,a_mps2\n0,1\n0.01,2\n0.005,3\n' > "$WORK/back.csv"
-expect 2 "back.csv:4: time does not increase (t = 0.005 s after 0.01 s on line 3)" -- "$VIADUCT" spectrum "$WORK/back.csv"
-printf '' > "$WORK/empty.csv"
-expect 2 "no header line" -- "$VIADUCT" spectrum "$WORK/empty.csv"
-printf 't_s,a_mps2,b_mps2\n0,1,2\n0.01,2\n' > "$WORK/cols.csv"
-expect 2 "cols.csv:3: expected 3 columns as in the header (line 1), got 2" -- "$VIADUCT" filter "$WORK/cols.csv"
-printf 't_s,a_mps2\n0,1\n0.01,2\n0.02,3\n0.035,4\n0.045,5\n' > "$WORK/jitter.csv"
-expect 2 "jitter.csv:5: irregular sampling: a step of 0.015 s where the others are 0.01 s (1.5 samples)" -- "$VIADUCT" spectrum "$WORK/jitter.csv"
-printf 't_s,a_furlongs\n0,1\n0.01,2\n' > "$WORK/unit.csv"
-expect 2 "unit.csv:1: channel 'a_furlongs' has no unit: name it a_furlongs_<unit> or 'a_furlongs [unit]', or give --unit 'a_furlongs=UNIT'" -- "$VIADUCT" spectrum "$WORK/unit.csv"
+# A record written from printf's FORMAT and the error a command must give for it:
+# bad_record FILE FORMAT COMMAND MESSAGE
+bad_record() { printf "$2" > "$WORK/$1"; expect 2 "$4" -- "$VIADUCT" "$3" "$WORK/$1"; }
+bad_record allnan.csv 't_s,a_mps2\nNaN,1\nNaN,1\n' inspect "allnan.csv:2: no time stamp in column 't_s'"
+bad_record back.csv 't_s,a_mps2\n0,1\n0.01,2\n0.005,3\n' spectrum "back.csv:4: time does not increase (t = 0.005 s after 0.01 s on line 3)"
+bad_record empty.csv '' spectrum "no header line"
+bad_record cols.csv 't_s,a_mps2,b_mps2\n0,1,2\n0.01,2\n' filter "cols.csv:3: expected 3 columns as in the header (line 1), got 2"
+bad_record jitter.csv 't_s,a_mps2\n0,1\n0.01,2\n0.02,3\n0.035,4\n0.045,5\n' spectrum \
+  "jitter.csv:5: irregular sampling: a step of 0.015 s where the others are 0.01 s (1.5 samples)"
+bad_record unit.csv 't_s,a_furlongs\n0,1\n0.01,2\n' spectrum \
+  "unit.csv:1: channel 'a_furlongs' has no unit: name it a_furlongs_<unit> or 'a_furlongs [unit]', or give --unit 'a_furlongs=UNIT'"
 expect 2 "synthetic-deck.csv: Chebyshev filter: --high-hz = 300: violated constraint high_hz in (0, fs/2 = 250) Hz" -- "$VIADUCT" filter "$SRC/data/records/synthetic-deck.csv" --high-hz 300
 expect 2 "synthetic-deck.csv: Welch: --nperseg = 100000: violated constraint nperseg <= the record's 3009 samples" -- "$VIADUCT" spectrum "$SRC/data/records/synthetic-deck.csv" --welch --nperseg 100000
 expect 2 "no channel 'rail'" -- "$VIADUCT" spectrum "$SRC/data/records/synthetic-deck.csv" --channel rail

@@ -69,14 +69,7 @@ int irregularity_body(const Common& o, const IrregularityOptions& k) {
   if (k.profile) return analyse_profile(o, k);
   if (!k.spectrum)
     throw InputError("--spectrum is required (fra1 ... fra6 (FRA classes, 6 the best track), german-low, german-high), or --profile FILE");
-  load::ProfileSpec spec;
-  spec.spectrum = load::irregularity_spectrum(*k.spectrum);
-  spec.lambda_min = k.lambda_min;
-  spec.lambda_max = k.lambda_max;
-  spec.length = k.length;
-  spec.dx = k.dx;
-  spec.x0 = k.x0;
-  spec.seed = k.seed;
+  const load::ProfileSpec spec{load::irregularity_spectrum(*k.spectrum), k.lambda_min, k.lambda_max, k.length, k.x0, k.dx, k.seed};
   std::string why;
   if (!spec.is_valid(&why)) throw InputError(why);
   const load::RailProfile p = load::random_profile(spec);

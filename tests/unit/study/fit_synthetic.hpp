@@ -75,13 +75,7 @@ inline FitRecord synthetic_record(const std::vector<double>& truth, double noise
 
 inline FitParameter param(const std::string& key, double lo, double hi, double x0,
                           ParameterScale scale = ParameterScale::log) {
-  FitParameter p;
-  p.key = key;
-  p.lower = lo;
-  p.upper = hi;
-  p.initial = x0;
-  p.scale = scale;
-  return p;
+  return FitParameter{key, "", lo, hi, x0, scale};
 }
 
 // EI in [3e9, 8e9] N·m² from ei0 and the damping ratio in [0.005, 0.08] from zeta0 on small_scenario,

@@ -23,21 +23,9 @@ namespace sampling_test {
 const std::string src = VIADUCT_SOURCE_DIR;
 constexpr double kPi = 3.14159265358979323846;
 
-Distribution uniform(double lo, double hi) {
-  Distribution d;
-  d.kind = DistributionKind::uniform;
-  d.low = lo;
-  d.high = hi;
-  return d;
-}
+Distribution uniform(double lo, double hi) { return Distribution{DistributionKind::uniform, lo, hi}; }
 Distribution normal_like(DistributionKind k, double mean, double sd, double lo = 0.0, double hi = 0.0) {
-  Distribution d;
-  d.kind = k;
-  d.mean = mean;
-  d.sd = sd;
-  d.low = lo;
-  d.high = hi;
-  return d;
+  return Distribution{k, lo, hi, mean, sd};
 }
 // The mean and variance of a distribution by the midpoint rule in u (n points).
 std::pair<double, double> moments(const Distribution& d, int n) {
