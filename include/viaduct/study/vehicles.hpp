@@ -9,12 +9,19 @@
 
 #include <memory>
 
+#include "viaduct/load/contacts.hpp"
 #include "viaduct/load/irregularity.hpp"
 #include "viaduct/load/vehicle.hpp"
 #include "viaduct/solve/coupled.hpp"
 #include "viaduct/study/simulation.hpp"
 
 namespace viaduct::study {
+
+// The contact paths and the wheel–rail law are the loads' (load/contacts.hpp).
+using load::hertz_stiffness;
+using load::irregularity_at;
+using load::require_transition;
+using load::train_contacts;
 
 /// The modes of the vehicle fast path: mass-normalised shapes and the reduced matrices.
 struct VehicleModalBasis {
@@ -49,10 +56,6 @@ std::shared_ptr<const VehicleModalBasis> vehicle_modal_basis(const model::Struct
 std::vector<solve::Functional> vehicle_outputs(const std::vector<ResolvedStation>& stations,
                                                const std::vector<LoadEffect>& effects);
 
-/// [N/m] linearised Hertz stiffness of one axle (both wheels) of static load `axle_load` [N]:
-/// 2 · 1.5 (P/2)^{1/3} / G, G = 4.57e-8 R^-0.149 m/N^{2/3} (Zhai's conical tread), R [m].
-double hertz_stiffness(double axle_load, double wheel_radius);
-
 /// The vehicles of `train` under `s.vehicle` (sprung or multibody), scaled by s.load_factor
 /// (one rail line carries its share of each vehicle), with their contacts; `detail` receives the
 /// unscaled model (DOF and body names). InputError for forces, a train the model cannot take,
@@ -65,34 +68,12 @@ solve::LinearVehicle linear_vehicle(const load::Train& train, const RunSettings&
 /// measured one, which must cover them. InputError otherwise.
 std::shared_ptr<const load::RailProfile> rail_profile(const model::Structure& s, const IrregularitySettings& irr);
 
-/// The irregularity under a wheel at x [m] along the line, positive down (a dip): minus the
-/// profile, faded in over [x_from, x_from + taper] and out over [x_end, x_end + taper] by cosine
-/// ramps, 0 outside [x_from, x_end + taper] and without a profile.
-double irregularity_at(const load::RailProfile* profile, double x, double x_from, double x_end, double taper);
-
-/// The wheels of `train` rolling at `speed` [m/s] along the load path of `s` (which must outlive
-/// the result): the first axle at the path's start at t = t_start [s], the others on rigid ground
-/// behind it until they reach it; the rail under each as Hermite weights of the element's DOFs,
-/// and the irregularity irregularity_at() gives with `profile` (may be null), fading in from
-/// x_start − run_in [m] and out past the path's end over `taper` [m]. On a track, within
-/// `transition` [m] of either end of the path a wheel's load passes between rigid ground and the
-/// rail gradually, the rail's level under it weighted alike (a cosine from 0 at the end to 1):
-/// a free rail end, deflecting several times more than the track, would otherwise be a dip that
-/// every wheel hits. InputError when the transition reaches the bridge. The path's time
-/// t is the kernel's minus t_start (a run-in starts at kernel time 0 with t_start = run_in / v).
-std::unique_ptr<solve::ContactPath> train_contacts(const model::Structure& s, const load::Train& train, double speed,
-                                                   const load::RailProfile* profile, double run_in, double taper,
-                                                   double t_start = 0.0, double transition = 10.0);
-
 /// The contacts of `full` (a path of the structure's DOFs, which must outlive the result) in the
 /// modal coordinates of `basis`: each rail point's weights on the modes, and with the basis's
 /// static correction the dropped modes' flexibility between the `n_wheels` wheels
 /// (ContactPath::residual_flexibility). What simulate_vehicles() integrates on Method::modal / ida.
 std::unique_ptr<solve::ContactPath> modal_contacts(const solve::ContactPath& full, const VehicleModalBasis& basis,
                                                    std::size_t n_wheels);
-
-/// InputError when a track's end transition [m] is negative or reaches the bridge.
-void require_transition(const model::Structure& s, double transition);
 
 /// One run of `train` at `speed` [m/s] with vehicles (settings.vehicle.model is sprung or
 /// multibody): station histories (unfiltered), load effects when `m` has them, and the vehicles'
