@@ -41,11 +41,13 @@ study::AssessConfig read_assess_config(const FlatScenario& flat, const std::stri
   c.edition = study::edition_of(flat.at("assess.edition").s);
   c.track = flat.at("assess.track").s;
   c.acc_limit = number_or(flat, "assess.acceleration_limit_mps2", c.track == "direct" ? 5.0 : 3.5);
-  c.v_max = 1.2 * c.line_speed;
+  c.speed_factor = flat.at("assess.speed_factor").x;
+  c.v_max = c.speed_factor * c.line_speed;
   c.v_min = number_or(flat, "assess.speed_min_kmh", std::min(100.0, 0.5 * c.line_speed * 3.6)) / 3.6;
   if (c.v_min > c.v_max)
-    throw InputError(flat.at("assess.speed_min_kmh").where,
-                     "the lowest speed is above 1.2 times the line speed (" + format_number(c.v_max * 3.6, 6) + " km/h)");
+    throw InputError(flat.at("assess.speed_min_kmh").where, "the lowest speed is above assess.speed_factor = " +
+                                                                format_number(c.speed_factor, 6) + " times the line speed (" +
+                                                                format_number(c.v_max * 3.6, 6) + " km/h)");
   c.step = flat.at("assess.speed_step_kmh").x / 3.6;
   c.fine_step = flat.at("assess.refine_step_kmh").x / 3.6;
   c.band = flat.at("assess.refine_band").x;
@@ -421,7 +423,7 @@ void report_inputs(std::ostringstream& o, const ReportInput& in) {
   o << "- **Trains** (" << study::cite(ed, study::Clause::trains) << "): HSLM-A1…A10";
   for (const auto& t : p.real_trains) o << ", " << t;
   o << ". Axle loads × " << rfmt(in.nominal.settings.load_factor) << " (train.load_factor).\n";
-  o << "- **Speeds** (" << study::cite_brief(ed, study::Clause::speeds) << "): " << rfmt(c.v_min * 3.6) << " to " << rfmt(c.v_max * 3.6) << " km/h (1.2 × the line speed "
+  o << "- **Speeds** (" << study::cite_brief(ed, study::Clause::speeds) << "): " << rfmt(c.v_min * 3.6) << " to " << rfmt(c.v_max * 3.6) << " km/h (" << rfmt(c.speed_factor) << " × the line speed "
     << rfmt(c.line_speed * 3.6) << " km/h) every " << rfmt(c.step * 3.6) << " km/h, refined to " << rfmt(c.fine_step * 3.6)
     << " km/h within ±" << rfmt(100 * c.band) << " % of each resonance speed f·d/j (j ≤ " << c.harmonics
     << ", f each deck bending frequency below the cut-off, d the train's characteristic distance): " << n_cases << " cases.\n";
@@ -595,7 +597,7 @@ void report_edition_values(std::ostringstream& o, const ReportInput& in) {
   o << "| car-body acceleration b_v | " << rfmt(c.comfort_limit) << " m/s² | assess.comfort_limit_mps2 | " << cite(Clause::comfort_acceleration) << " |\n";
   o << "| comfort by deck deflection L/δ | " << (c.comfort_deflection_ratio ? rfmt(*c.comfort_deflection_ratio) : std::string("not given"))
     << " | assess.comfort_deflection_ratio | " << cite(Clause::comfort_deflection) << " |\n";
-  o << "| speeds | to 1.2 × the line speed | assess.line_speed_kmh | " << cite(Clause::speeds) << " |\n";
+  o << "| highest speed | " << rfmt(c.speed_factor) << " × the line speed | assess.speed_factor | " << cite(Clause::speeds) << " |\n";
 }
 
 void report_notes(std::ostringstream& o, const ReportInput& in) {

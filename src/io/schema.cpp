@@ -360,11 +360,12 @@ std::vector<KeySpec> sweep_keys() {  // sweep
 
 std::vector<KeySpec> assess_keys() {  // assess (viaduct assess; docs/assess.md)
   return {
-      {"assess.line_speed_kmh", T::number, "", "km/h", "> 0", "Maximum line speed: speeds are assessed up to 1.2 times it (EN 1991-2 6.4.6.2); viaduct assess needs it."},
+      {"assess.line_speed_kmh", T::number, "", "km/h", "> 0", "Maximum line speed: speeds are assessed up to assess.speed_factor (1.2) times it (EN 1991-2 6.4.6.2); viaduct assess needs it."},
       {"assess.deck_type", T::string, "", "", "steel|composite|prestressed|reinforced|filler-beam", "Deck type of the damping lower bound, EN 1991-2 Table 6.6; viaduct assess needs it."},
       {"assess.track", T::string, "\"ballasted\"", "", "ballasted|direct", "ballasted: deck acceleration limit 3.5 m/s2; direct: direct fastening, 5 m/s2 (EN 1990 A2.4.4.2.1(4))."},
       {"assess.edition", T::string, "\"2003\"", "", "2003|2023", "Edition of EN 1991-2 (with EN 1990's Annex A2) whose clauses the report and checks.csv cite: 2023 cites Section 8 where viaduct knows the clause (HSLM-A Fig. 8.12 / Table 8.4, Lphi Table 8.2) and names the 2003 clause to confirm elsewhere; the values are the 2003 edition's in both (the report lists the keys that take the 2023 ones)."},
       {"assess.acceleration_limit_mps2", T::number, "", "m/s²", "> 0", "Deck acceleration limit (default: from assess.track)."},
+      {"assess.speed_factor", T::number, "1.2", "-", ">= 1", "Highest speed assessed over the line speed (EN 1991-2 6.4.6.2: 1.2; a key so that an edition or a national annex that changes it can be followed)."},
       {"assess.speed_min_kmh", T::number, "", "km/h", "> 0", "Lowest speed assessed (default: the smaller of 100 km/h and half the line speed)."},
       {"assess.speed_step_kmh", T::number, "5.0", "km/h", "> 0", "Speed step between the lowest and the highest speed."},
       {"assess.refine_step_kmh", T::number, "1.0", "km/h", "> 0", "Finer step around each resonance speed f d / j of each train."},

@@ -126,6 +126,12 @@ PY
 )
 expect 0 "editions ok" -- echo "$out"
 expect 2 "assess.edition" -- "$VIADUCT" assess "$HS" --no-pdf --set assess.edition='"2024"' --out "$O-2024"
+# The highest speed is a key (assess.speed_factor, 1.2 by default): 1.1 x the 350 km/h line speed
+# is 385 km/h, the last speed run and the one the report states.
+expect 0 "assessment:" -- "$VIADUCT" assess "$HS" --no-pdf --no-plots --set assess.speed_min_kmh=360 --set assess.speed_step_kmh=25 \
+  --set assess.refine_band=0 --set assess.speed_factor=1.1 --out "$O-factor"
+expect 0 "385" -- python3 -c "import csv, sys; print(max(float(r['speed_kmh']) for r in csv.DictReader(open(sys.argv[1]))))" "$O-factor/envelope.csv"
+expect 0 "360 to 385 km/h (1.1 × the line speed 350 km/h)" -- cat "$O-factor/report.md"
 
 # A continuous deck of two 20 m spans: one bearing per support, the determinant length of
 # Table 6.2 for continuous girders (1.2 x 20 m), end-rotation rows at the deck's ends only, no deflection or

@@ -27,6 +27,7 @@ struct AssessConfig {
   std::string track = "ballasted";
   double acc_limit = 3.5;  ///< [m/s²]
   Edition edition = Edition::en2003;  ///< whose clauses the report and checks.csv cite (assess.edition)
+  double speed_factor = 1.2;  ///< [-] the highest speed over the line speed (6.4.6.2)
   double v_min = 0.0, v_max = 0.0, step = 0.0, fine_step = 0.0;  ///< [m/s]
   double band = 0.03;                                             ///< [-] refinement band around each resonance
   int harmonics = 4;
