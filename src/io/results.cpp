@@ -69,8 +69,8 @@ void write_history_csv(const std::string& path, const study::RunResult& r) {
 
 namespace {
 // ",x" as printf's ",%.10g" writes it (std::to_chars with a precision is specified as printf in
-// the C locale), without printf's format parsing: the tables of long sweeps (load_effects.csv of
-// the 31 stations along a span, 281 000 rows) spent more in it than in writing.
+// the C locale), without printf's format parsing: printf's formatting was 5 to 8 % of the sweep
+// with 31 stations along a span (perf; load_effects.csv of 281 000 rows, docs/benchmarks.md).
 void add_g10(std::string& line, double x) {
   char b[32];
   line += ',';

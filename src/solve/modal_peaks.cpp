@@ -119,7 +119,7 @@ struct LoadCursor {
     nr = n_res;
     f = f_, d1 = d1_, d2 = d2_, d3 = d3_, c = c_, dc = dc_;
     // Only the accelerations computed read a residual's curvature: the others' is not set up at
-    // each piece (the 31 stations of load effects of docs/benchmarks.md, where it was most of it).
+    // each piece (the 31 stations along a span of docs/benchmarks.md: 127 residuals, a few read).
     if (in.acc_idx && n_res) curv = in.acc_idx, n_curv = in.n_acc;
     if (in.point) point = in.point, nx = in.n_extra, pt = pt_;
   }
