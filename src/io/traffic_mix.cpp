@@ -63,7 +63,13 @@ study::TrafficMix read_traffic_mix(const std::string& path) {
     const std::string file = (fs::path(path).parent_path() / t.at("file").as_string().str).lexically_normal().string();
     if (!fs::exists(file)) throw InputError(where(t.at("file"), item + ".file"), "no train file " + file);
     mt.train = read_train_file(file);
-    mt.name = t.contains("name") && t.at("name").is_string() ? t.at("name").as_string().str : fs::path(file).stem().string();
+    mt.name = fs::path(file).stem().string();
+    if (t.contains("name")) {  // given: a non-empty string (not the file's name in its place, silently)
+      const auto& n = t.at("name");
+      if (!n.is_string() || n.as_string().str.empty())
+        throw InputError(where(n, item + ".name"), "must be a non-empty string (the train's name in damage.csv)");
+      mt.name = n.as_string().str;
+    }
     mt.per_day = mix_number(parsed, t, "per_day", SourceLocation{path, at.line, item + ".per_day"});
     if (!(mt.per_day >= 0.0) || !std::isfinite(mt.per_day))
       throw InputError(where(t.at("per_day"), item + ".per_day"), "violated constraint per_day >= 0 (passages a day)");

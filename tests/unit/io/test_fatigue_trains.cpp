@@ -102,5 +102,10 @@ TEST_CASE("a traffic mix file that is wrong says where: file, line and key") {
   CHECK_THROWS_WITH(io::read_traffic_mix(mix_file("twice", two + "100\n")),
                     Catch::Contains("twice.toml:6") && Catch::Contains("the same train (type1) at the same speed as trains[0]"));
   CHECK(io::read_traffic_mix(mix_file("named", two + "100\nname = \"slow freight\"\n")).trains[1].name == "slow freight");
+  // a name that is not a name is refused, not replaced by the file's (two rows of one name)
+  CHECK_THROWS_WITH(io::read_traffic_mix(mix_file("numname", two + "100\nname = 5\n")),
+                    Catch::Contains("numname.toml:10") && Catch::Contains("trains[1].name") && Catch::Contains("non-empty string"));
+  CHECK_THROWS_WITH(io::read_traffic_mix(mix_file("noname", two + "100\nname = \"\"\n")),
+                    Catch::Contains("trains[1].name") && Catch::Contains("non-empty string"));
   CHECK_THROWS_WITH(io::read_traffic_mix((dir.p / "absent.toml").string()), Catch::Contains("not found"));
 }
