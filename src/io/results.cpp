@@ -467,7 +467,10 @@ void write_manifest(const std::string& path, const Manifest& m, const FlatScenar
   };
   if (flat) {
     add(flat->path);
-    for (const auto& kv : flat->values) add(kv.second.where.file);
+    // A value a command set (assess's damping, filter and speeds: line 0 and a name that is no
+    // file) names no input; a value read from a file has its line.
+    for (const auto& kv : flat->values)
+      if (kv.second.where.line > 0 || std::filesystem::is_regular_file(kv.second.where.file)) add(kv.second.where.file);
     if (flat->has("train.files"))
       for (const auto& t : flat->at("train.files").ss)
         if (!is_builtin_train(t)) add(t), add(coach_file_of(t));  // a train of coaches: its coach file too
