@@ -92,6 +92,14 @@ study::TrafficMix read_traffic_mix(const std::string& path) {
       if (i != j && mix.trains[i].name == mix.trains[j].name) seen[i] = 1;
   for (std::size_t i = 0; i < mix.trains.size(); ++i)
     if (seen[i]) mix.trains[i].name += " at " + format_number(mix.trains[i].speed * 3.6, 6) + " km/h";
+  // A name given equal to another's speed-qualified one ("type5 at 80 km/h") would still give
+  // two rows of one name.
+  for (std::size_t i = 0; i < mix.trains.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (mix.trains[i].name == mix.trains[j].name)
+        throw InputError(where(trains[i], "trains[" + std::to_string(i) + "]"),
+                         "two trains named \"" + mix.trains[i].name + "\" in damage.csv (trains[" + std::to_string(j) +
+                             "] and this one): give one another name = \"...\"");
   return mix;
 }
 

@@ -107,5 +107,9 @@ TEST_CASE("a traffic mix file that is wrong says where: file, line and key") {
                     Catch::Contains("numname.toml:10") && Catch::Contains("trains[1].name") && Catch::Contains("non-empty string"));
   CHECK_THROWS_WITH(io::read_traffic_mix(mix_file("noname", two + "100\nname = \"\"\n")),
                     Catch::Contains("trains[1].name") && Catch::Contains("non-empty string"));
+  // a name given equal to another's speed-qualified name: two rows of one name, refused
+  const std::string third = two + "120\n[[trains]]\nfile = \"" + train + "\"\nper_day = 1\nspeed_kmh = 80\nname = \"type1 at 100 km/h\"\n";
+  CHECK_THROWS_WITH(io::read_traffic_mix(mix_file("clash", third)),
+                    Catch::Contains("clash.toml:10") && Catch::Contains("trains[2]") && Catch::Contains("two trains named \"type1 at 100 km/h\""));
   CHECK_THROWS_WITH(io::read_traffic_mix((dir.p / "absent.toml").string()), Catch::Contains("not found"));
 }
