@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <complex>
+#include <cstring>
 #include <limits>
 #include <utility>
 
@@ -90,7 +91,21 @@ struct LoadCursor {
     next[l] = i < n_pieces ? breaks[i + 1] : std::numeric_limits<double>::infinity();
     const double s = i < n_pieces ? x - breaks[i] : 0.0, hh = h[l], h2 = hh * hh, h3 = h2 * hh;
     const double* d = coef + i * 4 * nc;
-    for (std::size_t k = 0; k < nc; ++k) {
+    // Four channels at a time in vector registers (the same operations in the same order as the
+    // one-channel loop below, which takes the rest: the same values), stored into lane l.
+    const double c1 = 2.0 * s * hh + h2, c2 = 3.0 * s * s * hh + 3.0 * s * h2 + h3, c3 = 6.0 * s * h2 + 6.0 * h3;
+    std::size_t k0 = 0;
+    for (; k0 + 4 <= nc; k0 += 4) {
+      lanes a0, a1, a2, a3;
+      std::memcpy(&a0, d + k0, sizeof a0);
+      std::memcpy(&a1, d + nc + k0, sizeof a1);
+      std::memcpy(&a2, d + 2 * nc + k0, sizeof a2);
+      std::memcpy(&a3, d + 3 * nc + k0, sizeof a3);
+      const lanes fv = a0 + s * (a1 + s * (a2 + s * a3)), v1 = a1 * hh + a2 * c1 + a3 * c2, v2_ = 2.0 * a2 * h2 + a3 * c3,
+                  v3 = 6.0 * a3 * h3;
+      for (std::size_t e = 0; e < 4; ++e) f[k0 + e][l] = fv[e], d1[k0 + e][l] = v1[e], d2[k0 + e][l] = v2_[e], d3[k0 + e][l] = v3[e];
+    }
+    for (std::size_t k = k0; k < nc; ++k) {
       const double a0 = d[k], a1 = d[nc + k], a2 = d[2 * nc + k], a3 = d[3 * nc + k];
       f[k][l] = a0 + s * (a1 + s * (a2 + s * a3));
       d1[k][l] = a1 * hh + a2 * (2.0 * s * hh + h2) + a3 * (3.0 * s * s * hh + 3.0 * s * h2 + h3);
@@ -465,19 +480,41 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
     // Output by output over the coordinates (a station's rows contiguous, the sum in a register),
     // in the coordinates' order as before: the same sums. Accelerations of the outputs in acc_idx
     // only, when given (the others' are not read).
-    for (std::size_t j = 0; j < no; ++j) {
-      const double* r = in.disp_rows + 2 * j * nk;
-      lanes d = zero;
-      for (std::size_t k = 0; k < nk; ++k, r += 2) d += r[0] * yr[k] - r[1] * yi[k];
-      dj[j] = d;
+    // Four outputs at a time, each its own sum in its own register (one sum's additions wait on
+    // each other; four sums' do not), each in the coordinates' order: the same sums. A last block
+    // of fewer than four repeats its last output (computed twice, stored once more).
+    for (std::size_t j0 = 0; j0 < no; j0 += 4) {
+      const std::size_t j1 = std::min(j0 + 1, no - 1), j2 = std::min(j0 + 2, no - 1), j3 = std::min(j0 + 3, no - 1);
+      const double *r0 = in.disp_rows + 2 * j0 * nk, *r1 = in.disp_rows + 2 * j1 * nk, *r2 = in.disp_rows + 2 * j2 * nk,
+                   *r3 = in.disp_rows + 2 * j3 * nk;
+      lanes s0 = zero, s1 = zero, s2 = zero, s3 = zero;
+      for (std::size_t k = 0; k < nk; ++k) {
+        const lanes a = yr[k], b = yi[k];
+        s0 += r0[2 * k] * a - r0[2 * k + 1] * b;
+        s1 += r1[2 * k] * a - r1[2 * k + 1] * b;
+        s2 += r2[2 * k] * a - r2[2 * k + 1] * b;
+        s3 += r3[2 * k] * a - r3[2 * k + 1] * b;
+      }
+      dj[j0] = s0, dj[j1] = s1, dj[j2] = s2, dj[j3] = s3;
     }
+    // The accelerations of the outputs in acc_idx only, when given (the others' are not read),
+    // likewise four at a time.
     const std::size_t n_a = in.acc_idx ? in.n_acc : no;
-    for (std::size_t n = 0; n < n_a; ++n) {
-      const std::size_t j = in.acc_idx ? in.acc_idx[n] : n;
-      const double* q = in.acc_rows + 4 * j * nk;
-      lanes acc = zero;
-      for (std::size_t k = 0; k < nk; ++k, q += 4) acc += q[0] * yr[k] - q[1] * yi[k] + q[2] * u1r[k] - q[3] * u1i[k];
-      aj[j] = acc;
+    auto acc_output = [&](std::size_t n) __attribute__((always_inline)) { return in.acc_idx ? in.acc_idx[std::min(n, n_a - 1)] : std::min(n, n_a - 1); };
+    for (std::size_t n0 = 0; n0 < n_a; n0 += 4) {
+      const std::size_t j0 = acc_output(n0), j1 = acc_output(n0 + 1), j2 = acc_output(n0 + 2), j3 = acc_output(n0 + 3);
+      const double *q0 = in.acc_rows + 4 * j0 * nk, *q1 = in.acc_rows + 4 * j1 * nk, *q2 = in.acc_rows + 4 * j2 * nk,
+                   *q3 = in.acc_rows + 4 * j3 * nk;
+      lanes s0 = zero, s1 = zero, s2 = zero, s3 = zero;
+      for (std::size_t k = 0; k < nk; ++k) {
+        const lanes a = yr[k], b = yi[k], c0 = u1r[k], c1 = u1i[k];
+        const std::size_t o = 4 * k;
+        s0 += q0[o] * a - q0[o + 1] * b + q0[o + 2] * c0 - q0[o + 3] * c1;
+        s1 += q1[o] * a - q1[o + 1] * b + q1[o + 2] * c0 - q1[o + 3] * c1;
+        s2 += q2[o] * a - q2[o + 1] * b + q2[o + 2] * c0 - q2[o + 3] * c1;
+        s3 += q3[o] * a - q3[o + 1] * b + q3[o + 2] * c0 - q3[o + 3] * c1;
+      }
+      aj[j0] = s0, aj[j1] = s1, aj[j2] = s2, aj[j3] = s3;
     }
     emit(step);
   }
