@@ -6,7 +6,7 @@
 # Options are passed to `viaduct sweep` (e.g. --set sweep.n_speeds=20 for a quicker look).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/setup.sh
+scripts/setup.sh --demo  # only what the command and its plot need (scripts/setup.sh alone: everything)
 cmake --preset release -G Ninja >/dev/null
 # Only what the demo runs: the command (the tests, benchmarks and Python package are
 # scripts/test.sh's and `cmake --build --preset release`'s).

@@ -1,11 +1,22 @@
 #!/usr/bin/env bash
 # Installs the Debian packages viaduct needs, only those that are missing.
 # Needs root (or sudo) when something is missing; does nothing otherwise.
-#   --tests: also what only the tests need (scripts/test.sh passes it): Chromium and pdftotext,
-#            which render assess's report.html and read its report.pdf (tests/cli/report_html.sh).
-#            viaduct assess prints report.pdf with Chromium when it is there. And ccache, through
-#            which the ci and sanitize presets compile (CI builds a fresh clone each time).
+#   (none):  what building everything needs: the command, the Python package, MPI runs, the plots.
+#   --demo:  only what scripts/demo.sh builds and runs (the command and its plot): no OpenMPI,
+#            Python headers, pybind11, pytest, pandas or SciPy, which CMake takes when present
+#            (#37 item 6: 141 of the 311 packages and about 120 of the 238 MB to download on a
+#            fresh Debian machine, by `apt-get -s remove --auto-remove` and `apt-cache show`).
+#   --tests: everything, and what only the tests need (scripts/test.sh passes it): Chromium and
+#            pdftotext, which render assess's report.html and read its report.pdf
+#            (tests/cli/report_html.sh); viaduct assess prints report.pdf with Chromium when it is
+#            there. And ccache, through which the ci and sanitize presets compile (CI builds a
+#            fresh clone each time).
 set -euo pipefail
+
+case "${1:-}" in
+  "" | --demo | --tests) ;;
+  *) echo "viaduct setup: unknown option '$1' (--demo, --tests, or none)" >&2; exit 2 ;;
+esac
 
 packages=(
   g++ cmake ninja-build pkg-config
@@ -19,12 +30,14 @@ packages=(
   catch2                 # tests (v2)
   libtoml11-dev          # scenario files
   libmatio-dev           # MATLAB .mat records (v4, v5, v7.3)
-  libopenmpi-dev openmpi-bin  # mpirun -n N viaduct sweep: sampled studies over MPI ranks (issue #16)
   python3 python3-numpy python3-matplotlib  # plot scripts
-  python3-scipy          # regenerating the committed filter reference vectors only
-  python3-dev python3-pybind11  # the Python package (issue #17: python/, docs/python.md)
-  python3-pytest python3-pandas  # its tests (tables as DataFrames when pandas is there)
 )
+if [ "${1:-}" != "--demo" ]; then
+  packages+=(libopenmpi-dev openmpi-bin)  # mpirun -n N viaduct sweep: sampled studies over MPI ranks (issue #16)
+  packages+=(python3-scipy)  # regenerating the committed filter reference vectors only
+  packages+=(python3-dev python3-pybind11)  # the Python package (issue #17: python/, docs/python.md)
+  packages+=(python3-pytest python3-pandas)  # its tests (tables as DataFrames when pandas is there)
+fi
 if [ "${1:-}" = "--tests" ]; then
   packages+=(chromium poppler-utils)  # report.html rendered headless, report.pdf's text (tests only)
   packages+=(ccache)  # compiler cache: a fresh clone reuses the objects of earlier builds (CMakeLists.txt, VIADUCT_CCACHE)
