@@ -4,11 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <exception>
 #include <limits>
 #include <map>
 #include <tuple>
 
 #include "viaduct/core/error.hpp"
+#include "viaduct/core/thread_pool.hpp"
 #include "viaduct/study/guards.hpp"
 
 namespace viaduct::study {
@@ -370,7 +372,7 @@ std::vector<AssessCheck> all_checks(const SweepResult& r, const Statics& st, con
   return out;
 }
 
-LayoutSensitivity layout_sensitivity(const AssessPlan& p, const std::vector<AssessCheck>& checks) {
+LayoutSensitivity layout_sensitivity(const AssessPlan& p, const std::vector<AssessCheck>& checks, int threads) {
   LayoutSensitivity ls;
   const Variant* gov = nullptr;
   const AssessCheck* acc = nullptr;
@@ -391,15 +393,27 @@ LayoutSensitivity layout_sensitivity(const AssessPlan& p, const std::vector<Asse
   for (const auto& t : gov->scenario.trains)
     if (t.name == ls.train) train = &t;
   if (!train) return ls;
+  // Four layouts, each its own model (its modes and reduction) and run: on the assessment's
+  // threads, each layout's row where it belongs; the first failure (in the layouts' order) is
+  // thrown as the loop over them threw it.
   const double d = gov->scenario.track->sleeper_spacing;
-  for (int k = 0; k < 4; ++k) {
-    Scenario sc = gov->scenario;
-    sc.track->first_sleeper_offset = d * k / 4.0;
-    const PreparedModel pm = prepare_model(sc, false);
-    std::vector<double> row;
-    for (const auto& pk : peaks(simulate(pm, *train, ls.speed, sc.settings))) row.push_back(pk.max_abs_acc);
-    ls.offsets.push_back(sc.track->first_sleeper_offset);
-    ls.peaks.push_back(row);
+  constexpr std::size_t n_layouts = 4;
+  std::vector<std::vector<double>> rows(n_layouts);
+  std::vector<std::exception_ptr> failed(n_layouts);
+  parallel_for(n_layouts, std::max(1, std::min(threads, static_cast<int>(n_layouts))), [&](std::size_t k, int) {
+    try {
+      Scenario sc = gov->scenario;
+      sc.track->first_sleeper_offset = d * static_cast<double>(k) / 4.0;
+      const PreparedModel pm = prepare_model(sc, false);
+      for (const auto& pk : peaks(simulate(pm, *train, ls.speed, sc.settings))) rows[k].push_back(pk.max_abs_acc);
+    } catch (...) {
+      failed[k] = std::current_exception();
+    }
+  });
+  for (std::size_t k = 0; k < n_layouts; ++k) {
+    if (failed[k]) std::rethrow_exception(failed[k]);
+    ls.offsets.push_back(d * static_cast<double>(k) / 4.0);
+    ls.peaks.push_back(rows[k]);
   }
   return ls;
 }
@@ -420,7 +434,7 @@ AssessResult run_assessment_impl(AssessPlan plan, const AssessOptions& o) {
                            "and get no check rows (its moment, shear and strain do)");
   res.increments = assess_increments(res.sweep.quantities);
   res.checks = all_checks(res.sweep, st, res.increments, nominal, plan.config, plan);
-  if (o.layout) res.layout = layout_sensitivity(plan, res.checks);
+  if (o.layout) res.layout = layout_sensitivity(plan, res.checks, o.threads);
   res.plan = std::move(plan);
   return res;
 }

@@ -61,6 +61,21 @@ run_case hslm "$HS" --set assess.speed_min_kmh=300 --set assess.speed_step_kmh=4
 run_case guadiana "$SRC/scenarios/old-guadiana-assess.toml" --set assess.speed_min_kmh=330 --set assess.speed_step_kmh=30 \
   --set assess.refine_band=0
 expect 0 "per rail line / half deck" -- cat "$WORK/guadiana/report.txt"
+# Its two spans' modes are 0.5 % apart: the governing case again with the sleepers moved by a
+# quarter of their 0.6 m spacing each time (the four layouts run on the assessment's threads),
+# each row at its own offset, in order, every station's peak a number.
+expect 0 "layouts ok" -- python3 - "$WORK/guadiana/report.md" <<'PY'
+import sys
+lines = open(sys.argv[1]).read().split("\n")
+head = [i for i, l in enumerate(lines) if l.startswith("| offset [m] |")]
+assert len(head) == 1, "no sleeper-layout table"
+rows = [l.strip("|").split("|") for l in lines[head[0] + 2:head[0] + 6]]
+assert [float(r[0]) for r in rows] == [0.0, 0.15, 0.3, 0.45], rows
+n_st = len(lines[head[0]].strip("|").split("|")) - 1
+assert all(len(r) == n_st + 1 and all(float(c) > 0 for c in r[1:]) for r in rows), rows
+assert lines[head[0] + 6].startswith("| spread |"), lines[head[0] + 6]
+print("layouts ok")
+PY
 run_case continuous "$SRC/scenarios/continuous-two-span.toml" --set assess.speed_min_kmh=300 --set assess.speed_step_kmh=40 \
   --set assess.refine_band=0
 
