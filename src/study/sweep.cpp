@@ -106,22 +106,39 @@ class Sweep {
         prepared_[v].error = "model: " + prepared_[v].error;
       }
     });
-    std::vector<std::pair<std::size_t, std::size_t>> to_fold;
+    // The trains to fold; each is folded by the first of its jobs to run and freed after its last
+    // (a table is 4 × channels × pieces numbers: 51 MB for one train on Old Guadiana with track).
     for (std::size_t v = 0; v < variants_.size(); ++v) {
       folded_[v].resize(variants_[v].scenario.trains.size());
       if (!options_.runner && prepared_[v].model && folds_trains(*prepared_[v].model, variants_[v].scenario.settings))
         for (std::size_t t = 0; t < folded_[v].size(); ++t)
-          if (train_in_range(v, t)) to_fold.emplace_back(v, t);
+          if (train_in_range(v, t)) folded_[v][t] = std::make_unique<FoldedTrain>();
     }
-    parallel_for(to_fold.size(), options_.threads, [&](std::size_t i, int) {
-      const auto [v, t] = to_fold[i];
-      const Scenario& sc = variants_[v].scenario;
+  }
+
+  // The folded table of job c's train (null: not folded, or its folding failed: the cases then run
+  // the general path, which reports their own errors).
+  std::shared_ptr<const solve::MovingChannels> folded_table(const Job& c) const {
+    FoldedTrain* f = c.train == kAllTrains ? nullptr : folded_[c.variant][c.train].get();
+    if (!f) return nullptr;
+    std::lock_guard<std::mutex> lock(f->m);
+    if (!f->tried) {
+      f->tried = true;
+      const Scenario& sc = variants_[c.variant].scenario;
       try {
-        folded_[v][t] = fold_train(*prepared_[v].model, sc.trains[t], sc.settings.load_factor);
+        f->table = fold_train(*prepared_[c.variant].model, sc.trains[c.train], sc.settings.load_factor);
       } catch (const std::exception&) {
-        folded_[v][t].reset();  // the case runs the general path and reports its own error
+        f->table.reset();
       }
-    });
+    }
+    return f->table;
+  }
+  // Job c is done with its train's table: the last of them frees it.
+  void release_table(const Job& c) {
+    FoldedTrain* f = c.batched && c.train != kAllTrains ? folded_[c.variant][c.train].get() : nullptr;
+    if (!f) return;
+    std::lock_guard<std::mutex> lock(f->m);
+    if (f->jobs_left > 0 && --f->jobs_left == 0) f->table.reset();
   }
 
   // Jobs: single cases, blocks of speeds of one train (peaks kernel, batched Newmark), or a
@@ -155,6 +172,7 @@ class Sweep {
           }
           const std::size_t in = kept_in_job(job);
           if (in > 0) jobs_.push_back(job);
+          if (in > 0 && job.batched && folded_[v][t]) ++folded_[v][t]->jobs_left;
           n_cases_ += in;
         }
       }
@@ -199,6 +217,7 @@ class Sweep {
           }
         }
     }
+    release_table(c);
     if (options_.progress) {
       std::lock_guard<std::mutex> lock(progress_mutex_);
       for (std::size_t k = kept_in_job(c); k > 0; --k) options_.progress(++n_done_, n_cases_);  // once per kept case
@@ -212,8 +231,8 @@ class Sweep {
     if (c.batched) {
       const auto first = speeds(c.variant, c.train).begin() + static_cast<std::ptrdiff_t>(c.speed);
       const std::vector<double> speeds(first, first + static_cast<std::ptrdiff_t>(c.n_speeds));
-      const std::vector<CasePeaks> pr =
-          simulate_peaks(pm, sc.trains[c.train], speeds, sc.settings, folded_[c.variant][c.train].get());
+      const std::shared_ptr<const solve::MovingChannels> table = folded_table(c);
+      const std::vector<CasePeaks> pr = simulate_peaks(pm, sc.trains[c.train], speeds, sc.settings, table.get());
       for (std::size_t k = 0; k < pr.size(); ++k) {
         take(o[k], pr[k].peaks, pr[k].n_steps);
         o[k].quantities = pr[k].quantities;
@@ -320,7 +339,14 @@ class Sweep {
   const SweepOptions& options_;
   CaseRunner runner_;
   std::vector<Prepared> prepared_;
-  std::vector<std::vector<std::shared_ptr<const solve::MovingChannels>>> folded_;
+  // One train folded over one variant's model: built by its first job, freed after its last.
+  struct FoldedTrain {
+    std::mutex m;
+    bool tried = false;
+    std::shared_ptr<const solve::MovingChannels> table;
+    std::size_t jobs_left = 0;  // batched jobs not yet done
+  };
+  std::vector<std::vector<std::unique_ptr<FoldedTrain>>> folded_;  // [variant][train], null: not folded
   std::vector<std::vector<std::size_t>> first_case_;  // [variant][train]: its first case's index in the sweep
   std::vector<Job> jobs_;
   std::vector<std::vector<CaseOutcome>> outcome_;  // [job][case in job]
