@@ -107,6 +107,9 @@ run veh-modal run $VS --set 'analysis.method="modal"'
 run veh-modal-nosc run $VS --set 'analysis.method="modal"' --set modal.static_correction=false
 run veh-ida run $VS --set 'analysis.method="ida"' --set modal.max_frequency_hz=60
 run veh-rigid run $VS --set 'train.contact="rigid"'
+# The fast path on a discrete track: the dashpots couple the modes (kept coupled, no complex basis).
+run veh-track-modal run $TA --set 'train.files=["data/trains/ave-s103-8.toml"]' --set 'train.vehicle="sprung"' \
+  --set 'analysis.method="modal"' --set run.speed_kmh=250
 run veh-sprung-sweep sweep $VS --set 'train.vehicle="sprung"' --set 'analysis.method="modal"' --set sweep.speed_step_kmh=60 --threads 2
 run veh-sweep-effects sweep $VS --set 'analysis.method="modal"' --set sweep.speed_step_kmh=120 --load-effects --threads 2
 run shaker-vel shaker $TA --force-at 6 --stepped 9.5:10.5:0.5 --dwell-s 2 --fs-hz 100 --quantity vel

@@ -174,8 +174,21 @@ std::array<double, 8> exact_step_coefficients(double omega, double zeta, double 
 ModalReduction::ModalReduction(const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K,
                                const Matrix& shapes, const Vector& omega,
                                const std::vector<Functional>& outputs, bool static_correction)
+    : ModalReduction(M, C, K, shapes, omega, outputs, static_correction, nullptr) {}
+
+ModalReduction::ModalReduction(const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K,
+                               const Matrix& shapes, const Vector& omega,
+                               const std::vector<Functional>& outputs, bool static_correction,
+                               const std::vector<Index>& contact_dofs)
+    : ModalReduction(M, C, K, shapes, omega, outputs, static_correction, &contact_dofs) {}
+
+ModalReduction::ModalReduction(const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K,
+                               const Matrix& shapes, const Vector& omega,
+                               const std::vector<Functional>& outputs, bool static_correction,
+                               const std::vector<Index>* contact_dofs)
     : static_correction_(static_correction) {
   const Index n = detail::require_square_system(M, C, K, "modal reduction"), m = shapes.cols();
+  n_dofs_ = n;
   if (shapes.rows() != n) throw InputError("modal reduction: mode shapes have the wrong number of rows");
   if (m < 1) throw InputError("modal reduction: at least one mode is needed");
   if (omega.size() != m) throw InputError("modal reduction: one frequency per mode is needed");
@@ -222,12 +235,24 @@ ModalReduction::ModalReduction(const SparseMatrix& M, const SparseMatrix& C, con
   out_static_ = out_shape_ * omega.cwiseAbs2().cwiseInverse().asDiagonal();
   out_rows_ = out_shape_;
   out_static_rows_ = out_static_;
-  if (!complex_) {
+  if (contact_dofs) {  // the coupled kernels integrate Φᵀ C Φ as it is: no load channels
+    coupled_ = true;
+    complex_ = false;
+    CoupledMatrices& cm = coupled_matrices_;
+    cm.M.resize(m, m);
+    cm.M.setIdentity();
+    std::vector<Eigen::Triplet<double>> kt;
+    for (Index j = 0; j < m; ++j) kt.emplace_back(j, j, omega[j] * omega[j]);
+    cm.K.resize(m, m);
+    cm.K.setFromTriplets(kt.begin(), kt.end());
+    cm.C = (0.5 * (Cm + Cm.transpose())).sparseView(0.0, 0.0);  // symmetric to rounding
+  } else if (!complex_) {
     load_rows_ = phi;
   } else {
     build_complex_basis(phi, Cm, omega);
   }
-  if (static_correction) build_static_correction(K, outputs);
+  shapes_ = std::move(phi);
+  if (static_correction) build_static_correction(K, outputs, contact_dofs);
 }
 
 namespace {
@@ -335,7 +360,33 @@ void ModalReduction::build_complex_basis(const Matrix& phi, const Matrix& Cm, co
   c_static_ = out_static_.cast<std::complex<double>>() * Vbot;  // p = V_bot u (all coordinates)
 }
 
-void ModalReduction::build_static_correction(const SparseMatrix& K, const std::vector<Functional>& outputs) {
+namespace {
+// R = K⁻¹ − Φ Ω⁻² Φᵀ between `dofs` (rows and columns), a block of columns at a time (lk: K factored).
+Matrix contact_flexibility(const Eigen::SimplicialLDLT<SparseMatrix>& lk, const Matrix& phi, const Vector& omega,
+                           const std::vector<Index>& dofs) {
+  const Index n = phi.rows(), np = static_cast<Index>(dofs.size());
+  const Matrix flex = phi * omega.cwiseInverse().cwiseAbs2().asDiagonal();  // Φ Ω⁻²
+  Matrix R(np, np);
+  constexpr Index kBlock = 256;
+  for (Index c0 = 0; c0 < np; c0 += kBlock) {
+    const Index nc = std::min(kBlock, np - c0);
+    Matrix E = Matrix::Zero(n, nc), phi_c(nc, phi.cols());
+    for (Index j = 0; j < nc; ++j) {
+      E(dofs[static_cast<std::size_t>(c0 + j)], j) = 1.0;
+      phi_c.row(j) = phi.row(dofs[static_cast<std::size_t>(c0 + j)]);
+    }
+    Matrix X = lk.solve(E);
+    if (lk.info() != Eigen::Success || !X.allFinite())
+      throw SolverError("static correction: K is singular (is the structure supported?)");
+    X.noalias() -= flex * phi_c.transpose();
+    for (Index i = 0; i < np; ++i) R.block(i, c0, 1, nc) = X.row(dofs[static_cast<std::size_t>(i)]);
+  }
+  return 0.5 * (R + R.transpose());  // symmetric to rounding
+}
+}  // namespace
+
+void ModalReduction::build_static_correction(const SparseMatrix& K, const std::vector<Functional>& outputs,
+                                             const std::vector<Index>* contact_dofs) {
   const Index n = K.rows(), n_out = static_cast<Index>(outputs.size());
   Eigen::SimplicialLDLT<SparseMatrix> lk(K);
   if (lk.info() != Eigen::Success)
@@ -349,6 +400,22 @@ void ModalReduction::build_static_correction(const SparseMatrix& K, const std::v
       throw SolverError("static correction: K is singular (is the structure supported?)");
   }
   out_flex_rows_ = out_flex;
+  if (!contact_dofs) return;
+  // The coupled kernels' share: the wheels' forces through the dropped modes, between the contact
+  // DOFs and from them to the outputs (the rows of K⁻¹ cⱼ above less the kept modes' S Ω⁻²).
+  const std::vector<Index>& dofs = *contact_dofs;
+  contact_slot_.assign(static_cast<std::size_t>(n), -1);
+  for (std::size_t i = 0; i < dofs.size(); ++i) {
+    const Index d = dofs[i];
+    if (d < 0 || d >= n) throw InputError("modal reduction: contact DOF out of range");
+    if (contact_slot_[static_cast<std::size_t>(d)] >= 0) throw InputError("modal reduction: contact DOF given twice");
+    contact_slot_[static_cast<std::size_t>(d)] = static_cast<Index>(i);
+  }
+  contact_residual_ = contact_flexibility(lk, shapes_, omega_, dofs);
+  contact_output_residual_.resize(static_cast<Index>(dofs.size()), n_out);
+  for (std::size_t i = 0; i < dofs.size(); ++i)
+    contact_output_residual_.row(static_cast<Index>(i)) =
+        out_flex.row(dofs[i]) - shapes_.row(dofs[i]) * out_static_.transpose();
 }
 
 namespace {
@@ -407,6 +474,8 @@ Summary ModalReduction::integrate(ModalForce& force, const TimeGrid& grid, const
                                   const OutputObserver& observe) const {
   require_valid(grid, "modal superposition");
   require_valid(opt, "modal superposition");
+  if (coupled_)
+    throw InputError("modal superposition: this reduction was built for the coupled vehicle kernels (it has no load channels)");
   if (complex_) return integrate_complex(force, grid, opt, observe);
   const auto wall0 = std::chrono::steady_clock::now();
   const Index n = n_dofs(), m = n_modes(), n_out = out_shape_.rows();

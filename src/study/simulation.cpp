@@ -116,6 +116,18 @@ double bearing_load(const model::Structure& s, const LoadEffect& e, const load::
   return f;
 }
 
+model::Modes kept_modes(const model::Structure& s, const ModalSettings& ms) {
+  if (ms.n_modes < 0) throw InputError("modal.n_modes must be >= 0");
+  require_non_negative(ms.max_frequency_hz, "modal.max_frequency_hz [Hz]");
+  model::Modes modes = model::compute_modes_up_to(s, ms.n_modes, ms.max_frequency_hz);
+  if (modes.frequency_hz.size() < 1) {
+    const model::Modes first = model::compute_modes_up_to(s, 1, 0.0);
+    throw InputError("modal.max_frequency_hz = " + format_number(ms.max_frequency_hz, 6) +
+                     " Hz keeps no mode: the lowest is " + format_number(first.frequency_hz[0], 6) + " Hz");
+  }
+  return modes;
+}
+
 namespace {
 
 // The outputs one effect records: its functional, then its inertia and damping parts if any.
@@ -237,15 +249,8 @@ std::shared_ptr<const solve::ModalReduction> make_modal(const model::Structure& 
                                                         const std::vector<ResolvedStation>& stations,
                                                         const ModalSettings& ms, bool rail, Vector* kept_hz,
                                                         double dt, const std::vector<LoadEffect>& effects = {}) {
-  if (ms.n_modes < 0) throw InputError("modal.n_modes must be >= 0");
-  require_non_negative(ms.max_frequency_hz, "modal.max_frequency_hz [Hz]");
-  const model::Modes modes = model::compute_modes_up_to(s, ms.n_modes, ms.max_frequency_hz);
+  const model::Modes modes = kept_modes(s, ms);
   const Index n = modes.frequency_hz.size();
-  if (n < 1) {
-    const model::Modes first = model::compute_modes_up_to(s, 1, 0.0);
-    throw InputError("modal.max_frequency_hz = " + format_number(ms.max_frequency_hz, 6) +
-                     " Hz keeps no mode: the lowest is " + format_number(first.frequency_hz[0], 6) + " Hz");
-  }
   if (kept_hz) *kept_hz = modes.frequency_hz.head(n);
   Matrix shapes = modes.shape.leftCols(n);
   for (Index j = 0; j < n; ++j) shapes.col(j) /= std::sqrt(shapes.col(j).dot(s.M * shapes.col(j)));
@@ -476,8 +481,8 @@ PreparedModel prepare_model(model::Structure s, const std::vector<StationSpec>& 
     // Vehicles: the coupled kernel on every DOF or on the modes (the fast path), and the profile.
     m.profile = rail_profile(m.structure, settings.irregularity);
     if (settings.method == Method::modal || settings.method == Method::ida) {  // IDA: on the modes too
-      m.vehicle_modal = vehicle_modal_basis(m.structure, settings.modal, vehicle_outputs(m.stations, m.effects));
-      m.modal_frequency_hz = m.vehicle_modal->frequency_hz;
+      m.vehicle_modal = vehicle_reduction(m.structure, settings.modal, vehicle_outputs(m.stations, m.effects),
+                                          &m.modal_frequency_hz);
     }
   } else if (settings.method == Method::modal) {
     m.modal = make_modal(m.structure, m.stations, settings.modal, rail_outputs, &m.modal_frequency_hz, settings.dt,

@@ -61,78 +61,30 @@ std::vector<solve::Functional> vehicle_outputs(const std::vector<ResolvedStation
   return out;
 }
 
-namespace {
-
-// The static correction of the fast path: R = K⁻¹ − Φ Ω⁻² Φᵀ at the load path's DOFs (columns)
-// and at the path's DOFs and the outputs (rows), computed a block of columns at a time.
-void add_static_correction(VehicleModalBasis& b, const model::Structure& s,
-                           const std::vector<solve::Functional>& outputs) {
-  const Index n = s.K.rows();
-  b.path_slot.assign(static_cast<std::size_t>(n), -1);
-  std::vector<Index> dofs;
+std::shared_ptr<const solve::ModalReduction> vehicle_reduction(const model::Structure& s, const ModalSettings& ms,
+                                                               const std::vector<solve::Functional>& outputs,
+                                                               Vector* kept_hz) {
+  const model::Modes modes = kept_modes(s, ms);
+  const Index m = modes.frequency_hz.size();
+  // The DOFs the wheels may touch: the load path's, each once.
+  std::vector<Index> path;
+  std::vector<bool> seen(static_cast<std::size_t>(s.K.rows()), false);
   for (const model::PathElement& e : s.load_path())
     for (const Index d : e.dofs)
-      if (d >= 0 && b.path_slot[static_cast<std::size_t>(d)] < 0) {
-        b.path_slot[static_cast<std::size_t>(d)] = static_cast<Index>(dofs.size());
-        dofs.push_back(d);
+      if (d >= 0 && !seen[static_cast<std::size_t>(d)]) {
+        seen[static_cast<std::size_t>(d)] = true;
+        path.push_back(d);
       }
-  const Index np = static_cast<Index>(dofs.size()), no = static_cast<Index>(outputs.size());
-  if (np > kMaxResidualPathDofs)
+  if (ms.static_correction && static_cast<Index>(path.size()) > kMaxResidualPathDofs)
     throw InputError("modal.static_correction = true: the vehicle fast path's correction stores the flexibility between the "
-                     "load path's " + std::to_string(np) + " DOFs, more than the " + std::to_string(kMaxResidualPathDofs) +
+                     "load path's " + std::to_string(path.size()) + " DOFs, more than the " +
+                     std::to_string(kMaxResidualPathDofs) +
                      " it takes (set modal.static_correction = false, or use analysis.method = \"newmark\")");
-  Eigen::SimplicialLDLT<SparseMatrix> lk(s.K);
-  if (lk.info() != Eigen::Success)
-    throw SolverError("static correction: K cannot be factored (is the structure supported?)");
-  const Matrix flex = b.shapes * b.omega.cwiseInverse().cwiseAbs2().asDiagonal();  // Φ Ω⁻²
-  b.residual.resize(np, np);
-  b.output_residual = Matrix::Zero(np, no);
-  constexpr Index kBlock = 256;
-  for (Index c0 = 0; c0 < np; c0 += kBlock) {
-    const Index nc = std::min(kBlock, np - c0);
-    Matrix E = Matrix::Zero(n, nc), Phi_c(nc, b.shapes.cols());
-    for (Index j = 0; j < nc; ++j) {
-      E(dofs[static_cast<std::size_t>(c0 + j)], j) = 1.0;
-      Phi_c.row(j) = b.shapes.row(dofs[static_cast<std::size_t>(c0 + j)]);
-    }
-    Matrix X = lk.solve(E);
-    if (lk.info() != Eigen::Success || !X.allFinite())
-      throw SolverError("static correction: K is singular (is the structure supported?)");
-    X.noalias() -= flex * Phi_c.transpose();
-    for (Index i = 0; i < np; ++i) b.residual.block(i, c0, 1, nc) = X.row(dofs[static_cast<std::size_t>(i)]);
-    for (Index o = 0; o < no; ++o)
-      for (std::size_t q = 0; q < outputs[static_cast<std::size_t>(o)].dof.size(); ++q)
-        b.output_residual.col(o).segment(c0, nc) +=
-            outputs[static_cast<std::size_t>(o)].weight[q] * X.row(outputs[static_cast<std::size_t>(o)].dof[q]).transpose();
-  }
-  b.residual = 0.5 * (b.residual + b.residual.transpose()).eval();  // symmetric to rounding
-}
-
-}  // namespace
-
-std::shared_ptr<const VehicleModalBasis> vehicle_modal_basis(const model::Structure& s, const ModalSettings& ms,
-                                                             const std::vector<solve::Functional>& outputs) {
-  if (ms.n_modes < 0) throw InputError("modal.n_modes must be >= 0");
-  require_non_negative(ms.max_frequency_hz, "modal.max_frequency_hz [Hz]");
-  const model::Modes modes = model::compute_modes_up_to(s, ms.n_modes, ms.max_frequency_hz);
-  const Index m = modes.frequency_hz.size();
-  if (m < 1) throw InputError("modal.max_frequency_hz = " + format_number(ms.max_frequency_hz, 6) + " Hz keeps no mode");
-  auto b = std::make_shared<VehicleModalBasis>();
-  b->shapes = modes.shape.leftCols(m);
-  for (Index j = 0; j < m; ++j) b->shapes.col(j) /= std::sqrt(b->shapes.col(j).dot(s.M * b->shapes.col(j)));
-  b->frequency_hz = modes.frequency_hz.head(m);
-  b->omega = (2.0 * M_PI) * b->frequency_hz;
-  const Matrix Cm = b->shapes.transpose() * (s.C * b->shapes);
-  b->M.resize(m, m);
-  b->K.resize(m, m);
-  b->M.setIdentity();
-  std::vector<Eigen::Triplet<double>> kt;
-  for (Index j = 0; j < m; ++j) kt.emplace_back(j, j, b->omega[j] * b->omega[j]);
-  b->K.setFromTriplets(kt.begin(), kt.end());
-  // Φᵀ C Φ in full (0.5 (A + Aᵀ) against rounding): classical damping leaves it diagonal.
-  b->C = (0.5 * (Cm + Cm.transpose())).sparseView(0.0, 0.0);
-  if (ms.static_correction) add_static_correction(*b, s, outputs);
-  return b;
+  if (kept_hz) *kept_hz = modes.frequency_hz.head(m);
+  // The reduction mass-normalises the shapes.
+  return std::make_shared<const solve::ModalReduction>(s.M, s.C, s.K, Matrix(modes.shape.leftCols(m)),
+                                                       Vector((2.0 * M_PI) * modes.frequency_hz.head(m)), outputs,
+                                                       ms.static_correction, path);
 }
 
 solve::LinearVehicle linear_vehicle(const load::Train& train, const RunSettings& s, load::TrainVehicles* detail) {
@@ -207,94 +159,6 @@ std::shared_ptr<const load::RailProfile> rail_profile(const model::Structure& s,
 
 namespace {
 
-// The same contacts in modal coordinates: a rail point's weights on every mode, and the dropped
-// modes' flexibility between the wheels when the basis has the static correction.
-class ModalContacts : public solve::ContactPath {
- public:
-  ModalContacts(const solve::ContactPath& full, const VehicleModalBasis& basis, std::size_t n_wheels)
-      : full_(full), phi_(basis.shapes), basis_(basis), fd_(n_wheels), fw_(n_wheels) {}
-  std::vector<double> breaks(double t_end) const override { return full_.breaks(t_end); }
-  void contact(std::size_t w, double t, std::vector<Index>& dof, std::vector<double>& weight, double& r) const override {
-    full_.contact(w, t, d_, w_, r);
-    if (basis_.static_correction()) {  // the path's rows of wheel w, for residual_flexibility()
-      fd_[w].clear();
-      fw_[w] = w_;
-      for (const Index d : d_) {
-        const bool in = d >= 0 && static_cast<std::size_t>(d) < basis_.path_slot.size();
-        const Index slot = in ? basis_.path_slot[static_cast<std::size_t>(d)] : -1;
-        if (slot < 0)
-          throw InputError("static correction: wheel " + std::to_string(w) + " touches DOF " + std::to_string(d) +
-                           ", which is not on the structure's load path");
-        fd_[w].push_back(slot);
-      }
-    }
-    dof.clear();
-    weight.clear();
-    if (d_.empty()) return;
-    const Index m = phi_.cols();
-    dof.resize(static_cast<std::size_t>(m));
-    weight.assign(static_cast<std::size_t>(m), 0.0);
-    for (Index j = 0; j < m; ++j) {
-      dof[static_cast<std::size_t>(j)] = j;
-      double s = 0.0;
-      for (std::size_t q = 0; q < d_.size(); ++q) s += w_[q] * phi_(d_[q], j);
-      weight[static_cast<std::size_t>(j)] = s;
-    }
-  }
-  // The full path's rates projected on the modes, as contact() projects its weights.
-  bool contact_rates(std::size_t w, double t, std::vector<double>& dweight, std::vector<double>& ddweight, double& dr,
-                     double& ddr) const override {
-    double r = 0.0;
-    full_.contact(w, t, d_, w_, r);
-    if (!full_.contact_rates(w, t, dw_, ddw_, dr, ddr)) return false;
-    dweight.clear();
-    ddweight.clear();
-    if (d_.empty()) return true;
-    const Index m = phi_.cols();
-    dweight.assign(static_cast<std::size_t>(m), 0.0);
-    ddweight.assign(static_cast<std::size_t>(m), 0.0);
-    for (Index j = 0; j < m; ++j)
-      for (std::size_t q = 0; q < d_.size(); ++q) {
-        dweight[static_cast<std::size_t>(j)] += dw_[q] * phi_(d_[q], j);
-        ddweight[static_cast<std::size_t>(j)] += ddw_[q] * phi_(d_[q], j);
-      }
-    return true;
-  }
-  bool residual_flexibility(double, Matrix& F) const override {
-    if (!basis_.static_correction()) return false;
-    const Index nw = static_cast<Index>(fd_.size());
-    F.setZero(nw, nw);
-    for (Index a = 0; a < nw; ++a)
-      for (Index b = 0; b <= a; ++b) {
-        const auto &da = fd_[static_cast<std::size_t>(a)], &db = fd_[static_cast<std::size_t>(b)];
-        const auto &wa = fw_[static_cast<std::size_t>(a)], &wb = fw_[static_cast<std::size_t>(b)];
-        double f = 0.0;
-        for (std::size_t i = 0; i < da.size(); ++i)
-          for (std::size_t j = 0; j < db.size(); ++j) f += wa[i] * wb[j] * basis_.residual(da[i], db[j]);
-        F(a, b) = F(b, a) = f;
-      }
-    return true;
-  }
-
- private:
-  const solve::ContactPath& full_;
-  const Matrix& phi_;
-  const VehicleModalBasis& basis_;
-  mutable std::vector<Index> d_;
-  mutable std::vector<double> w_, dw_, ddw_;
-  mutable std::vector<std::vector<Index>> fd_;  // per wheel: rows of basis_.residual under it
-  mutable std::vector<std::vector<double>> fw_;  // and their weights
-};
-
-}  // namespace
-
-std::unique_ptr<solve::ContactPath> modal_contacts(const solve::ContactPath& full, const VehicleModalBasis& basis,
-                                                   std::size_t n_wheels) {
-  return std::make_unique<ModalContacts>(full, basis, n_wheels);
-}
-
-namespace {
-
 solve::Functional project(const solve::Functional& f, const Matrix* phi) {
   if (!phi) return f;
   solve::Functional p;
@@ -317,24 +181,23 @@ double apply(const solve::Functional& f, const Vector& x) {
 // the contact forces P through the dropped modes' flexibility from the rail under each wheel.
 class OutputCorrection {
  public:
-  // `basis` null or without the correction: at() must not be called.
-  OutputCorrection(const solve::ContactPath& full, const VehicleModalBasis* basis, std::size_t n_wheels, std::size_t n_outputs)
-      : full_(full), basis_(basis), nw_(n_wheels), corr_(Vector::Zero(static_cast<Index>(n_outputs))) {}
+  // `r` null or without the correction: at() must not be called.
+  OutputCorrection(const solve::ContactPath& full, const solve::ModalReduction* r, std::size_t n_wheels, std::size_t n_outputs)
+      : full_(full), r_(r), nw_(n_wheels), corr_(Vector::Zero(static_cast<Index>(n_outputs))) {}
   const Vector& at(double t, const Vector& P) {
     corr_.setZero();
     double rw = 0.0;
     for (std::size_t w = 0; w < nw_; ++w) {
       full_.contact(w, t, d_, w_, rw);
       for (std::size_t q = 0; q < d_.size(); ++q)
-        corr_.noalias() += (P[static_cast<Index>(w)] * w_[q]) *
-                           basis_->output_residual.row(basis_->path_slot[static_cast<std::size_t>(d_[q])]).transpose();
+        corr_.noalias() += (P[static_cast<Index>(w)] * w_[q]) * r_->contact_output_residual().row(r_->contact_slot(d_[q])).transpose();
     }
     return corr_;
   }
 
  private:
   const solve::ContactPath& full_;
-  const VehicleModalBasis* basis_;
+  const solve::ModalReduction* r_;
   std::size_t nw_;
   Vector corr_;
   std::vector<Index> d_;
@@ -446,10 +309,10 @@ RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, do
   const bool modal = integrator->coupled_coordinates() == solve::Coordinates::modal;
   // The displacement outputs in vehicle_outputs()' order, the order of the static correction's.
   const std::vector<solve::Functional> outs = vehicle_outputs(m.stations, m.effects);
-  std::shared_ptr<const VehicleModalBasis> basis = m.vehicle_modal;
-  if (modal && !basis) basis = vehicle_modal_basis(s, st.modal, outs);
+  std::shared_ptr<const solve::ModalReduction> basis = m.vehicle_modal;
+  if (modal && !basis) basis = vehicle_reduction(s, st.modal, outs);
   const bool sc = modal && basis->static_correction();
-  const Matrix* phi = modal ? &basis->shapes : nullptr;
+  const Matrix* phi = modal ? &basis->shapes() : nullptr;
 
   const double t_end = (s.path_end() - s.path_start() + train.length()) / speed + st.free_vibration_s;
   const Index n_samples = solve::TimeGrid{st.dt, t_end}.n_steps() + 1;
@@ -518,20 +381,19 @@ RunResult simulate_vehicles(const PreparedModel& m, const load::Train& train, do
       pitch_acc(k, static_cast<Index>(b)) = tv.body_pitch_dof[b] >= 0 ? x.za[tv.body_pitch_dof[b]] : 0.0;
     }
   };
-  std::optional<ModalContacts> mc;
-  if (modal) mc.emplace(full, *basis, na);
+  const std::unique_ptr<solve::ContactPath> mc = modal ? solve::modal_contacts(full, *basis, na) : nullptr;
   solve::CoupledCase cc;
-  cc.M = modal ? &basis->M : &s.M;
-  cc.C = modal ? &basis->C : &s.C;
-  cc.K = modal ? &basis->K : &s.K;
+  cc.M = modal ? &basis->coupled_matrices().M : &s.M;
+  cc.C = modal ? &basis->coupled_matrices().C : &s.C;
+  cc.K = modal ? &basis->coupled_matrices().K : &s.K;
   cc.vehicle = &veh;
-  cc.path = modal ? static_cast<const solve::ContactPath*>(&*mc) : &full;
+  cc.path = modal ? mc.get() : &full;
   cc.grid = grid;
   cc.observe = observe;
   cc.bound = &bound;
   solve::CoupledSummary cs = integrator->run_coupled(cc);
   if (modal) {
-    cs.summary.n_modes = basis->shapes.cols();
+    cs.summary.n_modes = basis->n_modes();
     r.n_modes = cs.summary.n_modes;
   }
   r.summary = cs.summary;

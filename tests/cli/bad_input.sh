@@ -271,6 +271,8 @@ expect 2 "takes no scenario" -- "$VIADUCT" irregularity --spectrum fra6 --set a=
 VS=$SRC/scenarios/vehicles-25m.toml
 expect 2 "key 'train.vehicle': multibody needs trains of coaches" -- "$VIADUCT" run "$VS" --set 'train.files=["hslm:A1"]' --out "$WORK/o"
 expect 2 "key 'irregularity.spectrum': moving forces do not see the rail's profile" -- "$VIADUCT" run "$VS" --set train.vehicle=forces --out "$WORK/o"
+# The vehicle fast path keeps its modes as the moving-load path does (one message).
+expect 2 "keeps no mode: the lowest is" -- "$VIADUCT" run "$VS" --set 'analysis.method="modal"' --set modal.max_frequency_hz=0.5 --out "$WORK/o"
 expect 2 "key 'irregularity.spectrum': must be one of" -- "$VIADUCT" check "$VS" --set irregularity.spectrum=fra9
 sed 's/^body_mass_kg = .*/body_mass_kg = -47800.0/' "$SRC/data/vehicles/ave-s103.toml" > "$WORK/negcoach.toml"
 printf 'kind = "coaches"\nvehicle = "negcoach.toml"\nn_coaches = 2\n' > "$WORK/negtrain.toml"

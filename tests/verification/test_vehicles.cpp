@@ -11,6 +11,7 @@
 #include "viaduct/io/scenario.hpp"
 #include "viaduct/load/moving_loads.hpp"
 #include "viaduct/signal/iir.hpp"
+#include "viaduct/solve/modal.hpp"
 #include "viaduct/study/vehicles.hpp"
 
 using namespace viaduct;
@@ -437,19 +438,19 @@ TEST_CASE("IDA with vehicles is the limit the modal fast path converges to") {
 TEST_CASE("the vehicle fast path's static correction restores the full flexibility at the wheels and outputs") {
   // Three modes of the 25 m span: the rail under each wheel and a quarter-span deflection must see
   // N K⁻¹ Nᵀ — the kept modes' N Φ Ω⁻² Φᵀ Nᵀ plus the correction (ContactPath::residual_flexibility
-  // between the wheels, VehicleModalBasis::output_residual to the outputs) — at any wheel positions.
+  // between the wheels, ModalReduction::contact_output_residual to the outputs) — at any wheel positions.
   const model::Structure s = model::build_structure(vt::span(kBeamL, kBeamEI, kBeamMass, 0.5), std::nullopt);
   const load::Train train = load::regular_train("4 axles", 4, 7.3, 170e3);
   study::ModalSettings ms;
   ms.n_modes = 3;
   const auto stations = study::resolve_stations(s, {{"quarter", true, 0, kBeamL / 4, 0.0}});
   const std::vector<solve::Functional> outs = study::vehicle_outputs(stations, {});
-  const auto basis = study::vehicle_modal_basis(s, ms, outs);
+  const auto basis = study::vehicle_reduction(s, ms, outs);
   REQUIRE(basis->static_correction());
   const auto full = study::train_contacts(s, train, 10.0, nullptr, 0.0, 0.0);
-  const auto mc = study::modal_contacts(*full, *basis, train.n_axles());
+  const auto mc = solve::modal_contacts(*full, *basis, train.n_axles());
   Eigen::SimplicialLDLT<SparseMatrix> lk(s.K);
-  const Index n = s.K.rows(), nw = static_cast<Index>(train.n_axles()), m = basis->shapes.cols();
+  const Index n = s.K.rows(), nw = static_cast<Index>(train.n_axles()), m = basis->n_modes();
   for (const double t : {0.4, 1.73, 2.9}) {  // 4 m: one wheel on the span; 17.3 m: three; 29 m: one left it
     Matrix N = Matrix::Zero(n, nw), Nm = Matrix::Zero(m, nw);
     Vector corr_out = Vector::Zero(nw);  // the correction from each wheel's unit force to the output
@@ -460,7 +461,7 @@ TEST_CASE("the vehicle fast path's static correction restores the full flexibili
       full->contact(static_cast<std::size_t>(w), t, d, wt, r);
       for (std::size_t q = 0; q < d.size(); ++q) {
         N(d[q], w) += wt[q];
-        corr_out[w] += wt[q] * basis->output_residual(basis->path_slot[static_cast<std::size_t>(d[q])], 0);
+        corr_out[w] += wt[q] * basis->contact_output_residual()(basis->contact_slot(d[q]), 0);
       }
       mc->contact(static_cast<std::size_t>(w), t, dm, wm, r);
       for (std::size_t q = 0; q < dm.size(); ++q) Nm(dm[q], w) += wm[q];
@@ -468,13 +469,13 @@ TEST_CASE("the vehicle fast path's static correction restores the full flexibili
     Matrix F;
     REQUIRE(mc->residual_flexibility(t, F));
     const Matrix exact = N.transpose() * lk.solve(N);
-    const Matrix kept = Nm.transpose() * basis->omega.cwiseAbs2().cwiseInverse().asDiagonal() * Nm;
+    const Matrix kept = Nm.transpose() * basis->omega().cwiseAbs2().cwiseInverse().asDiagonal() * Nm;
     const double scale = exact.cwiseAbs().maxCoeff();
     const double e_wheels = (kept + F - exact).cwiseAbs().maxCoeff() / scale;
     Vector c = Vector::Zero(n);
     for (std::size_t q = 0; q < outs[0].dof.size(); ++q) c[outs[0].dof[q]] += outs[0].weight[q];
     const Vector exact_out = N.transpose() * lk.solve(c);
-    const Vector kept_out = Nm.transpose() * basis->omega.cwiseAbs2().cwiseInverse().asDiagonal() * (basis->shapes.transpose() * c);
+    const Vector kept_out = Nm.transpose() * basis->omega().cwiseAbs2().cwiseInverse().asDiagonal() * (basis->shapes().transpose() * c);
     const double e_out = (kept_out + corr_out - exact_out).cwiseAbs().maxCoeff() / exact_out.cwiseAbs().maxCoeff();
     std::printf("static correction at t = %.2f s: wheels %.1e, output %.1e off the full flexibility; the correction is %.1e of it\n",
                 t, e_wheels, e_out, F.cwiseAbs().maxCoeff() / scale);
@@ -491,7 +492,7 @@ TEST_CASE("the vehicle fast path's static correction restores the full flexibili
     const solve::LinearVehicle veh = study::linear_vehicle(train, rs);
     Vector z_full, z_modal, f_full, f_modal;
     solve::coupled_static(s.K, veh, *full, t, &z_full, &f_full);
-    solve::coupled_static(basis->K, veh, *mc, t, &z_modal, &f_modal);
+    solve::coupled_static(basis->coupled_matrices().K, veh, *mc, t, &z_modal, &f_modal);
     CHECK((z_modal - z_full).cwiseAbs().maxCoeff() < 1e-10 * z_full.cwiseAbs().maxCoeff());
     CHECK((f_modal - f_full).cwiseAbs().maxCoeff() < 1e-10 * f_full.cwiseAbs().maxCoeff());
   }
@@ -607,8 +608,8 @@ TEST_CASE("the static correction refuses a load path beyond its dense flexibilit
   const model::Structure s = model::build_structure(b, std::nullopt);
   study::ModalSettings ms;
   ms.n_modes = 1;
-  CHECK_THROWS_WITH(study::vehicle_modal_basis(s, ms), Catch::Contains("modal.static_correction = true") &&
+  CHECK_THROWS_WITH(study::vehicle_reduction(s, ms), Catch::Contains("modal.static_correction = true") &&
                                                            Catch::Contains("more than the 4096 it takes"));
   ms.static_correction = false;  // without it the basis is built
-  CHECK(study::vehicle_modal_basis(s, ms)->shapes.cols() == 1);
+  CHECK(study::vehicle_reduction(s, ms)->n_modes() == 1);
 }

@@ -1,7 +1,8 @@
 #pragma once
 /// \file The wheel–rail contact geometry a coupled vehicle kernel reads (solve/coupled.hpp) and
-/// the loads give (load/contacts.hpp: a train rolling along a structure's load path; study: the
-/// same in modal coordinates): here, below both, so that neither layer includes the other.
+/// the loads give (load/contacts.hpp: a train rolling along a structure's load path;
+/// solve/modal.hpp: the same in modal coordinates): here, below both, so that neither layer
+/// includes the other.
 
 #include <cstddef>
 #include <vector>

@@ -2,7 +2,7 @@
 /// \file A train's wheels rolling along a structure's load path: where each wheel is on the rail
 /// (a ContactPath, core/contact_path.hpp, that the coupled kernels of solve/coupled.hpp read), the
 /// irregularity under it, and the wheel–rail contact law (linearised Hertz). The same contacts in
-/// a structure's modal coordinates are study::modal_contacts (the modal basis is the study's).
+/// a structure's modal coordinates are solve::modal_contacts (over the structure's ModalReduction).
 
 #include <memory>
 

@@ -16,9 +16,11 @@
 #include <array>
 #include <complex>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "viaduct/core/contact_path.hpp"
 #include "viaduct/solve/options.hpp"
 #include "viaduct/solve/second_order_system.hpp"
 #include "viaduct/solve/summary.hpp"
@@ -57,9 +59,21 @@ class ModalReduction {
   ModalReduction(const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K,
                  const Matrix& shapes, const Vector& omega, const std::vector<Functional>& outputs,
                  bool static_correction);
+  /// The same for the coupled vehicle kernels (Integrator::coupled_coordinates() == modal): the
+  /// structure in its modes, the vehicles physical, the wheels touching `contact_dofs` (a
+  /// structure's load path, each DOF once). Keeps the real mass-normalised modes (shapes()) and
+  /// the reduced matrices (coupled_matrices(): I, Φᵀ C Φ in full — discrete dashpots stay coupled,
+  /// the coupled kernels integrate it as it is —, Ω²); no load channels and no complex coordinates
+  /// (integrate() refuses it). With the static correction, besides flexibility_rows() (the one
+  /// static correction of the outputs), the dropped modes' flexibility R = K⁻¹ − Φ Ω⁻² Φᵀ between
+  /// the contact DOFs (contact_residual(), dense: the caller bounds their number) and from them to
+  /// the outputs (contact_output_residual()). Throws as the other constructor does.
+  ModalReduction(const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K,
+                 const Matrix& shapes, const Vector& omega, const std::vector<Functional>& outputs,
+                 bool static_correction, const std::vector<Index>& contact_dofs);
 
   Index n_modes() const { return omega_.size(); }
-  Index n_dofs() const { return load_rows_.rows(); }
+  Index n_dofs() const { return n_dofs_; }
   const Vector& omega() const { return omega_; }  ///< [rad/s]
   const Vector& zeta() const { return zeta_; }    ///< [-] per mode
   bool static_correction() const { return static_correction_; }
@@ -107,11 +121,37 @@ class ModalReduction {
   };
   ComplexForm complex_form() const;
 
+  /// The mass-normalised real modes, n_dofs × n_modes (Φᵀ M Φ = I), as the reduction uses them.
+  const Matrix& shapes() const { return shapes_; }
+
+  /// Built for the coupled vehicle kernels (the constructor with contact DOFs).
+  bool coupled() const { return coupled_; }
+  /// The reduced matrices the coupled kernels integrate (coupled() only): M = I, C = Φᵀ C Φ in
+  /// full (symmetrised against rounding: classical damping leaves it diagonal), K = Ω².
+  struct CoupledMatrices {
+    SparseMatrix M, C, K;
+  };
+  const CoupledMatrices& coupled_matrices() const { return coupled_matrices_; }
+  /// Coupled with the static correction: the row of contact DOF d in contact_residual() and
+  /// contact_output_residual(), or -1 when d is not a contact DOF (or out of range).
+  Index contact_slot(Index d) const {
+    return d >= 0 && static_cast<std::size_t>(d) < contact_slot_.size() ? contact_slot_[static_cast<std::size_t>(d)] : -1;
+  }
+  /// R = K⁻¹ − Φ Ω⁻² Φᵀ between the contact DOFs (n_contact², symmetric) and from them to each
+  /// output (n_contact × n_outputs: rows of flexibility_rows() less the kept modes' share); empty
+  /// without the static correction.
+  const Matrix& contact_residual() const { return contact_residual_; }
+  const Matrix& contact_output_residual() const { return contact_output_residual_; }
+
  private:
+  ModalReduction(const SparseMatrix& M, const SparseMatrix& C, const SparseMatrix& K, const Matrix& shapes,
+                 const Vector& omega, const std::vector<Functional>& outputs, bool static_correction,
+                 const std::vector<Index>* contact_dofs);
   // Parts of the constructor: the damped (complex) basis from the modal damping matrix Cm, and
   // the static correction's flexibility rows K⁻¹ cⱼᵀ of the outputs.
   void build_complex_basis(const Matrix& phi, const Matrix& Cm, const Vector& omega);
-  void build_static_correction(const SparseMatrix& K, const std::vector<Functional>& outputs);
+  void build_static_correction(const SparseMatrix& K, const std::vector<Functional>& outputs,
+                               const std::vector<Index>* contact_dofs);
   Summary integrate_complex(ModalForce& force, const TimeGrid& grid, const ModalOptions& opt,
                             const OutputObserver& observe) const;
   RowMatrix load_rows_;  // n × n_channels
@@ -129,7 +169,21 @@ class ModalReduction {
   RowMatrix out_flex_rows_;  // n × n_out: K⁻¹ cⱼᵀ (empty without static correction)
   bool static_correction_ = false;
   double max_coupling_ = 0.0;
+  Index n_dofs_ = 0;
+  Matrix shapes_;  // n × m, mass-normalised
+  // Coupled vehicle kernels only.
+  bool coupled_ = false;
+  CoupledMatrices coupled_matrices_;
+  std::vector<Index> contact_slot_;  // per DOF: row in the contact residuals, or -1
+  Matrix contact_residual_, contact_output_residual_;
 };
+
+/// The contacts of `full` (a path of the structure's DOFs; it and `r` must outlive the result)
+/// in the modal coordinates of `r` (built for the coupled kernels): each rail point's weights on
+/// the modes and, with r's static correction, the dropped modes' flexibility between the
+/// `n_wheels` wheels (ContactPath::residual_flexibility; InputError when a wheel touches a DOF
+/// that is not one of r's contact DOFs).
+std::unique_ptr<ContactPath> modal_contacts(const ContactPath& full, const ModalReduction& r, std::size_t n_wheels);
 
 /// A Ritz basis that carries non-proportional damping past a truncated set of modes.
 /// With discrete dashpots (a track's pads and ballast) the low complex modes of (M, C, K) are

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "viaduct/load/moving_loads.hpp"
+#include "viaduct/model/modes.hpp"
 #include "viaduct/model/structure.hpp"
 #include "viaduct/solve/integrator.hpp"
 #include "viaduct/study/scenario.hpp"
@@ -156,8 +157,6 @@ constexpr double kMaxHistoryBytes = 2.0 * (1 << 30);
 /// Modal loads of a unit axle along the load path, tabulated per path element as cubics in the
 /// element coordinate (built with the modal model; speed-independent).
 struct ModalPathTable;
-/// The modes of the vehicle fast path (study/vehicles.hpp).
-struct VehicleModalBasis;
 /// One factorisation of K (the divergence guard's static responses; src/study/divergence.hpp).
 struct StaticFactor;
 
@@ -175,11 +174,18 @@ struct PreparedModel {
   std::vector<LoadEffect> effects;
   /// The rail profile vehicle models see (null: a smooth rail or moving forces).
   std::shared_ptr<const load::RailProfile> profile;
-  /// Modal basis of the vehicle fast path (vehicle models with Method::modal; opaque).
-  std::shared_ptr<const VehicleModalBasis> vehicle_modal;
+  /// The structure's modes for the coupled vehicle kernels (vehicle models with Method::modal or
+  /// ida: vehicle_reduction() in study/vehicles.hpp).
+  std::shared_ptr<const solve::ModalReduction> vehicle_modal;
   /// K factored once: the divergence guard's bounds of every case (solve/guard.hpp).
   std::shared_ptr<const StaticFactor> statics;
 };
+
+/// The structure's modes `ms` keeps (modal.n_modes, or those up to modal.max_frequency_hz): the
+/// basis of the modal method with moving loads and with vehicles. InputError naming the key for
+/// an invalid value or when no mode is kept (giving the lowest frequency); SolverError from the
+/// eigensolver.
+model::Modes kept_modes(const model::Structure& s, const ModalSettings& ms);
 
 /// Builds the structure, maps the stations and, for the modal method, solves the eigenproblem
 /// and keeps the modes settings.modal selects. rail_outputs = false leaves the rail above deck

@@ -1,11 +1,12 @@
 #pragma once
 /// \file Trains as vehicles on the structure (docs/vehicles.md): the vehicle model a scenario
-/// chooses, the rail profile the wheels see, and runs of the coupled system through
-/// solve::coupled_newmark — on every DOF (Method::newmark) or with the structure in modal
-/// coordinates and the vehicles in physical ones (Method::modal, the fast path: the modes up to
-/// modal.max_frequency_hz / modal.n_modes, with the dropped modes' static correction at the
-/// contacts and the outputs when modal.static_correction) — or through solve::coupled_ida on the
-/// same modal system (Method::ida: adaptive, contact events as roots).
+/// chooses, the rail profile the wheels see, and runs of the coupled system through the
+/// integrator's one face (solve::Integrator::run_coupled): coupled Newmark on every DOF
+/// (Method::newmark) or with the structure in modal coordinates and the vehicles in physical ones
+/// (Method::modal, the fast path: the modes up to modal.max_frequency_hz / modal.n_modes, with the
+/// dropped modes' static correction at the contacts and the outputs when modal.static_correction,
+/// all held by one solve::ModalReduction), or coupled IDA on the same modal system (Method::ida:
+/// adaptive, contact events as roots).
 
 #include <memory>
 
@@ -13,6 +14,7 @@
 #include "viaduct/load/irregularity.hpp"
 #include "viaduct/load/vehicle.hpp"
 #include "viaduct/solve/coupled.hpp"
+#include "viaduct/solve/modal.hpp"
 #include "viaduct/study/simulation.hpp"
 
 namespace viaduct::study {
@@ -23,32 +25,20 @@ using load::irregularity_at;
 using load::require_transition;
 using load::train_contacts;
 
-/// The modes of the vehicle fast path: mass-normalised shapes and the reduced matrices.
-struct VehicleModalBasis {
-  Matrix shapes;            ///< n_dofs × m, Φᵀ M Φ = I
-  Vector omega;             ///< [rad/s]
-  SparseMatrix M, C, K;     ///< I, Φᵀ C Φ, Ω²
-  Vector frequency_hz;      ///< [Hz]
-  /// Static correction (empty without): the dropped modes' flexibility R = K⁻¹ − Φ Ω⁻² Φᵀ between
-  /// the load path's DOFs (`residual`, n_path², dense) and from them to each output functional
-  /// (`output_residual`, n_path × n_outputs); `path_slot` maps a structure DOF to its row (−1: off
-  /// the path).
-  std::vector<Index> path_slot;
-  Matrix residual, output_residual;
-  bool static_correction() const { return residual.size() > 0; }
-};
-
 /// Most load-path DOFs the static correction of the vehicle fast path takes (its dense residual
-/// flexibility: 8 n_path² bytes, 128 MiB here).
+/// flexibility between them, solve::ModalReduction::contact_residual(): 8 n_path² bytes, 128 MiB here).
 constexpr Index kMaxResidualPathDofs = 4096;
 
-/// The modes `settings.modal` selects, reduced for the vehicle fast path, with the static
-/// correction (settings.static_correction) at the load path and at `outputs` (functionals of the
-/// structure's DOFs; those simulate_vehicles() records: vehicle_outputs()). InputError when no mode
-/// is kept or the path has more than kMaxResidualPathDofs DOFs for the correction; SolverError
-/// from the eigensolver or a singular K.
-std::shared_ptr<const VehicleModalBasis> vehicle_modal_basis(const model::Structure& s, const ModalSettings& settings,
-                                                             const std::vector<solve::Functional>& outputs = {});
+/// The modes `settings.modal` selects, reduced for the coupled vehicle kernels (the
+/// solve::ModalReduction constructor with contact DOFs: the structure's load path), with the
+/// static correction (settings.static_correction) at the load path and at `outputs` (functionals
+/// of the structure's DOFs; those simulate_vehicles() records: vehicle_outputs()). `kept_hz`, when
+/// given, receives the modes' frequencies [Hz]. InputError when no mode is kept or the path has
+/// more than kMaxResidualPathDofs DOFs for the correction; SolverError from the eigensolver or a
+/// singular K.
+std::shared_ptr<const solve::ModalReduction> vehicle_reduction(const model::Structure& s, const ModalSettings& settings,
+                                                               const std::vector<solve::Functional>& outputs = {},
+                                                               Vector* kept_hz = nullptr);
 
 /// The displacement outputs of a vehicle run, in the structure's DOFs and in this order: each
 /// station's main point (the deck, or the rail without a deck), the rail above each deck station
@@ -67,13 +57,6 @@ solve::LinearVehicle linear_vehicle(const load::Train& train, const RunSettings&
 /// wavelength long, from the run-in's start: the same for every train and speed), or the
 /// measured one, which must cover them. InputError otherwise.
 std::shared_ptr<const load::RailProfile> rail_profile(const model::Structure& s, const IrregularitySettings& irr);
-
-/// The contacts of `full` (a path of the structure's DOFs, which must outlive the result) in the
-/// modal coordinates of `basis`: each rail point's weights on the modes, and with the basis's
-/// static correction the dropped modes' flexibility between the `n_wheels` wheels
-/// (ContactPath::residual_flexibility). What simulate_vehicles() integrates on Method::modal / ida.
-std::unique_ptr<solve::ContactPath> modal_contacts(const solve::ContactPath& full, const VehicleModalBasis& basis,
-                                                   std::size_t n_wheels);
 
 /// One run of `train` at `speed` [m/s] with vehicles (settings.vehicle.model is sprung or
 /// multibody): station histories (unfiltered), load effects when `m` has them, and the vehicles'

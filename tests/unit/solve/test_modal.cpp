@@ -168,6 +168,49 @@ TEST_CASE("non-proportional damping is measured, invalid bases and options are r
                       Catch::Contains("TimeGrid::dt = 0: violated constraint dt > 0"));
 }
 
+TEST_CASE("a reduction for the coupled vehicle kernels keeps the real modes and the flexibility they drop") {
+  // A chain with a local dashpot (Φᵀ C Φ not diagonal), two of eight modes kept, the wheels on
+  // DOFs 2, 3 and 5 and one output (DOF 4). The reduced matrices are Φᵀ M Φ, Φᵀ C Φ and Φᵀ K Φ of
+  // the mass-normalised shapes; the residual flexibility between the contact DOFs and to the
+  // output is K⁻¹ − Φ Ω⁻² Φᵀ (to rounding: 1e-10 of K⁻¹'s largest term); the coupled damping
+  // is kept as it is (no complex coordinates are built), and integrate() refuses the reduction.
+  Chain sys(8, 10.0, 4e4, 0.0, 0.0, 1, [](double) { return 1.0; });
+  sys.C_.coeffRef(0, 0) += 300.0;
+  Matrix shape;
+  Vector omega;
+  sys.modes(shape, omega);
+  const std::vector<Index> contact = {5, 2, 3};
+  const ModalReduction red(sys.M_, sys.C_, sys.K_, 3.0 * shape.leftCols(2), omega.head(2), {at(4)}, true, contact);
+  REQUIRE(red.coupled());
+  REQUIRE_FALSE(red.complex_modes());
+  const Matrix& phi = red.shapes();
+  const Matrix I = Matrix::Identity(2, 2);
+  CHECK((phi.transpose() * (sys.M_ * phi) - I).norm() < 1e-12);
+  const auto& cm = red.coupled_matrices();
+  CHECK((Matrix(cm.M) - I).norm() == 0.0);
+  const Matrix Cm = phi.transpose() * (sys.C_ * phi);
+  CHECK(std::abs(Cm(0, 1)) > 0.1 * std::sqrt(Cm(0, 0) * Cm(1, 1)));  // the dashpot couples the two modes
+  CHECK((Matrix(cm.C) - Cm).norm() < 1e-12 * Cm.norm());
+  CHECK((Matrix(cm.K) - Matrix(omega.head(2).cwiseAbs2().asDiagonal())).norm() < 1e-12 * omega[1] * omega[1]);
+  const Matrix Kinv = Matrix(sys.K_).inverse();
+  const Matrix R = Kinv - phi * omega.head(2).cwiseAbs2().cwiseInverse().asDiagonal() * phi.transpose();
+  const double tol = 1e-10 * Kinv.cwiseAbs().maxCoeff();
+  for (std::size_t a = 0; a < contact.size(); ++a) {
+    REQUIRE(red.contact_slot(contact[a]) == static_cast<Index>(a));
+    CHECK(std::abs(red.contact_output_residual()(static_cast<Index>(a), 0) - R(contact[a], 4)) < tol);
+    for (std::size_t b = 0; b < contact.size(); ++b)
+      CHECK(std::abs(red.contact_residual()(static_cast<Index>(a), static_cast<Index>(b)) - R(contact[a], contact[b])) < tol);
+  }
+  CHECK(red.contact_slot(0) == -1);
+  CHECK(red.contact_slot(99) == -1);
+  CHECK_THROWS_WITH(red.integrate(sys, TimeGrid{0.01, 1.0}, ModalOptions{}, nullptr),
+                    Catch::Contains("built for the coupled vehicle kernels"));
+  CHECK_THROWS_WITH(ModalReduction(sys.M_, sys.C_, sys.K_, shape.leftCols(2), omega.head(2), {at(4)}, true, {2, 2}),
+                    Catch::Contains("contact DOF given twice"));
+  // The uncoupled reduction of the same modes integrates complex coordinates instead.
+  CHECK(ModalReduction(sys.M_, sys.C_, sys.K_, shape.leftCols(2), omega.head(2), {at(4)}, true).complex_modes());
+}
+
 TEST_CASE("coupled (non-proportional) damping: complex modes with every mode match converged Newmark") {
   // A chain with two local dashpots: Φᵀ C Φ is far from diagonal. With all modes the complex
   // formulation solves the same equations as Newmark, so they agree to Newmark's error at
