@@ -480,7 +480,9 @@ PreparedModel prepare_model(model::Structure s, const std::vector<StationSpec>& 
   if (settings.vehicle.model != VehicleModel::forces) {
     // Vehicles: the coupled kernel on every DOF or on the modes (the fast path), and the profile.
     m.profile = rail_profile(m.structure, settings.irregularity);
-    if (settings.method == Method::modal || settings.method == Method::ida) {  // IDA: on the modes too
+    // The integrator says in which coordinates its coupled kernel takes the structure (modal: the
+    // fast path and IDA), as simulate_vehicles() asks it.
+    if (solve::make_integrator(settings.integration(), {})->coupled_coordinates() == solve::Coordinates::modal) {
       m.vehicle_modal = vehicle_reduction(m.structure, settings.modal, vehicle_outputs(m.stations, m.effects),
                                           &m.modal_frequency_hz);
     }
