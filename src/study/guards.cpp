@@ -7,6 +7,7 @@
 
 #include "viaduct/core/error.hpp"
 #include "viaduct/study/tradeoff.hpp"
+#include "viaduct/study/vehicles.hpp"
 
 namespace viaduct::study {
 
@@ -34,7 +35,7 @@ std::vector<std::string> accuracy_warnings(const Scenario& sc, const std::vector
   // their contact forces; a basis that stops below it leaves them a massless, undamped track.
   // Measured on Old Guadiana with its track (rail on pads 265 Hz), eight AVE S103 coaches,
   // 200 km/h, FRA 5, against the full model (docs/vehicles.md, "The static correction").
-  const bool reduced = sc.settings.method == Method::modal || sc.settings.method == Method::ida;
+  const bool reduced = vehicles && vehicles_on_modes(sc.settings);
   const double vcut = sc.settings.modal.max_frequency_hz;  // 0: n_modes alone (not checked)
   if (sc.track && vehicles && reduced && vcut > 0.0 && vcut < kMinVehicleCutPerPad * rail_on_pad_hz(*sc.track))
     out.push_back("modal.max_frequency_hz = " + fmt(vcut) + " Hz stops the modes below " + fmt(kMinVehicleCutPerPad, 2) +

@@ -480,9 +480,7 @@ PreparedModel prepare_model(model::Structure s, const std::vector<StationSpec>& 
   if (settings.vehicle.model != VehicleModel::forces) {
     // Vehicles: the coupled kernel on every DOF or on the modes (the fast path), and the profile.
     m.profile = rail_profile(m.structure, settings.irregularity);
-    // The integrator says in which coordinates its coupled kernel takes the structure (modal: the
-    // fast path and IDA), as simulate_vehicles() asks it.
-    if (solve::make_integrator(settings.integration(), {})->coupled_coordinates() == solve::Coordinates::modal) {
+    if (vehicles_on_modes(settings)) {  // the fast path and IDA
       m.vehicle_modal = vehicle_reduction(m.structure, settings.modal, vehicle_outputs(m.stations, m.effects),
                                           &m.modal_frequency_hz);
     }

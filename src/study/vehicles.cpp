@@ -61,6 +61,10 @@ std::vector<solve::Functional> vehicle_outputs(const std::vector<ResolvedStation
   return out;
 }
 
+bool vehicles_on_modes(const RunSettings& s) {
+  return solve::make_integrator(s.integration(), {})->coupled_coordinates() == solve::Coordinates::modal;
+}
+
 std::shared_ptr<const solve::ModalReduction> vehicle_reduction(const model::Structure& s, const ModalSettings& ms,
                                                                const std::vector<solve::Functional>& outputs,
                                                                Vector* kept_hz) {

@@ -25,6 +25,11 @@ using load::irregularity_at;
 using load::require_transition;
 using load::train_contacts;
 
+/// True when the integrator `s` chooses takes the structure in its modes under vehicles
+/// (solve::Integrator::coupled_coordinates(): the fast path and IDA): the one answer prepare_model,
+/// simulate_vehicles and the accuracy warnings use.
+bool vehicles_on_modes(const RunSettings& s);
+
 /// Most load-path DOFs the static correction of the vehicle fast path takes (its dense residual
 /// flexibility between them, solve::ModalReduction::contact_residual(): 8 n_path² bytes, 128 MiB here).
 constexpr Index kMaxResidualPathDofs = 4096;
