@@ -231,6 +231,8 @@ void plan_variants(FlatScenario& flat, const study::AssessConfig& c, study::Asse
   // Each mass case's change of bridge.mass_per_m [kg/m].
   const std::vector<std::pair<std::string, double>> bounds = ballast_bounds(c, nominal, p);
   const double m0 = nominal.bridge.spans.front().mass_per_m;
+  p.train_distance.clear();
+  for (const auto& t : trains) p.train_distance.push_back(load::characteristic_distance(t));
   for (const auto& [label, delta] : bounds) {
     FlatScenario f = flat;
     if (delta != 0.0) add_mass(f, delta);
@@ -239,7 +241,7 @@ void plan_variants(FlatScenario& flat, const study::AssessConfig& c, study::Asse
     v.scenario = to_scenario(f);
     v.scenario.trains = trains;
     v.factors = {{"mass", v.scenario.bridge.spans.front().mass_per_m / m0}};
-    v.train_speeds = study::assessment_train_speeds(trains, v.scenario, c, p.f_cut);
+    v.train_speeds = study::assessment_train_speeds(p.train_distance, v.scenario, c, p.f_cut);
     v.scenario.sweep_speeds = v.train_speeds.front();
     p.variants.push_back(std::move(v));
   }

@@ -21,14 +21,13 @@ double comfort_limit_of(const std::string& level) {
   return 2.0;  // "acceptable" (the schema admits no other)
 }
 
-std::vector<std::vector<double>> assessment_train_speeds(const std::vector<load::Train>& trains, const Scenario& sc,
+std::vector<std::vector<double>> assessment_train_speeds(const std::vector<double>& distances, const Scenario& sc,
                                                          const AssessConfig& c, double f_cut) {
   std::vector<double> freqs;
   for (const auto& m : model::deck_bending_modes(model::build_structure(sc.bridge, sc.track), 6))
     if (m.frequency_hz <= f_cut) freqs.push_back(m.frequency_hz);
   std::vector<std::vector<double>> out;
-  for (const auto& t : trains) {
-    const double d = load::characteristic_distance(t);
+  for (const double d : distances) {
     std::vector<double> res;
     for (double f : freqs)
       for (int j = 1; j <= c.harmonics && d > 0.0; ++j) res.push_back(f * d / j);
@@ -155,8 +154,13 @@ std::vector<ResonanceSpeed> resonance_speeds(const AssessPlan& p) {
   std::vector<ResonanceSpeed> out;
   if (p.variants.empty()) return out;
   const AssessConfig& c = p.config;
-  for (const auto& t : p.variants.front().scenario.trains) {
-    const double d = load::characteristic_distance(t);
+  const std::vector<load::Train>& trains = p.variants.front().scenario.trains;
+  if (p.train_distance.size() != trains.size())
+    throw InputError("resonance_speeds: the plan has " + std::to_string(p.train_distance.size()) +
+                     " characteristic distances for " + std::to_string(trains.size()) + " trains");
+  for (std::size_t i = 0; i < trains.size(); ++i) {
+    const load::Train& t = trains[i];
+    const double d = p.train_distance[i];
     if (!(d > 0.0)) continue;
     for (std::size_t m = 0; m < p.deck_modes.size(); ++m) {
       const double f = p.deck_modes[m].frequency_hz;

@@ -70,6 +70,9 @@ struct AssessPlan {
   /// slip gets a warning printed, in the manifest and at the top of the report.
   std::vector<std::string> warnings;
   std::vector<Variant> variants;            ///< the mass cases, each with every train and its speeds
+  /// [m] each train's characteristic distance (load::characteristic_distance; 0: none), in the
+  /// variants' trains' order: computed once for the speeds and the resonance-speed table.
+  std::vector<double> train_distance;
   std::vector<std::string> real_trains;     ///< the scenario's trains besides HSLM
   /// [kg/m] the ballast included in bridge.mass_per_m and the lower and upper bounds' ballast (all
   /// 0 when not bounded), and how they were formed (for the report).
@@ -78,8 +81,9 @@ struct AssessPlan {
 };
 
 /// Each train's speeds: the config's grid, refined around f·d/j for the deck modes of `sc` below
-/// f_cut [Hz] (j up to config.harmonics, d the train's characteristic distance).
-std::vector<std::vector<double>> assessment_train_speeds(const std::vector<load::Train>& trains, const Scenario& sc,
+/// f_cut [Hz] (j up to config.harmonics, d = `distances`' entry for the train: its characteristic
+/// distance, load::characteristic_distance; 0: no refinement).
+std::vector<std::vector<double>> assessment_train_speeds(const std::vector<double>& distances, const Scenario& sc,
                                                          const AssessConfig& c, double f_cut);
 
 /// One row of checks.csv and of the report's summary.

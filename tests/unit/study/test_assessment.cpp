@@ -111,9 +111,11 @@ TEST_CASE("resonance speeds f d / j: every one in the speed range, none outside,
   study::Variant v;
   v.scenario.trains = {load::regular_train("R18", 20, 18.0, 170e3)};
   p.variants = {v};
-  const auto rs = study::resonance_speeds(p);
   const double d = load::characteristic_distance(v.scenario.trains[0]);
   REQUIRE(d == Approx(18.0));
+  CHECK_THROWS_WITH(study::resonance_speeds(p), Catch::Contains("0 characteristic distances for 1 trains"));
+  p.train_distance = {d};
+  const auto rs = study::resonance_speeds(p);
   // mode 1: 5·18/j = 90, 45, 30 m/s = 324, 162, 108 km/h, all in range; mode 2: 1296, 648, 432 km/h, none.
   std::vector<double> expected;
   for (double f : {5.0, 20.0})
