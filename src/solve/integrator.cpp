@@ -356,6 +356,16 @@ class ModalIntegrator : public Integrator {
 
 }  // namespace
 
+MethodTraits method_traits(Method m) {
+  MethodTraits t;
+  switch (m) {
+    case Method::newmark: t.batches_histories = true; break;
+    case Method::modal: t.needs_reduction = true, t.coupled = Coordinates::modal; break;
+    case Method::ida: t.coupled = Coordinates::modal; break;
+  }
+  return t;
+}
+
 std::unique_ptr<Integrator> make_integrator(const IntegrationSettings& s, std::vector<Functional> outputs,
                                             std::shared_ptr<const ModalReduction> modal) {
   require_valid(s, "analysis");

@@ -399,7 +399,7 @@ RunResult integrate(const CaseOutputs& out,
                     const solve::SecondOrderSystem& sys, const load::Train& train, double speed, double t_end,
                     const RunSettings& settings) {
   const auto& stations = out.stations;
-  const bool modal_run = settings.method == Method::modal;
+  const bool modal_run = solve::method_traits(settings.method).needs_reduction;
   const OutputMap map = output_map(stations, !modal_run || out.modal_rails, out.effects);
   RunResult r = allocate_histories(stations, t_end, settings.dt, map.outputs.size() - stations.size());
   r.method = settings.method;
@@ -408,7 +408,7 @@ RunResult integrate(const CaseOutputs& out,
   c.system = &sys;
   c.t_end = t_end;
   std::unique_ptr<MovingModalForce> force;
-  if (settings.method == Method::modal && path) {
+  if (modal_run && path) {
     force = std::make_unique<MovingModalForce>(*path, train, speed, settings.load_factor);
     c.modal_force = force.get();
   }
@@ -484,7 +484,7 @@ PreparedModel prepare_model(model::Structure s, const std::vector<StationSpec>& 
       m.vehicle_modal = vehicle_reduction(m.structure, settings.modal, vehicle_outputs(m.stations, m.effects),
                                           &m.modal_frequency_hz);
     }
-  } else if (settings.method == Method::modal) {
+  } else if (solve::method_traits(settings.method).needs_reduction) {
     m.modal = make_modal(m.structure, m.stations, settings.modal, rail_outputs, &m.modal_frequency_hz, settings.dt,
                          m.effects);
     m.modal_path = make_path_table(m.structure, *m.modal);
@@ -556,7 +556,7 @@ RunResult simulate(const model::Structure& s, const std::vector<ResolvedStation>
   }
   std::shared_ptr<const solve::ModalReduction> modal;
   std::shared_ptr<const ModalPathTable> path;
-  if (settings.method == Method::modal) {
+  if (solve::method_traits(settings.method).needs_reduction) {
     modal = make_modal(s, stations, settings.modal, true, nullptr, settings.dt);
     path = make_path_table(s, *modal);
   }
@@ -568,7 +568,7 @@ RunResult simulate(const model::Structure& s, const std::vector<ResolvedStation>
 std::vector<RunResult> simulate_batch(const PreparedModel& m, const load::Train& train,
                                       const std::vector<double>& speeds, const RunSettings& settings) {
   std::vector<RunResult> out;
-  if (settings.method != Method::newmark || settings.vehicle.model != VehicleModel::forces) {
+  if (!solve::method_traits(settings.method).batches_histories || settings.vehicle.model != VehicleModel::forces) {
     for (double v : speeds) out.push_back(simulate(m, train, v, settings));
     return out;
   }
@@ -779,7 +779,7 @@ void add_direct_load_channel(const model::BearingForce& bf, const ModalPathTable
 }  // namespace
 
 bool folds_trains(const PreparedModel& m, const RunSettings& s) {
-  return s.method == Method::modal && s.superposition == Superposition::direct && s.vehicle.model == VehicleModel::forces &&
+  return solve::method_traits(s.method).needs_reduction && s.superposition == Superposition::direct && s.vehicle.model == VehicleModel::forces &&
          m.modal && m.modal_path;
 }
 

@@ -153,7 +153,7 @@ class Sweep {
       const bool unit = sc.settings.superposition == Superposition::unit_response && !options_.load_effects &&
                         variants_[v].train_speeds.empty();
       // Newmark cases of one train run in batches of speeds (a custom runner opts out).
-      const bool newmark_batched = !options_.runner && !unit && sc.settings.method == Method::newmark;
+      const bool newmark_batched = !options_.runner && !unit && solve::method_traits(sc.settings.method).batches_histories;
       if (unit) {
         for (std::size_t s = 0; s < sc.sweep_speeds.size(); ++s) {
           const std::size_t in = kept_in_job({v, kAllTrains, s});

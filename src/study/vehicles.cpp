@@ -62,7 +62,7 @@ std::vector<solve::Functional> vehicle_outputs(const std::vector<ResolvedStation
 }
 
 bool vehicles_on_modes(const RunSettings& s) {
-  return solve::make_integrator(s.integration(), {})->coupled_coordinates() == solve::Coordinates::modal;
+  return solve::method_traits(s.method).coupled == solve::Coordinates::modal;
 }
 
 std::shared_ptr<const solve::ModalReduction> vehicle_reduction(const model::Structure& s, const ModalSettings& ms,

@@ -171,6 +171,16 @@ class Integrator {
   std::vector<Functional> outputs_;
 };
 
+/// What a method's integrator needs from its caller, known before it is built: callers ask
+/// these (which model to prepare, how to batch, in which coordinates vehicles take the
+/// structure), never the method itself. The integrators make_integrator() builds agree with them.
+struct MethodTraits {
+  bool needs_reduction = false;    ///< run() and run_batch() take a ModalReduction (modal)
+  bool batches_histories = false;  ///< run_batch() advances several history-recording cases at once (newmark)
+  Coordinates coupled = Coordinates::physical;  ///< what run_coupled() integrates the structure in
+};
+MethodTraits method_traits(Method m);
+
 /// The one place a method is chosen. `outputs` are the recorded functionals; `modal` is the
 /// reduction of the structure (needed by Method::modal's run() and run_batch(), whose outputs it
 /// already holds: then `outputs` must be empty or its first outputs; not by run_coupled(), whose

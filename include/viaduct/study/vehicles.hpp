@@ -26,8 +26,8 @@ using load::require_transition;
 using load::train_contacts;
 
 /// True when the integrator `s` chooses takes the structure in its modes under vehicles
-/// (solve::Integrator::coupled_coordinates(): the fast path and IDA): the one answer prepare_model,
-/// simulate_vehicles and the accuracy warnings use.
+/// (solve::method_traits: the fast path and IDA): the answer prepare_model and the accuracy
+/// warnings use (simulate_vehicles asks its integrator, which agrees).
 bool vehicles_on_modes(const RunSettings& s);
 
 /// Most load-path DOFs the static correction of the vehicle fast path takes (its dense residual

@@ -95,6 +95,26 @@ TEST_CASE("the integration face keeps velocities and every stride-th sample, and
   CHECK_THROWS_AS(solve::make_integrator(s, outs)->run_batch({c, c}, with_sums), InputError);
 }
 
+TEST_CASE("a method's traits are what its integrator does") {
+  // Callers prepare models and batch cases from method_traits(), before any integrator exists:
+  // each trait must hold for the integrator make_integrator() builds (a modal one without its
+  // reduction refuses to run; one that batches histories has a batch wider than one case; the
+  // modal one's four lanes are the peaks kernel's, not histories').
+  for (const solve::Method m : {solve::Method::newmark, solve::Method::modal, solve::Method::ida}) {
+    INFO(solve::method_name(m));
+    solve::IntegrationSettings s;
+    s.method = m;
+    const solve::MethodTraits t = solve::method_traits(m);
+    const auto integ = solve::make_integrator(s, {});
+    CHECK(integ->method() == m);
+    CHECK(integ->coupled_coordinates() == t.coupled);
+    if (t.batches_histories) CHECK(integ->batch_width() > 1);
+  }
+  CHECK(solve::method_traits(solve::Method::modal).needs_reduction);
+  CHECK_FALSE(solve::method_traits(solve::Method::newmark).needs_reduction);
+  CHECK_FALSE(solve::method_traits(solve::Method::ida).needs_reduction);
+}
+
 TEST_CASE("vehicles go through the integration face: each method runs its coupled kernel") {
   // One structure DOF and one wheel on it (coupled_fixtures): the face's run_coupled() is the
   // kernel the method stands for, with the method's options, and names it.
