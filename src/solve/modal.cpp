@@ -238,6 +238,13 @@ ModalReduction::ModalReduction(const SparseMatrix& M, const SparseMatrix& C, con
   if (contact_dofs) {  // the coupled kernels integrate Φᵀ C Φ as it is: no load channels
     coupled_ = true;
     complex_ = false;
+    contact_slot_.assign(static_cast<std::size_t>(n), -1);
+    for (std::size_t i = 0; i < contact_dofs->size(); ++i) {
+      const Index d = (*contact_dofs)[i];
+      if (d < 0 || d >= n) throw InputError("modal reduction: contact DOF out of range");
+      if (contact_slot_[static_cast<std::size_t>(d)] >= 0) throw InputError("modal reduction: contact DOF given twice");
+      contact_slot_[static_cast<std::size_t>(d)] = static_cast<Index>(i);
+    }
     CoupledMatrices& cm = coupled_matrices_;
     cm.M.resize(m, m);
     cm.M.setIdentity();
@@ -403,14 +410,7 @@ void ModalReduction::build_static_correction(const SparseMatrix& K, const std::v
   if (!contact_dofs) return;
   // The coupled kernels' share: the wheels' forces through the dropped modes, between the contact
   // DOFs and from them to the outputs (the rows of K⁻¹ cⱼ above less the kept modes' S Ω⁻²).
-  const std::vector<Index>& dofs = *contact_dofs;
-  contact_slot_.assign(static_cast<std::size_t>(n), -1);
-  for (std::size_t i = 0; i < dofs.size(); ++i) {
-    const Index d = dofs[i];
-    if (d < 0 || d >= n) throw InputError("modal reduction: contact DOF out of range");
-    if (contact_slot_[static_cast<std::size_t>(d)] >= 0) throw InputError("modal reduction: contact DOF given twice");
-    contact_slot_[static_cast<std::size_t>(d)] = static_cast<Index>(i);
-  }
+  const std::vector<Index>& dofs = *contact_dofs;  // checked by the constructor (contact_slot_)
   contact_residual_ = contact_flexibility(lk, shapes_, omega_, dofs);
   contact_output_residual_.resize(static_cast<Index>(dofs.size()), n_out);
   for (std::size_t i = 0; i < dofs.size(); ++i)

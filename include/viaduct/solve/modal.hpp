@@ -132,8 +132,9 @@ class ModalReduction {
     SparseMatrix M, C, K;
   };
   const CoupledMatrices& coupled_matrices() const { return coupled_matrices_; }
-  /// Coupled with the static correction: the row of contact DOF d in contact_residual() and
-  /// contact_output_residual(), or -1 when d is not a contact DOF (or out of range).
+  /// Coupled: the index of DOF d among the contact DOFs (its row in contact_residual() and
+  /// contact_output_residual() with the static correction), or -1 when d is not one (or out of
+  /// range, or the reduction is not coupled).
   Index contact_slot(Index d) const {
     return d >= 0 && static_cast<std::size_t>(d) < contact_slot_.size() ? contact_slot_[static_cast<std::size_t>(d)] : -1;
   }

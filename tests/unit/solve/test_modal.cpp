@@ -205,8 +205,12 @@ TEST_CASE("a reduction for the coupled vehicle kernels keeps the real modes and 
   CHECK(red.contact_slot(99) == -1);
   CHECK_THROWS_WITH(red.integrate(sys, TimeGrid{0.01, 1.0}, ModalOptions{}, nullptr),
                     Catch::Contains("built for the coupled vehicle kernels"));
-  CHECK_THROWS_WITH(ModalReduction(sys.M_, sys.C_, sys.K_, shape.leftCols(2), omega.head(2), {at(4)}, true, {2, 2}),
-                    Catch::Contains("contact DOF given twice"));
+  for (const bool correction : {true, false}) {  // the contact DOFs are checked with or without the correction
+    CHECK_THROWS_WITH(ModalReduction(sys.M_, sys.C_, sys.K_, shape.leftCols(2), omega.head(2), {at(4)}, correction, {2, 2}),
+                      Catch::Contains("contact DOF given twice"));
+    CHECK_THROWS_WITH(ModalReduction(sys.M_, sys.C_, sys.K_, shape.leftCols(2), omega.head(2), {at(4)}, correction, {8}),
+                      Catch::Contains("contact DOF out of range"));
+  }
   // The uncoupled reduction of the same modes integrates complex coordinates instead.
   CHECK(ModalReduction(sys.M_, sys.C_, sys.K_, shape.leftCols(2), omega.head(2), {at(4)}, true).complex_modes());
 }
