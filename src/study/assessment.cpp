@@ -7,6 +7,7 @@
 #include <exception>
 #include <limits>
 #include <map>
+#include <stdexcept>
 #include <tuple>
 
 #include "viaduct/core/error.hpp"
@@ -156,8 +157,8 @@ std::vector<ResonanceSpeed> resonance_speeds(const AssessPlan& p) {
   const AssessConfig& c = p.config;
   const std::vector<load::Train>& trains = p.variants.front().scenario.trains;
   if (p.train_distance.size() != trains.size())
-    throw InputError("resonance_speeds: the plan has " + std::to_string(p.train_distance.size()) +
-                     " characteristic distances for " + std::to_string(trains.size()) + " trains");
+    throw std::logic_error("resonance_speeds: the plan has " + std::to_string(p.train_distance.size()) +
+                           " characteristic distances for " + std::to_string(trains.size()) + " trains");
   for (std::size_t i = 0; i < trains.size(); ++i) {
     const load::Train& t = trains[i];
     const double d = p.train_distance[i];

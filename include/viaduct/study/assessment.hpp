@@ -174,7 +174,8 @@ struct ResonanceSpeed {
 };
 
 /// Every f·d/j within the plan's speed range, for the nominal model's deck modes below the
-/// cut-off and j up to config.harmonics, per train in the order run.
+/// cut-off and j up to config.harmonics, per train in the order run, d from p.train_distance
+/// (std::logic_error when the plan does not hold one per train).
 std::vector<ResonanceSpeed> resonance_speeds(const AssessPlan& p);
 
 /// The SI unit of a quantity from its name's suffix, as checks.csv states it ("m/s2", "m", "N m",
