@@ -2,10 +2,11 @@
 # Installs the Debian packages viaduct needs, only those that are missing.
 # Needs root (or sudo) when something is missing; does nothing otherwise.
 #   (none):  what building everything needs: the command, the Python package, MPI runs, the plots.
-#   --demo:  only what scripts/demo.sh builds and runs (the command and its plot): no OpenMPI,
-#            Python headers, pybind11, pytest, pandas or SciPy, which CMake takes when present
-#            (#37 item 6: 141 of the 311 packages and about 120 of the 238 MB to download on a
-#            fresh Debian machine, by `apt-get -s remove --auto-remove` and `apt-cache show`).
+#   --demo:  only what scripts/demo.sh builds and runs (the command and its plot): without
+#            pybind11, pytest and pandas (CMake takes them when present). That is 9 packages fewer
+#            only: libsundials-dev depends on mpi-default-dev, petsc-dev, libhypre-dev and
+#            gfortran, which bring OpenMPI, the Python headers and SciPy anyway (measured on a fresh
+#            bookworm with g++ and cmake: 305 packages, 220 MB, 101 s; docs/benchmarks.md).
 #   --tests: everything, and what only the tests need (scripts/test.sh passes it): Chromium and
 #            pdftotext, which render assess's report.html and read its report.pdf
 #            (tests/cli/report_html.sh); viaduct assess prints report.pdf with Chromium when it is
