@@ -151,10 +151,18 @@ struct LoadCursor {
   // unrolled kernels), then the lanes whose head X crossed a breakpoint start their new piece. The
   // residuals' curvature advances only for the outputs in acc_idx when it is given (the others'
   // accelerations are not read; reinit sets every one afresh).
+  // Channels [x0, x1) advance too (the classical kernel's extra channels: it advances the
+  // residuals itself, with its outputs, and passes n_ch = the modes).
   VIADUCT_ALWAYS_INLINE void advance(std::size_t n_ch, std::size_t n_res, const lanes& X,
-                                     const std::size_t* acc_idx = nullptr, std::size_t n_acc = 0) {
+                                     const std::size_t* acc_idx = nullptr, std::size_t n_acc = 0, std::size_t x0 = 0,
+                                     std::size_t x1 = 0) {
     for (std::size_t e = 0; e < nx; ++e) pt[e] = lanes{0.0, 0.0, 0.0, 0.0};
     for (std::size_t k = 0; k < n_ch; ++k) {
+      f[k] += d1[k];
+      d1[k] += d2[k];
+      d2[k] += d3[k];
+    }
+    for (std::size_t k = x0; k < x1; ++k) {
       f[k] += d1[k];
       d1[k] += d2[k];
       d2[k] += d3[k];
@@ -169,6 +177,26 @@ struct LoadCursor {
   }
 };
 
+// The accelerations of step k (the coordinates' share aj plus the residual's curvature c when
+// flex), of every output or of those in acc_idx: recorded when hist is set, their running maxima
+// |a| in ma.
+VIADUCT_ALWAYS_INLINE void emit_accelerations(std::size_t no, bool flex, const lanes* aj, const lanes* c, lanes* ma,
+                                              double* hist, std::size_t stride, std::size_t nh, const Index* n_steps,
+                                              Index k, const lanes& live, bool all_live, const std::size_t* acc_idx,
+                                              std::size_t n_acc) {
+  const lanes zero = {0.0, 0.0, 0.0, 0.0};
+  const std::size_t n = acc_idx ? n_acc : no;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t j = acc_idx ? acc_idx[i] : i;
+    lanes av = aj[j];
+    if (flex) av += c[j];
+    if (hist && j < nh) store_history(hist, stride, nh, j, n_steps, k, av);
+    av = av < zero ? -av : av;
+    if (!all_live) av = live * av;
+    ma[j] = av > ma[j] ? av : ma[j];
+  }
+}
+
 // Station outputs of step k: the coordinates' share dj, aj plus the static correction's
 // residuals (deflection f_res, acceleration c) when flex; recorded when hist is set; running
 // maxima of the deflection md and of its negative mn (signed extremes: a bearing's uplift, a
@@ -180,7 +208,6 @@ VIADUCT_ALWAYS_INLINE void emit_stations(std::size_t no, bool flex, const lanes*
                                          std::size_t n_acc = 0) {
   // Plain loops: the same with two lambdas per output made the 31-station sweep of
   // docs/benchmarks.md three times as slow (measured: 15.6 s against 5.5 s on one thread).
-  const lanes zero = {0.0, 0.0, 0.0, 0.0};
   for (std::size_t j = 0; j < no; ++j) {
     lanes dv = dj[j];
     if (flex) dv += f_res[j];
@@ -189,17 +216,7 @@ VIADUCT_ALWAYS_INLINE void emit_stations(std::size_t no, bool flex, const lanes*
     md[j] = dv > md[j] ? dv : md[j];
     mn[j] = nv > mn[j] ? nv : mn[j];
   }
-  // The accelerations: of every output, or of those in acc_idx.
-  const std::size_t n = acc_idx ? n_acc : no;
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t j = acc_idx ? acc_idx[i] : i;
-    lanes av = aj[j];
-    if (flex) av += c[j];
-    if (hist && j < nh) store_history(hist, stride, nh, j, n_steps, k, av);
-    av = av < zero ? -av : av;
-    if (!all_live) av = live * av;
-    ma[j] = av > ma[j] ? av : ma[j];
-  }
+  emit_accelerations(no, flex, aj, c, ma, hist, stride, nh, n_steps, k, live, all_live, acc_idx, n_acc);
 }
 
 // The running state of the sums of outputs (OutputSum), W lanes each: signed extremes, and the
@@ -219,16 +236,18 @@ struct SumState {
 // Sums of step k from the outputs' coordinate shares dj, aj, their static-correction residuals
 // (f_res, c: when flex) and the extra load channels; lanes past their last step (live = 0) keep
 // their extremes. The integral starts at rest (step 0) and adds dt·(a₀ + a₁)/2 a step.
+// disp_total: dj holds each output's deflection-type value with its residual already (the
+// classical kernel's outputs_pass), so f_res is not added to it again.
 VIADUCT_ALWAYS_INLINE void emit_sums(const OutputSum* sums, std::size_t n_sums, bool flex, const lanes* dj,
                                      const lanes* aj, const lanes* f_res, const lanes* c, const lanes* f_extra,
-                                     double half_dt, Index k, const lanes& live, SumState& st) {
+                                     double half_dt, Index k, const lanes& live, SumState& st, bool disp_total = false) {
   const lanes zero = {0.0, 0.0, 0.0, 0.0};
   for (std::size_t s = 0; s < n_sums; ++s) {
     const OutputSum& o = sums[s];
     lanes y = zero;
     if (o.disp >= 0) {
       y += dj[o.disp];
-      if (flex) y += f_res[o.disp];
+      if (flex && !disp_total) y += f_res[o.disp];
     }
     if (o.acc >= 0) {
       y += aj[o.acc];
@@ -245,6 +264,38 @@ VIADUCT_ALWAYS_INLINE void emit_sums(const OutputSum* sums, std::size_t n_sums, 
     const auto on = live > zero;
     st.hi[s] = (on & (y > st.hi[s])) ? y : st.hi[s];
     st.lo[s] = (on & (y < st.lo[s])) ? y : st.lo[s];
+  }
+}
+
+// The classical kernel's outputs of step k, in one pass over them: each output's share of the
+// modes (its row of S over q, in the modes' order) plus, with FLEX, its residual f_res, into the
+// signed extremes md, mn (as emit_stations); with KEEP the value is kept in dj for the sums
+// (emit_sums with disp_total: (0 + d) + r there before, 0 + (d + r) now, the same number). With
+// FLEX the residual's forward differences then advance to the next step (f_res, r1, r2 from r1,
+// r2, r3: what LoadCursor::advance does to every channel, the same additions in the same order;
+// here the state is read and written once a step instead of three times). The live mask is
+// applied always (1·x = x, NaN and −0 included).
+template <std::size_t NM, bool FLEX, bool KEEP>
+VIADUCT_ALWAYS_INLINE void outputs_pass(std::size_t nm_, std::size_t no, const double* S, const lanes* q, lanes* dj,
+                                        lanes* f_res, lanes* r1, lanes* r2, const lanes* r3, lanes* md, lanes* mn,
+                                        const lanes& live) {
+  const std::size_t nm = NM ? NM : nm_;
+  const lanes zero = {0.0, 0.0, 0.0, 0.0};
+  for (std::size_t j = 0; j < no; ++j) {
+    const double* sj = S + j * nm;
+    lanes d = zero;
+    for (std::size_t i = 0; i < nm; ++i) d += sj[i] * q[i];
+    if constexpr (FLEX) {
+      const lanes fr = f_res[j], a1 = r1[j], a2 = r2[j];
+      d += fr;
+      f_res[j] = fr + a1;
+      r1[j] = a1 + a2;
+      r2[j] = a2 + r3[j];
+    }
+    if constexpr (KEEP) dj[j] = d;
+    const lanes dv = live * d, nv = -dv;
+    md[j] = dv > md[j] ? dv : md[j];
+    mn[j] = nv > mn[j] ? nv : mn[j];
   }
 }
 
@@ -286,11 +337,22 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
   cur.bind(in, nc, nm, nr, f, d1, d2, d3, c, dc, sums.pt);
   const double half_dt = 0.5 * in.dt;
   const Index min_steps = *std::min_element(in.n_steps, in.n_steps + W);
-  auto emit = [&](Index k) {
+  // The residual channels the outputs read, [nm, nm + nr), advance in outputs_pass, after their
+  // step's outputs (the sums read the outputs' values it keeps); the extra channels [nc − n_extra, nc)
+  // with the modes' in LoadCursor::advance. Those in between (outputs beyond `no`, e.g. rails)
+  // are read by nothing: they are set at each piece and not advanced.
+  const bool has_sums = !fixed && in.n_sums;
+  const std::size_t x1 = nc, x0 = fixed ? nc : nc - in.n_extra;
+  auto emit = [&](Index k) __attribute__((always_inline)) {
     const lanes live = static_cast<double>(k) <= n_steps ? one : zero;
-    emit_stations(no, flex, dj, aj, f + nm, c, md, mn, ma, in.hist, in.stride, in.nh, in.n_steps, k, live,
-                  k <= min_steps, fixed ? nullptr : in.acc_idx, in.n_acc);
-    if (!fixed && in.n_sums) emit_sums(in.sums, in.n_sums, flex, dj, aj, f + nm, c, f + in.extra0, half_dt, k, live, sums);
+    lanes *fr = f + nm, *r1 = d1 + nm, *r2 = d2 + nm, *r3 = d3 + nm;
+    if (flex && has_sums) outputs_pass<NM, true, true>(nm, no, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
+    else if (flex) outputs_pass<NM, true, false>(nm, no, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
+    else if (has_sums) outputs_pass<NM, false, true>(nm, no, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
+    else outputs_pass<NM, false, false>(nm, no, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
+    emit_accelerations(no, flex, aj, c, ma, in.hist, in.stride, in.nh, in.n_steps, k, live, k <= min_steps,
+                       fixed ? nullptr : in.acc_idx, in.n_acc);
+    if (has_sums) emit_sums(in.sums, in.n_sums, flex, dj, aj, fr, c, f + in.extra0, half_dt, k, live, sums, true);
   };
   cur.start(in.v, in.dt, in.x_start);
   for (std::size_t j = 0; j < no; ++j) {  // from rest: q = 0, q̈ = p
@@ -302,7 +364,7 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
   for (Index k = 1; k <= in.n_max; ++k) {
     check_cancel(k);  // the Python package's Ctrl-C
     for (std::size_t i = 0; i < nm; ++i) pp[i] = f[i];
-    cur.advance(nc, nr, x_start + v * (static_cast<double>(k) * in.dt), fixed ? nullptr : in.acc_idx, in.n_acc);
+    cur.advance(nm, nr, x_start + v * (static_cast<double>(k) * in.dt), fixed ? nullptr : in.acc_idx, in.n_acc, x0, x1);
     for (std::size_t i = 0; i < nm; ++i) {
       const double* cf = in.c8 + 8 * i;
       const lanes q0 = q[i], v0 = qd[i], p0 = pp[i], p1 = f[i];
@@ -312,15 +374,8 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
       q[i] = q1;
       qd[i] = v1;
     }
-    // Output by output over the modes (a row of S at a time, the sum in a register), in the
-    // modes' order as before: the same sums. Accelerations of the outputs in acc_idx only, when
-    // given (the others' are not read).
-    for (std::size_t j = 0; j < no; ++j) {
-      const double* sj = in.S + j * nm;
-      lanes d = zero;
-      for (std::size_t i = 0; i < nm; ++i) d += sj[i] * q[i];
-      dj[j] = d;
-    }
+    // Accelerations of the outputs in acc_idx only, when given (the others' are not read); the
+    // deflection-type outputs in emit's outputs_pass.
     const std::size_t n_a = (fixed || !in.acc_idx) ? no : in.n_acc;
     for (std::size_t a = 0; a < n_a; ++a) {
       const std::size_t j = (fixed || !in.acc_idx) ? a : in.acc_idx[a];
