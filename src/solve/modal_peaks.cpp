@@ -269,19 +269,20 @@ VIADUCT_ALWAYS_INLINE void emit_sums(const OutputSum* sums, std::size_t n_sums, 
 
 // The classical kernel's outputs of step k, in one pass over them: each output's share of the
 // modes (its row of S over q, in the modes' order) plus, with FLEX, its residual f_res, into the
-// signed extremes md, mn (as emit_stations); with KEEP the value is kept in dj for the sums
-// (emit_sums with disp_total: (0 + d) + r there before, 0 + (d + r) now, the same number). With
+// signed extremes md, mn (as emit_stations), outputs [j0, j1); with KEEP the value is kept in dj
+// for the sums (the outputs they read, [k0, k1) in kernel_body; emit_sums with disp_total:
+// (0 + d) + r there before, 0 + (d + r) now, the same number). With
 // FLEX the residual's forward differences then advance to the next step (f_res, r1, r2 from r1,
 // r2, r3: what LoadCursor::advance does to every channel, the same additions in the same order;
 // here the state is read and written once a step instead of three times). The live mask is
 // applied always (1·x = x, NaN and −0 included).
 template <std::size_t NM, bool FLEX, bool KEEP>
-VIADUCT_ALWAYS_INLINE void outputs_pass(std::size_t nm_, std::size_t no, const double* S, const lanes* q, lanes* dj,
-                                        lanes* f_res, lanes* r1, lanes* r2, const lanes* r3, lanes* md, lanes* mn,
-                                        const lanes& live) {
+VIADUCT_ALWAYS_INLINE void outputs_pass(std::size_t nm_, std::size_t j0, std::size_t j1, const double* S, const lanes* q,
+                                        lanes* dj, lanes* f_res, lanes* r1, lanes* r2, const lanes* r3, lanes* md,
+                                        lanes* mn, const lanes& live) {
   const std::size_t nm = NM ? NM : nm_;
   const lanes zero = {0.0, 0.0, 0.0, 0.0};
-  for (std::size_t j = 0; j < no; ++j) {
+  for (std::size_t j = j0; j < j1; ++j) {
     const double* sj = S + j * nm;
     lanes d = zero;
     for (std::size_t i = 0; i < nm; ++i) d += sj[i] * q[i];
@@ -297,6 +298,15 @@ VIADUCT_ALWAYS_INLINE void outputs_pass(std::size_t nm_, std::size_t no, const d
     md[j] = dv > md[j] ? dv : md[j];
     mn[j] = nv > mn[j] ? nv : mn[j];
   }
+}
+
+// Outputs [j0, j1) through outputs_pass, with or without the residual (flex).
+template <std::size_t NM, bool KEEP>
+VIADUCT_ALWAYS_INLINE void outputs_range(bool flex, std::size_t nm, std::size_t j0, std::size_t j1, const double* S,
+                                         const lanes* q, lanes* dj, lanes* f_res, lanes* r1, lanes* r2, const lanes* r3,
+                                         lanes* md, lanes* mn, const lanes& live) {
+  if (flex) outputs_pass<NM, true, KEEP>(nm, j0, j1, S, q, dj, f_res, r1, r2, r3, md, mn, live);
+  else outputs_pass<NM, false, KEEP>(nm, j0, j1, S, q, dj, f_res, r1, r2, r3, md, mn, live);
 }
 
 // W cases in lock-step. Per lane, the channel values along the current piece are advanced by
@@ -343,13 +353,21 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
   // are read by nothing: they are set at each piece and not advanced.
   const bool has_sums = !fixed && in.n_sums;
   const std::size_t x1 = nc, x0 = fixed ? nc : nc - in.n_extra;
+  // The outputs whose values the sums read, [k0, k1): only theirs are kept in dj (a store less a
+  // step for every other output).
+  std::size_t k0 = no, k1 = 0;
+  for (std::size_t s = 0; has_sums && s < in.n_sums; ++s)
+    if (in.sums[s].disp >= 0) {
+      const auto jd = static_cast<std::size_t>(in.sums[s].disp);
+      k0 = std::min(k0, jd), k1 = std::max(k1, jd + 1);
+    }
+  if (k1 <= k0) k0 = k1 = no;
   auto emit = [&](Index k) __attribute__((always_inline)) {
     const lanes live = static_cast<double>(k) <= n_steps ? one : zero;
     lanes *fr = f + nm, *r1 = d1 + nm, *r2 = d2 + nm, *r3 = d3 + nm;
-    if (flex && has_sums) outputs_pass<NM, true, true>(nm, no, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
-    else if (flex) outputs_pass<NM, true, false>(nm, no, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
-    else if (has_sums) outputs_pass<NM, false, true>(nm, no, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
-    else outputs_pass<NM, false, false>(nm, no, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
+    outputs_range<NM, false>(flex, nm, 0, k0, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
+    outputs_range<NM, true>(flex, nm, k0, k1, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
+    outputs_range<NM, false>(flex, nm, k1, no, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
     emit_accelerations(no, flex, aj, c, ma, in.hist, in.stride, in.nh, in.n_steps, k, live, k <= min_steps,
                        fixed ? nullptr : in.acc_idx, in.n_acc);
     if (has_sums) emit_sums(in.sums, in.n_sums, flex, dj, aj, fr, c, f + in.extra0, half_dt, k, live, sums, true);
