@@ -138,6 +138,14 @@ struct LoadCursor {
     if (in.acc_idx && n_res) curv = in.acc_idx, n_curv = in.n_acc;
     if (in.point) point = in.point, nx = in.n_extra, pt = pt_;
   }
+  // Channels [a, b) to the next step: value and differences, three additions each.
+  VIADUCT_ALWAYS_INLINE void step_channels(std::size_t a, std::size_t b) {
+    for (std::size_t k = a; k < b; ++k) {
+      f[k] += d1[k];
+      d1[k] += d2[k];
+      d2[k] += d3[k];
+    }
+  }
   // Every lane at the path's start, speeds v [m/s], step dt.
   VIADUCT_ALWAYS_INLINE void start(const double* v, double dt, double x_start) {
     for (std::size_t l = 0; l < W; ++l) {
@@ -157,16 +165,8 @@ struct LoadCursor {
                                      const std::size_t* acc_idx = nullptr, std::size_t n_acc = 0, std::size_t x0 = 0,
                                      std::size_t x1 = 0) {
     for (std::size_t e = 0; e < nx; ++e) pt[e] = lanes{0.0, 0.0, 0.0, 0.0};
-    for (std::size_t k = 0; k < n_ch; ++k) {
-      f[k] += d1[k];
-      d1[k] += d2[k];
-      d2[k] += d3[k];
-    }
-    for (std::size_t k = x0; k < x1; ++k) {
-      f[k] += d1[k];
-      d1[k] += d2[k];
-      d2[k] += d3[k];
-    }
+    step_channels(0, n_ch);
+    step_channels(x0, x1);
     if (!acc_idx) {
       for (std::size_t j = 0; j < n_res; ++j) c[j] += dc[j];
     } else if (n_res) {
