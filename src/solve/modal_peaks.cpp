@@ -5,7 +5,8 @@
 // method each case reduces to one tight loop: the modal loads read from a table folded once per
 // train (MovingChannels), the exact step of every modal equation (classical modes) or complex
 // coordinate (damping that couples the modes, in split real arithmetic), the outputs and their
-// running maxima, four speeds in SIMD lanes. With acceleration histories asked for (a filter is
+// running maxima, four speeds in SIMD lanes (complex coordinates: eight where the processor has
+// AVX-512; the same numbers on every instruction set). With acceleration histories asked for (a filter is
 // applied to them afterwards) they are recorded too, nothing else. Same model, same step, same
 // values as ModalReduction::integrate up to rounding (tests/unit/study/test_modal_peaks.cpp).
 #include "modal_peaks.hpp"
@@ -16,6 +17,8 @@
 #include <complex>
 #include <cstring>
 #include <limits>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "checks.hpp"
@@ -28,11 +31,26 @@ namespace viaduct::solve::detail {
 namespace {
 
 constexpr std::size_t W = kLanes;  // cases (speeds of one train) advanced together, one per SIMD lane
+// The lane type of N lanes: `lanes` (kLanes: the classical kernel, and the complex one without
+// AVX-512) or `lanes8` (kWideLanes: the complex kernel with AVX-512). Templates take the count,
+// not the type (a vector type as a template argument would lose its may_alias).
+template <std::size_t N>
+struct LaneOf;
+template <>
+struct LaneOf<kLanes> {
+  using type = lanes;
+};
+template <>
+struct LaneOf<kWideLanes> {
+  using type = lanes8;
+};
+template <std::size_t N>
+using Lanes = typename LaneOf<N>::type;
 
 // The lanes' speeds [m/s] and step counts of `in` (a KernelInput or ComplexInput) as lanes.
-template <class Input>
-void lane_speeds(const Input& in, lanes& v, lanes& n_steps) {
-  for (std::size_t l = 0; l < W; ++l) {
+template <std::size_t N, class Input>
+void lane_speeds(const Input& in, Lanes<N>& v, Lanes<N>& n_steps) {
+  for (std::size_t l = 0; l < N; ++l) {
     v[l] = in.v[l];
     n_steps[l] = static_cast<double>(in.n_steps[l]);
   }
@@ -59,30 +77,81 @@ struct KernelInput {
 };
 
 // Raw station accelerations of step k into the history of each lane still running.
+template <std::size_t N>
 inline void store_history(double* hist, std::size_t stride, std::size_t no, std::size_t j, const Index* n_steps,
-                          Index k, const lanes& av) {
-  for (std::size_t l = 0; l < kLanes; ++l)
+                          Index k, const Lanes<N>& av) {
+  for (std::size_t l = 0; l < N; ++l)
     if (k <= n_steps[l]) hist[(l * no + j) * stride + static_cast<std::size_t>(k)] = av[l];
+}
+
+// c[e][l] = r[l][e]: an N × N block of doubles transposed (pure data movement).
+#if defined(__clang__)
+#define VIADUCT_SHUFFLE(M, a, b, ...) __builtin_shufflevector(a, b, __VA_ARGS__)
+#else
+#define VIADUCT_SHUFFLE(M, a, b, ...) __builtin_shuffle(a, b, M{__VA_ARGS__})
+#endif
+template <std::size_t N>
+VIADUCT_ALWAYS_INLINE void transpose(const Lanes<N>* r, Lanes<N>* c) {
+  if constexpr (N == 4) {
+    typedef long long M __attribute__((vector_size(32)));
+    const Lanes<4> t0 = VIADUCT_SHUFFLE(M, r[0], r[1], 0, 4, 2, 6), t1 = VIADUCT_SHUFFLE(M, r[0], r[1], 1, 5, 3, 7),
+                   t2 = VIADUCT_SHUFFLE(M, r[2], r[3], 0, 4, 2, 6), t3 = VIADUCT_SHUFFLE(M, r[2], r[3], 1, 5, 3, 7);
+    c[0] = VIADUCT_SHUFFLE(M, t0, t2, 0, 1, 4, 5);
+    c[1] = VIADUCT_SHUFFLE(M, t1, t3, 0, 1, 4, 5);
+    c[2] = VIADUCT_SHUFFLE(M, t0, t2, 2, 3, 6, 7);
+    c[3] = VIADUCT_SHUFFLE(M, t1, t3, 2, 3, 6, 7);
+  } else {
+    static_assert(N == 8, "blocks of 4 or 8 lanes");
+    typedef long long M __attribute__((vector_size(64)));
+    Lanes<8> t[8], u[8];
+    for (std::size_t i = 0; i < 8; i += 2) {  // pairs of rows: (r_i[e], r_i+1[e]) for e even, odd
+      t[i] = VIADUCT_SHUFFLE(M, r[i], r[i + 1], 0, 8, 2, 10, 4, 12, 6, 14);
+      t[i + 1] = VIADUCT_SHUFFLE(M, r[i], r[i + 1], 1, 9, 3, 11, 5, 13, 7, 15);
+    }
+    for (std::size_t i = 0; i < 8; i += 4) {  // quadruples: e and e + 4 in the halves
+      u[i] = VIADUCT_SHUFFLE(M, t[i], t[i + 2], 0, 1, 8, 9, 4, 5, 12, 13);
+      u[i + 1] = VIADUCT_SHUFFLE(M, t[i + 1], t[i + 3], 0, 1, 8, 9, 4, 5, 12, 13);
+      u[i + 2] = VIADUCT_SHUFFLE(M, t[i], t[i + 2], 2, 3, 10, 11, 6, 7, 14, 15);
+      u[i + 3] = VIADUCT_SHUFFLE(M, t[i + 1], t[i + 3], 2, 3, 10, 11, 6, 7, 14, 15);
+    }
+    for (std::size_t e = 0; e < 4; ++e) {  // rows 0–3 and 4–7 joined
+      c[e] = VIADUCT_SHUFFLE(M, u[e], u[e + 4], 0, 1, 2, 3, 8, 9, 10, 11);
+      c[e + 4] = VIADUCT_SHUFFLE(M, u[e], u[e + 4], 4, 5, 6, 7, 12, 13, 14, 15);
+    }
+  }
 }
 
 // The folded train's load channels of W lanes along the head position: per lane the piece it is
 // on and, for every channel, the value and forward differences f, d1, d2, d3 of the cubic at the
 // lane's step (and, for the nr residual channels, the curvature term v²·g'' and its difference),
 // re-initialised from the piece's coefficients whenever the lane's head crosses a breakpoint.
-struct LoadCursor {
+// N lanes. LM (lane-major): f … d3 hold each lane's channels in a row of ncp (nc rounded up to N)
+// doubles, so that a lane entering a new piece stores N channels with one vector store instead of
+// N scalar ones (a lane enters a new piece about every step at 300 km/h with a track model);
+// values() then gives the channels across the lanes. Else f[k] holds channel k of every lane.
+template <std::size_t N, bool LM = false>
+struct LoadCursorT {
+  using L = Lanes<N>;
+  static constexpr std::size_t W = N;
   const double *breaks = nullptr, *coef = nullptr;
   std::size_t n_pieces = 0, nc = 0, nload = 0, nr = 0;  // pieces, channels, load channels, residuals used
-  lanes *f = nullptr, *d1 = nullptr, *d2 = nullptr, *d3 = nullptr, *c = nullptr, *dc = nullptr;
+  std::size_t ncp = 0;                                    // LM: a lane's row [doubles]
+  L *f = nullptr, *d1 = nullptr, *d2 = nullptr, *d3 = nullptr, *c = nullptr, *dc = nullptr;
   // Extra channels' values at a break hit exactly (MovingChannels::point), valid for one step.
   const double* point = nullptr;
   std::size_t nx = 0;
-  lanes* pt = nullptr;
+  L* pt = nullptr;
   std::size_t ip[W];
   double next[W], h[W], v2[W];
   // The residuals whose curvature is kept (null: all nr): those whose acceleration is computed.
   const std::size_t* curv = nullptr;
   std::size_t n_curv = 0;
 
+  // Channel k of lane l in one of f … d3.
+  VIADUCT_ALWAYS_INLINE double& value(L* a, std::size_t k, std::size_t l) const {
+    if constexpr (LM) return reinterpret_cast<double*>(a)[l * ncp + k];
+    else return a[k][l];
+  }
   // Lane l at head position x: find its piece, set the values and differences there.
   VIADUCT_ALWAYS_INLINE void reinit(std::size_t l, double x) {
     std::size_t i = ip[l];
@@ -91,26 +160,31 @@ struct LoadCursor {
     next[l] = i < n_pieces ? breaks[i + 1] : std::numeric_limits<double>::infinity();
     const double s = i < n_pieces ? x - breaks[i] : 0.0, hh = h[l], h2 = hh * hh, h3 = h2 * hh;
     const double* d = coef + i * 4 * nc;
-    // Four channels at a time in vector registers (the same operations in the same order as the
+    // W channels at a time in vector registers (the same operations in the same order as the
     // one-channel loop below, which takes the rest: the same values), stored into lane l.
     const double c1 = 2.0 * s * hh + h2, c2 = 3.0 * s * s * hh + 3.0 * s * h2 + h3, c3 = 6.0 * s * h2 + 6.0 * h3;
     std::size_t k0 = 0;
-    for (; k0 + 4 <= nc; k0 += 4) {
-      lanes a0, a1, a2, a3;
+    for (; k0 + W <= nc; k0 += W) {
+      L a0, a1, a2, a3;
       std::memcpy(&a0, d + k0, sizeof a0);
       std::memcpy(&a1, d + nc + k0, sizeof a1);
       std::memcpy(&a2, d + 2 * nc + k0, sizeof a2);
       std::memcpy(&a3, d + 3 * nc + k0, sizeof a3);
-      const lanes fv = a0 + s * (a1 + s * (a2 + s * a3)), v1 = a1 * hh + a2 * c1 + a3 * c2, v2_ = 2.0 * a2 * h2 + a3 * c3,
-                  v3 = 6.0 * a3 * h3;
-      for (std::size_t e = 0; e < 4; ++e) f[k0 + e][l] = fv[e], d1[k0 + e][l] = v1[e], d2[k0 + e][l] = v2_[e], d3[k0 + e][l] = v3[e];
+      const L fv = a0 + s * (a1 + s * (a2 + s * a3)), v1 = a1 * hh + a2 * c1 + a3 * c2, v2_ = 2.0 * a2 * h2 + a3 * c3,
+              v3 = 6.0 * a3 * h3;
+      if constexpr (LM) {
+        const std::size_t b = (l * ncp + k0) / W;
+        f[b] = fv, d1[b] = v1, d2[b] = v2_, d3[b] = v3;
+      } else {
+        for (std::size_t e = 0; e < W; ++e) f[k0 + e][l] = fv[e], d1[k0 + e][l] = v1[e], d2[k0 + e][l] = v2_[e], d3[k0 + e][l] = v3[e];
+      }
     }
     for (std::size_t k = k0; k < nc; ++k) {
       const double a0 = d[k], a1 = d[nc + k], a2 = d[2 * nc + k], a3 = d[3 * nc + k];
-      f[k][l] = a0 + s * (a1 + s * (a2 + s * a3));
-      d1[k][l] = a1 * hh + a2 * (2.0 * s * hh + h2) + a3 * (3.0 * s * s * hh + 3.0 * s * h2 + h3);
-      d2[k][l] = 2.0 * a2 * h2 + a3 * (6.0 * s * h2 + 6.0 * h3);
-      d3[k][l] = 6.0 * a3 * h3;
+      value(f, k, l) = a0 + s * (a1 + s * (a2 + s * a3));
+      value(d1, k, l) = a1 * hh + a2 * (2.0 * s * hh + h2) + a3 * (3.0 * s * s * hh + 3.0 * s * h2 + h3);
+      value(d2, k, l) = 2.0 * a2 * h2 + a3 * (6.0 * s * h2 + 6.0 * h3);
+      value(d3, k, l) = 6.0 * a3 * h3;
     }
     for (std::size_t n = 0; n < (curv ? n_curv : nr); ++n) {
       const std::size_t j = curv ? curv[n] : n;
@@ -124,12 +198,13 @@ struct LoadCursor {
   // The folded train of `in` (a KernelInput or ComplexInput): nc channels, nload of them loads,
   // nr residuals used; the values and differences in f … dc, extra channels at break hits in pt.
   template <class Input>
-  void bind(const Input& in, std::size_t n_channels, std::size_t n_load, std::size_t n_res, lanes* f_, lanes* d1_,
-            lanes* d2_, lanes* d3_, lanes* c_, lanes* dc_, lanes* pt_) {
+  void bind(const Input& in, std::size_t n_channels, std::size_t n_load, std::size_t n_res, L* f_, L* d1_, L* d2_,
+            L* d3_, L* c_, L* dc_, L* pt_) {
     breaks = in.breaks;
     coef = in.coef;
     n_pieces = in.n_pieces;
     nc = n_channels;
+    ncp = (nc + W - 1) / W * W;
     nload = n_load;
     nr = n_res;
     f = f_, d1 = d1_, d2 = d2_, d3 = d3_, c = c_, dc = dc_;
@@ -138,7 +213,8 @@ struct LoadCursor {
     if (in.acc_idx && n_res) curv = in.acc_idx, n_curv = in.n_acc;
     if (in.point) point = in.point, nx = in.n_extra, pt = pt_;
   }
-  // Channels [a, b) to the next step: value and differences, three additions each.
+  // Channels [a, b) to the next step: value and differences, three additions each (LM: vectors
+  // [a, b) of the lanes' rows).
   VIADUCT_ALWAYS_INLINE void step_channels(std::size_t a, std::size_t b) {
     for (std::size_t k = a; k < b; ++k) {
       f[k] += d1[k];
@@ -161,12 +237,16 @@ struct LoadCursor {
   // accelerations are not read; reinit sets every one afresh).
   // Channels [x0, x1) advance too (the classical kernel's extra channels: it advances the
   // residuals itself, with its outputs, and passes n_ch = the modes).
-  VIADUCT_ALWAYS_INLINE void advance(std::size_t n_ch, std::size_t n_res, const lanes& X,
+  VIADUCT_ALWAYS_INLINE void advance(std::size_t n_ch, std::size_t n_res, const L& X,
                                      const std::size_t* acc_idx = nullptr, std::size_t n_acc = 0, std::size_t x0 = 0,
                                      std::size_t x1 = 0) {
-    for (std::size_t e = 0; e < nx; ++e) pt[e] = lanes{0.0, 0.0, 0.0, 0.0};
-    step_channels(0, n_ch);
-    step_channels(x0, x1);
+    for (std::size_t e = 0; e < nx; ++e) pt[e] = L{};
+    if constexpr (LM) {
+      step_channels(0, ncp);  // every lane's row: N·ncp doubles, ncp vectors
+    } else {
+      step_channels(0, n_ch);
+      step_channels(x0, x1);
+    }
     if (!acc_idx) {
       for (std::size_t j = 0; j < n_res; ++j) c[j] += dc[j];
     } else if (n_res) {
@@ -175,22 +255,33 @@ struct LoadCursor {
     for (std::size_t l = 0; l < W; ++l)
       if (X[l] >= next[l]) reinit(l, X[l]);
   }
+  // LM: every channel's value across the lanes, out[k] for k < ncp (N × N blocks transposed).
+  VIADUCT_ALWAYS_INLINE void values(L* out) const {
+    static_assert(LM, "the values are f itself without LM");
+    for (std::size_t b = 0; b < ncp / W; ++b) {
+      L r[W];
+      for (std::size_t l = 0; l < W; ++l) r[l] = f[l * (ncp / W) + b];
+      transpose<N>(r, out + b * W);
+    }
+  }
 };
+using LoadCursor = LoadCursorT<kLanes>;
 
 // The accelerations of step k (the coordinates' share aj plus the residual's curvature c when
 // flex), of every output or of those in acc_idx: recorded when hist is set, their running maxima
 // |a| in ma.
-VIADUCT_ALWAYS_INLINE void emit_accelerations(std::size_t no, bool flex, const lanes* aj, const lanes* c, lanes* ma,
-                                              double* hist, std::size_t stride, std::size_t nh, const Index* n_steps,
-                                              Index k, const lanes& live, bool all_live, const std::size_t* acc_idx,
+template <std::size_t N, class L = Lanes<N>>
+VIADUCT_ALWAYS_INLINE void emit_accelerations(std::size_t no, bool flex, const L* aj, const L* c, L* ma, double* hist,
+                                              std::size_t stride, std::size_t nh, const Index* n_steps, Index k,
+                                              const L& live, bool all_live, const std::size_t* acc_idx,
                                               std::size_t n_acc) {
-  const lanes zero = {0.0, 0.0, 0.0, 0.0};
+  const L zero = {};
   const std::size_t n = acc_idx ? n_acc : no;
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t j = acc_idx ? acc_idx[i] : i;
-    lanes av = aj[j];
+    L av = aj[j];
     if (flex) av += c[j];
-    if (hist && j < nh) store_history(hist, stride, nh, j, n_steps, k, av);
+    if (hist && j < nh) store_history<N>(hist, stride, nh, j, n_steps, k, av);
     av = av < zero ? -av : av;
     if (!all_live) av = live * av;
     ma[j] = av > ma[j] ? av : ma[j];
@@ -201,50 +292,54 @@ VIADUCT_ALWAYS_INLINE void emit_accelerations(std::size_t no, bool flex, const l
 // residuals (deflection f_res, acceleration c) when flex; recorded when hist is set; running
 // maxima of the deflection md and of its negative mn (signed extremes: a bearing's uplift, a
 // hogging moment) and of |acceleration| ma (a lane past its own last step, live = 0, keeps them).
-VIADUCT_ALWAYS_INLINE void emit_stations(std::size_t no, bool flex, const lanes* dj, const lanes* aj,
-                                         const lanes* f_res, const lanes* c, lanes* md, lanes* mn, lanes* ma,
-                                         double* hist, std::size_t stride, std::size_t nh, const Index* n_steps, Index k,
-                                         const lanes& live, bool all_live, const std::size_t* acc_idx = nullptr,
-                                         std::size_t n_acc = 0) {
+template <std::size_t N, class L = Lanes<N>>
+VIADUCT_ALWAYS_INLINE void emit_stations(std::size_t no, bool flex, const L* dj, const L* aj, const L* f_res, const L* c,
+                                         L* md, L* mn, L* ma, double* hist, std::size_t stride, std::size_t nh,
+                                         const Index* n_steps, Index k, const L& live, bool all_live,
+                                         const std::size_t* acc_idx = nullptr, std::size_t n_acc = 0) {
   // Plain loops: the same with two lambdas per output made the 31-station sweep of
   // docs/benchmarks.md three times as slow (measured: 15.6 s against 5.5 s on one thread).
   for (std::size_t j = 0; j < no; ++j) {
-    lanes dv = dj[j];
+    L dv = dj[j];
     if (flex) dv += f_res[j];
     if (!all_live) dv = live * dv;  // 1·x = x: the mask matters only once a lane has finished
-    const lanes nv = -dv;
+    const L nv = -dv;
     md[j] = dv > md[j] ? dv : md[j];
     mn[j] = nv > mn[j] ? nv : mn[j];
   }
-  emit_accelerations(no, flex, aj, c, ma, hist, stride, nh, n_steps, k, live, all_live, acc_idx, n_acc);
+  emit_accelerations<N>(no, flex, aj, c, ma, hist, stride, nh, n_steps, k, live, all_live, acc_idx, n_acc);
 }
 
 // The running state of the sums of outputs (OutputSum), W lanes each: signed extremes, and the
 // trapezoidal integral of the acc_integral output with its last acceleration.
-struct SumState {
+template <std::size_t N>
+struct SumStateT {
+  using L = Lanes<N>;
   std::vector<double> buf;
-  lanes *hi = nullptr, *lo = nullptr, *vi = nullptr, *al = nullptr;
-  lanes* pt = nullptr;  // the extra channels' point values of the current step (LoadCursor::pt)
-  SumState(std::size_t n, std::size_t n_extra) : buf((4 * n + n_extra + 1) * W, 0.0) {
-    lanes* at = align_lanes(buf.data());
+  L *hi = nullptr, *lo = nullptr, *vi = nullptr, *al = nullptr;
+  L* pt = nullptr;  // the extra channels' point values of the current step (LoadCursor::pt)
+  SumStateT(std::size_t n, std::size_t n_extra) : buf((4 * n + n_extra + 1) * N, 0.0) {
+    L* at = align_lanes<L>(buf.data());
     hi = at, lo = hi + n, vi = lo + n, al = vi + n, pt = al + n;
-    const lanes zero = {0.0, 0.0, 0.0, 0.0}, inf = zero + std::numeric_limits<double>::infinity();
+    const L zero = {}, inf = zero + std::numeric_limits<double>::infinity();
     for (std::size_t s = 0; s < n; ++s) hi[s] = -inf, lo[s] = inf, vi[s] = al[s] = zero;
   }
 };
+using SumState = SumStateT<kLanes>;
 
 // Sums of step k from the outputs' coordinate shares dj, aj, their static-correction residuals
 // (f_res, c: when flex) and the extra load channels; lanes past their last step (live = 0) keep
 // their extremes. The integral starts at rest (step 0) and adds dt·(a₀ + a₁)/2 a step.
 // disp_total: dj holds each output's deflection-type value with its residual already (the
 // classical kernel's outputs_pass), so f_res is not added to it again.
-VIADUCT_ALWAYS_INLINE void emit_sums(const OutputSum* sums, std::size_t n_sums, bool flex, const lanes* dj,
-                                     const lanes* aj, const lanes* f_res, const lanes* c, const lanes* f_extra,
-                                     double half_dt, Index k, const lanes& live, SumState& st, bool disp_total = false) {
-  const lanes zero = {0.0, 0.0, 0.0, 0.0};
+template <std::size_t N, class L = Lanes<N>>
+VIADUCT_ALWAYS_INLINE void emit_sums(const OutputSum* sums, std::size_t n_sums, bool flex, const L* dj, const L* aj,
+                                     const L* f_res, const L* c, const L* f_extra, double half_dt, Index k,
+                                     const L& live, SumStateT<N>& st, bool disp_total = false) {
+  const L zero = {};
   for (std::size_t s = 0; s < n_sums; ++s) {
     const OutputSum& o = sums[s];
-    lanes y = zero;
+    L y = zero;
     if (o.disp >= 0) {
       y += dj[o.disp];
       if (flex && !disp_total) y += f_res[o.disp];
@@ -254,7 +349,7 @@ VIADUCT_ALWAYS_INLINE void emit_sums(const OutputSum* sums, std::size_t n_sums, 
       if (flex) y += c[o.acc];
     }
     if (o.acc_integral >= 0) {
-      lanes a = aj[o.acc_integral];
+      L a = aj[o.acc_integral];
       if (flex) a += c[o.acc_integral];
       if (k > 0) st.vi[s] += half_dt * (st.al[s] + a);
       st.al[s] = a;
@@ -342,7 +437,7 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
   for (std::size_t j = 0; j < no; ++j) c[j] = dc[j] = ma[j] = md[j] = mn[j] = zero;
 
   lanes v = zero, n_steps = zero;
-  lane_speeds(in, v, n_steps);
+  lane_speeds<W>(in, v, n_steps);
   LoadCursor cur;
   cur.bind(in, nc, nm, nr, f, d1, d2, d3, c, dc, sums.pt);
   const double half_dt = 0.5 * in.dt;
@@ -368,9 +463,9 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
     outputs_range<NM, false>(flex, nm, 0, k0, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
     outputs_range<NM, true>(flex, nm, k0, k1, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
     outputs_range<NM, false>(flex, nm, k1, no, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
-    emit_accelerations(no, flex, aj, c, ma, in.hist, in.stride, in.nh, in.n_steps, k, live, k <= min_steps,
+    emit_accelerations<W>(no, flex, aj, c, ma, in.hist, in.stride, in.nh, in.n_steps, k, live, k <= min_steps,
                        fixed ? nullptr : in.acc_idx, in.n_acc);
-    if (has_sums) emit_sums(in.sums, in.n_sums, flex, dj, aj, fr, c, f + in.extra0, half_dt, k, live, sums, true);
+    if (has_sums) emit_sums<W>(in.sums, in.n_sums, flex, dj, aj, fr, c, f + in.extra0, half_dt, k, live, sums, true);
   };
   cur.start(in.v, in.dt, in.x_start);
   for (std::size_t j = 0; j < no; ++j) {  // from rest: q = 0, q̈ = p
@@ -475,8 +570,8 @@ struct ComplexInput {
   const double *breaks = nullptr, *coef = nullptr;
   std::size_t n_pieces = 0;
   double x_start = 0.0, dt = 0.0;
-  double v[W];
-  Index n_steps[W];
+  double v[kWideLanes];        // [m/s] per lane (the first kW<L> of the kernel's lane type L)
+  Index n_steps[kWideLanes];   // per lane
   Index n_max = 0;
   double* hist = nullptr;
   std::size_t stride = 0, nh = 0;
@@ -487,31 +582,36 @@ struct ComplexInput {
   const double* point = nullptr;
 };
 
+// N cases at once.
+template <std::size_t N>
 VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_out, double* ma_out, double* md_out,
-                                        double* mn_out, SumState& sums) {
+                                        double* mn_out, SumStateT<N>& sums) {
+  using L = Lanes<N>;
   const std::size_t nk = in.nk, nch = in.nch, nc = in.nc, no = in.no, nr = in.flex ? no : 0;
-  const lanes zero = {0.0, 0.0, 0.0, 0.0}, one = zero + 1.0;
-  std::vector<double> buf((6 * nk + 4 * nc + 7 * no + 1) * W, 0.0);
-  lanes* at = align_lanes(buf.data());
+  const L zero = {}, one = zero + 1.0;
+  const std::size_t ncp = (nc + N - 1) / N * N;  // the cursor's rows (lane-major): ncp vectors each
+  std::vector<double> buf((6 * nk + 5 * ncp + 7 * no + 1) * N, 0.0);
+  L* at = align_lanes<L>(buf.data());
   // y and each coordinate's input u = p[c] + i p[c+1] at the step's start (u0) and end (u1),
-  // gathered once a step from the load channels.
-  lanes *yr = at, *yi = yr + nk, *u0r = yi + nk, *u0i = u0r + nk, *u1r = u0i + nk, *u1i = u1r + nk, *f = u1i + nk,
-        *d1 = f + nc, *d2 = d1 + nc, *d3 = d2 + nc, *c = d3 + nc, *dc = c + no, *ma = dc + no, *md = ma + no, *mn = md + no,
-        *dj = mn + no, *aj = dj + no;
-  lanes v = zero, n_steps = zero;
-  lane_speeds(in, v, n_steps);
-  LoadCursor cur;
-  cur.bind(in, nc, nch, nr, f, d1, d2, d3, c, dc, sums.pt);
+  // gathered once a step from the load channels; the cursor's rows fl … d3l; f: the channels'
+  // values across the lanes (LoadCursorT::values).
+  L *yr = at, *yi = yr + nk, *u0r = yi + nk, *u0i = u0r + nk, *u1r = u0i + nk, *u1i = u1r + nk, *fl = u1i + nk,
+        *d1l = fl + ncp, *d2l = d1l + ncp, *d3l = d2l + ncp, *f = d3l + ncp, *c = f + ncp, *dc = c + no, *ma = dc + no,
+        *md = ma + no, *mn = md + no, *dj = mn + no, *aj = dj + no;
+  L v = zero, n_steps = zero;
+  lane_speeds<N>(in, v, n_steps);
+  LoadCursorT<N, true> cur;
+  cur.bind(in, nc, nch, nr, fl, d1l, d2l, d3l, c, dc, sums.pt);
   const double half_dt = 0.5 * in.dt;
-  const Index min_steps = *std::min_element(in.n_steps, in.n_steps + W);
+  const Index min_steps = *std::min_element(in.n_steps, in.n_steps + N);
   auto emit = [&](Index k) {
-    const lanes live = static_cast<double>(k) <= n_steps ? one : zero;
-    emit_stations(no, in.flex, dj, aj, f + nch, c, md, mn, ma, in.hist, in.stride, in.nh, in.n_steps, k, live,
+    const L live = static_cast<double>(k) <= n_steps ? one : zero;
+    emit_stations<N>(no, in.flex, dj, aj, f + nch, c, md, mn, ma, in.hist, in.stride, in.nh, in.n_steps, k, live,
                   k <= min_steps, in.acc_idx, in.n_acc);
-    if (in.n_sums) emit_sums(in.sums, in.n_sums, in.flex, dj, aj, f + nch, c, f + in.extra0, half_dt, k, live, sums);
+    if (in.n_sums) emit_sums<N>(in.sums, in.n_sums, in.flex, dj, aj, f + nch, c, f + in.extra0, half_dt, k, live, sums);
   };
   // Each coordinate's input from the load channels f, into (ur, ui).
-  auto gather = [&](lanes* ur, lanes* ui) {
+  auto gather = [&](L* ur, L* ui) {
     for (std::size_t k = 0; k < nk; ++k) {
       const std::size_t cc = in.ch[k];
       ur[k] = f[cc];
@@ -522,7 +622,7 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
   auto outputs = [&]() {
     for (std::size_t j = 0; j < no; ++j) dj[j] = aj[j] = zero;
     for (std::size_t k = 0; k < nk; ++k) {
-      const lanes a = yr[k], b = yi[k];
+      const L a = yr[k], b = yi[k];
       for (std::size_t j = 0; j < no; ++j) {
         const double* r = in.disp_rows + 2 * (j * nk + k);
         const double* q = in.acc_rows + 4 * (j * nk + k);
@@ -532,21 +632,23 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
     }
   };
   cur.start(in.v, in.dt, in.x_start);
+  cur.values(f);
   gather(u1r, u1i);
   outputs();
   emit(0);
-  const lanes x_start = zero + in.x_start;
+  const L x_start = zero + in.x_start;
   for (Index step = 1; step <= in.n_max; ++step) {
     check_cancel(step);  // the Python package's Ctrl-C
     std::swap(u0r, u1r);  // the last step's end is this step's start
     std::swap(u0i, u1i);
     cur.advance(nc, nr, x_start + v * (static_cast<double>(step) * in.dt), in.acc_idx, in.n_acc);
+    cur.values(f);
     gather(u1r, u1i);
     for (std::size_t k = 0; k < nk; ++k) {
       const double* e = in.co + 6 * k;
-      const lanes a = yr[k], b = yi[k];
-      const lanes nr_ = e[0] * a - e[1] * b + e[2] * u0r[k] - e[3] * u0i[k] + e[4] * u1r[k] - e[5] * u1i[k];
-      const lanes ni_ = e[0] * b + e[1] * a + e[2] * u0i[k] + e[3] * u0r[k] + e[4] * u1i[k] + e[5] * u1r[k];
+      const L a = yr[k], b = yi[k];
+      const L nr_ = e[0] * a - e[1] * b + e[2] * u0r[k] - e[3] * u0i[k] + e[4] * u1r[k] - e[5] * u1i[k];
+      const L ni_ = e[0] * b + e[1] * a + e[2] * u0i[k] + e[3] * u0r[k] + e[4] * u1i[k] + e[5] * u1r[k];
       yr[k] = nr_;
       yi[k] = ni_;
     }
@@ -560,9 +662,9 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
       const std::size_t j1 = std::min(j0 + 1, no - 1), j2 = std::min(j0 + 2, no - 1), j3 = std::min(j0 + 3, no - 1);
       const double *r0 = in.disp_rows + 2 * j0 * nk, *r1 = in.disp_rows + 2 * j1 * nk, *r2 = in.disp_rows + 2 * j2 * nk,
                    *r3 = in.disp_rows + 2 * j3 * nk;
-      lanes s0 = zero, s1 = zero, s2 = zero, s3 = zero;
+      L s0 = zero, s1 = zero, s2 = zero, s3 = zero;
       for (std::size_t k = 0; k < nk; ++k) {
-        const lanes a = yr[k], b = yi[k];
+        const L a = yr[k], b = yi[k];
         s0 += r0[2 * k] * a - r0[2 * k + 1] * b;
         s1 += r1[2 * k] * a - r1[2 * k + 1] * b;
         s2 += r2[2 * k] * a - r2[2 * k + 1] * b;
@@ -578,9 +680,9 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
       const std::size_t j0 = acc_output(n0), j1 = acc_output(n0 + 1), j2 = acc_output(n0 + 2), j3 = acc_output(n0 + 3);
       const double *q0 = in.acc_rows + 4 * j0 * nk, *q1 = in.acc_rows + 4 * j1 * nk, *q2 = in.acc_rows + 4 * j2 * nk,
                    *q3 = in.acc_rows + 4 * j3 * nk;
-      lanes s0 = zero, s1 = zero, s2 = zero, s3 = zero;
+      L s0 = zero, s1 = zero, s2 = zero, s3 = zero;
       for (std::size_t k = 0; k < nk; ++k) {
-        const lanes a = yr[k], b = yi[k], c0 = u1r[k], c1 = u1i[k];
+        const L a = yr[k], b = yi[k], c0 = u1r[k], c1 = u1i[k];
         const std::size_t o = 4 * k;
         s0 += q0[o] * a - q0[o + 1] * b + q0[o + 2] * c0 - q0[o + 3] * c1;
         s1 += q1[o] * a - q1[o + 1] * b + q1[o + 2] * c0 - q1[o + 3] * c1;
@@ -591,18 +693,23 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
     }
     emit(step);
   }
-  for (std::size_t l = 0; l < W; ++l) {
+  for (std::size_t l = 0; l < N; ++l) {
     double st = 0.0;
     for (std::size_t k = 0; k < nk; ++k) st += yr[k][l] + yi[k][l];
     state_out[l] = st;
     for (std::size_t j = 0; j < no; ++j)
-      ma_out[j * W + l] = ma[j][l], md_out[j * W + l] = md[j][l], mn_out[j * W + l] = mn[j][l];
+      ma_out[j * N + l] = ma[j][l], md_out[j * N + l] = md[j][l], mn_out[j * N + l] = mn[j][l];
   }
 }
 
 #ifdef VIADUCT_HAVE_AVX2_VARIANT
 VIADUCT_TARGET_AVX2 void complex_avx2(const ComplexInput& in, double* st, double* ma, double* md, double* mn,
                                       SumState& su) {
+  complex_body(in, st, ma, md, mn, su);
+}
+// Eight cases a pass: one AVX-512 operation where AVX2 needs two for four (the same numbers).
+VIADUCT_TARGET_AVX512 void complex_avx512(const ComplexInput& in, double* st, double* ma, double* md, double* mn,
+                                          SumStateT<kWideLanes>& su) {
   complex_body(in, st, ma, md, mn, su);
 }
 #endif
@@ -612,6 +719,15 @@ void complex_kernel(const ComplexInput& in, double* st, double* ma, double* md, 
   if (cpu_has_avx2()) return complex_avx2(in, st, ma, md, mn, su);
 #endif
   complex_body(in, st, ma, md, mn, su);
+}
+
+// Called only when cpu_has_avx512() (the driver takes eight lanes only then).
+void complex_kernel(const ComplexInput& in, double* st, double* ma, double* md, double* mn, SumStateT<kWideLanes>& su) {
+#ifdef VIADUCT_HAVE_AVX2_VARIANT
+  complex_avx512(in, st, ma, md, mn, su);
+#else
+  complex_body(in, st, ma, md, mn, su);
+#endif
 }
 
 }  // namespace
@@ -701,9 +817,10 @@ void prepare_complex(const ModalReduction& r, const MovingChannels& L, double dt
 
 // Peaks (and the acceleration histories when recorded) of lane l after a kernel run; SolverError
 // when the lane's state or outputs are not finite.
-PeaksCaseResult lane_result(std::size_t l, std::size_t no, const std::vector<double>& ma, const std::vector<double>& md,
-                            const std::vector<double>& mn, double state, const std::vector<double>* hist, std::size_t nh,
-                            std::size_t stride, Index n_steps, double speed) {
+// The outputs' maxima of lane l at j·n_run + l (n_run lanes a run).
+PeaksCaseResult lane_result(std::size_t l, std::size_t n_run, std::size_t no, const std::vector<double>& ma,
+                            const std::vector<double>& md, const std::vector<double>& mn, double state,
+                            const double* hist, std::size_t nh, std::size_t stride, Index n_steps, double speed) {
   // A non-finite state stays so (the recurrence is linear), and std::max would skip a NaN.
   PeaksCaseResult res;
   res.max_abs_disp.resize(static_cast<Index>(no));
@@ -714,16 +831,16 @@ PeaksCaseResult lane_result(std::size_t l, std::size_t no, const std::vector<dou
   bool finite = std::isfinite(state);
   for (std::size_t j = 0; j < no; ++j) {
     const auto jj = static_cast<Index>(j);
-    res.max_disp[jj] = md[j * W + l];
-    res.min_disp[jj] = -mn[j * W + l];
-    res.max_abs_disp[jj] = std::max(md[j * W + l], mn[j * W + l]);
-    res.max_abs_acc[jj] = ma[j * W + l];
-    finite = finite && std::isfinite(md[j * W + l]) && std::isfinite(mn[j * W + l]);
+    res.max_disp[jj] = md[j * n_run + l];
+    res.min_disp[jj] = -mn[j * n_run + l];
+    res.max_abs_disp[jj] = std::max(md[j * n_run + l], mn[j * n_run + l]);
+    res.max_abs_acc[jj] = ma[j * n_run + l];
+    finite = finite && std::isfinite(md[j * n_run + l]) && std::isfinite(mn[j * n_run + l]);
     if (hist && j < nh) {
-      res.acc.col(jj) = Eigen::Map<const Vector>(hist->data() + (l * nh + j) * stride, n_steps + 1);
+      res.acc.col(jj) = Eigen::Map<const Vector>(hist + (l * nh + j) * stride, n_steps + 1);
       finite = finite && res.acc.col(jj).allFinite();
     } else {
-      finite = finite && std::isfinite(ma[j * W + l]);
+      finite = finite && std::isfinite(ma[j * n_run + l]);
     }
   }
   if (!finite)
@@ -732,7 +849,8 @@ PeaksCaseResult lane_result(std::size_t l, std::size_t no, const std::vector<dou
 }
 
 // The sums' extremes of lane l; SolverError when one is not finite.
-void take_sums(const SumState& su, std::size_t n_sums, std::size_t l, double speed, PeaksCaseResult& res) {
+template <std::size_t N>
+void take_sums(const SumStateT<N>& su, std::size_t n_sums, std::size_t l, double speed, PeaksCaseResult& res) {
   if (!n_sums) return;
   res.max_sum.resize(static_cast<Index>(n_sums));
   res.min_sum.resize(static_cast<Index>(n_sums));
@@ -766,6 +884,90 @@ void check_peaks_input(const ModalReduction& r, const MovingChannels& L, const s
       throw InputError("a sum of outputs names an output or load channel the modal model does not record");
 }
 
+// The acceleration histories' buffer of n doubles: the thread's own, kept between calls (a sweep
+// calls modal_peaks once per block of eight speeds; a buffer allocated and zero-filled each time
+// cost Old Guadiana's assessment 4 % of its run in the fill and page faults). Not cleared: the
+// kernel writes every value lane_result reads (lane l's steps 0 … n_steps[l] of each output
+// recorded). Buffers over 256 MB are not kept (`local` holds them for this call only).
+double* history_buffer(std::size_t n, std::vector<double>& local) {
+  constexpr std::size_t kKeep = (std::size_t{256} << 20) / sizeof(double);
+  thread_local std::vector<double> kept;
+  std::vector<double>& b = n <= kKeep ? kept : local;
+  if (b.size() < n) b.resize(n);
+  return b.data();
+}
+
+// The cases in batches of N (spare lanes repeat the last case), through the classical kernel
+// (four lanes) or the complex one (four or eight), into `out` in the cases' order.
+template <std::size_t N>
+void run_batches(PeaksSetup& k, const ModalReduction& r, const MovingChannels& L, const std::vector<PeaksCase>& cases,
+                 double dt, std::size_t no, std::size_t nh, const std::vector<char>& has_acc, bool record_acc,
+                 double max_history_bytes, std::vector<PeaksCaseResult>& out) {
+  const std::size_t nm = L.n_modes, n_sums = k.in.n_sums;
+  std::vector<double> local;
+  double* hist = nullptr;
+  std::vector<double> q(nm * N), qd(nm * N), ma(no * N), md(no * N), mn(no * N), state(N);
+  for (std::size_t first = 0; first < cases.size(); first += N) {
+    const auto wall0 = std::chrono::steady_clock::now();
+    const std::size_t n_lanes = std::min(N, cases.size() - first);
+    double v[N];
+    Index n_steps[N], n_max = 0;
+    for (std::size_t l = 0; l < N; ++l) {
+      // Spare lanes repeat the last case; their results are dropped.
+      const PeaksCase& c = cases[first + std::min(l, n_lanes - 1)];
+      v[l] = c.speed;
+      n_steps[l] = TimeGrid{dt, c.t_end}.n_steps();
+      n_max = std::max(n_max, n_steps[l]);
+    }
+    const std::size_t stride = static_cast<std::size_t>(n_max) + 1;
+    if (record_acc) {
+      if (static_cast<double>(N * nh * stride) * sizeof(double) > max_history_bytes)
+        throw InputError("the station histories of " + std::to_string(N) +
+                         " speeds would not fit in memory: raise analysis.dt");
+      hist = history_buffer(std::max<std::size_t>(N * nh * stride, 1), local);  // non-null: histories asked
+    }
+    SumStateT<N> su(n_sums, L.n_extra);
+    if (!k.complex) {
+      if constexpr (N == kLanes) {
+        KernelInput& in = k.in;
+        std::copy(v, v + N, in.v);
+        std::copy(n_steps, n_steps + N, in.n_steps);
+        in.n_max = n_max;
+        in.hist = hist;
+        in.nh = nh;
+        in.stride = stride;
+        dispatch(in, q.data(), qd.data(), ma.data(), md.data(), mn.data(), su);
+        for (std::size_t l = 0; l < N; ++l) {
+          state[l] = 0.0;
+          for (std::size_t i = 0; i < nm; ++i) state[l] += q[i * N + l] + qd[i * N + l];
+        }
+      } else {
+        throw std::logic_error("modal_peaks: eight lanes run complex modes only");  // never (the caller)
+      }
+    } else {
+      ComplexInput& ci = k.ci;
+      std::copy(v, v + N, ci.v);
+      std::copy(n_steps, n_steps + N, ci.n_steps);
+      ci.n_max = n_max;
+      ci.hist = hist;
+      ci.nh = nh;
+      ci.stride = stride;
+      complex_kernel(ci, state.data(), ma.data(), md.data(), mn.data(), su);
+    }
+    const double wall = detail::seconds_since(wall0);
+    for (std::size_t l = 0; l < n_lanes; ++l) {
+      PeaksCaseResult res =
+          lane_result(l, N, no, ma, md, mn, state[l], hist, nh, stride, n_steps[l], v[l]);
+      take_sums(su, n_sums, l, v[l], res);
+      for (std::size_t j = 0; j < no; ++j)
+        if (!has_acc[j]) res.max_abs_acc[static_cast<Index>(j)] = 0.0;
+      res.summary = detail::fixed_step_summary(Kernel::modal_peaks, n_steps[l], dt, r.n_dofs(), r.n_modes(), 0,
+                                               wall / static_cast<double>(n_lanes));
+      out.push_back(std::move(res));
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingChannels& L,
@@ -775,7 +977,7 @@ std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingCh
   if (cases.empty()) return {};
   check_peaks_input(r, L, cases, dt, n_outputs, sums);
   // The recorded outputs are the reduction's first n_outputs (rails above deck stations may follow).
-  const std::size_t nm = L.n_modes, no = n_outputs;
+  const std::size_t no = n_outputs;
   // Acceleration histories of the first nh outputs (the stations a filter takes; not the effects).
   const std::size_t nh = !record_acc ? 0 : acc_outputs < 0 ? no : std::min(no, static_cast<std::size_t>(acc_outputs));
   PeaksSetup k;
@@ -801,63 +1003,16 @@ std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingCh
   k.in.extra0 = k.ci.extra0 = extra0;
   k.in.n_extra = k.ci.n_extra = L.n_extra;
   k.in.point = k.ci.point = L.n_extra ? L.point.data() : nullptr;
-  std::vector<double> hist;
+  // Eight cases a pass for complex modes where the processor has AVX-512 (and eight cases'
+  // histories fit where they are recorded), else four.
+  Index most_steps = 0;
+  for (const PeaksCase& c : cases) most_steps = std::max(most_steps, TimeGrid{dt, c.t_end}.n_steps());
+  const double wide_bytes = static_cast<double>(kWideLanes * nh) * static_cast<double>(most_steps + 1) * sizeof(double);
   std::vector<PeaksCaseResult> out;
-  std::vector<double> q(nm * W), qd(nm * W), ma(no * W), md(no * W), mn(no * W), state(W);
-  for (std::size_t first = 0; first < cases.size(); first += W) {
-    const auto wall0 = std::chrono::steady_clock::now();
-    const std::size_t n_lanes = std::min(W, cases.size() - first);
-    double v[W];
-    Index n_steps[W], n_max = 0;
-    for (std::size_t l = 0; l < W; ++l) {
-      // Spare lanes repeat the last case; their results are dropped.
-      const PeaksCase& c = cases[first + std::min(l, n_lanes - 1)];
-      v[l] = c.speed;
-      n_steps[l] = TimeGrid{dt, c.t_end}.n_steps();
-      n_max = std::max(n_max, n_steps[l]);
-    }
-    const std::size_t stride = static_cast<std::size_t>(n_max) + 1;
-    if (record_acc) {
-      if (static_cast<double>(W * nh * stride) * sizeof(double) > max_history_bytes)
-        throw InputError("the station histories of four speeds would not fit in memory: raise analysis.dt");
-      hist.assign(W * nh * stride, 0.0);
-    }
-    SumState su(n_sums, L.n_extra);
-    if (!k.complex) {
-      KernelInput& in = k.in;
-      std::copy(v, v + W, in.v);
-      std::copy(n_steps, n_steps + W, in.n_steps);
-      in.n_max = n_max;
-      in.hist = record_acc ? hist.data() : nullptr;
-      in.nh = nh;
-      in.stride = stride;
-      dispatch(in, q.data(), qd.data(), ma.data(), md.data(), mn.data(), su);
-      for (std::size_t l = 0; l < W; ++l) {
-        state[l] = 0.0;
-        for (std::size_t i = 0; i < nm; ++i) state[l] += q[i * W + l] + qd[i * W + l];
-      }
-    } else {
-      ComplexInput& ci = k.ci;
-      std::copy(v, v + W, ci.v);
-      std::copy(n_steps, n_steps + W, ci.n_steps);
-      ci.n_max = n_max;
-      ci.hist = record_acc ? hist.data() : nullptr;
-      ci.nh = nh;
-      ci.stride = stride;
-      complex_kernel(ci, state.data(), ma.data(), md.data(), mn.data(), su);
-    }
-    const double wall = detail::seconds_since(wall0);
-    for (std::size_t l = 0; l < n_lanes; ++l) {
-      PeaksCaseResult res =
-          lane_result(l, no, ma, md, mn, state[l], record_acc ? &hist : nullptr, nh, stride, n_steps[l], v[l]);
-      take_sums(su, n_sums, l, v[l], res);
-      for (std::size_t j = 0; j < no; ++j)
-        if (!has_acc[j]) res.max_abs_acc[static_cast<Index>(j)] = 0.0;
-      res.summary = detail::fixed_step_summary(Kernel::modal_peaks, n_steps[l], dt, r.n_dofs(), r.n_modes(), 0,
-                                               wall / static_cast<double>(n_lanes));
-      out.push_back(std::move(res));
-    }
-  }
+  if (k.complex && cpu_has_avx512() && (!record_acc || wide_bytes <= max_history_bytes))
+    run_batches<kWideLanes>(k, r, L, cases, dt, no, nh, has_acc, record_acc, max_history_bytes, out);
+  else
+    run_batches<kLanes>(k, r, L, cases, dt, no, nh, has_acc, record_acc, max_history_bytes, out);
   return out;
 }
 

@@ -5,6 +5,8 @@
 #include <vector>
 
 #include "cli.hpp"
+#include "viaduct/core/error.hpp"
+#include "viaduct/core/simd.hpp"
 #include "viaduct/io/results.hpp"
 #include "viaduct/study/sampled.hpp"
 
@@ -37,6 +39,14 @@ int main(int argc, char** argv) {
   if (name == "--version") {
     std::cout << "viaduct " << viaduct::io::version() << "\n";
     return ok;
+  }
+  // A wrong VIADUCT_SIMD stops every command here (a sweep would otherwise retry its failing
+  // blocks one case at a time on the general path and say nothing).
+  try {
+    viaduct::simd_level();
+  } catch (const viaduct::InputError& e) {
+    std::cerr << "viaduct " << name << ": error: " << e.what() << "\n";
+    return usage_error;
   }
   for (const auto& c : commands)
     if (c.name == name) {
