@@ -20,6 +20,7 @@
 #include <thread>
 
 #include "viaduct/core/error.hpp"
+#include "viaduct/core/simd.hpp"
 #include "viaduct_py.hpp"
 #include "viaduct/io/assessment.hpp"
 #include "viaduct/io/report_html.hpp"
@@ -541,4 +542,7 @@ PYBIND11_MODULE(_viaduct, m) {
   viaduct_py::bind(m);
   viaduct_py::bind_ident(m);
   viaduct_py::bind_fit(m);
+  // A wrong VIADUCT_SIMD fails the import (an ImportError with its message), as it stops the CLI: a sweep
+  // would otherwise retry its blocks on the general path and say nothing.
+  viaduct::simd_level();
 }

@@ -594,3 +594,18 @@ def test_rainflow_and_miner_damage_equal_the_cli(src, cli, tmp_path):
         viaduct.miner_damage(r, n, detail=75)
     with pytest.raises(viaduct.InputError, match="exactly one of detail or delta_c_mpa"):
         viaduct.miner_damage(r, n)
+
+
+def test_a_wrong_viaduct_simd_fails_the_import_as_it_stops_the_cli(src, cli, tmp_path):
+    # The package checks VIADUCT_SIMD when imported (a sweep would otherwise retry its blocks on
+    # the general path and say nothing); the CLI stops with exit 2. Both name the variable.
+    env = dict(os.environ, VIADUCT_SIMD="avx3")
+    p = subprocess.run([sys.executable, "-c", "import viaduct"], capture_output=True, text=True, env=env)
+    assert p.returncode != 0
+    assert "ImportError" in p.stderr and "VIADUCT_SIMD = 'avx3'" in p.stderr
+    q = subprocess.run([cli, "check", str(src / "scenarios/hslm-simply-supported.toml")], capture_output=True,
+                       text=True, env=env)
+    assert q.returncode == 2 and "expected baseline, avx2 or avx512" in q.stderr
+    ok = subprocess.run([sys.executable, "-c", "import viaduct"], capture_output=True, text=True,
+                        env=dict(os.environ, VIADUCT_SIMD="baseline"))
+    assert ok.returncode == 0, ok.stderr

@@ -897,6 +897,19 @@ double* history_buffer(std::size_t n, std::vector<double>& local) {
   return b.data();
 }
 
+// One batch's N lanes (speeds, step counts) and history buffer into a kernel's input (a
+// KernelInput or a ComplexInput).
+template <class Input, std::size_t N>
+void set_batch(Input& in, const double (&v)[N], const Index (&n_steps)[N], Index n_max, double* hist, std::size_t nh,
+               std::size_t stride) {
+  std::copy(v, v + N, in.v);
+  std::copy(n_steps, n_steps + N, in.n_steps);
+  in.n_max = n_max;
+  in.hist = hist;
+  in.nh = nh;
+  in.stride = stride;
+}
+
 // The cases in batches of N (spare lanes repeat the last case), through the classical kernel
 // (four lanes) or the complex one (four or eight), into `out` in the cases' order.
 template <std::size_t N>
@@ -929,14 +942,8 @@ void run_batches(PeaksSetup& k, const ModalReduction& r, const MovingChannels& L
     SumStateT<N> su(n_sums, L.n_extra);
     if (!k.complex) {
       if constexpr (N == kLanes) {
-        KernelInput& in = k.in;
-        std::copy(v, v + N, in.v);
-        std::copy(n_steps, n_steps + N, in.n_steps);
-        in.n_max = n_max;
-        in.hist = hist;
-        in.nh = nh;
-        in.stride = stride;
-        dispatch(in, q.data(), qd.data(), ma.data(), md.data(), mn.data(), su);
+        set_batch(k.in, v, n_steps, n_max, hist, nh, stride);
+        dispatch(k.in, q.data(), qd.data(), ma.data(), md.data(), mn.data(), su);
         for (std::size_t l = 0; l < N; ++l) {
           state[l] = 0.0;
           for (std::size_t i = 0; i < nm; ++i) state[l] += q[i * N + l] + qd[i * N + l];
@@ -945,14 +952,8 @@ void run_batches(PeaksSetup& k, const ModalReduction& r, const MovingChannels& L
         throw std::logic_error("modal_peaks: eight lanes run complex modes only");  // never (the caller)
       }
     } else {
-      ComplexInput& ci = k.ci;
-      std::copy(v, v + N, ci.v);
-      std::copy(n_steps, n_steps + N, ci.n_steps);
-      ci.n_max = n_max;
-      ci.hist = hist;
-      ci.nh = nh;
-      ci.stride = stride;
-      complex_kernel(ci, state.data(), ma.data(), md.data(), mn.data(), su);
+      set_batch(k.ci, v, n_steps, n_max, hist, nh, stride);
+      complex_kernel(k.ci, state.data(), ma.data(), md.data(), mn.data(), su);
     }
     const double wall = detail::seconds_since(wall0);
     for (std::size_t l = 0; l < n_lanes; ++l) {
