@@ -570,7 +570,7 @@ struct ComplexInput {
   const double *breaks = nullptr, *coef = nullptr;
   std::size_t n_pieces = 0;
   double x_start = 0.0, dt = 0.0;
-  double v[kWideLanes];        // [m/s] per lane (the first kW<L> of the kernel's lane type L)
+  double v[kWideLanes];        // [m/s] per lane (the first N of a kernel of N lanes)
   Index n_steps[kWideLanes];   // per lane
   Index n_max = 0;
   double* hist = nullptr;
