@@ -32,12 +32,4 @@ Simd simd_level() {
   return level;
 }
 
-const char* simd_name(Simd s) {
-  switch (s) {
-    case Simd::avx512: return "avx512";
-    case Simd::avx2: return "avx2";
-    default: return "baseline";
-  }
-}
-
 }  // namespace viaduct

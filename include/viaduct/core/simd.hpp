@@ -13,7 +13,4 @@ enum class Simd { baseline, avx2, avx512 };
 /// tests compare the sets; a benchmark can pin one). InputError for another value. Read once.
 Simd simd_level();
 
-/// The name of a level, as VIADUCT_SIMD spells it.
-const char* simd_name(Simd s);
-
 }  // namespace viaduct
