@@ -66,4 +66,17 @@ Vector sosfiltfilt(const Sos& sos, Eigen::Ref<const Vector> x);  // x read in pl
 /// maxima a second away by per cent). Any length, including 0.
 Vector filtfilt_from_rest(const Sos& sos, const Vector& x);
 
+/// filtfilt_from_rest of one filter for many records: the backward pass's start map (the
+/// doubling, as long as filtering a record of a few thousand samples) built once. The same
+/// numbers as filtfilt_from_rest. InputError for an unstable filter.
+class FiltfiltFromRest {
+ public:
+  explicit FiltfiltFromRest(const Sos& sos);
+  Vector operator()(const Vector& x) const;
+
+ private:
+  Sos sos_;
+  Matrix W_;  // the forward pass's end state → the backward pass's start state
+};
+
 }  // namespace viaduct::signal
