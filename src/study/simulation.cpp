@@ -784,23 +784,44 @@ bool folds_trains(const PreparedModel& m, const RunSettings& s) {
          m.modal && m.modal_path;
 }
 
-std::shared_ptr<const solve::MovingChannels> fold_train(const PreparedModel& m, const load::Train& train,
-                                                  double load_factor) {
+// Pieces a TrainFold chunk writes: 32 of 359 channels' 4 powers (Old Guadiana with track) are
+// 368 KB, written by every axle on the path in turn, so a chunk stays in the core's cache.
+constexpr std::size_t kFoldChunk = 32;
+
+struct TrainFold::Plan {
+  const ModalPathTable* T = nullptr;
+  std::vector<double> offset, load;  // the train's axles: offset [m], load × load_factor [N]
+  std::size_t nc = 0, ne = 0, n_pieces = 0;
+  std::vector<double> elem;  // per element and channel, the cubic in ξ (constructor)
+  // Per axle and element, the pieces [first, second) the axle crosses the element in.
+  std::vector<std::pair<std::size_t, std::size_t>> range;
+  std::shared_ptr<solve::MovingChannels> t;
+  // Head position where axle k leaves element e (elem_end in the constructor).
+  double elem_end(std::size_t k, std::size_t e) const { return offset[k] + (e + 1 < ne ? T->x0[e + 1] : T->x_end); }
+};
+
+TrainFold::TrainFold(const PreparedModel& m, const load::Train& train, double load_factor) : p_(std::make_unique<Plan>()) {
   if (!m.modal || !m.modal_path) throw InputError("folding a train needs a model prepared for the modal method");
   require_positive(load_factor, "train.load_factor");
   train.validate();
+  Plan& P = *p_;
   const ModalPathTable& T = *m.modal_path;
   const solve::ModalReduction& r = *m.modal;
+  P.T = &T;
+  P.offset = train.offset;
+  for (double l : train.load) P.load.push_back(l * load_factor);
   std::vector<int> direct;  // the bearings whose direct load is an extra channel, in the effects' order
   for (const LoadEffect& e : m.effects)
     if (has_direct_load(m.structure, e)) direct.push_back(e.bearing);
   const std::size_t nm = T.m, no = T.flex ? T.n_out : 0, nx = direct.size(), nc = nm + no + nx, ne = T.x0.size();
+  P.nc = nc, P.ne = ne;
 
   // Per element and channel, the cubic in ξ: the load channels as tabulated, and the residual
   // flexibility of each output, g_j − Σᵢ Wⱼᵢ pᵢ (W p: the kept coordinates' static share, S Ω⁻² φ
   // for classical modes): what the static correction adds to the coordinates' deflection (and,
   // times v² and differentiated twice, to their acceleration).
-  std::vector<double> elem(ne * nc * 4, 0.0);
+  std::vector<double>& elem = P.elem;
+  elem.assign(ne * nc * 4, 0.0);
   const Matrix Ss = r.static_channel_weights();  // n_outputs × load channels
   for (std::size_t e = 0; e < ne; ++e) {
     const double* ce = &T.coef[e * T.stride];
@@ -827,57 +848,87 @@ std::shared_ptr<const solve::MovingChannels> fold_train(const PreparedModel& m, 
   t->x_start = T.x_start;
   t->x_end = T.x_end;
   // Breakpoints: every axle at every element boundary and at the path's end. The very numbers
-  // used below as element limits are inserted, so the lookups find them exactly.
-  auto elem_end = [&](std::size_t k, std::size_t e) {
-    return train.offset[k] + (e + 1 < ne ? T.x0[e + 1] : T.x_end);
-  };
+  // used as element limits (elem_end, fill) are inserted, so the lookups find them exactly.
   std::vector<double>& B = t->breaks;
-  B.reserve(train.offset.size() * (ne + 1));
-  for (std::size_t k = 0; k < train.offset.size(); ++k) {
-    for (std::size_t e = 0; e < ne; ++e) B.push_back(train.offset[k] + T.x0[e]);
-    B.push_back(elem_end(k, ne - 1));
+  B.reserve(P.offset.size() * (ne + 1));
+  for (std::size_t k = 0; k < P.offset.size(); ++k) {
+    for (std::size_t e = 0; e < ne; ++e) B.push_back(P.offset[k] + T.x0[e]);
+    B.push_back(P.elem_end(k, ne - 1));
   }
   std::sort(B.begin(), B.end());
   B.erase(std::unique(B.begin(), B.end()), B.end());
   const std::size_t n_pieces = B.size() - 1;
+  P.n_pieces = n_pieces;
   // The first axle (offset 0, Train::validate) enters at the path's start: no piece before it.
   if (B.front() != T.x_start) throw InputError("train '" + train.name + "': the first axle must have offset 0");
   if (static_cast<double>(n_pieces) * static_cast<double>(4 * nc) * sizeof(double) > kMaxHistoryBytes)
     throw InputError("train '" + train.name + "' folded over " + std::to_string(nc) +
                      " modal channels would not fit in memory: lower modal.max_frequency_hz or modal.n_modes");
-  t->coef.assign((n_pieces + 1) * 4 * nc, 0.0);  // the last block (beyond the last break) stays zero
+  t->coef.resize((n_pieces + 1) * 4 * nc);  // not zeroed: fill() zeroes each chunk's pieces, the last the block after
   // An axle exactly at the path's end is still on its last element (bearing_load's rule): the
   // extra channels' value there, g(ξ = 1), at that break only.
   t->point.assign(nx ? (n_pieces + 1) * nx : 0, 0.0);
-  for (std::size_t k = 0; k < train.offset.size() && nx; ++k) {
-    const auto i = static_cast<std::size_t>(std::lower_bound(B.begin(), B.end(), elem_end(k, ne - 1)) - B.begin());
+  for (std::size_t k = 0; k < P.offset.size() && nx; ++k) {
+    const auto i = static_cast<std::size_t>(std::lower_bound(B.begin(), B.end(), P.elem_end(k, ne - 1)) - B.begin());
     for (std::size_t x = 0; x < nx; ++x) {
       const double* a = &elem[((ne - 1) * nc + nm + no + x) * 4];
-      t->point[i * nx + x] += train.load[k] * load_factor * (a[0] + a[1] + a[2] + a[3]);
+      t->point[i * nx + x] += P.load[k] * (a[0] + a[1] + a[2] + a[3]);
     }
   }
-  for (std::size_t k = 0; k < train.offset.size(); ++k) {
-    const double o = train.offset[k], P = train.load[k] * load_factor;
+  P.range.reserve(P.offset.size() * ne);
+  for (std::size_t k = 0; k < P.offset.size(); ++k)
     for (std::size_t e = 0; e < ne; ++e) {
-      const double lo = o + T.x0[e], hi = elem_end(k, e), w = T.inv_h[e];
-      const auto i0 = static_cast<std::size_t>(std::lower_bound(B.begin(), B.end(), lo) - B.begin());
-      const auto i1 = static_cast<std::size_t>(std::lower_bound(B.begin(), B.end(), hi) - B.begin());
-      const double* c = &elem[e * nc * 4];
-      for (std::size_t i = i0; i < i1 && i < n_pieces; ++i) {
+      const auto i0 = static_cast<std::size_t>(std::lower_bound(B.begin(), B.end(), P.offset[k] + T.x0[e]) - B.begin());
+      const auto i1 = static_cast<std::size_t>(std::lower_bound(B.begin(), B.end(), P.elem_end(k, e)) - B.begin());
+      P.range.emplace_back(std::min(i0, n_pieces), std::min(i1, n_pieces));
+    }
+  P.t = std::move(t);
+}
+
+TrainFold::~TrainFold() = default;
+
+std::size_t TrainFold::n_chunks() const { return std::max<std::size_t>(1, (p_->n_pieces + kFoldChunk - 1) / kFoldChunk); }
+
+void TrainFold::fill(std::size_t chunk) {
+  const Plan& P = *p_;
+  const ModalPathTable& T = *P.T;
+  const std::size_t nc = P.nc, ne = P.ne, p0 = chunk * kFoldChunk, p1 = std::min(P.n_pieces, p0 + kFoldChunk);
+  const std::vector<double>& B = P.t->breaks;
+  double* coef = P.t->coef.data();
+  const std::size_t zero_to = chunk + 1 == n_chunks() ? P.n_pieces + 1 : p1;  // the last: the block beyond the last break
+  std::fill(coef + p0 * 4 * nc, coef + zero_to * 4 * nc, 0.0);
+  // Every axle's share of the chunk's pieces, the axles and elements in the same order for every
+  // piece whichever chunk it is in: the same sums as folding the table in one pass.
+  for (std::size_t k = 0; k < P.offset.size(); ++k) {
+    const double o = P.offset[k], Pk = P.load[k];
+    for (std::size_t e = 0; e < ne; ++e) {
+      const auto [i0, i1] = P.range[k * ne + e];
+      if (i1 <= p0 || i0 >= p1) continue;
+      const double lo = o + T.x0[e], w = T.inv_h[e];
+      const double* c = &P.elem[e * nc * 4];
+      for (std::size_t i = std::max(i0, p0); i < std::min(i1, p1); ++i) {
         // ξ = ξa + w s: the element cubic re-expanded in powers of s.
         const double xa = (B[i] - lo) * w;
-        double* d = &t->coef[i * 4 * nc];
+        double* d = coef + i * 4 * nc;
         for (std::size_t ch = 0; ch < nc; ++ch) {
           const double* a = c + 4 * ch;
-          d[ch] += P * (a[0] + xa * (a[1] + xa * (a[2] + xa * a[3])));
-          d[nc + ch] += P * w * (a[1] + xa * (2.0 * a[2] + 3.0 * xa * a[3]));
-          d[2 * nc + ch] += P * w * w * (a[2] + 3.0 * xa * a[3]);
-          d[3 * nc + ch] += P * w * w * w * a[3];
+          d[ch] += Pk * (a[0] + xa * (a[1] + xa * (a[2] + xa * a[3])));
+          d[nc + ch] += Pk * w * (a[1] + xa * (2.0 * a[2] + 3.0 * xa * a[3]));
+          d[2 * nc + ch] += Pk * w * w * (a[2] + 3.0 * xa * a[3]);
+          d[3 * nc + ch] += Pk * w * w * w * a[3];
         }
       }
     }
   }
-  return t;
+}
+
+std::shared_ptr<const solve::MovingChannels> TrainFold::table() const { return p_->t; }
+
+std::shared_ptr<const solve::MovingChannels> fold_train(const PreparedModel& m, const load::Train& train,
+                                                        double load_factor) {
+  TrainFold f(m, train, load_factor);
+  for (std::size_t c = 0; c < f.n_chunks(); ++c) f.fill(c);
+  return f.table();
 }
 
 std::vector<CasePeaks> simulate_peaks(const PreparedModel& m, const load::Train& train, const std::vector<double>& speeds,

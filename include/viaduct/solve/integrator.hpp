@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "viaduct/core/buffer.hpp"
 #include "viaduct/core/log.hpp"
 #include "viaduct/solve/coupled.hpp"
 #include "viaduct/solve/guard.hpp"
@@ -44,8 +45,9 @@ namespace viaduct::solve {
 struct MovingChannels {
   std::vector<double> breaks;  ///< [m] ascending; piece i is [breaks[i], breaks[i+1])
   /// Per piece, 4 powers of s = X − breaks[i] (s⁰ … s³), each with n_channels values; one more
-  /// block of zeros follows for X beyond the last break.
-  std::vector<double> coef;
+  /// block of zeros follows for X beyond the last break. Not zeroed when resized (UninitAllocator):
+  /// whoever builds the table writes every number.
+  std::vector<double, UninitAllocator<double>> coef;
   std::size_t n_modes = 0;    ///< load channels (ModalReduction::n_channels())
   std::size_t n_outputs = 0;  ///< static-correction residual channels (0 without the correction)
   /// Further channels after the residuals, read by OutputSum::load_channel (a rigid bearing's

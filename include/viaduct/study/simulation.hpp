@@ -272,6 +272,27 @@ bool folds_trains(const PreparedModel& m, const RunSettings& s);
 std::shared_ptr<const solve::MovingChannels> fold_train(const PreparedModel& m, const load::Train& train,
                                                         double load_factor);
 
+/// fold_train in parts that threads share (a sweep's threads that need the same train fold it
+/// together instead of waiting for one of them): the constructor checks the train, sets the
+/// breakpoints and allocates the table (InputError as fold_train); fill(c) writes chunk c's
+/// pieces, each chunk once, by any thread and in any order (distinct chunks concurrently); table()
+/// once every chunk is filled. The numbers do not depend on the chunks: fold_train is the
+/// constructor, every fill in turn and table().
+class TrainFold {
+ public:
+  TrainFold(const PreparedModel& m, const load::Train& train, double load_factor);
+  ~TrainFold();
+  TrainFold(const TrainFold&) = delete;
+  TrainFold& operator=(const TrainFold&) = delete;
+  std::size_t n_chunks() const;
+  void fill(std::size_t chunk);
+  std::shared_ptr<const solve::MovingChannels> table() const;
+
+ private:
+  struct Plan;
+  std::unique_ptr<Plan> p_;
+};
+
 /// The vehicles' extremes in one case (sprung and multibody models).
 struct VehiclePeaks {
   bool present = false;          ///< false with moving forces

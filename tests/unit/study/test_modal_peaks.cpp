@@ -1,7 +1,10 @@
 #include <catch2/catch.hpp>
+#include <atomic>
 #include <cmath>
+#include <thread>
 
 #include "../../verification/helpers.hpp"
+#include "viaduct/core/buffer.hpp"
 #include "viaduct/core/error.hpp"
 #include "viaduct/study/simulation.hpp"
 #include "viaduct/study/sweep.hpp"
@@ -161,5 +164,59 @@ TEST_CASE("a sweep on the peaks kernel gives the rows of the general path") {
     REQUIRE(a.rows[i].speed == b.rows[i].speed);
     REQUIRE(a.rows[i].max_abs_acc == Approx(b.rows[i].max_abs_acc).epsilon(kRel));
     REQUIRE(a.rows[i].max_abs_disp == Approx(b.rows[i].max_abs_disp).epsilon(kRel));
+  }
+}
+
+TEST_CASE("a train folded in chunks, in any order and by two threads, is the table fold_train gives") {
+  // A sweep's threads fill chunks of one TrainFold in whatever order they take them; each piece's
+  // sums run over the axles and elements in the same order whichever chunk holds it, so the
+  // tables are equal number for number.
+  // 150 Hz: enough channels for a table of more than 4 MB (a large block, kept by BlockReuse).
+  Scenario sc = vt::shipped("old-guadiana-sensitivity", {"analysis.method=\"modal\"", "modal.max_frequency_hz=150"});
+  const PreparedModel pm = prepare_model(sc, false);
+  const load::Train& train = sc.trains.at(0);
+  const auto whole = fold_train(pm, train, 0.5);
+  REQUIRE(whole->breaks.size() > 200);  // pieces for several chunks
+  auto same = [&](const solve::MovingChannels& t) {
+    REQUIRE(t.breaks == whole->breaks);
+    REQUIRE(t.point == whole->point);
+    REQUIRE(t.n_channels == whole->n_channels);
+    REQUIRE(t.coef.size() == whole->coef.size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < t.coef.size(); ++i) differ += t.coef[i] != whole->coef[i];
+    REQUIRE(differ == 0);
+  };
+  {
+    TrainFold f(pm, train, 0.5);
+    REQUIRE(f.n_chunks() > 2);
+    for (std::size_t c = f.n_chunks(); c-- > 0;) f.fill(c);  // last chunk first
+    same(*f.table());
+  }
+  {
+    TrainFold f(pm, train, 0.5);
+    std::atomic<std::size_t> next{0};
+    auto work = [&] {
+      for (std::size_t c = next++; c < f.n_chunks(); c = next++) f.fill(c);
+    };
+    std::thread other(work);
+    work();
+    other.join();
+    same(*f.table());
+  }
+  // In the memory a freed table left behind (BlockReuse, as in a sweep) the same numbers, and the
+  // block beyond the last break zero.
+  REQUIRE(whole->coef.size() * sizeof(double) >= kLargeBlock);  // a block that is kept
+  {
+    const BlockReuse reuse;
+    const double* dirty_at = nullptr;
+    {
+      const auto dirty = fold_train(pm, train, 1.0);
+      dirty_at = dirty->coef.data();
+    }
+    const auto again = fold_train(pm, train, 0.5);
+    REQUIRE(again->coef.data() == dirty_at);  // the block was given again
+    same(*again);
+    const std::size_t nc = again->n_channels, last = (again->breaks.size() - 1) * 4 * nc;
+    for (std::size_t i = last; i < again->coef.size(); ++i) REQUIRE(again->coef[i] == 0.0);
   }
 }
