@@ -19,6 +19,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include "checks.hpp"
@@ -582,6 +583,60 @@ struct ComplexInput {
   const double* point = nullptr;
 };
 
+// Outputs [0, n) in blocks for f(std::integral_constant<size, B>, first): blocks of four; a
+// remainder of one or two joins the last block (5 or 6: one block of B sums costs about B cycles a
+// coordinate while B ≥ 3, the latency of one addition, so 4 + 1 padded to 4 + 4 cost 8 where 5
+// costs 5), a remainder of three is a block of its own.
+template <class F>
+VIADUCT_ALWAYS_INLINE void out_blocks(std::size_t n, F&& f) {
+  const std::size_t rem = n % 4, n4 = n < 4 ? 0 : (rem == 1 || rem == 2 ? n - rem - 4 : n - rem);
+  std::size_t j = 0;
+  for (; j < n4; j += 4) f(std::integral_constant<std::size_t, 4>{}, j);
+  switch (n - j) {
+    case 1: f(std::integral_constant<std::size_t, 1>{}, j); break;
+    case 2: f(std::integral_constant<std::size_t, 2>{}, j); break;
+    case 3: f(std::integral_constant<std::size_t, 3>{}, j); break;
+    case 5: f(std::integral_constant<std::size_t, 5>{}, j); break;
+    case 6: f(std::integral_constant<std::size_t, 6>{}, j); break;
+    default: break;  // 0
+  }
+}
+
+// Outputs [j0, j0 + B): each deflection-type value Re Σₖ (Dr + i Di)(yr + i yi), summed over the
+// coordinates in order from zero, into dj.
+template <std::size_t N, std::size_t B>
+VIADUCT_ALWAYS_INLINE void disp_block(const double* rows, std::size_t nk, std::size_t j0, const Lanes<N>* yr,
+                                      const Lanes<N>* yi, Lanes<N>* dj) {
+  using L = Lanes<N>;
+  const double* r[B];
+  L s[B];
+  for (std::size_t u = 0; u < B; ++u) r[u] = rows + 2 * (j0 + u) * nk, s[u] = L{};
+  for (std::size_t k = 0; k < nk; ++k) {
+    const L a = yr[k], b = yi[k];
+    for (std::size_t u = 0; u < B; ++u) s[u] += r[u][2 * k] * a - r[u][2 * k + 1] * b;
+  }
+  for (std::size_t u = 0; u < B; ++u) dj[j0 + u] = s[u];
+}
+
+// The accelerations of outputs idx[n0 … n0 + B) (idx null: n0 … n0 + B), each Re Σₖ of the
+// coordinate's share (Lr + i Li)(yr + i yi) and its input's (Ar + i Ai)(u1r + i u1i), into aj.
+template <std::size_t N, std::size_t B>
+VIADUCT_ALWAYS_INLINE void acc_block(const double* rows, std::size_t nk, std::size_t n0, const std::size_t* idx,
+                                     const Lanes<N>* yr, const Lanes<N>* yi, const Lanes<N>* u1r, const Lanes<N>* u1i,
+                                     Lanes<N>* aj) {
+  using L = Lanes<N>;
+  std::size_t j[B];
+  const double* q[B];
+  L s[B];
+  for (std::size_t u = 0; u < B; ++u) j[u] = idx ? idx[n0 + u] : n0 + u, q[u] = rows + 4 * j[u] * nk, s[u] = L{};
+  for (std::size_t k = 0; k < nk; ++k) {
+    const L a = yr[k], b = yi[k], c0 = u1r[k], c1 = u1i[k];
+    const std::size_t o = 4 * k;
+    for (std::size_t u = 0; u < B; ++u) s[u] += q[u][o] * a - q[u][o + 1] * b + q[u][o + 2] * c0 - q[u][o + 3] * c1;
+  }
+  for (std::size_t u = 0; u < B; ++u) aj[j[u]] = s[u];
+}
+
 // N cases at once.
 template <std::size_t N>
 VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_out, double* ma_out, double* md_out,
@@ -653,44 +708,18 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
       yi[k] = ni_;
     }
     // Output by output over the coordinates (a station's rows contiguous, the sum in a register),
-    // in the coordinates' order as before: the same sums. Accelerations of the outputs in acc_idx
-    // only, when given (the others' are not read).
-    // Four outputs at a time, each its own sum in its own register (one sum's additions wait on
-    // each other; four sums' do not), each in the coordinates' order: the same sums. A last block
-    // of fewer than four repeats its last output (computed twice, stored once more).
-    for (std::size_t j0 = 0; j0 < no; j0 += 4) {
-      const std::size_t j1 = std::min(j0 + 1, no - 1), j2 = std::min(j0 + 2, no - 1), j3 = std::min(j0 + 3, no - 1);
-      const double *r0 = in.disp_rows + 2 * j0 * nk, *r1 = in.disp_rows + 2 * j1 * nk, *r2 = in.disp_rows + 2 * j2 * nk,
-                   *r3 = in.disp_rows + 2 * j3 * nk;
-      L s0 = zero, s1 = zero, s2 = zero, s3 = zero;
-      for (std::size_t k = 0; k < nk; ++k) {
-        const L a = yr[k], b = yi[k];
-        s0 += r0[2 * k] * a - r0[2 * k + 1] * b;
-        s1 += r1[2 * k] * a - r1[2 * k + 1] * b;
-        s2 += r2[2 * k] * a - r2[2 * k + 1] * b;
-        s3 += r3[2 * k] * a - r3[2 * k + 1] * b;
-      }
-      dj[j0] = s0, dj[j1] = s1, dj[j2] = s2, dj[j3] = s3;
-    }
+    // in the coordinates' order as before: the same sums. Several outputs at a time, each its own
+    // sum in its own register (one sum's additions wait on each other, several sums' do not):
+    // blocks of four, the last of 3, 5 or 6 so that no output is computed twice (out_blocks).
+    out_blocks(no, [&](auto B, std::size_t j0) __attribute__((always_inline)) {
+      disp_block<N, decltype(B)::value>(in.disp_rows, nk, j0, yr, yi, dj);
+    });
     // The accelerations of the outputs in acc_idx only, when given (the others' are not read),
-    // likewise four at a time.
+    // likewise in blocks.
     const std::size_t n_a = in.acc_idx ? in.n_acc : no;
-    auto acc_output = [&](std::size_t n) __attribute__((always_inline)) { return in.acc_idx ? in.acc_idx[std::min(n, n_a - 1)] : std::min(n, n_a - 1); };
-    for (std::size_t n0 = 0; n0 < n_a; n0 += 4) {
-      const std::size_t j0 = acc_output(n0), j1 = acc_output(n0 + 1), j2 = acc_output(n0 + 2), j3 = acc_output(n0 + 3);
-      const double *q0 = in.acc_rows + 4 * j0 * nk, *q1 = in.acc_rows + 4 * j1 * nk, *q2 = in.acc_rows + 4 * j2 * nk,
-                   *q3 = in.acc_rows + 4 * j3 * nk;
-      L s0 = zero, s1 = zero, s2 = zero, s3 = zero;
-      for (std::size_t k = 0; k < nk; ++k) {
-        const L a = yr[k], b = yi[k], c0 = u1r[k], c1 = u1i[k];
-        const std::size_t o = 4 * k;
-        s0 += q0[o] * a - q0[o + 1] * b + q0[o + 2] * c0 - q0[o + 3] * c1;
-        s1 += q1[o] * a - q1[o + 1] * b + q1[o + 2] * c0 - q1[o + 3] * c1;
-        s2 += q2[o] * a - q2[o + 1] * b + q2[o + 2] * c0 - q2[o + 3] * c1;
-        s3 += q3[o] * a - q3[o + 1] * b + q3[o + 2] * c0 - q3[o + 3] * c1;
-      }
-      aj[j0] = s0, aj[j1] = s1, aj[j2] = s2, aj[j3] = s3;
-    }
+    out_blocks(n_a, [&](auto B, std::size_t n0) __attribute__((always_inline)) {
+      acc_block<N, decltype(B)::value>(in.acc_rows, nk, n0, in.acc_idx, yr, yi, u1r, u1i, aj);
+    });
     emit(step);
   }
   for (std::size_t l = 0; l < N; ++l) {

@@ -220,3 +220,20 @@ TEST_CASE("a train folded in chunks, in any order and by two threads, is the tab
     for (std::size_t i = last; i < again->coef.size(); ++i) REQUIRE(again->coef[i] == 0.0);
   }
 }
+
+TEST_CASE("modal peaks kernel: complex modes with 1 to 7 stations (every block size of the output sums)", "[long]") {
+  // The complex kernel sums its outputs over the coordinates in blocks of four, the last block of
+  // 1, 2, 3, 5 or 6: each count of outputs against the full run.
+  Scenario sc = vt::shipped("old-guadiana-sensitivity",
+                            {"analysis.method=\"modal\"", "modal.max_frequency_hz=60", "analysis.free_vibration_s=0.2",
+                             "filter.enabled=false", "sweep.mode=\"reference\""});
+  const std::vector<double> at = {0.5, 0.25, 0.75, 0.1, 0.9, 0.4, 0.6};
+  for (std::size_t n : {1, 2, 3, 5, 6, 7}) {
+    sc.stations.clear();
+    for (std::size_t i = 0; i < n; ++i)
+      sc.stations.push_back({"s" + std::to_string(i), true, i % 2, at[i] * 11.93, 0.0});
+    INFO(n << " stations");
+    REQUIRE(prepare_model(sc, false).modal->complex_modes());
+    require_same_as_simulate(sc, {83.7});
+  }
+}
