@@ -160,7 +160,7 @@ py::tuple assess(const viaduct::io::FlatScenario& flat_in, int threads, const py
   namespace study = viaduct::study;
   namespace io = viaduct::io;
   io::FlatScenario flat = flat_in;
-  const study::AssessPlan plan = io::plan_assessment(flat, flat.path);
+  const study::AssessPlan plan = io::plan_assessment(flat, flat.path, threads_of(threads));
   CallState call(study::count_cases(plan.variants));
   study::AssessOptions ao;
   ao.threads = threads_of(threads);

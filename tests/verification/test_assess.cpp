@@ -365,8 +365,12 @@ TEST_CASE("mass bounds from the ballast bed's density and depth replace the incl
   std::vector<std::string> given = bed;
   given.push_back("assess.ballast_mass_per_m=1500");
   io::FlatScenario flat2 = io::load_flat(path, given);
-  const study::AssessPlan q = io::plan_assessment(flat2, path);
+  const study::AssessPlan q = io::plan_assessment(flat2, path, 3);  // the trains' distances on three threads
   CHECK(q.variants[0].scenario.bridge.spans[0].mass_per_m == Approx(m0 - 1500.0 + 1700.0 * 0.45 * 2.0));
+  // ... each train's own, the numbers of one thread (the same trains: the mass does not enter).
+  REQUIRE(q.train_distance.size() == p.train_distance.size());
+  REQUIRE(q.train_distance.size() > 3);
+  CHECK(q.train_distance == p.train_distance);
   // Without the bed: the track's vibrating ballast, and a note that says it is far below a bed's.
   io::FlatScenario flat3 = io::load_flat(path);
   const study::AssessPlan r = io::plan_assessment(flat3, path);

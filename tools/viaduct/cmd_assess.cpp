@@ -74,7 +74,7 @@ void print_layout(const study::LayoutSensitivity& layout) {
 int run_assess(const Common& o, const AssessOptions& opts) {
   const auto t0 = std::chrono::steady_clock::now();
   io::FlatScenario flat = load_scenario(o);
-  study::AssessPlan plan = io::plan_assessment(flat, o.scenario);
+  study::AssessPlan plan = io::plan_assessment(flat, o.scenario, o.threads);
   print_warnings("assess", plan.warnings);
   for (auto& v : plan.variants) v.scenario.settings.ida.log = log_printer(o.quiet);
   make_out_dir(o.out);

@@ -14,8 +14,9 @@ namespace viaduct::io {
 /// file for a key that is missing) and forms the plan: the damping (Table 6.6 + Δζ, or
 /// assess.damping_ratio) and the cut-off set on `flat` (bridge.damping, filter.*), the trains
 /// (HSLM-A1…A10, HSLM-B for short simply supported spans, the scenario's own), their speeds, and
-/// the mass cases.
-study::AssessPlan plan_assessment(FlatScenario& flat, const std::string& scenario);
+/// the mass cases. Each train's characteristic distance (a signature over 45 000 wavelengths)
+/// is computed on up to `threads` threads.
+study::AssessPlan plan_assessment(FlatScenario& flat, const std::string& scenario, int threads = 1);
 
 /// The tables of `r` into the directory `out`: envelope.csv, load_effects.csv, governing.csv,
 /// failures.csv, checks.csv, phi_dyn.csv, mass_cases.csv and, with vehicles, vehicles.csv.
