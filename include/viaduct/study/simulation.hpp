@@ -277,7 +277,8 @@ std::shared_ptr<const solve::MovingChannels> fold_train(const PreparedModel& m, 
 /// breakpoints and allocates the table (InputError as fold_train); fill(c) writes chunk c's
 /// pieces, each chunk once, by any thread and in any order (distinct chunks concurrently); table()
 /// once every chunk is filled. The numbers do not depend on the chunks: fold_train is the
-/// constructor, every fill in turn and table().
+/// constructor, every fill in turn and table(). `m` must outlive the TrainFold (fill reads its
+/// path table); the table does not need either.
 class TrainFold {
  public:
   TrainFold(const PreparedModel& m, const load::Train& train, double load_factor);
