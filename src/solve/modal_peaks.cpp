@@ -24,6 +24,7 @@
 
 #include "checks.hpp"
 #include "lanes.hpp"
+#include "viaduct/core/buffer.hpp"
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/cancel.hpp"
 
@@ -913,19 +914,6 @@ void check_peaks_input(const ModalReduction& r, const MovingChannels& L, const s
       throw InputError("a sum of outputs names an output or load channel the modal model does not record");
 }
 
-// The acceleration histories' buffer of n doubles: the thread's own, kept between calls (a sweep
-// calls modal_peaks once per block of eight speeds; a buffer allocated and zero-filled each time
-// cost Old Guadiana's assessment 4 % of its run in the fill and page faults). Not cleared: the
-// kernel writes every value lane_result reads (lane l's steps 0 … n_steps[l] of each output
-// recorded). Buffers over 256 MB are not kept (`local` holds them for this call only).
-double* history_buffer(std::size_t n, std::vector<double>& local) {
-  constexpr std::size_t kKeep = (std::size_t{256} << 20) / sizeof(double);
-  thread_local std::vector<double> kept;
-  std::vector<double>& b = n <= kKeep ? kept : local;
-  if (b.size() < n) b.resize(n);
-  return b.data();
-}
-
 // One batch's N lanes (speeds, step counts) and history buffer into a kernel's input (a
 // KernelInput or a ComplexInput).
 template <class Input, std::size_t N>
@@ -946,7 +934,11 @@ void run_batches(PeaksSetup& k, const ModalReduction& r, const MovingChannels& L
                  double dt, std::size_t no, std::size_t nh, const std::vector<char>& has_acc, bool record_acc,
                  double max_history_bytes, std::vector<PeaksCaseResult>& out) {
   const std::size_t nm = L.n_modes, n_sums = k.in.n_sums;
-  std::vector<double> local;
+  // The acceleration histories of a batch: not zeroed (the kernel writes every value lane_result
+  // reads: lane l's steps 0 … n_steps[l] of each output), so a sweep's calls, one per block of
+  // speeds, do not fill and fault in a new buffer each (4 % of Old Guadiana's assessment when they
+  // did); large ones are given again within the sweep (BlockReuse), small ones by malloc.
+  std::vector<double, UninitAllocator<double>> hist_buf;
   double* hist = nullptr;
   std::vector<double> q(nm * N), qd(nm * N), ma(no * N), md(no * N), mn(no * N), state(N);
   for (std::size_t first = 0; first < cases.size(); first += N) {
@@ -966,7 +958,12 @@ void run_batches(PeaksSetup& k, const ModalReduction& r, const MovingChannels& L
       if (static_cast<double>(N * nh * stride) * sizeof(double) > max_history_bytes)
         throw InputError("the station histories of " + std::to_string(N) +
                          " speeds would not fit in memory: raise analysis.dt");
-      hist = history_buffer(std::max<std::size_t>(N * nh * stride, 1), local);  // non-null: histories asked
+      const std::size_t n_hist = std::max<std::size_t>(N * nh * stride, 1);  // non-null: histories asked
+      if (hist_buf.size() < n_hist) {
+        hist_buf.clear();  // nothing to carry over into the larger block
+        hist_buf.resize(n_hist);
+      }
+      hist = hist_buf.data();
     }
     SumStateT<N> su(n_sums, L.n_extra);
     if (!k.complex) {
