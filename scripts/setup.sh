@@ -3,10 +3,10 @@
 # Needs root (or sudo) when something is missing; does nothing otherwise.
 #   (none):  what building everything needs: the command, the Python package, MPI runs, the plots.
 #   --demo:  only what scripts/demo.sh builds and runs (the command and its plot): without
-#            pybind11, pytest and pandas (CMake takes them when present). That is 9 packages fewer
-#            only: libsundials-dev depends on mpi-default-dev, petsc-dev, libhypre-dev and
-#            gfortran, which bring OpenMPI, the Python headers and SciPy anyway (measured on a fresh
-#            bookworm with g++ and cmake: 305 packages, 220 MB, 101 s; docs/benchmarks.md).
+#            SUNDIALS (demo.sh then builds without the IDA method), OpenMPI, pybind11, pytest,
+#            pandas and SciPy (CMake takes them when present). libsundials-dev alone depends on
+#            mpi-default-dev, petsc-dev, libhypre-dev and gfortran: on a fresh bookworm with g++ and
+#            cmake, 168 packages (114 MB) instead of 300 (217 MB); docs/benchmarks.md.
 #   --tests: everything, and what only the tests need (scripts/test.sh passes it): Chromium and
 #            pdftotext, which render assess's report.html and read its report.pdf
 #            (tests/cli/report_html.sh); viaduct assess prints report.pdf with Chromium when it is
@@ -23,8 +23,6 @@ packages=(
   g++ cmake ninja-build pkg-config
   libeigen3-dev          # linear algebra (dense and sparse)
   libfftw3-dev           # FFT (signal module)
-  libsundials-dev        # IDA (solve module)
-  libsuitesparse-dev     # KLU: sparse direct solver inside IDA's Newton iterations
   libspectra-dev         # partial sparse eigenproblems (modal bases of large models)
   libceres-dev           # bounded nonlinear least squares (viaduct fit, model updating)
   libboost-program-options-dev  # the CLI
@@ -34,6 +32,8 @@ packages=(
   python3 python3-numpy python3-matplotlib  # plot scripts
 )
 if [ "${1:-}" != "--demo" ]; then
+  packages+=(libsundials-dev)     # IDA (solve module; CMake VIADUCT_IDA, which the tests need)
+  packages+=(libsuitesparse-dev)  # KLU: sparse direct solver inside IDA's Newton iterations
   packages+=(libopenmpi-dev openmpi-bin)  # mpirun -n N viaduct sweep: sampled studies over MPI ranks (issue #16)
   packages+=(python3-scipy)  # regenerating the committed filter reference vectors only
   packages+=(python3-dev python3-pybind11)  # the Python package (issue #17: python/, docs/python.md)

@@ -15,6 +15,7 @@
 
 #include "viaduct/io/profile.hpp"
 #include "viaduct/io/scenario.hpp"
+#include "viaduct/solve/integrator.hpp"
 #include "viaduct/study/tradeoff.hpp"
 #include "viaduct/study/vehicles.hpp"
 
@@ -309,6 +310,10 @@ void vehicles_of(const FlatScenario& f, study::Scenario& sc) {
   }
 }
 
+void require_method_built(const Value& method_key, const solve::MethodTraits& traits) {
+  if (!traits.built) bad(method_key, traits.not_built);
+}
+
 study::Scenario to_scenario(const FlatScenario& f) {
   study::Scenario sc;
   bool has_track = false;
@@ -383,6 +388,7 @@ study::Scenario to_scenario(const FlatScenario& f) {
     bad(f.at("train.contact"), "rigid under a wheel with mass on the modal fast path takes no static correction (the rail under a wheel that follows it "
                                "would need the contact forces' second derivative): set modal.static_correction = false, or use "
                                "\"hertz\" or analysis.method = \"newmark\"");
+  require_method_built(f.at("analysis.method"), solve::method_traits(st.method));
   {
     // The scheme's rules at the key they blame (NewmarkOptions::is_valid names beta, gamma or alpha).
     std::string why;

@@ -140,17 +140,6 @@ std::vector<double> stop_times(const SecondOrderSystem& sys, double t_end, doubl
 
 }  // namespace
 
-bool IdaOptions::is_valid(std::string* why) const {
-  OptionsCheck c("IdaOptions", why);
-  return c.require(rtol >= 1e-12 && rtol <= 0.1, "rtol", rtol, "rtol in [1e-12, 0.1]") &&
-         c.require(atol_disp > 0.0, "atol_disp", atol_disp, "atol_disp > 0 [m]") &&
-         c.require(atol_vel > 0.0, "atol_vel", atol_vel, "atol_vel > 0 [m/s]") &&
-         c.require(max_order >= 1 && max_order <= 5, "max_order", max_order, "max_order in 1..5") &&
-         c.require(max_step >= 0.0, "max_step", max_step, "max_step >= 0 [s]") &&
-         c.require(max_steps_per_output >= 1, "max_steps_per_output", static_cast<double>(max_steps_per_output),
-                   "max_steps_per_output >= 1");
-}
-
 Summary ida(const SecondOrderSystem& sys, const TimeGrid& grid, const IdaOptions& opt, const StepObserver& observe) {
   const auto wall0 = std::chrono::steady_clock::now();
   require_valid(grid, "IDA");

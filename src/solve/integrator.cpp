@@ -52,6 +52,18 @@ const char* method_name(Method m) {
   throw std::logic_error("method_name: unknown method");
 }
 
+// (here, not in ida.cpp: a build without SUNDIALS checks the options too)
+bool IdaOptions::is_valid(std::string* why) const {
+  OptionsCheck c("IdaOptions", why);
+  return c.require(rtol >= 1e-12 && rtol <= 0.1, "rtol", rtol, "rtol in [1e-12, 0.1]") &&
+         c.require(atol_disp > 0.0, "atol_disp", atol_disp, "atol_disp > 0 [m]") &&
+         c.require(atol_vel > 0.0, "atol_vel", atol_vel, "atol_vel > 0 [m/s]") &&
+         c.require(max_order >= 1 && max_order <= 5, "max_order", max_order, "max_order in 1..5") &&
+         c.require(max_step >= 0.0, "max_step", max_step, "max_step >= 0 [s]") &&
+         c.require(max_steps_per_output >= 1, "max_steps_per_output", static_cast<double>(max_steps_per_output),
+                   "max_steps_per_output >= 1");
+}
+
 bool IntegrationSettings::is_valid(std::string* why) const {
   OptionsCheck c("IntegrationSettings", why);
   if (!c.require(dt > 0.0, "dt", dt, "dt > 0 [s]")) return false;
@@ -248,6 +260,7 @@ class NewmarkIntegrator : public Integrator {
   NewmarkOptions opt_;
 };
 
+#ifdef VIADUCT_HAVE_IDA
 class IdaIntegrator : public Integrator {
  public:
   IdaIntegrator(const IntegrationSettings& s, std::vector<Functional> outputs)
@@ -273,6 +286,7 @@ class IdaIntegrator : public Integrator {
   double dt_;
   IdaOptions opt_;
 };
+#endif
 
 class ModalIntegrator : public Integrator {
  public:
@@ -356,12 +370,25 @@ class ModalIntegrator : public Integrator {
 
 }  // namespace
 
+#ifndef VIADUCT_HAVE_IDA
+constexpr const char* kIdaNotBuilt =
+    "this viaduct was built without SUNDIALS IDA (CMake VIADUCT_IDA=OFF, as scripts/demo.sh builds it when "
+    "libsundials-dev is not installed): run scripts/setup.sh, then cmake --preset release and cmake --build "
+    "--preset release; or take analysis.method = \"modal\" or \"newmark\"";
+#endif
+
 MethodTraits method_traits(Method m) {
   MethodTraits t;
   switch (m) {
     case Method::newmark: t.batches_histories = true; break;
     case Method::modal: t.needs_reduction = true, t.coupled = Coordinates::modal; break;
-    case Method::ida: t.coupled = Coordinates::modal; break;
+    case Method::ida:
+      t.coupled = Coordinates::modal;
+#ifndef VIADUCT_HAVE_IDA
+      t.built = false;
+      t.not_built = kIdaNotBuilt;
+#endif
+      break;
   }
   return t;
 }
@@ -371,7 +398,12 @@ std::unique_ptr<Integrator> make_integrator(const IntegrationSettings& s, std::v
   require_valid(s, "analysis");
   switch (s.method) {
     case Method::newmark: return std::make_unique<NewmarkIntegrator>(s, std::move(outputs));
-    case Method::ida: return std::make_unique<IdaIntegrator>(s, std::move(outputs));
+    case Method::ida:
+#ifdef VIADUCT_HAVE_IDA
+      return std::make_unique<IdaIntegrator>(s, std::move(outputs));
+#else
+      throw InputError(std::string("analysis.method = \"ida\": ") + method_traits(Method::ida).not_built);
+#endif
     case Method::modal: {
       if (!modal) return std::make_unique<ModalIntegrator>(s, 0, nullptr);  // run_coupled() only
       const std::size_t n = outputs.empty() ? static_cast<std::size_t>(modal->n_outputs()) : outputs.size();

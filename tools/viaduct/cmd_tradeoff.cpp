@@ -6,6 +6,7 @@
 #include "cli.hpp"
 #include "viaduct/core/error.hpp"
 #include "viaduct/io/results.hpp"
+#include "viaduct/solve/integrator.hpp"
 #include "viaduct/study/tradeoff.hpp"
 
 namespace viaduct::cli {
@@ -70,6 +71,8 @@ Command tradeoff_command() {
       if (!(ref_dt > 0.0)) throw InputError("--reference-dt must be > 0 [s]");
     }
     const study::RunSettings ref = study::reference_settings(sc, ref_dt);
+    if (const solve::MethodTraits ida = solve::method_traits(solve::Method::ida); t.with_ida && !ida.built)
+      throw InputError(std::string("--with-ida: ") + ida.not_built);
     const auto ladder = study::default_ladder(sc, t.with_ida);
     make_out_dir(o.out);
     const study::TradeoffResult r = study::run_tradeoff(sc, ref, ladder, o.threads, progress_printer("tradeoff", o.quiet, "sweeps"));

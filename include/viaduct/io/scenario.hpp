@@ -16,6 +16,10 @@
 #include "viaduct/core/error.hpp"
 #include "viaduct/study/scenario.hpp"
 
+namespace viaduct::solve {
+struct MethodTraits;
+}
+
 namespace viaduct::io {
 
 enum class ValueType { boolean, integer, number, string, number_list, string_list, number_or_list };
@@ -84,6 +88,10 @@ void derive_defaults(FlatScenario& flat);
 /// Converts to plain data, checking cross-key rules (required keys, physics). Throws InputError
 /// with the key and where it was set.
 study::Scenario to_scenario(const FlatScenario& flat);
+/// Refuses, at the key that chose it (`method_key`: analysis.method), a method this build lacks
+/// (traits.built false: IDA without SUNDIALS, CMake VIADUCT_IDA=OFF); to_scenario() calls it with
+/// solve::method_traits() of the method the scenario resolves to.
+void require_method_built(const Value& method_key, const solve::MethodTraits& traits);
 /// The sweep's variants (one-at-a-time multipliers or a full grid) as resolved scenarios;
 /// a single "reference" variant without [[sweep.variants]].
 /// A variant that cannot be formed (a factor breaking its key's rule) is an InputError, or with

@@ -180,6 +180,10 @@ struct MethodTraits {
   bool needs_reduction = false;    ///< run() and run_batch() take a ModalReduction (modal)
   bool batches_histories = false;  ///< run_batch() advances several history-recording cases at once (newmark)
   Coordinates coupled = Coordinates::physical;  ///< what run_coupled() integrates the structure in
+  /// Compiled into this build: false for ida when built without SUNDIALS (CMake VIADUCT_IDA=OFF,
+  /// as scripts/demo.sh does when libsundials-dev is missing); make_integrator() refuses it then.
+  bool built = true;
+  const char* not_built = "";  ///< when !built: why, and how to build it (for the user's message)
 };
 MethodTraits method_traits(Method m);
 
@@ -187,7 +191,8 @@ MethodTraits method_traits(Method m);
 /// reduction of the structure (needed by Method::modal's run() and run_batch(), whose outputs it
 /// already holds: then `outputs` must be empty or its first outputs; not by run_coupled(), whose
 /// case brings its modes). InputError for invalid settings (the struct and field named), or at the
-/// first run() of a modal integrator without a reduction.
+/// first run() of a modal integrator without a reduction, or for a method this build lacks
+/// (MethodTraits::built).
 std::unique_ptr<Integrator> make_integrator(const IntegrationSettings& s, std::vector<Functional> outputs,
                                             std::shared_ptr<const ModalReduction> modal = nullptr);
 

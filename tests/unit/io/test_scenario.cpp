@@ -8,6 +8,7 @@
 #include "viaduct/io/profile.hpp"
 #include "viaduct/io/scenario.hpp"
 #include "viaduct/signal/iir.hpp"
+#include "viaduct/solve/integrator.hpp"
 #include "viaduct/study/simulation.hpp"
 #include "source_dir.hpp"
 
@@ -148,6 +149,24 @@ TEST_CASE("bad scenarios give file, line and key") {
   e = error_of("");
   REQUIRE(e.find("TOML syntax error") != std::string::npos);
   REQUIRE(e.find("bridge.toml") != std::string::npos);
+}
+
+TEST_CASE("a method this build lacks is refused at the key that chose it") {
+  // The tests are built with IDA only (CMakeLists.txt, VIADUCT_IDA): here every method is built and
+  // a scenario taking ida resolves. A build without SUNDIALS reports traits.built = false for ida
+  // (integrator.cpp), which to_scenario() refuses through require_method_built: checked here with
+  // such traits, as a build without IDA would give them.
+  Scratch s;
+  for (const solve::Method m : {solve::Method::newmark, solve::Method::modal, solve::Method::ida})
+    REQUIRE(solve::method_traits(m).built);
+  const FlatScenario f = load_flat(s.scenario("[analysis]\nmethod = \"ida\"\n"));
+  REQUIRE(to_scenario(f).settings.method == solve::Method::ida);
+  solve::MethodTraits missing = solve::method_traits(solve::Method::ida);
+  missing.built = false;
+  missing.not_built = "this viaduct was built without SUNDIALS IDA";
+  REQUIRE_THROWS_WITH(require_method_built(f.at("analysis.method"), missing),
+                      Catch::Contains("s.toml:10: key 'analysis.method': this viaduct was built without SUNDIALS IDA"));
+  REQUIRE_NOTHROW(require_method_built(f.at("analysis.method"), solve::method_traits(solve::Method::ida)));
 }
 
 TEST_CASE("train files: CSV and TOML, with clear errors") {
