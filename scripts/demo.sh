@@ -6,7 +6,7 @@
 # Options are passed to `viaduct sweep` (e.g. --set sweep.n_speeds=20 for a quicker look).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/setup.sh --demo-build  # only what the command's build needs (scripts/setup.sh alone: everything)
+scripts/setup.sh --demo  # only what the command and its plot need (scripts/setup.sh alone: everything)
 # Without SUNDIALS (setup.sh --demo leaves libsundials-dev out: a third of a fresh machine's first
 # five minutes, #37) the command is built without the IDA method, which it then refuses with the
 # way to add it; with libsundials-dev installed (scripts/setup.sh), with it.
@@ -18,22 +18,7 @@ fi
 cmake --preset release -G Ninja -DVIADUCT_IDA=$ida >/dev/null
 # Only what the demo runs: the command (the tests, benchmarks and Python package are
 # scripts/test.sh's and `cmake --build --preset release`'s).
-# The plot's packages (Python, numpy, matplotlib: 102 of the 168 on a fresh machine) install while
-# the command compiles (dpkg mostly waits on the disk); the plot waits for them.
-plot_setup_log=$(mktemp)
-scripts/setup.sh --demo >"$plot_setup_log" 2>&1 &
-plot_setup=$!
-if ! cmake --build --preset release -j "$(nproc 2>/dev/null || echo 2)" --target viaduct; then
-  wait "$plot_setup" || true
-  exit 1
-fi
-if ! wait "$plot_setup"; then
-  cat "$plot_setup_log" >&2
-  echo "demo: installing the plot's packages failed (above); the command is built: build/release/viaduct" >&2
-  exit 1
-fi
-cat "$plot_setup_log" >&2
-rm -f "$plot_setup_log"
+cmake --build --preset release -j "$(nproc 2>/dev/null || echo 2)" --target viaduct
 # `viaduct` on the PATH for the README's walk-throughs (as root: /usr/local/bin/viaduct).
 if [ -w "$(cmake -L -N build/release 2>/dev/null | sed -n 's/^CMAKE_INSTALL_PREFIX:PATH=//p')/bin" ]; then
   cmake --install build/release --component cli >/dev/null

@@ -7,9 +7,6 @@
 #            pandas and SciPy (CMake takes them when present). libsundials-dev alone depends on
 #            mpi-default-dev, petsc-dev, libhypre-dev and gfortran: on a fresh bookworm with g++ and
 #            cmake, 168 packages (114 MB) instead of 300 (217 MB); docs/benchmarks.md.
-#   --demo-build: what building the demo's command needs (--demo without the plot's Python, numpy
-#            and matplotlib, 102 of its 168 packages): scripts/demo.sh installs these first, and the
-#            plot's packages (setup.sh --demo) while the command compiles.
 #   --tests: everything, and what only the tests need (scripts/test.sh passes it): Chromium and
 #            pdftotext, which render assess's report.html and read its report.pdf
 #            (tests/cli/report_html.sh); viaduct assess prints report.pdf with Chromium when it is
@@ -18,8 +15,8 @@
 set -euo pipefail
 
 case "${1:-}" in
-  "" | --demo | --demo-build | --tests) ;;
-  *) echo "viaduct setup: unknown option '$1' (--demo, --demo-build, --tests, or none)" >&2; exit 2 ;;
+  "" | --demo | --tests) ;;
+  *) echo "viaduct setup: unknown option '$1' (--demo, --tests, or none)" >&2; exit 2 ;;
 esac
 
 packages=(
@@ -32,11 +29,9 @@ packages=(
   catch2                 # tests (v2)
   libtoml11-dev          # scenario files
   libmatio-dev           # MATLAB .mat records (v4, v5, v7.3)
+  python3 python3-numpy python3-matplotlib  # plot scripts
 )
-if [ "${1:-}" != "--demo-build" ]; then
-  packages+=(python3 python3-numpy python3-matplotlib)  # plot scripts
-fi
-if [ "${1:-}" != "--demo" ] && [ "${1:-}" != "--demo-build" ]; then
+if [ "${1:-}" != "--demo" ]; then
   packages+=(libsundials-dev)     # IDA (solve module; CMake VIADUCT_IDA, which the tests need)
   packages+=(libsuitesparse-dev)  # KLU: sparse direct solver inside IDA's Newton iterations
   packages+=(libopenmpi-dev openmpi-bin)  # mpirun -n N viaduct sweep: sampled studies over MPI ranks (issue #16)
