@@ -98,32 +98,72 @@ std::vector<EffectPeak> static_extremes(const InfluenceLines& il, const load::Tr
     return std::pair<std::size_t, std::size_t>(static_cast<std::size_t>(lo - train.offset.begin()),
                                                static_cast<std::size_t>(hi - train.offset.begin()));
   };
-  for (std::size_t q = 0; q < il.value.size(); ++q) {
-    auto at_head = [&](double head) {
-      double y = 0.0;
-      const auto [first, last] = axles_on(head);
-      for (std::size_t k = first; k < last && k < n_axles; ++k) y += train.load[k] * il.at(q, head - train.offset[k]);
-      return y * load_factor;
-    };
-    // Every h, then around the largest and the smallest: the response is piecewise linear in
-    // the head position between the positions that put an axle on a sample, so its extremes
-    // within ±h are at those (an axle on a support or on the station).
-    double x_max = il.x0, x_min = il.x0;
-    for (Index i = 0; i < n_pos; ++i) {
-      const double head = il.x0 + static_cast<double>(i) * il.h, y = at_head(head);
-      if (y > out[q].max) out[q].max = y, x_max = head;
-      if (y < out[q].min) out[q].min = y, x_min = head;
+  auto at_head = [&](std::size_t q, double head) {
+    double y = 0.0;
+    const auto [first, last] = axles_on(head);
+    for (std::size_t k = first; k < last && k < n_axles; ++k) y += train.load[k] * il.at(q, head - train.offset[k]);
+    return y * load_factor;
+  };
+  // Every h: per head position, each axle's sample and weight once for all quantities (as
+  // InfluenceLines::at takes them, every line having the same samples), then each quantity's sum
+  // over the axles in the same order: the same numbers as at_head, without finding the axles on the
+  // lines and their samples once per quantity.
+  const std::size_t nq = il.value.size();
+  const Index n_samples = il.value.front().size();
+  std::vector<double> x_max(nq, il.x0), x_min(nq, il.x0), y(nq);
+  struct Tap {
+    Index i;      // the sample at or before the axle; -1: 0 (off the lines)
+    double w;     // the weight of sample i + 1 (0 and no sample i + 1 at the lines' end)
+    double load;  // the axle's
+  };
+  std::vector<Tap> taps;
+  for (Index step = 0; step < n_pos; ++step) {
+    const double head = il.x0 + static_cast<double>(step) * il.h;
+    const auto [first, last] = axles_on(head);
+    taps.clear();
+    for (std::size_t k = first; k < last && k < n_axles; ++k) {
+      const double u = (head - train.offset[k] - il.x0) / il.h;
+      Tap t{-1, 0.0, train.load[k]};
+      if (u >= 0.0) {
+        const auto i = static_cast<Index>(std::floor(u));
+        if (i < n_samples - 1) t.i = i, t.w = u - static_cast<double>(i);
+        else if (i == n_samples - 1 && u == static_cast<double>(i)) t.i = i;  // the end sample itself
+      }
+      taps.push_back(t);
     }
-    for (const double around : {x_max, x_min})
+    std::fill(y.begin(), y.end(), 0.0);
+    for (const Tap& t : taps) {
+      if (t.i < 0) {
+        for (std::size_t q = 0; q < nq; ++q) y[q] += t.load * 0.0;
+      } else if (t.i == n_samples - 1) {
+        for (std::size_t q = 0; q < nq; ++q) y[q] += t.load * il.value[q][t.i];
+      } else {
+        for (std::size_t q = 0; q < nq; ++q) {
+          const Vector& v = il.value[q];
+          y[q] += t.load * ((1.0 - t.w) * v[t.i] + t.w * v[t.i + 1]);
+        }
+      }
+    }
+    for (std::size_t q = 0; q < nq; ++q) {
+      const double yq = y[q] * load_factor;
+      if (yq > out[q].max) out[q].max = yq, x_max[q] = head;
+      if (yq < out[q].min) out[q].min = yq, x_min[q] = head;
+    }
+  }
+  // Then around the largest and the smallest: the response is piecewise linear in the head
+  // position between the positions that put an axle on a sample, so its extremes within ±h are at
+  // those (an axle on a support or on the station).
+  for (std::size_t q = 0; q < nq; ++q) {
+    for (const double around : {x_max[q], x_min[q]})
       for (std::size_t k = 0; k < n_axles; ++k)
         for (const double side : {-1.0, 0.0, 1.0}) {
           // the sample nearest to axle k, and its neighbours: the head that puts the axle there
           const double u = std::round((around - train.offset[k] - il.x0) / il.h) + side;
           const double head = il.x0 + u * il.h + train.offset[k];
           if (std::abs(head - around) > il.h) continue;
-          const double y = at_head(head);
-          out[q].max = std::max(out[q].max, y);
-          out[q].min = std::min(out[q].min, y);
+          const double yh = at_head(q, head);
+          out[q].max = std::max(out[q].max, yh);
+          out[q].min = std::min(out[q].min, yh);
         }
   }
   return out;

@@ -105,6 +105,64 @@ TEST_CASE("static extremes of a crawling train equal the quasi-static response o
   }
 }
 
+TEST_CASE("static extremes: all quantities in one crawl give each quantity's own crawl exactly") {
+  // static_extremes takes each head position's axles and samples once for all quantities; the
+  // reference crawls quantity by quantity through InfluenceLines::at, as it did before, every axle
+  // (off the lines too: their terms are zeros) and the same refinement around each extreme. The
+  // same operations in the same order: equal to the last bit. Two spans (a line that changes sign),
+  // stations and load effects, a train longer than the bridge, a load factor that is not 1.
+  model::BridgeParams b = vt::span(10.0, 4e9, 11000.0, 0.5);
+  b.spans.push_back(b.spans.front());
+  b.continuous = true;
+  const model::Structure s = model::build_structure(b, std::nullopt);
+  study::RunSettings rs;
+  rs.filter.enabled = false;
+  const study::PreparedModel pm =
+      study::prepare_model(s, {{"m1", true, 0, 5.0, 0.0}, {"q2", true, 1, 2.7, 0.0}}, rs, false, true);
+  const study::InfluenceLines il = study::influence_lines(pm);
+  REQUIRE(il.value.size() > 4);
+  // HSLM's axles are 0.5 m apart or more, on the lines' samples (h = 1/16 m here); a train of
+  // irregular spacings puts its axles between samples (interpolated values) as real trains do.
+  load::Train irregular;
+  irregular.name = "irregular";
+  irregular.offset = {0.0, 2.3137, 4.9711, 13.1003, 15.4297, 18.0231, 26.517, 28.7719, 41.03};
+  irregular.load = {171e3, 165e3, 158e3, 162e3, 170e3, 149e3, 155e3, 160e3, 172e3};
+  for (const load::Train& t : {load::hslm_a("HSLM-A4", load::hslm_a_row(4)), irregular}) {
+    const double factor = 0.5;
+    const auto ex = study::static_extremes(il, t, factor);
+    const double x_end = il.x0 + il.h * static_cast<double>(il.value.front().size() - 1);
+    const auto n_pos = static_cast<Index>(std::ceil((x_end - il.x0 + t.length()) / il.h)) + 1;
+    for (std::size_t q = 0; q < il.value.size(); ++q) {
+      auto at_head = [&](double head) {
+        double y = 0.0;
+        for (std::size_t k = 0; k < t.n_axles(); ++k) y += t.load[k] * il.at(q, head - t.offset[k]);
+        return y * factor;
+      };
+      study::EffectPeak ref;
+      double x_max = il.x0, x_min = il.x0;
+      for (Index i = 0; i < n_pos; ++i) {
+        const double head = il.x0 + static_cast<double>(i) * il.h, y = at_head(head);
+        if (y > ref.max) ref.max = y, x_max = head;
+        if (y < ref.min) ref.min = y, x_min = head;
+      }
+      for (const double around : {x_max, x_min})
+        for (std::size_t k = 0; k < t.n_axles(); ++k)
+          for (const double side : {-1.0, 0.0, 1.0}) {
+            const double u = std::round((around - t.offset[k] - il.x0) / il.h) + side;
+            const double head = il.x0 + u * il.h + t.offset[k];
+            if (std::abs(head - around) > il.h) continue;
+            const double y = at_head(head);
+            ref.max = std::max(ref.max, y);
+            ref.min = std::min(ref.min, y);
+          }
+      INFO(t.name << " " << il.names[q]);
+      CHECK(ex[q].max == ref.max);
+      CHECK(ex[q].min == ref.min);
+      CHECK(ref.max > ref.min);
+    }
+  }
+}
+
 TEST_CASE("EN 1991-2 numbers: Table 6.6, Eq. 6.13, Phi2, Phi3, phi'' and the cut-off, worked by hand") {
   using study::DeckType;
   // Table 6.6: prestressed 1.0 + 0.07 (20 − 11.93) = 1.5649 %; steel 0.5 + 0.125 × 5 = 1.125 %;
