@@ -64,8 +64,8 @@ struct KernelInput {
   const double *breaks, *coef;     // the folded train (coef: n_pieces + 1 blocks, the last zero)
   std::size_t n_pieces;
   double x_start, dt;
-  double v[W];        // [m/s] per lane
-  Index n_steps[W];   // per lane
+  double v[kWideLanes];       // [m/s] per lane (the first N of a kernel of N lanes)
+  Index n_steps[kWideLanes];  // per lane
   Index n_max;        // largest of n_steps
   std::size_t nm, nc, no;  // modes, channels (modes, then residuals), stations
   bool flex;               // residual channels present (static correction)
@@ -373,77 +373,79 @@ VIADUCT_ALWAYS_INLINE void emit_sums(const OutputSum* sums, std::size_t n_sums, 
 // r2, r3: what LoadCursor::advance does to every channel, the same additions in the same order;
 // here the state is read and written once a step instead of three times). The live mask is
 // applied always (1·x = x, NaN and −0 included).
-template <std::size_t NM, bool FLEX, bool KEEP>
-VIADUCT_ALWAYS_INLINE void outputs_pass(std::size_t nm_, std::size_t j0, std::size_t j1, const double* S, const lanes* q,
-                                        lanes* dj, lanes* f_res, lanes* r1, lanes* r2, const lanes* r3, lanes* md,
-                                        lanes* mn, const lanes& live) {
+template <std::size_t N, std::size_t NM, bool FLEX, bool KEEP, class L = Lanes<N>>
+VIADUCT_ALWAYS_INLINE void outputs_pass(std::size_t nm_, std::size_t j0, std::size_t j1, const double* S, const L* q,
+                                        L* dj, L* f_res, L* r1, L* r2, const L* r3, L* md,
+                                        L* mn, const L& live) {
   const std::size_t nm = NM ? NM : nm_;
-  const lanes zero = {0.0, 0.0, 0.0, 0.0};
+  const L zero = {};
   for (std::size_t j = j0; j < j1; ++j) {
     const double* sj = S + j * nm;
-    lanes d = zero;
+    L d = zero;
     for (std::size_t i = 0; i < nm; ++i) d += sj[i] * q[i];
     if constexpr (FLEX) {
-      const lanes fr = f_res[j], a1 = r1[j], a2 = r2[j];
+      const L fr = f_res[j], a1 = r1[j], a2 = r2[j];
       d += fr;
       f_res[j] = fr + a1;
       r1[j] = a1 + a2;
       r2[j] = a2 + r3[j];
     }
     if constexpr (KEEP) dj[j] = d;
-    const lanes dv = live * d, nv = -dv;
+    const L dv = live * d, nv = -dv;
     md[j] = dv > md[j] ? dv : md[j];
     mn[j] = nv > mn[j] ? nv : mn[j];
   }
 }
 
 // Outputs [j0, j1) through outputs_pass, with or without the residual (flex).
-template <std::size_t NM, bool KEEP>
+template <std::size_t N, std::size_t NM, bool KEEP, class L = Lanes<N>>
 VIADUCT_ALWAYS_INLINE void outputs_range(bool flex, std::size_t nm, std::size_t j0, std::size_t j1, const double* S,
-                                         const lanes* q, lanes* dj, lanes* f_res, lanes* r1, lanes* r2, const lanes* r3,
-                                         lanes* md, lanes* mn, const lanes& live) {
-  if (flex) outputs_pass<NM, true, KEEP>(nm, j0, j1, S, q, dj, f_res, r1, r2, r3, md, mn, live);
-  else outputs_pass<NM, false, KEEP>(nm, j0, j1, S, q, dj, f_res, r1, r2, r3, md, mn, live);
+                                         const L* q, L* dj, L* f_res, L* r1, L* r2, const L* r3,
+                                         L* md, L* mn, const L& live) {
+  if (flex) outputs_pass<N, NM, true, KEEP>(nm, j0, j1, S, q, dj, f_res, r1, r2, r3, md, mn, live);
+  else outputs_pass<N, NM, false, KEEP>(nm, j0, j1, S, q, dj, f_res, r1, r2, r3, md, mn, live);
 }
 
-// W cases in lock-step. Per lane, the channel values along the current piece are advanced by
-// forward differences (the load is a cubic in X and X advances by v·dt per step: three additions
-// per channel and step, exact up to rounding), re-initialised from the piece's coefficients
-// whenever the lane's head crosses a breakpoint. Every quantity is a `lanes` value, so the
-// arithmetic runs on all four cases at once. NM, NC, NO > 0 fix the sizes at compile time (the
+// N cases in lock-step (four, or eight with AVX-512). Per lane, the channel values along the
+// current piece are advanced by forward differences (the load is a cubic in X and X advances by
+// v·dt per step: three additions per channel and step, exact up to rounding), re-initialised from
+// the piece's coefficients whenever the lane's head crosses a breakpoint. Every quantity is a
+// Lanes<N> value, so the arithmetic runs on all N cases at once (each lane's the same operations
+// whatever N). NM, NC, NO > 0 fix the sizes at compile time (the
 // common small bases); 0 reads them from `in`. Only the residual channels' curvature is needed
 // (the modes' accelerations come from their equations), so only those carry it.
-template <std::size_t NM, std::size_t NC, std::size_t NO>
+template <std::size_t N, std::size_t NM, std::size_t NC, std::size_t NO>
 VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, double* qd_out, double* ma_out, double* md_out,
-                                       double* mn_out, SumState& sums) {
+                                       double* mn_out, SumStateT<N>& sums) {
+  using L = Lanes<N>;
   constexpr bool fixed = NM && NC && NO;
   const std::size_t nm = NM ? NM : in.nm, nc = NC ? NC : in.nc, no = NO ? NO : in.no;
   const bool flex = NC ? (NC > NM) : in.flex;
   const std::size_t nr = flex ? no : 0;  // residual channels used (the stations')
   constexpr std::size_t cm = NM ? NM : 1, cc = NC ? NC : 1, co = NO ? NO : 1;
-  const lanes zero = {0.0, 0.0, 0.0, 0.0}, one = zero + 1.0;
-  lanes q_f[cm], qd_f[cm], pp_f[cm], am_f[cm], f_f[cc], d1_f[cc], d2_f[cc], d3_f[cc], c_f[co], dc_f[co], ma_f[co], md_f[co],
+  const L zero = {}, one = zero + 1.0;
+  L q_f[cm], qd_f[cm], pp_f[cm], am_f[cm], f_f[cc], d1_f[cc], d2_f[cc], d3_f[cc], c_f[co], dc_f[co], ma_f[co], md_f[co],
       mn_f[co], dj_f[co], aj_f[co];
-  lanes *q = q_f, *qd = qd_f, *pp = pp_f, *am = am_f, *f = f_f, *d1 = d1_f, *d2 = d2_f, *d3 = d3_f, *c = c_f, *dc = dc_f,
+  L *q = q_f, *qd = qd_f, *pp = pp_f, *am = am_f, *f = f_f, *d1 = d1_f, *d2 = d2_f, *d3 = d3_f, *c = c_f, *dc = dc_f,
         *ma = ma_f, *md = md_f, *mn = mn_f, *dj = dj_f, *aj = aj_f;
   std::vector<double> dyn;
   if constexpr (!fixed) {
-    dyn.assign((4 * nm + 4 * nc + 7 * no + 1) * W, 0.0);
-    lanes* at = align_lanes(dyn.data());  // one spare group at the end
-    for (lanes** a : {&q, &qd, &pp, &am}) *a = at, at += nm;
-    for (lanes** a : {&f, &d1, &d2, &d3}) *a = at, at += nc;
-    for (lanes** a : {&c, &dc, &ma, &md, &mn, &dj, &aj}) *a = at, at += no;
+    dyn.assign((4 * nm + 4 * nc + 7 * no + 1) * N, 0.0);
+    L* at = align_lanes<L>(dyn.data());  // one spare group at the end
+    for (L** a : {&q, &qd, &pp, &am}) *a = at, at += nm;
+    for (L** a : {&f, &d1, &d2, &d3}) *a = at, at += nc;
+    for (L** a : {&c, &dc, &ma, &md, &mn, &dj, &aj}) *a = at, at += no;
   }
   for (std::size_t i = 0; i < nm; ++i) q[i] = qd[i] = pp[i] = am[i] = zero;
   for (std::size_t ch = 0; ch < nc; ++ch) f[ch] = d1[ch] = d2[ch] = d3[ch] = zero;
   for (std::size_t j = 0; j < no; ++j) c[j] = dc[j] = ma[j] = md[j] = mn[j] = zero;
 
-  lanes v = zero, n_steps = zero;
-  lane_speeds<W>(in, v, n_steps);
-  LoadCursor cur;
+  L v = zero, n_steps = zero;
+  lane_speeds<N>(in, v, n_steps);
+  LoadCursorT<N> cur;
   cur.bind(in, nc, nm, nr, f, d1, d2, d3, c, dc, sums.pt);
   const double half_dt = 0.5 * in.dt;
-  const Index min_steps = *std::min_element(in.n_steps, in.n_steps + W);
+  const Index min_steps = *std::min_element(in.n_steps, in.n_steps + N);
   // The residual channels the outputs read, [nm, nm + nr), advance in outputs_pass, after their
   // step's outputs (the sums read the outputs' values it keeps); the extra channels [nc − n_extra, nc)
   // with the modes' in LoadCursor::advance. Those in between (outputs beyond `no`, e.g. rails)
@@ -460,14 +462,14 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
     }
   if (k1 <= k0) k0 = k1 = no;
   auto emit = [&](Index k) __attribute__((always_inline)) {
-    const lanes live = static_cast<double>(k) <= n_steps ? one : zero;
-    lanes *fr = f + nm, *r1 = d1 + nm, *r2 = d2 + nm, *r3 = d3 + nm;
-    outputs_range<NM, false>(flex, nm, 0, k0, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
-    outputs_range<NM, true>(flex, nm, k0, k1, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
-    outputs_range<NM, false>(flex, nm, k1, no, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
-    emit_accelerations<W>(no, flex, aj, c, ma, in.hist, in.stride, in.nh, in.n_steps, k, live, k <= min_steps,
+    const L live = static_cast<double>(k) <= n_steps ? one : zero;
+    L *fr = f + nm, *r1 = d1 + nm, *r2 = d2 + nm, *r3 = d3 + nm;
+    outputs_range<N, NM, false>(flex, nm, 0, k0, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
+    outputs_range<N, NM, true>(flex, nm, k0, k1, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
+    outputs_range<N, NM, false>(flex, nm, k1, no, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
+    emit_accelerations<N>(no, flex, aj, c, ma, in.hist, in.stride, in.nh, in.n_steps, k, live, k <= min_steps,
                        fixed ? nullptr : in.acc_idx, in.n_acc);
-    if (has_sums) emit_sums<W>(in.sums, in.n_sums, flex, dj, aj, fr, c, f + in.extra0, half_dt, k, live, sums, true);
+    if (has_sums) emit_sums<N>(in.sums, in.n_sums, flex, dj, aj, fr, c, f + in.extra0, half_dt, k, live, sums, true);
   };
   cur.start(in.v, in.dt, in.x_start);
   for (std::size_t j = 0; j < no; ++j) {  // from rest: q = 0, q̈ = p
@@ -475,16 +477,16 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
     for (std::size_t i = 0; i < nm; ++i) aj[j] += in.S[j * nm + i] * f[i];
   }
   emit(0);
-  const lanes x_start = zero + in.x_start;
+  const L x_start = zero + in.x_start;
   for (Index k = 1; k <= in.n_max; ++k) {
     check_cancel(k);  // the Python package's Ctrl-C
     for (std::size_t i = 0; i < nm; ++i) pp[i] = f[i];
     cur.advance(nm, nr, x_start + v * (static_cast<double>(k) * in.dt), fixed ? nullptr : in.acc_idx, in.n_acc, x0, x1);
     for (std::size_t i = 0; i < nm; ++i) {
       const double* cf = in.c8 + 8 * i;
-      const lanes q0 = q[i], v0 = qd[i], p0 = pp[i], p1 = f[i];
-      const lanes q1 = cf[0] * q0 + cf[1] * v0 + cf[2] * p0 + cf[3] * p1;
-      const lanes v1 = cf[4] * q0 + cf[5] * v0 + cf[6] * p0 + cf[7] * p1;
+      const L q0 = q[i], v0 = qd[i], p0 = pp[i], p1 = f[i];
+      const L q1 = cf[0] * q0 + cf[1] * v0 + cf[2] * p0 + cf[3] * p1;
+      const L v1 = cf[4] * q0 + cf[5] * v0 + cf[6] * p0 + cf[7] * p1;
       am[i] = p1 - in.two_zw[i] * v1 - in.w2[i] * q1;
       q[i] = q1;
       qd[i] = v1;
@@ -495,26 +497,32 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
     for (std::size_t a = 0; a < n_a; ++a) {
       const std::size_t j = (fixed || !in.acc_idx) ? a : in.acc_idx[a];
       const double* sj = in.S + j * nm;
-      lanes acc = zero;
+      L acc = zero;
       for (std::size_t i = 0; i < nm; ++i) acc += sj[i] * am[i];
       aj[j] = acc;
     }
     emit(k);
   }
-  for (std::size_t l = 0; l < W; ++l) {
-    for (std::size_t i = 0; i < nm; ++i) q_out[i * W + l] = q[i][l], qd_out[i * W + l] = qd[i][l];
+  for (std::size_t l = 0; l < N; ++l) {
+    for (std::size_t i = 0; i < nm; ++i) q_out[i * N + l] = q[i][l], qd_out[i * N + l] = qd[i][l];
     for (std::size_t j = 0; j < no; ++j)
-      ma_out[j * W + l] = ma[j][l], md_out[j * W + l] = md[j][l], mn_out[j * W + l] = mn[j][l];
+      ma_out[j * N + l] = ma[j][l], md_out[j * N + l] = md[j][l], mn_out[j * N + l] = mn[j][l];
   }
 }
 
 // The same loop built twice on x86-64: for the baseline ISA and for AVX2 (one instruction per
-// four-lane operation instead of two), chosen at run time by what the processor supports.
+// four-lane operation instead of two), chosen at run time by what the processor supports; and the
+// general loops (not the fixed small ones, whose build would double) on eight lanes for AVX-512.
 #ifdef VIADUCT_HAVE_AVX2_VARIANT
 template <std::size_t NM, std::size_t NC, std::size_t NO>
 VIADUCT_TARGET_AVX2 void kernel_avx2(const KernelInput& in, double* q, double* qd, double* ma, double* md, double* mn,
                                      SumState& su) {
-  kernel_body<NM, NC, NO>(in, q, qd, ma, md, mn, su);
+  kernel_body<kLanes, NM, NC, NO>(in, q, qd, ma, md, mn, su);
+}
+template <std::size_t NM>
+VIADUCT_TARGET_AVX512 void kernel_avx512(const KernelInput& in, double* q, double* qd, double* ma, double* md,
+                                         double* mn, SumStateT<kWideLanes>& su) {
+  kernel_body<kWideLanes, NM, 0, 0>(in, q, qd, ma, md, mn, su);
 }
 #endif
 
@@ -523,7 +531,14 @@ void kernel(const KernelInput& in, double* q, double* qd, double* ma, double* md
 #ifdef VIADUCT_HAVE_AVX2_VARIANT
   if (cpu_has_avx2()) return kernel_avx2<NM, NC, NO>(in, q, qd, ma, md, mn, su);
 #endif
-  kernel_body<NM, NC, NO>(in, q, qd, ma, md, mn, su);
+  kernel_body<kLanes, NM, NC, NO>(in, q, qd, ma, md, mn, su);
+}
+
+// The bases the unrolled loops take (dispatch_fixed): up to 6 modes with 1–2 stations, no sums,
+// every output's acceleration, the channels the modes' (and the stations' residuals).
+bool fixed_kernel(const KernelInput& in) {
+  return in.nm >= 1 && in.nm <= 6 && (in.no == 1 || in.no == 2) && !in.n_sums && !in.acc_idx &&
+         in.nc == in.nm + (in.flex ? in.no : 0);
 }
 
 template <std::size_t NM, std::size_t NO>
@@ -554,6 +569,26 @@ void dispatch(const KernelInput& in, double* q, double* qd, double* ma, double* 
   if (dispatch_modes(std::make_index_sequence<6>{}, in, q, qd, ma, md, mn, su)) return;
   if (dispatch_general(std::make_index_sequence<6>{}, in, q, qd, ma, md, mn, su)) return;
   kernel<0, 0, 0>(in, q, qd, ma, md, mn, su);
+}
+
+#ifdef VIADUCT_HAVE_AVX2_VARIANT
+template <std::size_t... I>
+bool dispatch_wide_modes(std::index_sequence<I...>, const KernelInput& in, double* q, double* qd, double* ma,
+                         double* md, double* mn, SumStateT<kWideLanes>& su) {
+  return ((in.nm == I + 1 ? (kernel_avx512<I + 1>(in, q, qd, ma, md, mn, su), true) : false) || ...);
+}
+#endif
+
+// Eight lanes (called only when cpu_has_avx512() and !fixed_kernel(in)): the general loops, the
+// modes' count fixed up to 6 as dispatch_general's.
+void dispatch_wide(const KernelInput& in, double* q, double* qd, double* ma, double* md, double* mn,
+                   SumStateT<kWideLanes>& su) {
+#ifdef VIADUCT_HAVE_AVX2_VARIANT
+  if (dispatch_wide_modes(std::make_index_sequence<6>{}, in, q, qd, ma, md, mn, su)) return;
+  kernel_avx512<0>(in, q, qd, ma, md, mn, su);
+#else
+  kernel_body<kWideLanes, 0, 0, 0>(in, q, qd, ma, md, mn, su);
+#endif
 }
 
 // Complex modes (damping that couples the modes): per coordinate k, y ← E y + α u₀ + β u₁ with
@@ -967,15 +1002,12 @@ void run_batches(PeaksSetup& k, const ModalReduction& r, const MovingChannels& L
     }
     SumStateT<N> su(n_sums, L.n_extra);
     if (!k.complex) {
-      if constexpr (N == kLanes) {
-        set_batch(k.in, v, n_steps, n_max, hist, nh, stride);
-        dispatch(k.in, q.data(), qd.data(), ma.data(), md.data(), mn.data(), su);
-        for (std::size_t l = 0; l < N; ++l) {
-          state[l] = 0.0;
-          for (std::size_t i = 0; i < nm; ++i) state[l] += q[i * N + l] + qd[i * N + l];
-        }
-      } else {
-        throw std::logic_error("modal_peaks: eight lanes run complex modes only");  // never (the caller)
+      set_batch(k.in, v, n_steps, n_max, hist, nh, stride);
+      if constexpr (N == kLanes) dispatch(k.in, q.data(), qd.data(), ma.data(), md.data(), mn.data(), su);
+      else dispatch_wide(k.in, q.data(), qd.data(), ma.data(), md.data(), mn.data(), su);
+      for (std::size_t l = 0; l < N; ++l) {
+        state[l] = 0.0;
+        for (std::size_t i = 0; i < nm; ++i) state[l] += q[i * N + l] + qd[i * N + l];
       }
     } else {
       set_batch(k.ci, v, n_steps, n_max, hist, nh, stride);
@@ -1030,13 +1062,14 @@ std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingCh
   k.in.extra0 = k.ci.extra0 = extra0;
   k.in.n_extra = k.ci.n_extra = L.n_extra;
   k.in.point = k.ci.point = L.n_extra ? L.point.data() : nullptr;
-  // Eight cases a pass for complex modes where the processor has AVX-512 (and eight cases'
-  // histories fit where they are recorded), else four.
+  // Eight cases a pass where the processor has AVX-512 (and eight cases' histories fit where they
+  // are recorded), for complex modes and the classical general loops; else four (the classical
+  // kernel's unrolled small bases too).
   Index most_steps = 0;
   for (const PeaksCase& c : cases) most_steps = std::max(most_steps, TimeGrid{dt, c.t_end}.n_steps());
   const double wide_bytes = static_cast<double>(kWideLanes * nh) * static_cast<double>(most_steps + 1) * sizeof(double);
   std::vector<PeaksCaseResult> out;
-  if (k.complex && cpu_has_avx512() && (!record_acc || wide_bytes <= max_history_bytes))
+  if ((k.complex || !fixed_kernel(k.in)) && cpu_has_avx512() && (!record_acc || wide_bytes <= max_history_bytes))
     run_batches<kWideLanes>(k, r, L, cases, dt, no, nh, has_acc, record_acc, max_history_bytes, out);
   else
     run_batches<kLanes>(k, r, L, cases, dt, no, nh, has_acc, record_acc, max_history_bytes, out);

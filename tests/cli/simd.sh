@@ -2,7 +2,7 @@
 # The SIMD kernels give the same numbers on every instruction set (src/solve/lanes.hpp: no FMA
 # contraction, every lane the same operations): sweeps through the complex-modes peaks kernel
 # (eight cases a pass with AVX-512, four with AVX2 or the baseline build), the classical one
-# (its general and fixed-size loops) and batched Newmark, run with VIADUCT_SIMD unset, avx2 and
+# (its general loops eight cases a pass with AVX-512 too, its fixed-size ones four) and batched Newmark, run with VIADUCT_SIMD unset, avx2 and
 # baseline, write the same files byte for byte. A machine without AVX-512 compares what it has.
 # A wrong VIADUCT_SIMD stops the command (exit 2) naming the variable.
 . "$(dirname "$0")/lib.sh"
