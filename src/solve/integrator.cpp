@@ -373,8 +373,9 @@ class ModalIntegrator : public Integrator {
 #ifndef VIADUCT_HAVE_IDA
 constexpr const char* kIdaNotBuilt =
     "this viaduct was built without SUNDIALS IDA (CMake VIADUCT_IDA=OFF, as scripts/demo.sh builds it when "
-    "libsundials-dev is not installed): run scripts/setup.sh, then cmake --preset release and cmake --build "
-    "--preset release; or take analysis.method = \"modal\" or \"newmark\"";
+    "libsundials-dev is not installed): run scripts/setup.sh, then cmake --preset release, cmake --build "
+    "--preset release and, for the viaduct on the PATH, cmake --install build/release; or take "
+    "analysis.method = \"modal\" or \"newmark\"";
 #endif
 
 MethodTraits method_traits(Method m) {

@@ -8,6 +8,7 @@
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/simd.hpp"
 #include "viaduct/io/results.hpp"
+#include "viaduct/solve/integrator.hpp"
 #include "viaduct/study/sampled.hpp"
 
 int main(int argc, char** argv) {
@@ -37,7 +38,10 @@ int main(int argc, char** argv) {
     return ok;
   }
   if (name == "--version") {
-    std::cout << "viaduct " << viaduct::io::version() << "\n";
+    std::cout << "viaduct " << viaduct::io::version();
+    // A build without SUNDIALS (scripts/demo.sh's where libsundials-dev is missing) says so.
+    if (!viaduct::solve::method_traits(viaduct::solve::Method::ida).built) std::cout << " (without the IDA method)";
+    std::cout << "\n";
     return ok;
   }
   // A wrong VIADUCT_SIMD stops every command here (a sweep would otherwise retry its failing
