@@ -299,6 +299,16 @@ void sos_cascade(const Section* c, const double* x, double* y, Index n, double* 
   }
   for (std::size_t k = 0; k < 2 * NS; ++k) z[k] = zz[k];
 }
+
+// The cascade's state (z0, z1 per section) as one vector: the doubling's and the end-state map's.
+Vector flat_state(const std::vector<std::array<double, 2>>& z) {
+  Vector v(static_cast<Index>(2 * z.size()));
+  for (std::size_t s = 0; s < z.size(); ++s) {
+    v[static_cast<Index>(2 * s)] = z[s][0];
+    v[static_cast<Index>(2 * s + 1)] = z[s][1];
+  }
+  return v;
+}
 }  // namespace
 
 void sosfilt(const Sos& sos, const Vector& x, Vector& y, const std::vector<std::array<double, 2>>* zi,
@@ -368,25 +378,17 @@ FiltfiltFromRest::FiltfiltFromRest(const Sos& sos) : sos_(sos) {
     return u;
   };
   const Index m = static_cast<Index>(2 * ns);
-  auto flat = [&](const State& z) {
-    Vector v(m);
-    for (std::size_t s = 0; s < ns; ++s) {
-      v[static_cast<Index>(2 * s)] = z[s][0];
-      v[static_cast<Index>(2 * s + 1)] = z[s][1];
-    }
-    return v;
-  };
   // State space of one step: z' = A z + B u, output y = C z + D u.
   Matrix A(m, m), C(1, m);
   for (Index j = 0; j < m; ++j) {
     State z(ns, {0.0, 0.0});
     z[static_cast<std::size_t>(j / 2)][static_cast<std::size_t>(j % 2)] = 1.0;
     C(0, j) = step(z, 0.0);
-    A.col(j) = flat(z);
+    A.col(j) = flat_state(z);
   }
   State zb(ns, {0.0, 0.0});
   step(zb, 1.0);
-  const Vector B = flat(zb);
+  const Vector B = flat_state(zb);
   // Beyond the record the forward pass rings freely: y_{N+k} = C A^k s_N. The backward pass,
   // run from infinitely far back over those samples, arrives in W s_N with
   // W = sum_k A^k B C A^k, i.e. W = B C + A W A; doubling sums 2^i terms after i rounds.
@@ -406,9 +408,7 @@ Vector FiltfiltFromRest::operator()(const Vector& x) const {
   Vector y;
   std::vector<std::array<double, 2>> zf;
   sosfilt(sos_, x, y, nullptr, &zf);
-  Vector f(W_.cols());
-  for (std::size_t s = 0; s < ns; ++s) f[static_cast<Index>(2 * s)] = zf[s][0], f[static_cast<Index>(2 * s + 1)] = zf[s][1];
-  const Vector w = W_ * f;
+  const Vector w = W_ * flat_state(zf);
   std::vector<std::array<double, 2>> z1(ns);
   for (std::size_t s = 0; s < ns; ++s) z1[s] = {w[static_cast<Index>(2 * s)], w[static_cast<Index>(2 * s + 1)]};
   Vector rev = y.reverse();

@@ -889,7 +889,7 @@ TrainFold::~TrainFold() = default;
 
 std::size_t TrainFold::n_chunks() const { return std::max<std::size_t>(1, (p_->n_pieces + kFoldChunk - 1) / kFoldChunk); }
 
-void TrainFold::fill(std::size_t chunk) {
+void TrainFold::fill(std::size_t chunk) noexcept {
   const Plan& P = *p_;
   const ModalPathTable& T = *P.T;
   const std::size_t nc = P.nc, ne = P.ne, p0 = chunk * kFoldChunk, p1 = std::min(P.n_pieces, p0 + kFoldChunk);

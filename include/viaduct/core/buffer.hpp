@@ -16,7 +16,7 @@ void* allocate_block(std::size_t bytes);
 void free_block(void* p, std::size_t bytes) noexcept;
 constexpr std::size_t kLargeBlock = std::size_t{4} << 20;
 
-/// While one of these lives (in any thread), large blocks that are freed are kept, up to two, and
+/// While one of these lives (in any thread), large blocks that are freed are kept, up to three, and
 /// given again to an allocation they hold: a sweep's folded trains, allocated and freed train after
 /// train, then fault their pages in once (on Old Guadiana the faults and the kernel's zeroing of
 /// 51 MB per train were 2 % of the run). The last scope to end frees what is kept.

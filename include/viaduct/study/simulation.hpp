@@ -286,7 +286,9 @@ class TrainFold {
   TrainFold(const TrainFold&) = delete;
   TrainFold& operator=(const TrainFold&) = delete;
   std::size_t n_chunks() const;
-  void fill(std::size_t chunk);
+  /// Arithmetic on memory the constructor allocated: cannot fail (a sweep's threads that wait for
+  /// the other chunks rely on it; noexcept makes a failure stop the program, not hang it).
+  void fill(std::size_t chunk) noexcept;
   std::shared_ptr<const solve::MovingChannels> table() const;
 
  private:
