@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -232,10 +233,19 @@ void plan_variants(FlatScenario& flat, const study::AssessConfig& c, study::Asse
   // Each mass case's change of bridge.mass_per_m [kg/m].
   const std::vector<std::pair<std::string, double>> bounds = ballast_bounds(c, nominal, p);
   const double m0 = nominal.bridge.spans.front().mass_per_m;
-  // Each train's distance on its own thread (0.3 s of sincos for Old Guadiana's eleven trains).
+  // Each train's distance on its own thread (0.3 s of sincos for Old Guadiana's eleven trains);
+  // a failure (parallel_for's bodies must not throw) rethrown after, the first in the trains' order.
   p.train_distance.assign(trains.size(), 0.0);
-  parallel_for(trains.size(), std::max(1, std::min(threads, static_cast<int>(trains.size()))),
-               [&](std::size_t t, int) { p.train_distance[t] = load::characteristic_distance(trains[t]); });
+  std::vector<std::exception_ptr> failed(trains.size());
+  parallel_for(trains.size(), std::max(1, std::min(threads, static_cast<int>(trains.size()))), [&](std::size_t t, int) {
+    try {
+      p.train_distance[t] = load::characteristic_distance(trains[t]);
+    } catch (...) {
+      failed[t] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& e : failed)
+    if (e) std::rethrow_exception(e);
   for (const auto& [label, delta] : bounds) {
     FlatScenario f = flat;
     if (delta != 0.0) add_mass(f, delta);
