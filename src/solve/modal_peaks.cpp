@@ -127,17 +127,13 @@ VIADUCT_ALWAYS_INLINE void transpose(const Lanes<N>* r, Lanes<N>* c) {
 // on and, for every channel, the value and forward differences f, d1, d2, d3 of the cubic at the
 // lane's step (and, for the nr residual channels, the curvature term v²·g'' and its difference),
 // re-initialised from the piece's coefficients whenever the lane's head crosses a breakpoint.
-// N lanes. LM (lane-major): f … d3 hold each lane's channels in a row of ncp (nc rounded up to N)
-// doubles, so that a lane entering a new piece stores N channels with one vector store instead of
-// N scalar ones (a lane enters a new piece about every step at 300 km/h with a track model);
-// values() then gives the channels across the lanes. Else f[k] holds channel k of every lane.
-template <std::size_t N, bool LM = false>
+// N lanes: f[k] holds channel k of every lane.
+template <std::size_t N>
 struct LoadCursorT {
   using L = Lanes<N>;
   static constexpr std::size_t W = N;
   const double *breaks = nullptr, *coef = nullptr;
   std::size_t n_pieces = 0, nc = 0, nload = 0, nr = 0;  // pieces, channels, load channels, residuals used
-  std::size_t ncp = 0;                                    // LM: a lane's row [doubles]
   L *f = nullptr, *d1 = nullptr, *d2 = nullptr, *d3 = nullptr, *c = nullptr, *dc = nullptr;
   // Extra channels' values at a break hit exactly (MovingChannels::point), valid for one step.
   const double* point = nullptr;
@@ -149,11 +145,6 @@ struct LoadCursorT {
   const std::size_t* curv = nullptr;
   std::size_t n_curv = 0;
 
-  // Channel k of lane l in one of f … d3.
-  VIADUCT_ALWAYS_INLINE double& value(L* a, std::size_t k, std::size_t l) const {
-    if constexpr (LM) return reinterpret_cast<double*>(a)[l * ncp + k];
-    else return a[k][l];
-  }
   // Lane l at head position x: find its piece, set the values and differences there.
   VIADUCT_ALWAYS_INLINE void reinit(std::size_t l, double x) {
     std::size_t i = ip[l];
@@ -174,19 +165,14 @@ struct LoadCursorT {
       std::memcpy(&a3, d + 3 * nc + k0, sizeof a3);
       const L fv = a0 + s * (a1 + s * (a2 + s * a3)), v1 = a1 * hh + a2 * c1 + a3 * c2, v2_ = 2.0 * a2 * h2 + a3 * c3,
               v3 = 6.0 * a3 * h3;
-      if constexpr (LM) {
-        const std::size_t b = (l * ncp + k0) / W;
-        f[b] = fv, d1[b] = v1, d2[b] = v2_, d3[b] = v3;
-      } else {
-        for (std::size_t e = 0; e < W; ++e) f[k0 + e][l] = fv[e], d1[k0 + e][l] = v1[e], d2[k0 + e][l] = v2_[e], d3[k0 + e][l] = v3[e];
-      }
+      for (std::size_t e = 0; e < W; ++e) f[k0 + e][l] = fv[e], d1[k0 + e][l] = v1[e], d2[k0 + e][l] = v2_[e], d3[k0 + e][l] = v3[e];
     }
     for (std::size_t k = k0; k < nc; ++k) {
       const double a0 = d[k], a1 = d[nc + k], a2 = d[2 * nc + k], a3 = d[3 * nc + k];
-      value(f, k, l) = a0 + s * (a1 + s * (a2 + s * a3));
-      value(d1, k, l) = a1 * hh + a2 * (2.0 * s * hh + h2) + a3 * (3.0 * s * s * hh + 3.0 * s * h2 + h3);
-      value(d2, k, l) = 2.0 * a2 * h2 + a3 * (6.0 * s * h2 + 6.0 * h3);
-      value(d3, k, l) = 6.0 * a3 * h3;
+      f[k][l] = a0 + s * (a1 + s * (a2 + s * a3));
+      d1[k][l] = a1 * hh + a2 * (2.0 * s * hh + h2) + a3 * (3.0 * s * s * hh + 3.0 * s * h2 + h3);
+      d2[k][l] = 2.0 * a2 * h2 + a3 * (6.0 * s * h2 + 6.0 * h3);
+      d3[k][l] = 6.0 * a3 * h3;
     }
     for (std::size_t n = 0; n < (curv ? n_curv : nr); ++n) {
       const std::size_t j = curv ? curv[n] : n;
@@ -206,7 +192,6 @@ struct LoadCursorT {
     coef = in.coef;
     n_pieces = in.n_pieces;
     nc = n_channels;
-    ncp = (nc + W - 1) / W * W;
     nload = n_load;
     nr = n_res;
     f = f_, d1 = d1_, d2 = d2_, d3 = d3_, c = c_, dc = dc_;
@@ -215,8 +200,7 @@ struct LoadCursorT {
     if (in.acc_idx && n_res) curv = in.acc_idx, n_curv = in.n_acc;
     if (in.point) point = in.point, nx = in.n_extra, pt = pt_;
   }
-  // Channels [a, b) to the next step: value and differences, three additions each (LM: vectors
-  // [a, b) of the lanes' rows).
+  // Channels [a, b) to the next step: value and differences, three additions each.
   VIADUCT_ALWAYS_INLINE void step_channels(std::size_t a, std::size_t b) {
     for (std::size_t k = a; k < b; ++k) {
       f[k] += d1[k];
@@ -243,12 +227,8 @@ struct LoadCursorT {
                                      const std::size_t* acc_idx = nullptr, std::size_t n_acc = 0, std::size_t x0 = 0,
                                      std::size_t x1 = 0) {
     for (std::size_t e = 0; e < nx; ++e) pt[e] = L{};
-    if constexpr (LM) {
-      step_channels(0, ncp);  // every lane's row: N·ncp doubles, ncp vectors
-    } else {
-      step_channels(0, n_ch);
-      step_channels(x0, x1);
-    }
+    step_channels(0, n_ch);
+    step_channels(x0, x1);
     if (!acc_idx) {
       for (std::size_t j = 0; j < n_res; ++j) c[j] += dc[j];
     } else if (n_res) {
@@ -257,17 +237,114 @@ struct LoadCursorT {
     for (std::size_t l = 0; l < W; ++l)
       if (X[l] >= next[l]) reinit(l, X[l]);
   }
-  // LM: every channel's value across the lanes, out[k] for k < ncp (N × N blocks transposed).
-  VIADUCT_ALWAYS_INLINE void values(L* out) const {
-    static_assert(LM, "the values are f itself without LM");
-    for (std::size_t b = 0; b < ncp / W; ++b) {
-      L r[W];
-      for (std::size_t l = 0; l < W; ++l) r[l] = f[l * (ncp / W) + b];
-      transpose<N>(r, out + b * W);
+};
+using LoadCursor = LoadCursorT<kLanes>;
+
+// The folded train's load channels of N lanes, each value evaluated afresh every step from its
+// piece's cubic (Horner in s = X − the piece's start) instead of advanced by forward differences:
+// for the complex kernel, whose lanes enter a new piece about every other step with a discrete
+// track (Old Guadiana: 4461 pieces of 359 channels), where LoadCursorT re-initialised four
+// rows of differences at each crossing and advanced three every step. Here a lane's channels
+// are read once a step, eight (N) at a time, and N lanes' blocks are transposed into the
+// channels' values across the lanes. The residuals' curvature v²·g'' (of the outputs whose
+// acceleration is computed) and the extra channels' point values at a break hit exactly as
+// LoadCursorT's.
+template <std::size_t N>
+struct DirectCursor {
+  using L = Lanes<N>;
+  const double *breaks = nullptr, *coef = nullptr;
+  std::size_t n_pieces = 0, nc = 0, nload = 0;
+  L* c = nullptr;  // residual curvatures across the lanes
+  const std::size_t* curv = nullptr;
+  std::size_t n_curv = 0;
+  const double* point = nullptr;
+  std::size_t nx = 0;
+  L* pt = nullptr;
+  std::size_t ip[N];
+  double next[N], v2[N];
+  std::vector<double> tail;  // the last block's coefficients, zero-padded to N channels
+
+  template <class Input>
+  void bind(const Input& in, std::size_t n_channels, std::size_t n_load, std::size_t n_res, L* c_, L* pt_) {
+    breaks = in.breaks;
+    coef = in.coef;
+    n_pieces = in.n_pieces;
+    nc = n_channels;
+    nload = n_load;
+    c = c_;
+    if (n_res) {
+      curv = in.acc_idx;  // null: every residual's curvature
+      n_curv = in.acc_idx ? in.n_acc : n_res;
+    }
+    if (in.point) point = in.point, nx = in.n_extra, pt = pt_;
+  }
+  // Lane l's piece at head position x (the pieces only move forward); the extra channels'
+  // point values when x is a break exactly.
+  VIADUCT_ALWAYS_INLINE void locate(std::size_t l, double x) {
+    std::size_t i = ip[l];
+    while (i < n_pieces && x >= breaks[i + 1]) ++i;
+    ip[l] = i;
+    next[l] = i < n_pieces ? breaks[i + 1] : std::numeric_limits<double>::infinity();
+    if (point && x == breaks[i])
+      for (std::size_t e = 0; e < nx; ++e) pt[e][l] = point[i * nx + e];
+  }
+  VIADUCT_ALWAYS_INLINE void start(const double* v, double x_start) {
+    for (std::size_t l = 0; l < N; ++l) {
+      ip[l] = 0;
+      v2[l] = v[l] * v[l];
+      locate(l, x_start);
+    }
+  }
+  // One step to head positions X: the point values last one step.
+  VIADUCT_ALWAYS_INLINE void advance(const L& X) {
+    for (std::size_t e = 0; e < nx; ++e) pt[e] = L{};
+    for (std::size_t l = 0; l < N; ++l)
+      if (X[l] >= next[l]) locate(l, X[l]);
+  }
+  // Every channel's value at head positions X across the lanes, out[k] for k < nc rounded up to
+  // N (the padding's values are zero), and the residuals' curvatures.
+  VIADUCT_ALWAYS_INLINE void values(const L& X, L* out) {
+    double s[N];
+    const double* d[N];
+    for (std::size_t l = 0; l < N; ++l) {
+      const std::size_t i = ip[l];
+      s[l] = i < n_pieces ? X[l] - breaks[i] : 0.0;
+      d[l] = coef + i * 4 * nc;
+    }
+    const std::size_t nfull = nc / N;
+    for (std::size_t b = 0; b < nfull; ++b) {
+      L r[N];
+      for (std::size_t l = 0; l < N; ++l) {
+        L a0, a1, a2, a3;
+        const double* q = d[l] + b * N;
+        std::memcpy(&a0, q, sizeof a0);
+        std::memcpy(&a1, q + nc, sizeof a1);
+        std::memcpy(&a2, q + 2 * nc, sizeof a2);
+        std::memcpy(&a3, q + 3 * nc, sizeof a3);
+        r[l] = a0 + s[l] * (a1 + s[l] * (a2 + s[l] * a3));
+      }
+      transpose<N>(r, out + b * N);
+    }
+    if (const std::size_t k0 = nfull * N; k0 < nc) {
+      L r[N];
+      for (std::size_t l = 0; l < N; ++l) {
+        r[l] = L{};
+        for (std::size_t k = k0; k < nc; ++k) {
+          const double* q = d[l] + k;
+          r[l][k - k0] = q[0] + s[l] * (q[nc] + s[l] * (q[2 * nc] + s[l] * q[3 * nc]));
+        }
+      }
+      transpose<N>(r, out + nfull * N);
+    }
+    for (std::size_t n = 0; n < n_curv; ++n) {
+      const std::size_t j = curv ? curv[n] : n;
+      for (std::size_t l = 0; l < N; ++l) {
+        const double* q = d[l] + nload + j;
+        c[j][l] = v2[l] * (2.0 * q[2 * nc] + 6.0 * q[3 * nc] * s[l]);
+      }
     }
   }
 };
-using LoadCursor = LoadCursorT<kLanes>;
 
 // The accelerations of step k (the coordinates' share aj plus the residual's curvature c when
 // flex), of every output or of those in acc_idx: recorded when hist is set, their running maxima
@@ -593,7 +670,7 @@ void dispatch_wide(const KernelInput& in, double* q, double* qd, double* ma, dou
 
 // Complex modes (damping that couples the modes): per coordinate k, y ← E y + α u₀ + β u₁ with
 // u = p[c] + i p[c+1] (p[c] alone for a real coordinate), in split real arithmetic; the same
-// folded loads, forward differences and lanes as kernel_body.
+// folded loads and lanes as kernel_body, each channel evaluated afresh every step (DirectCursor).
 struct ComplexInput {
   std::size_t nk = 0, nch = 0, nc = 0, no = 0;  // coordinates, load channels, all channels, stations
   bool flex = false;
@@ -655,18 +732,19 @@ VIADUCT_ALWAYS_INLINE void disp_block(const double* rows, std::size_t nk, std::s
 }
 
 // The accelerations of outputs idx[n0 … n0 + B) (idx null: n0 … n0 + B), each Re Σₖ of the
-// coordinate's share (Lr + i Li)(yr + i yi) and its input's (Ar + i Ai)(u1r + i u1i), into aj.
+// coordinate's share (Lr + i Li)(yr + i yi) and its input's (Ar + i Ai)(u1r + i u1i), u1r =
+// f[ir[k]] and u1i = f[ii[k]], into aj.
 template <std::size_t N, std::size_t B>
 VIADUCT_ALWAYS_INLINE void acc_block(const double* rows, std::size_t nk, std::size_t n0, const std::size_t* idx,
-                                     const Lanes<N>* yr, const Lanes<N>* yi, const Lanes<N>* u1r, const Lanes<N>* u1i,
-                                     Lanes<N>* aj) {
+                                     const Lanes<N>* yr, const Lanes<N>* yi, const Lanes<N>* f, const std::size_t* ir,
+                                     const std::size_t* ii, Lanes<N>* aj) {
   using L = Lanes<N>;
   std::size_t j[B];
   const double* q[B];
   L s[B];
   for (std::size_t u = 0; u < B; ++u) j[u] = idx ? idx[n0 + u] : n0 + u, q[u] = rows + 4 * j[u] * nk, s[u] = L{};
   for (std::size_t k = 0; k < nk; ++k) {
-    const L a = yr[k], b = yi[k], c0 = u1r[k], c1 = u1i[k];
+    const L a = yr[k], b = yi[k], c0 = f[ir[k]], c1 = f[ii[k]];
     const std::size_t o = 4 * k;
     for (std::size_t u = 0; u < B; ++u) s[u] += q[u][o] * a - q[u][o + 1] * b + q[u][o + 2] * c0 - q[u][o + 3] * c1;
   }
@@ -680,19 +758,20 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
   using L = Lanes<N>;
   const std::size_t nk = in.nk, nch = in.nch, nc = in.nc, no = in.no, nr = in.flex ? no : 0;
   const L zero = {}, one = zero + 1.0;
-  const std::size_t ncp = (nc + N - 1) / N * N;  // the cursor's rows (lane-major): ncp vectors each
-  std::vector<double> buf((6 * nk + 5 * ncp + 7 * no + 1) * N, 0.0);
+  const std::size_t ncp = (nc + N - 1) / N * N;  // the channels' values, rounded up to whole blocks
+  std::vector<double> buf((2 * nk + 2 * (ncp + 1) + 6 * no + 1) * N, 0.0);
   L* at = align_lanes<L>(buf.data());
-  // y and each coordinate's input u = p[c] + i p[c+1] at the step's start (u0) and end (u1),
-  // gathered once a step from the load channels; the cursor's rows fl … d3l; f: the channels'
-  // values across the lanes (LoadCursorT::values).
-  L *yr = at, *yi = yr + nk, *u0r = yi + nk, *u0i = u0r + nk, *u1r = u0i + nk, *u1i = u1r + nk, *fl = u1i + nk,
-        *d1l = fl + ncp, *d2l = d1l + ncp, *d3l = d2l + ncp, *f = d3l + ncp, *c = f + ncp, *dc = c + no, *ma = dc + no,
-        *md = ma + no, *mn = md + no, *dj = mn + no, *aj = dj + no;
+  // y; the channels' values across the lanes at the step's start (f0) and end (f: DirectCursor::
+  // values), each followed by a zero (f[ncp]); c the residuals' curvatures. Coordinate k's input
+  // u = f[ir[k]] + i f[ii[k]]: p[c] + i p[c+1], or p[c] and the zero for a real coordinate.
+  L *yr = at, *yi = yr + nk, *f0 = yi + nk, *f = f0 + ncp + 1, *c = f + ncp + 1, *ma = c + no, *md = ma + no,
+    *mn = md + no, *dj = mn + no, *aj = dj + no;
+  std::vector<std::size_t> ir(nk), ii(nk);
+  for (std::size_t k = 0; k < nk; ++k) ir[k] = in.ch[k], ii[k] = in.pair[k] ? in.ch[k] + 1 : ncp;
   L v = zero, n_steps = zero;
   lane_speeds<N>(in, v, n_steps);
-  LoadCursorT<N, true> cur;
-  cur.bind(in, nc, nch, nr, fl, d1l, d2l, d3l, c, dc, sums.pt);
+  DirectCursor<N> cur;
+  cur.bind(in, nc, nch, nr, c, sums.pt);
   const double half_dt = 0.5 * in.dt;
   const Index min_steps = *std::min_element(in.n_steps, in.n_steps + N);
   auto emit = [&](Index k) {
@@ -700,14 +779,6 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
     emit_stations<N>(no, in.flex, dj, aj, f + nch, c, md, mn, ma, in.hist, in.stride, in.nh, in.n_steps, k, live,
                   k <= min_steps, in.acc_idx, in.n_acc);
     if (in.n_sums) emit_sums<N>(in.sums, in.n_sums, in.flex, dj, aj, f + nch, c, f + in.extra0, half_dt, k, live, sums);
-  };
-  // Each coordinate's input from the load channels f, into (ur, ui).
-  auto gather = [&](L* ur, L* ui) {
-    for (std::size_t k = 0; k < nk; ++k) {
-      const std::size_t cc = in.ch[k];
-      ur[k] = f[cc];
-      ui[k] = in.pair[k] ? f[cc + 1] : zero;
-    }
   };
   // The coordinates' outputs for the current y and the inputs u1 (every output: the first sample).
   auto outputs = [&]() {
@@ -718,28 +789,26 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
         const double* r = in.disp_rows + 2 * (j * nk + k);
         const double* q = in.acc_rows + 4 * (j * nk + k);
         dj[j] += r[0] * a - r[1] * b;
-        aj[j] += q[0] * a - q[1] * b + q[2] * u1r[k] - q[3] * u1i[k];
+        aj[j] += q[0] * a - q[1] * b + q[2] * f[ir[k]] - q[3] * f[ii[k]];
       }
     }
   };
-  cur.start(in.v, in.dt, in.x_start);
-  cur.values(f);
-  gather(u1r, u1i);
+  const L x_start = zero + in.x_start;
+  cur.start(in.v, in.x_start);
+  cur.values(x_start, f);
   outputs();
   emit(0);
-  const L x_start = zero + in.x_start;
   for (Index step = 1; step <= in.n_max; ++step) {
     check_cancel(step);  // the Python package's Ctrl-C
-    std::swap(u0r, u1r);  // the last step's end is this step's start
-    std::swap(u0i, u1i);
-    cur.advance(nc, nr, x_start + v * (static_cast<double>(step) * in.dt), in.acc_idx, in.n_acc);
-    cur.values(f);
-    gather(u1r, u1i);
+    std::swap(f0, f);  // the last step's end is this step's start
+    const L X = x_start + v * (static_cast<double>(step) * in.dt);
+    cur.advance(X);
+    cur.values(X, f);
     for (std::size_t k = 0; k < nk; ++k) {
       const double* e = in.co + 6 * k;
-      const L a = yr[k], b = yi[k];
-      const L nr_ = e[0] * a - e[1] * b + e[2] * u0r[k] - e[3] * u0i[k] + e[4] * u1r[k] - e[5] * u1i[k];
-      const L ni_ = e[0] * b + e[1] * a + e[2] * u0i[k] + e[3] * u0r[k] + e[4] * u1i[k] + e[5] * u1r[k];
+      const L a = yr[k], b = yi[k], u0r = f0[ir[k]], u0i = f0[ii[k]], u1r = f[ir[k]], u1i = f[ii[k]];
+      const L nr_ = e[0] * a - e[1] * b + e[2] * u0r - e[3] * u0i + e[4] * u1r - e[5] * u1i;
+      const L ni_ = e[0] * b + e[1] * a + e[2] * u0i + e[3] * u0r + e[4] * u1i + e[5] * u1r;
       yr[k] = nr_;
       yi[k] = ni_;
     }
@@ -754,7 +823,7 @@ VIADUCT_ALWAYS_INLINE void complex_body(const ComplexInput& in, double* state_ou
     // likewise in blocks.
     const std::size_t n_a = in.acc_idx ? in.n_acc : no;
     out_blocks(n_a, [&](auto B, std::size_t n0) __attribute__((always_inline)) {
-      acc_block<N, decltype(B)::value>(in.acc_rows, nk, n0, in.acc_idx, yr, yi, u1r, u1i, aj);
+      acc_block<N, decltype(B)::value>(in.acc_rows, nk, n0, in.acc_idx, yr, yi, f, ir.data(), ii.data(), aj);
     });
     emit(step);
   }
