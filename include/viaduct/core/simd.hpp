@@ -1,7 +1,7 @@
 #pragma once
-/// \file The instruction set the SIMD kernels run (the modal peaks kernel, batched Newmark).
-/// Each kernel is built for several and gives the same numbers on every one (no FMA contraction;
-/// src/solve/lanes.hpp); the choice is speed only.
+/// \file The instruction set the SIMD kernels run (the modal peaks kernel, batched Newmark; and
+/// SHA-256's SHA extensions, off at the baseline). Each kernel is built for several and gives the
+/// same numbers on every one (no FMA contraction; src/solve/lanes.hpp); the choice is speed only.
 
 namespace viaduct {
 
