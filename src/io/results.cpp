@@ -238,7 +238,11 @@ void write_quantities_csv(const std::string& path, const std::vector<study::Quan
     add_g10(line, r.speed * 3.6);
     line += "," + csv_text(r.quantity);
     for (double x : {r.dynamic.max, r.dynamic.min, r.dynamic.max_abs(), r.quasi_static.max, r.quasi_static.min}) add_g10(line, x);
-    line += "," + table_cell(r.phi_dyn()) + "\n";
+    // table_cell's text (an empty cell for NaN, else %.10g) without an ostringstream a row: 4.5 %
+    // of the 31-station sweep on one thread (perf).
+    if (const double phi = r.phi_dyn(); std::isnan(phi)) line += ',';
+    else add_g10(line, phi);
+    line += '\n';
     std::fputs(line.c_str(), f.get());
   }
   f.commit();
