@@ -123,34 +123,66 @@ VIADUCT_ALWAYS_INLINE void transpose(const Lanes<N>* r, Lanes<N>* c) {
   }
 }
 
+// A folded train's pieces under N lanes' heads (both cursors below): each lane's piece and the
+// break that ends it, and the extra channels' values at a break hit exactly
+// (MovingChannels::point, valid for one step).
+template <std::size_t N>
+struct PieceTrack {
+  const double *breaks = nullptr, *coef = nullptr;
+  std::size_t n_pieces = 0, nc = 0, nload = 0;  // pieces, channels, load channels
+  const double* point = nullptr;
+  std::size_t nx = 0;
+  Lanes<N>* pt = nullptr;
+  std::size_t ip[N];
+  double next[N];
+
+  // The folded train of `in` (a KernelInput or ComplexInput): nc channels, nload of them loads;
+  // the extra channels' point values into pt.
+  template <class Input>
+  void bind_track(const Input& in, std::size_t n_channels, std::size_t n_load, Lanes<N>* pt_) {
+    breaks = in.breaks;
+    coef = in.coef;
+    n_pieces = in.n_pieces;
+    nc = n_channels;
+    nload = n_load;
+    if (in.point) point = in.point, nx = in.n_extra, pt = pt_;
+  }
+  // Lane l's piece at head position x (a lane's pieces only move forward), and its end.
+  VIADUCT_ALWAYS_INLINE std::size_t find_piece(std::size_t l, double x) {
+    std::size_t i = ip[l];
+    while (i < n_pieces && x >= breaks[i + 1]) ++i;
+    ip[l] = i;
+    next[l] = i < n_pieces ? breaks[i + 1] : std::numeric_limits<double>::infinity();
+    return i;
+  }
+  // The extra channels' point values of lane l when x is piece i's break exactly.
+  VIADUCT_ALWAYS_INLINE void take_point(std::size_t l, double x, std::size_t i) {
+    if (point && x == breaks[i])
+      for (std::size_t e = 0; e < nx; ++e) pt[e][l] = point[i * nx + e];
+  }
+};
+
 // The folded train's load channels of W lanes along the head position: per lane the piece it is
 // on and, for every channel, the value and forward differences f, d1, d2, d3 of the cubic at the
 // lane's step (and, for the nr residual channels, the curvature term v²·g'' and its difference),
 // re-initialised from the piece's coefficients whenever the lane's head crosses a breakpoint.
 // N lanes: f[k] holds channel k of every lane.
 template <std::size_t N>
-struct LoadCursorT {
+struct LoadCursorT : PieceTrack<N> {
   using L = Lanes<N>;
+  using T = PieceTrack<N>;
+  using T::breaks, T::coef, T::n_pieces, T::nc, T::nload, T::nx, T::pt, T::ip, T::next;
   static constexpr std::size_t W = N;
-  const double *breaks = nullptr, *coef = nullptr;
-  std::size_t n_pieces = 0, nc = 0, nload = 0, nr = 0;  // pieces, channels, load channels, residuals used
+  std::size_t nr = 0;  // residuals used
   L *f = nullptr, *d1 = nullptr, *d2 = nullptr, *d3 = nullptr, *c = nullptr, *dc = nullptr;
-  // Extra channels' values at a break hit exactly (MovingChannels::point), valid for one step.
-  const double* point = nullptr;
-  std::size_t nx = 0;
-  L* pt = nullptr;
-  std::size_t ip[W];
-  double next[W], h[W], v2[W];
+  double h[W], v2[W];
   // The residuals whose curvature is kept (null: all nr): those whose acceleration is computed.
   const std::size_t* curv = nullptr;
   std::size_t n_curv = 0;
 
   // Lane l at head position x: find its piece, set the values and differences there.
   VIADUCT_ALWAYS_INLINE void reinit(std::size_t l, double x) {
-    std::size_t i = ip[l];
-    while (i < n_pieces && x >= breaks[i + 1]) ++i;
-    ip[l] = i;
-    next[l] = i < n_pieces ? breaks[i + 1] : std::numeric_limits<double>::infinity();
+    const std::size_t i = this->find_piece(l, x);
     const double s = i < n_pieces ? x - breaks[i] : 0.0, hh = h[l], h2 = hh * hh, h3 = h2 * hh;
     const double* d = coef + i * 4 * nc;
     // W channels at a time in vector registers (the same operations in the same order as the
@@ -180,25 +212,19 @@ struct LoadCursorT {
       c[j][l] = v2[l] * (2.0 * a2 + 6.0 * a3 * s);
       dc[j][l] = v2[l] * 6.0 * a3 * hh;
     }
-    if (point && x == breaks[i])
-      for (std::size_t e = 0; e < nx; ++e) pt[e][l] = point[i * nx + e];
+    this->take_point(l, x, i);
   }
   // The folded train of `in` (a KernelInput or ComplexInput): nc channels, nload of them loads,
   // nr residuals used; the values and differences in f … dc, extra channels at break hits in pt.
   template <class Input>
   void bind(const Input& in, std::size_t n_channels, std::size_t n_load, std::size_t n_res, L* f_, L* d1_, L* d2_,
             L* d3_, L* c_, L* dc_, L* pt_) {
-    breaks = in.breaks;
-    coef = in.coef;
-    n_pieces = in.n_pieces;
-    nc = n_channels;
-    nload = n_load;
+    this->bind_track(in, n_channels, n_load, pt_);
     nr = n_res;
     f = f_, d1 = d1_, d2 = d2_, d3 = d3_, c = c_, dc = dc_;
     // Only the accelerations computed read a residual's curvature: the others' is not set up at
     // each piece (the 31 stations along a span of docs/benchmarks.md: 127 residuals, a few read).
     if (in.acc_idx && n_res) curv = in.acc_idx, n_curv = in.n_acc;
-    if (in.point) point = in.point, nx = in.n_extra, pt = pt_;
   }
   // Channels [a, b) to the next step: value and differences, three additions each.
   VIADUCT_ALWAYS_INLINE void step_channels(std::size_t a, std::size_t b) {
@@ -250,44 +276,26 @@ using LoadCursor = LoadCursorT<kLanes>;
 // acceleration is computed) and the extra channels' point values at a break hit exactly as
 // LoadCursorT's.
 template <std::size_t N>
-struct DirectCursor {
+struct DirectCursor : PieceTrack<N> {
   using L = Lanes<N>;
-  const double *breaks = nullptr, *coef = nullptr;
-  std::size_t n_pieces = 0, nc = 0, nload = 0;
+  using T = PieceTrack<N>;
+  using T::breaks, T::coef, T::n_pieces, T::nc, T::nload, T::nx, T::pt, T::ip, T::next;
   L* c = nullptr;  // residual curvatures across the lanes
   const std::size_t* curv = nullptr;
   std::size_t n_curv = 0;
-  const double* point = nullptr;
-  std::size_t nx = 0;
-  L* pt = nullptr;
-  std::size_t ip[N];
-  double next[N], v2[N];
-  std::vector<double> tail;  // the last block's coefficients, zero-padded to N channels
+  double v2[N];
 
   template <class Input>
   void bind(const Input& in, std::size_t n_channels, std::size_t n_load, std::size_t n_res, L* c_, L* pt_) {
-    breaks = in.breaks;
-    coef = in.coef;
-    n_pieces = in.n_pieces;
-    nc = n_channels;
-    nload = n_load;
+    this->bind_track(in, n_channels, n_load, pt_);
     c = c_;
     if (n_res) {
       curv = in.acc_idx;  // null: every residual's curvature
       n_curv = in.acc_idx ? in.n_acc : n_res;
     }
-    if (in.point) point = in.point, nx = in.n_extra, pt = pt_;
   }
-  // Lane l's piece at head position x (the pieces only move forward); the extra channels'
-  // point values when x is a break exactly.
-  VIADUCT_ALWAYS_INLINE void locate(std::size_t l, double x) {
-    std::size_t i = ip[l];
-    while (i < n_pieces && x >= breaks[i + 1]) ++i;
-    ip[l] = i;
-    next[l] = i < n_pieces ? breaks[i + 1] : std::numeric_limits<double>::infinity();
-    if (point && x == breaks[i])
-      for (std::size_t e = 0; e < nx; ++e) pt[e][l] = point[i * nx + e];
-  }
+  // Lane l's piece at head position x, and its point values there.
+  VIADUCT_ALWAYS_INLINE void locate(std::size_t l, double x) { this->take_point(l, x, this->find_piece(l, x)); }
   VIADUCT_ALWAYS_INLINE void start(const double* v, double x_start) {
     for (std::size_t l = 0; l < N; ++l) {
       ip[l] = 0;
