@@ -133,9 +133,10 @@ std::vector<EffectPeak> static_extremes(const InfluenceLines& il, const load::Tr
     }
     std::fill(y.begin(), y.end(), 0.0);
     for (const Tap& t : taps) {
-      if (t.i < 0) {
-        for (std::size_t q = 0; q < nq; ++q) y[q] += t.load * 0.0;
-      } else if (t.i == n_samples - 1) {
+      // Off the lines InfluenceLines::at gives 0: y + load·0 is y for a load Train::validate
+      // admits (finite, > 0), so the axle adds nothing.
+      if (t.i < 0) continue;
+      if (t.i == n_samples - 1) {
         for (std::size_t q = 0; q < nq; ++q) y[q] += t.load * il.value[q][t.i];
       } else {
         for (std::size_t q = 0; q < nq; ++q) {
