@@ -174,7 +174,7 @@ py::tuple assess(const viaduct::io::FlatScenario& flat_in, int threads, const py
   const std::string report = io::assessment_report(r, flat, "viaduct.assess (Python)", false);
   if (out) {
     io::begin_outputs(*out);
-    io::write_assessment_tables(*out, r);
+    io::write_assessment_tables(*out, r, ao.threads);
     io::write_text_file(*out + "/report.md", report);
     io::write_text_file(*out + "/report.html", io::report_html(report, r.nominal().title, *out));
   }

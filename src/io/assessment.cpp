@@ -687,10 +687,10 @@ study::AssessPlan plan_assessment(FlatScenario& flat, const std::string& scenari
   return p;
 }
 
-void write_assessment_tables(const std::string& out, const study::AssessResult& r) {
+void write_assessment_tables(const std::string& out, const study::AssessResult& r, int n_threads) {
   const auto& variants = r.plan.variants;
   write_envelope_csv(out + "/envelope.csv", r.sweep.rows, variants);
-  write_quantities_csv(out + "/load_effects.csv", r.sweep.quantities, variants);
+  write_quantities_csv(out + "/load_effects.csv", r.sweep.quantities, variants, n_threads);
   write_governing_csv(out + "/governing.csv", study::governing(r.sweep.rows));
   write_failures_csv(out + "/failures.csv", r.sweep.failures);
   write_checks_csv(out + "/checks.csv", r.checks);

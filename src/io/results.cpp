@@ -25,6 +25,7 @@
 #endif
 #include "atomic_file.hpp"
 #include "csv_cells.hpp"
+#include "viaduct/core/thread_pool.hpp"
 #include "viaduct/io/scenario.hpp"
 
 namespace viaduct::io {
@@ -77,6 +78,12 @@ void add_g10(std::string& line, double x) {
   line.append(b, std::to_chars(b, b + sizeof b, x, std::chars_format::general, 10).ptr);
 }
 
+// A text cell as csv_text writes it, appended to line (no temporary string for a plain one).
+void add_text(std::string& line, const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) line += s;
+  else line += csv_text(s);
+}
+
 // The variant's columns of a sweep table: its label and, with variants, a KEY_factor column per
 // varied key (the reference alone has none). header() writes the names, row() a row's cells.
 class VariantColumns {
@@ -92,10 +99,13 @@ class VariantColumns {
   void row(std::FILE* f, const std::string& variant, const char* file) const {
     std::fprintf(f, "%s", csv_text(variant).c_str());
     if (keys_.empty()) return;
-    const auto it = by_label_.find(variant);
-    if (it == by_label_.end() || it->second->factors.size() != keys_.size())
-      throw SolverError(std::string(file) + ": row of an unknown variant '" + variant + "'");
-    for (const auto& kf : it->second->factors) std::fprintf(f, ",%.10g", kf.second);
+    for (const auto& kf : factors_of(variant, file)) std::fprintf(f, ",%.10g", kf.second);
+  }
+  // row()'s cells appended to line (the same text: add_g10 writes %.10g's).
+  void row_text(std::string& line, const std::string& variant, const char* file) const {
+    add_text(line, variant);
+    if (keys_.empty()) return;
+    for (const auto& kf : factors_of(variant, file)) add_g10(line, kf.second);
   }
   const std::vector<std::pair<std::string, double>>& keys() const { return keys_; }
   // The factors of a row's variant on each varied key.
@@ -107,6 +117,13 @@ class VariantColumns {
   }
 
  private:
+  // The factors of a row's variant in table `file`; SolverError naming the file when unknown.
+  const std::vector<std::pair<std::string, double>>& factors_of(const std::string& variant, const char* file) const {
+    const auto it = by_label_.find(variant);
+    if (it == by_label_.end() || it->second->factors.size() != keys_.size())
+      throw SolverError(std::string(file) + ": row of an unknown variant '" + variant + "'");
+    return it->second->factors;
+  }
   std::vector<std::pair<std::string, double>> keys_;
   std::map<std::string, const study::Variant*> by_label_;
 };
@@ -225,25 +242,53 @@ void write_vehicle_envelope_csv(const std::string& path, const std::vector<study
   f.commit();
 }
 
+namespace {
+// One row of load_effects.csv appended to text.
+void quantity_row(std::string& text, const VariantColumns& vc, const study::QuantityRow& r) {
+  vc.row_text(text, r.variant, "load_effects.csv");
+  text += ',';
+  add_text(text, r.train);
+  add_g10(text, r.speed * 3.6);
+  text += ',';
+  add_text(text, r.quantity);
+  for (double x : {r.dynamic.max, r.dynamic.min, r.dynamic.max_abs(), r.quasi_static.max, r.quasi_static.min}) add_g10(text, x);
+  // table_cell's text (an empty cell for NaN, else %.10g) without an ostringstream a row: 4.5 %
+  // of the 31-station sweep on one thread (perf).
+  if (const double phi = r.phi_dyn(); std::isnan(phi)) text += ',';
+  else add_g10(text, phi);
+  text += '\n';
+}
+}  // namespace
+
 void write_quantities_csv(const std::string& path, const std::vector<study::QuantityRow>& rows,
-                          const std::vector<study::Variant>& variants) {
+                          const std::vector<study::Variant>& variants, int n_threads) {
   const VariantColumns vc(variants);
   AtomicFile f(path);
   vc.header(f.get());
   std::fprintf(f.get(), ",train,speed_kmh,quantity,max,min,max_abs,quasi_static_max,quasi_static_min,phi_dyn\n");
-  std::string line;
-  for (const auto& r : rows) {
-    vc.row(f.get(), r.variant, "load_effects.csv");
-    line = "," + csv_text(r.train);
-    add_g10(line, r.speed * 3.6);
-    line += "," + csv_text(r.quantity);
-    for (double x : {r.dynamic.max, r.dynamic.min, r.dynamic.max_abs(), r.quasi_static.max, r.quasi_static.min}) add_g10(line, x);
-    // table_cell's text (an empty cell for NaN, else %.10g) without an ostringstream a row: 4.5 %
-    // of the 31-station sweep on one thread (perf).
-    if (const double phi = r.phi_dyn(); std::isnan(phi)) line += ',';
-    else add_g10(line, phi);
-    line += '\n';
-    std::fputs(line.c_str(), f.get());
+  // Blocks of rows formatted on the threads and written in order, a wave of blocks at a time (the
+  // text held at once bounded: about 3.6 MB a wave on two threads). Formatting was most of what
+  // runs on one core after the cases of a sweep with load effects (docs/benchmarks.md).
+  constexpr std::size_t kBlock = 2048;
+  const int nt = std::max(1, n_threads);
+  const std::size_t n_blocks = (rows.size() + kBlock - 1) / kBlock, wave = 8 * static_cast<std::size_t>(nt);
+  std::vector<std::string> text(std::min(wave, n_blocks)), error(text.size());
+  for (std::size_t b0 = 0; b0 < n_blocks; b0 += wave) {
+    const std::size_t nb = std::min(wave, n_blocks - b0);
+    parallel_for(nb, std::min(nt, static_cast<int>(nb)), [&](std::size_t i, int) {
+      text[i].clear();
+      error[i].clear();
+      try {
+        const std::size_t a = (b0 + i) * kBlock, b = std::min(rows.size(), a + kBlock);
+        for (std::size_t k = a; k < b; ++k) quantity_row(text[i], vc, rows[k]);
+      } catch (const std::exception& e) {  // a body must not throw: rethrown below, in order
+        error[i] = e.what();
+      }
+    });
+    for (std::size_t i = 0; i < nb; ++i) {
+      if (!error[i].empty()) throw SolverError(error[i]);
+      std::fputs(text[i].c_str(), f.get());
+    }
   }
   f.commit();
 }

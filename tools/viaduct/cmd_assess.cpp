@@ -83,7 +83,7 @@ int run_assess(const Common& o, const AssessOptions& opts) {
   ao.progress = progress_printer("assess", o.quiet);
   const study::AssessResult r = study::run_assessment(std::move(plan), ao);
   const study::AssessPlan& p = r.plan;
-  io::write_assessment_tables(o.out, r);
+  io::write_assessment_tables(o.out, r, o.threads);
   io::Manifest m = start_manifest(o, "assess");
   m.as_run = io::settings_as_run(r.nominal().settings);
   m.warnings = p.warnings;

@@ -131,7 +131,7 @@ int run_sweep_command(const Common& o, const SweepOpts& opts) {
     }
     const study::SweepResult r = study::run_sweep(variants, so);
     io::write_envelope_csv(o.out + "/envelope.csv", r.rows, variants);
-    if (opts.load_effects) io::write_quantities_csv(o.out + "/load_effects.csv", r.quantities, variants);
+    if (opts.load_effects) io::write_quantities_csv(o.out + "/load_effects.csv", r.quantities, variants, o.threads);
     if (!r.vehicles.empty()) io::write_vehicle_envelope_csv(o.out + "/vehicles.csv", r.vehicles, variants);
     io::write_failures_csv(o.out + "/failures.csv", r.failures);
     const std::vector<study::GoverningRow> gov = study::governing(r.rows);

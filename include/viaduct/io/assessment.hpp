@@ -19,8 +19,9 @@ namespace viaduct::io {
 study::AssessPlan plan_assessment(FlatScenario& flat, const std::string& scenario, int threads = 1);
 
 /// The tables of `r` into the directory `out`: envelope.csv, load_effects.csv, governing.csv,
-/// failures.csv, checks.csv, phi_dyn.csv, mass_cases.csv and, with vehicles, vehicles.csv.
-void write_assessment_tables(const std::string& out, const study::AssessResult& r);
+/// failures.csv, checks.csv, phi_dyn.csv, mass_cases.csv and, with vehicles, vehicles.csv
+/// (load_effects.csv formatted on n_threads threads: the same file for any count).
+void write_assessment_tables(const std::string& out, const study::AssessResult& r, int n_threads = 1);
 
 /// checks.csv's columns (the numbers unrounded, speed_kmh NaN where no case governs) and
 /// phi_dyn.csv's: what the Python package hands over as tables.

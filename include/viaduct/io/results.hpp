@@ -46,9 +46,10 @@ std::vector<TableColumn> vehicle_envelope_columns(const std::vector<study::Vehic
                                                  const std::vector<study::Variant>& variants);
 /// load_effects.csv of a sweep with load effects: variant (KEY_factor columns as envelope.csv),
 /// train, speed_kmh, quantity (its unit in its name), max, min, max_abs over the run,
-/// quasi_static_max/min (the train crawling), phi_dyn (empty when the quasi-static is 0).
+/// quasi_static_max/min (the train crawling), phi_dyn (empty when the quasi-static is 0). The rows
+/// are formatted on n_threads threads (the same file for any count).
 void write_quantities_csv(const std::string& path, const std::vector<study::QuantityRow>& rows,
-                          const std::vector<study::Variant>& variants);
+                          const std::vector<study::Variant>& variants, int n_threads = 1);
 /// vehicles.csv of a sweep with vehicle models: variant (KEY_factor columns as envelope.csv),
 /// train, speed_kmh, min_contact_N, max_contact_N, max_unloading_ratio, contact_lost (a wheel
 /// left the rail, or its linear contact force went below zero), max_airborne_s,
