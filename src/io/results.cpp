@@ -97,11 +97,11 @@ class VariantColumns {
     for (const auto& kf : keys_) std::fprintf(f, ",%s", csv_text(kf.first + "_factor").c_str());
   }
   void row(std::FILE* f, const std::string& variant, const char* file) const {
-    std::fprintf(f, "%s", csv_text(variant).c_str());
-    if (keys_.empty()) return;
-    for (const auto& kf : factors_of(variant, file)) std::fprintf(f, ",%.10g", kf.second);
+    std::string line;
+    row_text(line, variant, file);
+    std::fputs(line.c_str(), f);
   }
-  // row()'s cells appended to line (the same text: add_g10 writes %.10g's).
+  // row()'s cells appended to line (add_g10 writes what printf's %.10g writes).
   void row_text(std::string& line, const std::string& variant, const char* file) const {
     add_text(line, variant);
     if (keys_.empty()) return;
@@ -110,10 +110,7 @@ class VariantColumns {
   const std::vector<std::pair<std::string, double>>& keys() const { return keys_; }
   // The factors of a row's variant on each varied key.
   const std::vector<std::pair<std::string, double>>& factors(const std::string& variant) const {
-    const auto it = by_label_.find(variant);
-    if (it == by_label_.end() || it->second->factors.size() != keys_.size())
-      throw SolverError("envelope: row of an unknown variant '" + variant + "'");
-    return it->second->factors;
+    return factors_of(variant, "envelope");
   }
 
  private:
