@@ -264,6 +264,9 @@ void plan_variants(FlatScenario& flat, const study::AssessConfig& c, study::Asse
   study::Scenario sc = nominal;
   sc.trains = trains;
   p.warnings = study::scenario_warnings(sc, speeds);
+  if (p.zeta_given)  // the damping is the assessment's key, which replaced the bridge's
+    for (std::string& w : p.warnings)
+      if (w.rfind("bridge.damping.ratio = ", 0) == 0) w.replace(0, 20, "assess.damping_ratio");
   if (c.edition != study::Edition::en2003)  // the warnings name the 2003 figure: cite the edition's
     for (std::string& w : p.warnings)
       for (const auto& [was, clause] : {std::pair<std::string, study::Clause>{"EN 1991-2 Fig. 6.10", study::Clause::frequency_limits},

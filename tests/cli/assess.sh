@@ -249,6 +249,12 @@ expect 0 "below the 500 kg/m of any railway deck" -- cat "$SL-m2/report.md"
 # the HSLM span's f1 = 5 Hz lies just under Fig. 6.10's 5.33 Hz: warned of, with no unit to check
 expect 0 "outside EN 1991-2 Fig. 6.10's 5.33 to 12.5 Hz" -- cat "$O/report.md"
 expect 1 "" -- grep -q "check the unit" "$O/report.md"
+# A damping percentage given as a ratio (0.5 for 0.5 %): warned of under the assessment's own key,
+# which replaces the bridge's; Table 6.6's value (the runs above) is not.
+expect 0 "assess.damping_ratio = 0.5 (50 % of critical)" -- "$VIADUCT" assess "$HS" --no-pdf --no-plots \
+  --set assess.damping_ratio=0.5 --set assess.speed_min_kmh=400 --set assess.speed_step_kmh=20 --set assess.refine_band=0 --out "$SL-z"
+expect 0 "the key is a ratio, not a percentage" -- cat "$SL-z/report.md"
+expect 1 "" -- grep -q "of critical" "$O/report.md"
 # Stations along a span: a 15 m and a 10 m span, the station "L" on the first and stations "L_b"
 # along the second: each deflection is checked against its own span's L/600 (the longest
 # station name that prefixes a quantity names its span: L_b_5.00m_disp_m is L_b's, not L's).

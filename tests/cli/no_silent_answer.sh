@@ -70,6 +70,18 @@ expect 0 "check the unit of bridge.EI (N·m², not kN·m²" -- "$VIADUCT" run "$
 expect 0 "beyond L/100" -- grep -F "L/100" "$WORK/ei/manifest.toml"
 expect 0 "check the unit of bridge.mass_per_m (kg/m, not t/m" -- "$VIADUCT" run "$HS" --set bridge.mass_per_m=15.0 --out "$WORK/o"
 expect 0 "bridge.bearings.k (N/m)" -- "$VIADUCT" check "$HS" --set bridge.bearings.rigid=false --set bridge.bearings.k=1e3
+# damping in percent where a ratio is asked (0.5 for 0.5 %: 2.03 m/s² instead of 72.9 under HSLM-A1)
+expect 0 "bridge.damping.ratio = 0.5 (50 % of critical)" -- "$VIADUCT" run "$HS" --set bridge.damping.ratio=0.5 --out "$WORK/z"
+expect 0 "the key is a ratio, not a percentage" -- grep -F "of critical" "$WORK/z/manifest.toml"
+expect 0 "bridge.damping.ratio2 = 0.2 (20 % of critical)" -- "$VIADUCT" check "$HS" --set 'bridge.damping.kind="rayleigh"' \
+  --set bridge.damping.f1_hz=5 --set bridge.damping.f2_hz=20 --set bridge.damping.ratio1=0.02 --set bridge.damping.ratio2=0.2
+expect 1 "" -- sh -c '"$1" check "$2" --set bridge.damping.ratio=0.05 2>&1 | grep -q "of critical"' sh "$VIADUCT" "$HS"
+# axle loads in tonnes where kN are asked (every response a tenth of the true one); HSLM-A1's are not
+printf 'position_m,load_kN\n0,17\n2.5,17\n17.5,17\n20,17\n' > "$WORK/tonnes.csv"
+expect 0 "train tonnes: its heaviest axle carries 17 kN, below the 40 kN" -- "$VIADUCT" run "$HS" \
+  --set "train.files=[\"$WORK/tonnes.csv\"]" --out "$WORK/t17"
+expect 0 "(kN, not t: 17 t is 167 kN)" -- cat "$WORK/t17/manifest.toml"
+expect 1 "" -- sh -c '"$1" check "$2" 2>&1 | grep -q "heaviest axle carries"' sh "$VIADUCT" "$HS"
 expect 0 "1 element; it needs 4" -- "$VIADUCT" check "$HS" --set bridge.element_size=15
 expect 0 "use analysis.method = \"newmark\" below" -- "$VIADUCT" check "$SRC/scenarios/old-guadiana-talgo.toml" \
   --set 'analysis.preset="default"' --set run.speed_kmh=20

@@ -41,6 +41,14 @@ constexpr double kMaxDeflectionRatio = 100.0;
 /// [kg/m] A deck lighter than this per metre is not a railway bridge's (mass in t/m, or the deck
 /// of one girder).
 constexpr double kMinMassPerMetre = 500.0;
+/// [-] A structural damping ratio above this is not a railway bridge's (EN 1991-2 Table 6.6's lower
+/// bounds are 0.5 to 2.6 %): a percentage entered as a ratio (0.5 for 0.5 %), which lowers the
+/// resonant response and passes a check that should fail.
+constexpr double kMaxDampingRatio = 0.10;
+/// [N] A train whose heaviest axle is lighter than this is no railway train (the lightest axles in
+/// service, an empty bogie wagon's, carry about 45 kN; a 35 t axle in tonnes reads 35): loads in
+/// tonnes where kN are asked.
+constexpr double kMinHeaviestAxleN = 40e3;
 
 /// [Hz] EN 1991-2 6.4.4 Fig. 6.10: the limits of a simply supported span's first natural frequency
 /// for a span of L [m] in [4, 100] (outside: the limits at the nearer end).
@@ -52,7 +60,8 @@ FrequencyLimits fig_6_10_limits(double span_m);
 /// Warnings about the model `s` built from `sc` (run at `speeds` [m/s]): a deck too coarse for its
 /// spans or its band, the modal method at speeds where its floor dominates, and the plausibility of
 /// the inputs — each span's f1 against Fig. 6.10 (far outside: the key whose unit to check), its
-/// mass per metre, its static deflection under the heaviest axle against L/100 (a unit slip warned,
+/// mass per metre, the bridge's damping ratios against kMaxDampingRatio, each train's heaviest axle
+/// against kMinHeaviestAxleN, its static deflection under the heaviest axle against L/100 (a unit slip warned,
 /// never reported as a result). Every warning names the key, the figure and its measured effect.
 std::vector<std::string> model_warnings(const Scenario& sc, const model::Structure& s, const std::vector<double>& speeds);
 
