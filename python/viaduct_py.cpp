@@ -352,6 +352,8 @@ py::dict compare(const py::handle& record, double fs_record, const py::handle& m
   d["f_peak_record_hz"] = c.f_peak_record_hz;
   d["f_peak_model_hz"] = c.f_peak_model_hz;
   d["spectral_correlation"] = c.spectral_correlation;
+  // a unit's factor between record and model with the same shape: the warning viaduct compare prints
+  d["unit_warning"] = study::unit_slip_warning(c.peak_ratio, c.rms_ratio, c.correlation, "record");
   d["t"] = to_numpy(std::move(c.t));
   d["record"] = to_numpy(std::move(c.record));
   d["model"] = to_numpy(std::move(c.model));

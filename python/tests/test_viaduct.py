@@ -323,6 +323,10 @@ def test_compare_equals_the_cli(src, cli, tmp_path):
         close_to_printed([c[k]], ref[k], 8)
     overlay = read_csv(tmp_path / "compare_time.csv")
     close_to_printed(c["model"], overlay["deck_acc_model_mps2"], 9)
+    assert c["unit_warning"] == ""
+    # The record in g read as m/s²: the same warning as the CLI's.
+    g = viaduct.compare(rec["deck_acc_mps2"] / 9.80665, rec.fs_hz, h["S1_mid_acc_mps2"], 1.0 / (t[1] - t[0]), t0_record=rec.t0_s)
+    assert "the factor between g and m/s²" in g["unit_warning"]
     with pytest.raises(viaduct.InputError):
         viaduct.compare(rec["deck_acc_mps2"][:5], rec.fs_hz, h["S1_mid_acc_mps2"], 1000.0)
 

@@ -396,8 +396,10 @@ def compare(record, fs_record, model, fs_model, t0_record=0.0, low_hz=1.0, high_
     """A record channel against a model quantity in the same unit, as ``viaduct compare``: both
     filtered alike (at their own rates), the model aligned onto the record (shift_s: record time
     of the model's t = 0), and the metrics peak_record, peak_model, peak_ratio, rms_ratio,
-    correlation, f_peak_record_hz, f_peak_model_hz, spectral_correlation, with the overlays t,
-    record, model and the spectra frequency_hz, record_amplitude, model_amplitude (a dict)."""
+    correlation, f_peak_record_hz, f_peak_model_hz, spectral_correlation, unit_warning (the
+    text ``viaduct compare`` warns with when record and model are a unit's factor apart with the
+    same shape, e.g. a record in g read as m/s²; "" otherwise), with the overlays t, record,
+    model and the spectra frequency_hz, record_amplitude, model_amplitude (a dict)."""
     return _viaduct.compare(record, fs_record, model, fs_model, t0_record, low_hz, high_hz, order, ripple_db, band,
                             filter, max_shift_s, spectrum_max_hz)
 

@@ -146,6 +146,9 @@ std::vector<std::string> passage_warnings(const study::PassageStudy& r, const st
       if (!c.offset_warning.empty()) warnings.push_back(p.name + ", " + c.offset_warning);
   for (const auto& p : r.passages)
     for (const auto& c : p.channels)
+      if (!c.unit_warning.empty()) warnings.push_back(p.name + ", " + c.unit_warning + " (within = false)");
+  for (const auto& p : r.passages)
+    for (const auto& c : p.channels)
       if (c.residual != "white")
         warnings.push_back(p.name + ", " + c.channel + ": the record less the model holds a" +
                            (c.residual == "offset" ? "n offset" : " " + c.residual) + " of " + format_number(c.residual_size, 4) +

@@ -243,6 +243,30 @@ std::string offset_warning(const Level& pre, double peak, const std::string& cha
          cmp_num(100.0 * a / std::max(peak, 1e-300)) + " % of its peak: a zero offset? --zero pre-entry removes it";
 }
 
+std::string unit_slip_warning(double peak_ratio, double rms_ratio, double correlation, const std::string& channel) {
+  struct Factor {
+    double f;
+    const char* what;
+  };
+  static const Factor factors[] = {{9.80665, "between g and m/s²"},
+                                   {1e3, "between mm and m, kN and N, or mm/s² and m/s²"},
+                                   {1e6, "between µε and ε"}};
+  if (!(correlation >= 0.8) || !(peak_ratio > 0.0) || !(rms_ratio > 0.0)) return "";
+  const double band = std::log(1.2);
+  for (const Factor& u : factors)
+    for (const double sign : {1.0, -1.0}) {
+      const double f = std::pow(u.f, sign);
+      if (std::abs(std::log(peak_ratio / f)) < band && std::abs(std::log(rms_ratio / f)) < band)
+        return "channel " + channel + ": the record reads " + cmp_num(sign > 0 ? peak_ratio : 1.0 / peak_ratio) + " times " +
+               (sign > 0 ? "smaller" : "larger") + " than the model at the peak (" +
+               cmp_num(sign > 0 ? rms_ratio : 1.0 / rms_ratio) + " by RMS) with the same shape (correlation " +
+               cmp_num(correlation) + "): close to " + cmp_num(u.f) + ", the factor " + u.what +
+               ". A unit slip? Check the unit the channel's name gives (its suffix, e.g. _g or _mm; --unit for a name "
+               "without one)";
+    }
+  return "";
+}
+
 double response_onset_s(const Vector& model, double fs_model) {
   if (model.size() == 0) return 0.0;
   const double peak = model.cwiseAbs().maxCoeff();

@@ -72,6 +72,7 @@ void residual_of(const PassageChannel& ch, const Passage& p, const Vector& model
   v.residual = rs.kind;
   v.residual_size = rs.size;
   v.correlation = cc.correlation;
+  v.unit_warning = unit_slip_warning(cc.peak_ratio, cc.rms_ratio, cc.correlation, ch.name);
 }
 
 // A deflection or strain channel's zero: the record before the train's entry (where the aligned
@@ -160,7 +161,7 @@ PassageResult run_passage(const PreparedModel& m, const RunSettings& rs, const F
       v.residual = "offset";
       v.residual_size = v.zero_level_seen;
     }
-    v.within = v.residual == "white" && v.measured >= lo[i] - o.noise_band * v.noise_rms &&
+    v.within = v.residual == "white" && v.unit_warning.empty() && v.measured >= lo[i] - o.noise_band * v.noise_rms &&
                v.measured <= hi[i] + o.noise_band * v.noise_rms;
     res.channels.push_back(v);
   }

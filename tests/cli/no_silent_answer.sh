@@ -57,6 +57,19 @@ expect 2 "no train found" -- "$VIADUCT" speed "$WORK/flat.csv" --channel deck_di
 expect 2 "no train found between 100 and 140 km/h" -- "$VIADUCT" speed "$REC" --channel deck_disp --distance-m 13.14 --peaks \
   --min-interval-s 0.2 --v-min-kmh 100 --v-max-kmh 140 --out "$WORK/o"
 expect 0 "" -- "$VIADUCT" speed "$REC" --channel deck_disp --distance-m 13.14 --peaks --min-interval-s 0.2 --v-min-kmh 100 --v-max-kmh 200 --out "$WORK/o"
+# compare and passages on an acceleration in g read as m/s² (peak ratio 9.76, correlation 0.9999:
+# no word before stop 61), and a deflection in mm read as m; the record as made says nothing.
+awk -F, 'BEGIN{OFS=","} /^#/ || /^t_s/ {print; next} {$3 = $3 / 9.80665; $2 = $2 * 1000; print}' "$REC" > "$WORK/units.csv"
+expect 0 "times smaller than the model at the peak (9.711 by RMS)" -- "$VIADUCT" compare \
+  "$SRC/scenarios/old-guadiana-talgo.toml" --record "$WORK/units.csv" --map deck_acc=S1_mid --map deck_disp=S1_mid --out "$WORK/cu"
+expect 0 "the factor between mm and m" -- grep -F "deck_disp_m: the record reads 999.5 times larger" "$WORK/cu/manifest.toml"
+expect 1 "" -- sh -c '"$1" compare "$2" --record "$3" --map deck_acc=S1_mid --map deck_disp=S1_mid --out "$4" 2>&1 | grep -q "unit slip"' \
+  sh "$VIADUCT" "$SRC/scenarios/old-guadiana-talgo.toml" "$REC" "$WORK/cok"
+awk -F, 'BEGIN{OFS=","} /^#/ || /^t_s/ {print; next} {$2 = $2 / 9.80665; print}' "$PS/passage-01.csv" > "$WORK/g.csv"
+printf 'file,train,speed_kmh\ng.csv,HSLM-A1,252\n' > "$WORK/g-passages.csv"
+expect 0 "the factor between g and m/s². A unit slip?" -- "$VIADUCT" passages "$HS" --records "$WORK/g-passages.csv" \
+  --map mid_acc=mid --set analysis.method=modal --set sweep.speed_step_kmh=20 --out "$WORK/pg"
+expect 0 ",mid_acc_mps2,mid,acc,mps2," -- grep -F ",false," "$WORK/pg/passages.csv"
 # compare on a record cut inside the passage, and on a stuck channel: refused, naming the spans.
 head -n 1000 "$REC" > "$WORK/cut.csv"
 expect 2 "the record lost part of the passage" -- "$VIADUCT" compare "$SRC/scenarios/old-guadiana-talgo.toml" --record "$WORK/cut.csv" \

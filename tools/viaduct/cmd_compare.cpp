@@ -3,6 +3,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <string>
+#include <vector>
 
 #include "cli.hpp"
 #include "viaduct/io/record.hpp"
@@ -36,6 +38,24 @@ std::vector<Mapping> mappings_of(const std::vector<std::string>& pairs, const io
   }
   return maps;
 }
+
+// compare_time.csv's and compare_spectrum.csv's columns: each channel's record and model overlays.
+struct Overlays {
+  std::vector<std::string> tnames = {"t_s"}, fnames = {"frequency_hz"};
+  std::vector<Vector> tcols, fcols;
+  void add(const std::string& base, const std::string& u, const study::ChannelComparison& cc) {
+    if (tcols.empty()) tcols.push_back(cc.t);
+    tnames.push_back(base + "_record_" + u);
+    tcols.push_back(cc.record);
+    tnames.push_back(base + "_model_" + u);
+    tcols.push_back(cc.model);
+    if (fcols.empty()) fcols.push_back(cc.frequency_hz);
+    fnames.push_back(base + "_record_amp_" + u);
+    fcols.push_back(cc.record_amplitude);
+    fnames.push_back(base + "_model_amp_" + u);
+    fcols.push_back(cc.model_amplitude);
+  }
+};
 
 struct CompareOptions {
   std::optional<std::string> record, train;
@@ -93,8 +113,7 @@ int compare_body(const Common& o, const CompareOptions& k) {
   study::ComparisonOptions co;
   co.filter = sc.settings.filter;
   co.max_shift_s = k.max_shift_s;
-  std::vector<std::string> tnames = {"t_s"}, fnames = {"frequency_hz"};
-  std::vector<Vector> tcols, fcols;
+  Overlays ov;
   std::vector<std::string> mnames = {"channel", "station", "quantity", "shift_s", "peak_record", "peak_model",
                                      "peak_ratio", "rms_ratio", "correlation", "f_peak_record_hz", "f_peak_model_hz",
                                      "spectral_correlation", "zero_removed"};
@@ -127,18 +146,11 @@ int compare_body(const Common& o, const CompareOptions& k) {
       throw InputError("record " + record_path + ", channel " + rec.channels[mp.channel] + ": " + e.what() +
                        (cut ? " (the record was cut to where the channels used have values: see the warning above)" : ""));
     }
+    const std::string slip = study::unit_slip_warning(cc.peak_ratio, cc.rms_ratio, cc.correlation, rec.channels[mp.channel]);
+    if (!slip.empty()) warnings.push_back(slip);
     const std::string base = rec.channels[mp.channel].substr(0, rec.channels[mp.channel].size() - rec.units[mp.channel].size() - 1);
     const std::string& u = rec.units[mp.channel];
-    if (tcols.empty()) tcols.push_back(cc.t);
-    tnames.push_back(base + "_record_" + u);
-    tcols.push_back(cc.record);
-    tnames.push_back(base + "_model_" + u);
-    tcols.push_back(cc.model);
-    if (fcols.empty()) fcols.push_back(cc.frequency_hz);
-    fnames.push_back(base + "_record_amp_" + u);
-    fcols.push_back(cc.record_amplitude);
-    fnames.push_back(base + "_model_amp_" + u);
-    fcols.push_back(cc.model_amplitude);
+    ov.add(base, u, cc);
     auto num = [](double v) { return io::table_cell(v, 8); };
     metrics.push_back({rec.channels[mp.channel], sc.stations[mp.station].name, study::response_name(mp.kind), num(cc.shift_s),
                        num(cc.peak_record), num(cc.peak_model), num(cc.peak_ratio), num(cc.rms_ratio),
@@ -151,8 +163,8 @@ int compare_body(const Common& o, const CompareOptions& k) {
   }
   for (const auto& w : warnings) std::fprintf(stderr, "viaduct compare: warning: %s\n", w.c_str());
   make_out_dir(o.out);
-  io::write_columns_csv(o.out + "/compare_time.csv", tnames, tcols);
-  io::write_columns_csv(o.out + "/compare_spectrum.csv", fnames, fcols);
+  io::write_columns_csv(o.out + "/compare_time.csv", ov.tnames, ov.tcols);
+  io::write_columns_csv(o.out + "/compare_spectrum.csv", ov.fnames, ov.fcols);
   io::write_table_csv(o.out + "/compare_metrics.csv", mnames, metrics);
   io::Manifest m = start_manifest(o, "compare");
   m.inputs = {record_path};

@@ -74,6 +74,8 @@ struct ChannelVerdict {
   double zero_removed = 0.0;    ///< the level subtracted (PassageOptions::zero; 0 when kept)
   std::string offset_warning;   ///< when kept: the level before the train's entry is an offset (offset_warning); not within
   double zero_level_seen = 0.0; ///< the level before the train's entry (when kept)
+  /// The record and the model a unit's factor apart with the same shape (unit_slip_warning); not within.
+  std::string unit_warning;
   /// See PassageOptions::noise_band; false when the residual is structured.
   bool within = false;
 };

@@ -50,3 +50,24 @@ TEST_CASE("comparison recovers a known time shift and gain on a simulated record
   bad[3] = NAN;
   REQUIRE_THROWS_WITH(compare_channel(bad, fs, 0.0, acc, 500.0, o), Catch::Contains("non-finite"));
 }
+
+TEST_CASE("a unit's factor between record and model with the same shape is named, a model's error is not") {
+  // g read as m/s²: the model 9.81 times the record.
+  const std::string g = unit_slip_warning(9.76, 9.71, 0.9999, "deck_acc_mps2");
+  REQUIRE_THAT(g, Catch::Contains("channel deck_acc_mps2: the record reads 9.76 times smaller"));
+  REQUIRE_THAT(g, Catch::Contains("the factor between g and m/s²"));
+  // mm read as m: the record 1000 times the model; µε read as ε.
+  REQUIRE_THAT(unit_slip_warning(1e-3, 1.02e-3, 0.99, "d_m"), Catch::Contains("reads 1000 times larger"));
+  REQUIRE_THAT(unit_slip_warning(1e-3, 1.02e-3, 0.99, "d_m"), Catch::Contains("between mm and m"));
+  REQUIRE_THAT(unit_slip_warning(0.9e6, 1.1e6, 0.95, "s_ue"), Catch::Contains("between µε and ε"));
+  // The band is 20 % on both ratios (log distance): 1.19 x the factor in, 1.21 x out.
+  REQUIRE_FALSE(unit_slip_warning(1.19 * 9.80665, 9.80665, 0.9, "a").empty());
+  REQUIRE(unit_slip_warning(1.21 * 9.80665, 9.80665, 0.9, "a").empty());
+  REQUIRE(unit_slip_warning(9.80665, 9.80665 / 1.21, 0.9, "a").empty());
+  // Another shape is a model's error, not a unit's: no word below a correlation of 0.8.
+  REQUIRE(unit_slip_warning(9.80665, 9.80665, 0.79, "a").empty());
+  // A model within a factor of two, and undefined ratios, say nothing.
+  REQUIRE(unit_slip_warning(1.6, 1.5, 0.99, "a").empty());
+  REQUIRE(unit_slip_warning(std::nan(""), 9.8, 0.99, "a").empty());
+  REQUIRE(unit_slip_warning(0.0, 9.8, 0.99, "a").empty());
+}
