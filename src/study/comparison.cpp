@@ -243,7 +243,8 @@ std::string offset_warning(const Level& pre, double peak, const std::string& cha
          cmp_num(100.0 * a / std::max(peak, 1e-300)) + " % of its peak: a zero offset? --zero pre-entry removes it";
 }
 
-std::string unit_slip_warning(double peak_ratio, double rms_ratio, double correlation, const std::string& channel) {
+std::string unit_slip_warning(double peak_ratio, double rms_ratio, double correlation, const std::string& channel,
+                              double band) {
   struct Factor {
     double f;
     const char* what;
@@ -251,12 +252,12 @@ std::string unit_slip_warning(double peak_ratio, double rms_ratio, double correl
   static const Factor factors[] = {{9.80665, "between g and m/s²"},
                                    {1e3, "between mm and m, kN and N, or mm/s² and m/s²"},
                                    {1e6, "between µε and ε"}};
-  if (!(correlation >= 0.8) || !(peak_ratio > 0.0) || !(rms_ratio > 0.0)) return "";
-  const double band = std::log(1.2);
+  if (!(correlation >= 0.8) || !(peak_ratio > 0.0) || !(rms_ratio > 0.0) || !(band > 1.0)) return "";
+  const double tol = std::log(band);
   for (const Factor& u : factors)
     for (const double sign : {1.0, -1.0}) {
       const double f = std::pow(u.f, sign);
-      if (std::abs(std::log(peak_ratio / f)) < band && std::abs(std::log(rms_ratio / f)) < band)
+      if (std::abs(std::log(peak_ratio / f)) < tol && std::abs(std::log(rms_ratio / f)) < tol)
         return "channel " + channel + ": the record reads " + cmp_num(sign > 0 ? peak_ratio : 1.0 / peak_ratio) + " times " +
                (sign > 0 ? "smaller" : "larger") + " than the model at the peak (" +
                cmp_num(sign > 0 ? rms_ratio : 1.0 / rms_ratio) + " by RMS) with the same shape (correlation " +

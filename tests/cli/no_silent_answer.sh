@@ -70,6 +70,16 @@ printf 'file,train,speed_kmh\ng.csv,HSLM-A1,252\n' > "$WORK/g-passages.csv"
 expect 0 "the factor between g and m/s². A unit slip?" -- "$VIADUCT" passages "$HS" --records "$WORK/g-passages.csv" \
   --map mid_acc=mid --set analysis.method=modal --set sweep.speed_step_kmh=20 --out "$WORK/pg"
 expect 0 ",mid_acc_mps2,mid,acc,mps2," -- grep -F ",false," "$WORK/pg/passages.csv"
+# fit against that acceleration in g: named at the initial values (the fit alone said only "ended
+# on its upper bound"); the record as simulated says nothing.
+expect 0 "" -- "$VIADUCT" run "$HS" --speed-kmh 300 --train HSLM-A1 --out "$WORK/h300" --quiet
+awk -F, 'BEGIN{OFS=","} NR==1{for(i=1;i<=NF;i++) if($i=="mid_acc_mps2") k=i; print; next} {$k=$k/9.80665; print}' \
+  "$WORK/h300/history.csv" > "$WORK/h300g.csv"
+expect 0 "at the initial values: channel mid_acc_mps2: the record reads 9.807 times smaller" -- "$VIADUCT" fit "$HS" \
+  --record "$WORK/h300g.csv" --map mid_acc_mps2=mid --train HSLM-A1 --speed-kmh 300 --param bridge.EI=5e9:1e10 --out "$WORK/fg"
+expect 0 "the factor between g and m/s²" -- cat "$WORK/fg/fit.toml"
+expect 1 "" -- sh -c '"$1" fit "$2" --record "$3" --map mid_acc_mps2=mid --train HSLM-A1 --speed-kmh 300 --param bridge.EI=5e9:1e10 \
+  --out "$4" 2>&1 | grep -q "unit slip"' sh "$VIADUCT" "$HS" "$WORK/h300/history.csv" "$WORK/fok"
 # compare on a record cut inside the passage, and on a stuck channel: refused, naming the spans.
 head -n 1000 "$REC" > "$WORK/cut.csv"
 expect 2 "the record lost part of the passage" -- "$VIADUCT" compare "$SRC/scenarios/old-guadiana-talgo.toml" --record "$WORK/cut.csv" \

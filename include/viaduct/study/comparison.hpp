@@ -93,12 +93,14 @@ Level level_between(const Vector& x, double fs_hz, double t0_s, double from_s, d
 std::string offset_warning(const Level& pre_entry, double peak, const std::string& channel, const std::string& unit);
 
 /// A warning, or "": the record and the model differ by a unit's factor over the whole passage
-/// while their shapes agree — the peak and the RMS ratios (model / record) both within 20 % of
+/// while their shapes agree — the peak and the RMS ratios (model / record) both within `band`
+/// (1.2: 20 %, as a ratio either way) of
 /// 9.80665 (g against m/s²), 1000 (mm against m, kN against N) or 1e6 (µε against ε), or of
 /// their inverses, with a correlation of at least 0.8. A model that far off in amplitude alone,
 /// with the record's shape, is rarer than a channel in another unit than its name says (a record
 /// in g read as m/s² gave peak ratio 9.76, RMS ratio 9.71, correlation 0.9999 and no word).
-std::string unit_slip_warning(double peak_ratio, double rms_ratio, double correlation, const std::string& channel);
+std::string unit_slip_warning(double peak_ratio, double rms_ratio, double correlation, const std::string& channel,
+                              double band = 1.2);
 
 /// [s] The model's time at which its response first exceeds 1 % of its peak: the train's entry
 /// as the station sees it (0 for a zero response).

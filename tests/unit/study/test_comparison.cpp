@@ -70,4 +70,8 @@ TEST_CASE("a unit's factor between record and model with the same shape is named
   REQUIRE(unit_slip_warning(1.6, 1.5, 0.99, "a").empty());
   REQUIRE(unit_slip_warning(std::nan(""), 9.8, 0.99, "a").empty());
   REQUIRE(unit_slip_warning(0.0, 9.8, 0.99, "a").empty());
+  // A wider band (fit: the initial values are tens of percent off) takes 1.45 x the factor.
+  REQUIRE(unit_slip_warning(1.45 * 9.80665, 1.3 * 9.80665, 0.9, "a").empty());
+  REQUIRE_FALSE(unit_slip_warning(1.45 * 9.80665, 1.3 * 9.80665, 0.9, "a", 1.5).empty());
+  REQUIRE(unit_slip_warning(1.55 * 9.80665, 9.80665, 0.9, "a", 1.5).empty());
 }
