@@ -226,6 +226,33 @@ std::vector<std::pair<std::string, double>> ballast_bounds(const study::AssessCo
   return {{"mass lower", (c.ballast_lower - 1.0) * ballast}, {"mass upper", (c.ballast_upper - 1.0) * ballast}};
 }
 
+// Every span that no deck station of `sc` lies on gets three: at a quarter, the middle and three
+// quarters of it (span<k>_L4, span<k>_mid, span<k>_3L4; the quarter points for the second bending
+// mode, whose node is the middle). The deck's accelerations and deflections are checked on every
+// span (EN 1990 A2.4.4.2.1, A2.4.4.3), not only on those the scenario names. Returns the names.
+std::vector<std::string> add_span_stations(study::Scenario& sc) {
+  std::vector<bool> covered(sc.bridge.spans.size(), false);
+  for (const auto& st : sc.stations)
+    if (st.on_deck && st.span < covered.size()) covered[st.span] = true;
+  auto taken = [&](const std::string& name) {
+    return std::any_of(sc.stations.begin(), sc.stations.end(), [&](const study::StationSpec& s) { return s.name == name; });
+  };
+  std::vector<std::string> added;
+  for (std::size_t k = 0; k < covered.size(); ++k) {
+    if (covered[k]) continue;
+    for (const auto& [suffix, at] : {std::pair<const char*, double>{"L4", 0.25}, {"mid", 0.5}, {"3L4", 0.75}}) {
+      study::StationSpec st;
+      st.name = "span" + std::to_string(k + 1) + "_" + suffix;
+      while (taken(st.name)) st.name += "_";
+      st.span = k;
+      st.x_local = at * sc.bridge.spans[k].length;
+      sc.stations.push_back(st);
+      added.push_back(st.name);
+    }
+  }
+  return added;
+}
+
 // The mass variants (lower and upper bound, or one nominal case), each with every train and its speeds.
 void plan_variants(FlatScenario& flat, const study::AssessConfig& c, study::AssessPlan& p, int threads) {
   const study::Scenario nominal = to_scenario(flat);
@@ -253,6 +280,13 @@ void plan_variants(FlatScenario& flat, const study::AssessConfig& c, study::Asse
     v.label = label;
     v.scenario = to_scenario(f);
     v.scenario.trains = trains;
+    const std::vector<std::string> added = add_span_stations(v.scenario);
+    if (!added.empty() && p.variants.empty()) {
+      std::string names;
+      for (const auto& n : added) names += (names.empty() ? "" : ", ") + n;
+      p.notes.push_back("stations added by the assessment where no deck station lies on a span (every span's deck is checked): " + names +
+                        "; give [[stations]] to choose the points");
+    }
     v.factors = {{"mass", v.scenario.bridge.spans.front().mass_per_m / m0}};
     v.train_speeds = study::assessment_train_speeds(p.train_distance, v.scenario, c, p.f_cut);
     v.scenario.sweep_speeds = v.train_speeds.front();

@@ -264,4 +264,12 @@ expect 0 "assessment:" -- "$VIADUCT" assess "$HS" --no-pdf --no-plots --set 'bri
 expect 0 ",0.01666666667,m," -- grep -F "vertical deflection, LM71 x Phi\",L_b_5.00m_disp_m" "$WORK/along/checks.csv"
 expect 0 ",0.025,m," -- grep -F "vertical deflection, LM71 x Phi\",L_disp_m" "$WORK/along/checks.csv"
 expect 1 "" -- grep -q "L_b_0.00m_disp_m" "$WORK/along/checks.csv"
+# Span 2 holds no deck station (L_b's are load effects only): the assessment adds its quarter
+# points and middle, checks them and says so; span 1 (station L) gets none.
+expect 0 "deck acceleration,span2_mid_acc_mps2," -- grep -F "deck acceleration,span2_mid_acc_mps2," "$WORK/along/checks.csv"
+expect 0 "deck acceleration,span2_L4_acc_mps2," -- grep -F "deck acceleration,span2_L4_acc_mps2," "$WORK/along/checks.csv"
+expect 0 "deck acceleration,span2_3L4_acc_mps2," -- grep -F "deck acceleration,span2_3L4_acc_mps2," "$WORK/along/checks.csv"
+expect 0 "stations added by the assessment where no deck station lies on a span (every span's deck is checked): span2_L4, span2_mid, span2_3L4;" \
+  -- cat "$WORK/along/report.md"
+expect 1 "" -- grep -q "span1_mid" "$WORK/along/checks.csv"
 finish
