@@ -270,6 +270,7 @@ py::dict oma_window(const ident::OmaWindow& w) {
   d["t_start_s"] = w.t_start_s;
   d["t_end_s"] = w.t_end_s;
   d["error"] = w.error;
+  d["warning"] = w.warning;
   d["block_rows"] = w.ssi.block_rows;
   std::vector<double> f, z, sf, sz, spf, spz, mpc, mpd;
   std::vector<long> order, n_poles;

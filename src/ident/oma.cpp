@@ -250,6 +250,38 @@ void check_oma_record(const Matrix& y, double fs_hz, const std::vector<std::stri
   }
 }
 
+std::string stationarity_warning(const Matrix& y, double fs_hz, double t0_s) {
+  constexpr Index kPieces = 10;
+  const Index n = y.rows(), len = n / kPieces;
+  if (len < 64 || y.cols() < 1) return "";
+  Vector level = Vector::Zero(kPieces);
+  Index used = 0;
+  for (Index c = 0; c < y.cols(); ++c) {
+    const Vector x = y.col(c).array() - y.col(c).mean();
+    const double whole = std::sqrt(x.squaredNorm() / static_cast<double>(n));
+    if (!(whole > 0.0)) continue;
+    ++used;
+    for (Index k = 0; k < kPieces; ++k) {  // about the piece's own mean: a deflection's quasi-static shift is no burst
+      const auto piece = x.segment(k * len, len);
+      level[k] += (piece.array() - piece.mean()).square().sum() / static_cast<double>(len) / (whole * whole);
+    }
+  }
+  if (used == 0) return "";
+  level = (level / static_cast<double>(used)).cwiseSqrt();
+  Index loud = 0, quiet = 0;
+  const double hi = level.maxCoeff(&loud), lo = level.minCoeff(&quiet);
+  if (!(hi > kMaxStationaryRmsRatio * lo)) return "";
+  auto span = [&](Index k) {
+    return format_number(t0_s + static_cast<double>(k * len) / fs_hz, 4) + " to " +
+           format_number(t0_s + static_cast<double>((k + 1) * len) / fs_hz, 4) + " s";
+  };
+  return "not stationary: its loudest tenth (" + span(loud) + ") has " + (lo > 0.0 ? format_number(hi / lo, 3) : std::string("infinitely many")) +
+         " times the RMS of its quietest (" + span(quiet) + "), a train passage or another burst. SSI-COV and FDD assume "
+         "ambient (stationary, broadband) excitation: a passage's forced response, the axles' passing frequency and its "
+         "harmonics, can pass as modes. Cut the burst out (--start-s, --end-s, --window-s), or identify the free decay after a "
+         "passage (--free-decay)";
+}
+
 bool SsiOptions::is_valid(Index n_channels, double fs_hz, std::string* why) const {
   OptionsCheck c("SsiOptions", why);
   bool refs_ok = true;
@@ -841,6 +873,9 @@ std::vector<OmaWindow> identify_output_only(const Matrix& y0, double fs0, double
       const Matrix piece = y.middleRows(a, b - a);
       check_oma_record(piece, fs, names, 2, f_low, f_high, p.ssi.free_decay ? 0.0 : p.min_periods);
       w.ssi = ssi_cov(piece, fs, p.ssi);
+      if (!p.ssi.free_decay) w.warning = stationarity_warning(piece, fs, w.t_start_s);
+      if (!w.warning.empty())
+        for (OmaMode& m : w.ssi.modes) m.note += std::string(m.note.empty() ? "" : "; ") + "the window is not stationary (see the warning)";
       if (fo.nperseg == 0 || fo.nperseg <= piece.rows()) w.fdd = fdd(piece, fs, fo);
     } catch (const InputError& e) {
       w.error = e.what();

@@ -158,7 +158,7 @@ int oma_body(const Common& o, const OmaCliOptions& k) {
   OmaTables t;
   std::vector<std::vector<ident::OmaMode>> all_modes;
   std::vector<std::vector<std::string>> window_info;  // window, record, t_start, t_end, the carried channels' means
-  std::vector<std::string> failures, names_first, carry_names;
+  std::vector<std::string> failures, warnings, names_first, carry_names;
   std::size_t window = 0;
   for (const auto& path : files) {
     try {
@@ -198,6 +198,8 @@ int oma_body(const Common& o, const OmaCliOptions& k) {
           failures.push_back(path + " (" + format_number(w.t_start_s) + " to " + format_number(w.t_end_s) + " s): " + w.error);
           continue;
         }
+        if (!w.warning.empty())
+          warnings.push_back(path + " (" + format_number(w.t_start_s) + " to " + format_number(w.t_end_s) + " s): " + w.warning);
         add_oma_window(t, path, window, w, names);
         all_modes.push_back(w.ssi.modes);
         std::vector<std::string> info{std::to_string(window), path, oma_cell(w.t_start_s), oma_cell(w.t_end_s)};
@@ -240,7 +242,10 @@ int oma_body(const Common& o, const OmaCliOptions& k) {
       t.tracked.push_back(row);
     }
   io::write_table_csv(o.out + "/tracked.csv", header, t.tracked);
-  io::write_manifest(o.out + "/manifest.toml", start_manifest(o, "oma", files), nullptr);
+  for (const auto& w : warnings) std::fprintf(stderr, "viaduct oma: warning: %s\n", w.c_str());
+  io::Manifest manifest = start_manifest(o, "oma", files);
+  manifest.warnings = warnings;
+  io::write_manifest(o.out + "/manifest.toml", manifest, nullptr);
   if (!failures.empty()) {
     std::string all;
     for (std::size_t i = 0; i < failures.size(); ++i) all += (i ? "\nviaduct oma: error: " : "") + failures[i];

@@ -19,6 +19,18 @@
 
 namespace viaduct::ident {
 
+/// [-] A window whose loudest tenth has more than this times the RMS of its quietest is not
+/// ambient: a train passage (10 to 100 times the ambient level) or another burst.
+constexpr double kMaxStationaryRmsRatio = 10.0;
+
+/// A warning, or "": y (n × channels at fs_hz, first sample at t0_s) cut in ten equal pieces,
+/// each piece's RMS about its own mean relative to the channel's over the whole (so that
+/// no unit dominates), averaged over the channels: when the loudest piece's exceeds
+/// kMaxStationaryRmsRatio times the quietest's, the window is a burst and not ambient — SSI-COV
+/// and FDD assume stationary broadband excitation, and a passage's forced response (the axles'
+/// passing harmonics) can pass as modes. Fewer than 640 samples: not judged.
+std::string stationarity_warning(const Matrix& y, double fs_hz, double t0_s);
+
 /// Checks a record for output-only identification; InputError naming the channel: NaN or
 /// infinite samples, a constant channel, a clipped one (1 % of its samples or more at its
 /// extreme value, on either side), fewer than `min_channels` channels, a band above the Nyquist
@@ -217,6 +229,8 @@ struct OmaWindow {
   SsiResult ssi;
   FddResult fdd;
   std::string error;  ///< why this window gave nothing (the others stand); empty when it went well
+  /// Not stationary (stationarity_warning; ambient windows only): said here and in each SSI mode's note.
+  std::string warning;
 };
 
 /// Identifies y (n_samples × channels at fs_hz, first sample at t0_s; `names` for messages)

@@ -264,3 +264,27 @@ TEST_CASE("mode tracking: drift followed, a new mode starts a track, a lost one 
   bad.min_mac = 1.5;
   CHECK_THROWS_AS(ident::track_modes(w, bad), InputError);
 }
+
+TEST_CASE("a burst in an ambient window is said, stationary noise and short windows are not judged") {
+  // Two channels of unit white noise (different units: 1 and 1e-3), 2000 samples at 100 Hz.
+  Matrix y(2000, 2);
+  unsigned s = 7;
+  auto noise = [&s]() {  // uniform in [-1, 1): a small LCG, no library generator's version to depend on
+    s = s * 1664525u + 1013904223u;
+    return static_cast<double>(s >> 8) / 8388608.0 - 1.0;
+  };
+  for (Index i = 0; i < y.rows(); ++i) y(i, 0) = noise(), y(i, 1) = 1e-3 * noise();
+  CHECK(ident::stationarity_warning(y, 100.0, 0.0).empty());
+  // A passage-like burst 20 times the noise over 2 s (t = 8 to 10 s) in both channels.
+  Matrix b = y;
+  for (Index i = 800; i < 1000; ++i) b.row(i) *= 20.0;
+  const std::string w = ident::stationarity_warning(b, 100.0, 5.0);
+  CHECK_THAT(w, Contains("not stationary: its loudest tenth (13 to 15 s) has"));
+  CHECK_THAT(w, Contains("a train passage or another burst"));
+  // 9 times in one channel only: averaged over the two, under the threshold of 10.
+  Matrix c = y;
+  for (Index i = 800; i < 1000; ++i) c(i, 0) *= 9.0;
+  CHECK(ident::stationarity_warning(c, 100.0, 0.0).empty());
+  // Fewer than 64 samples a tenth: not judged.
+  CHECK(ident::stationarity_warning(b.topRows(600), 100.0, 0.0).empty());
+}
