@@ -381,7 +381,11 @@ def test_oma_equals_the_cli(src, cli, tmp_path):
     hist = viaduct.read_record(tmp_path / "passage/history.csv")
     y = np.column_stack([hist[c + "_mps2"] for c in chans])
     w = viaduct.oma(y, hist.fs_hz, t0_s=hist.t0_s, names=chans, f_min_hz=2.0, f_max_hz=40.0, free_decay=True, decimate=10)
-    assert len(w) == 1 and w[0]["error"] == ""
+    assert len(w) == 1 and w[0]["error"] == "" and w[0]["warning"] == ""
+    # The whole passage taken as ambient: a burst, said and warned of.
+    with pytest.warns(UserWarning, match="not stationary"):
+        amb = viaduct.oma(y, hist.fs_hz, names=chans, f_min_hz=2.0, f_max_hz=40.0, decimate=10, min_periods=10)
+    assert "a train passage or another burst" in amb[0]["warning"]
     with open(tmp_path / "oma/modes.csv", newline="") as f:
         modes = [r for r in csv.DictReader(f) if r["method"] == "ssi-cov"]
     assert len(modes) == len(w[0]["modes"]["frequency_hz"]) >= 1

@@ -473,7 +473,8 @@ def oma(y, fs_hz, t0_s=0.0, names=None, f_min_hz=0.0, f_max_hz=None, references=
     vibration after a passage (its start found unless ``start_s``). More keywords set the
     stabilization (tol_frequency, tol_damping, tol_mac, max_damping, min_mpc, max_mpd_deg,
     cluster_distance, min_cluster_fraction) and FDD (nperseg, min_prominence_db, efdd_mac).
-    A list of windows, each a dict: t_start_s, t_end_s, error ("" when it went well),
+    A list of windows, each a dict: t_start_s, t_end_s, error ("" when it went well), warning
+    ("" or why the window is not ambient: a burst such as a passage, which warns too),
     block_rows, "modes" (modes.csv's columns), "shapes" (complex, channels x modes), "poles"
     (stabilization.csv's), "fdd" (frequency_hz, singular_values, peak_hz, efdd_frequency_hz,
     efdd_damping_ratio). A window that fails warns (UserWarning) besides its "error"."""
@@ -505,6 +506,9 @@ def oma(y, fs_hz, t0_s=0.0, names=None, f_min_hz=0.0, f_max_hz=None, references=
         if w["error"]:  # said where the user sees it, as the CLI names each failed window on stderr
             import warnings
             warnings.warn("oma: window %g to %g s: %s" % (w["t_start_s"], w["t_end_s"], w["error"]), stacklevel=2)
+        if w["warning"]:  # a burst (a passage): as the CLI's warning
+            import warnings
+            warnings.warn("oma: window %g to %g s: %s" % (w["t_start_s"], w["t_end_s"], w["warning"]), stacklevel=2)
     return windows
 
 
