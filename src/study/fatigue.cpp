@@ -184,4 +184,17 @@ MixDamage traffic_damage(const PreparedModel& m, const RunSettings& settings, st
   return out;
 }
 
+std::string stress_range_warning(const std::string& what, double max_range_pa) {
+  if (!(max_range_pa > 0.0)) return "";
+  const std::string r = format_number(max_range_pa * 1e-6, 4) + " MPa";
+  if (max_range_pa < kMinPlausibleRangePa)
+    return what + ": its largest stress range is " + r + ", below 0.1 MPa (0.5 µε on steel), quieter than any strain gauge's noise "
+           "under a train: a history in another unit than its name says (ε read as µε, Pa as MPa), or a section modulus in cm³ "
+           "given as m³? The damage would be 0 for it";
+  if (max_range_pa > kMaxPlausibleRangePa)
+    return what + ": its largest stress range is " + r + ", above 1000 MPa, beyond any structural steel's elastic range: a "
+           "history in another unit than its name says (µε read as ε, MPa as Pa), or a section modulus too small?";
+  return "";
+}
+
 }  // namespace viaduct::study

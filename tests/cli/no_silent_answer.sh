@@ -80,6 +80,18 @@ expect 0 "at the initial values: channel mid_acc_mps2: the record reads 9.807 ti
 expect 0 "the factor between g and m/s²" -- cat "$WORK/fg/fit.toml"
 expect 1 "" -- sh -c '"$1" fit "$2" --record "$3" --map mid_acc_mps2=mid --train HSLM-A1 --speed-kmh 300 --param bridge.EI=5e9:1e10 \
   --out "$4" 2>&1 | grep -q "unit slip"' sh "$VIADUCT" "$HS" "$WORK/h300/history.csv" "$WORK/fok"
+# fatigue of a strain channel in ε read as µε (damage 0 with no word before), in MPa read as Pa...
+awk -F, 'BEGIN{OFS=","} NR<=5 || /^#/ {print; next} {$4 = $4 * 1e-6; print}' "$PS/passage-01.csv" > "$WORK/eps.csv"
+expect 0 "channel mid_strain_ue: its largest stress range is 6.303e-05 MPa, below 0.1 MPa" -- "$VIADUCT" fatigue "$WORK/eps.csv" \
+  --channel mid_strain --detail 71 --out "$WORK/fe"
+expect 0 "quieter than any strain gauge's noise" -- cat "$WORK/fe/manifest.toml"
+awk -F, 'BEGIN{OFS=","} NR<=5 || /^#/ {print; next} {$4 = $4 * 1e6; print}' "$PS/passage-01.csv" > "$WORK/ueps.csv"
+expect 0 "above 1000 MPa" -- "$VIADUCT" fatigue "$WORK/ueps.csv" --channel mid_strain --detail 71 --out "$WORK/fu"
+# ...and a section modulus in cm³ given as m³ for a traffic mix; the record as made says nothing.
+expect 0 "mid_moment_Nm over the mix's trains: its largest stress range is" -- "$VIADUCT" fatigue "$HS" --mix \
+  "$SRC/data/trains/fatigue/mix-standard.toml" --channel mid_moment --section-modulus-m3 5e4 --detail 71 --out "$WORK/fm"
+expect 1 "" -- sh -c '"$1" fatigue "$2" --channel mid_strain --detail 71 --out "$3" 2>&1 | grep -q "stress range is"' \
+  sh "$VIADUCT" "$PS/passage-01.csv" "$WORK/fok"
 # compare on a record cut inside the passage, and on a stuck channel: refused, naming the spans.
 head -n 1000 "$REC" > "$WORK/cut.csv"
 expect 2 "the record lost part of the passage" -- "$VIADUCT" compare "$SRC/scenarios/old-guadiana-talgo.toml" --record "$WORK/cut.csv" \

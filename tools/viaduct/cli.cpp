@@ -274,10 +274,12 @@ void write_record_outputs(const Common& o, const std::string& file, const io::Re
 }
 
 void write_table_outputs(const Common& o, const std::string& file, const std::vector<std::string>& header,
-                         const std::vector<std::vector<std::string>>& rows) {
+                         const std::vector<std::vector<std::string>>& rows, const std::vector<std::string>& warnings) {
   make_out_dir(o.out);
   io::write_table_csv(o.out + "/" + file, header, rows);
-  io::write_manifest(o.out + "/manifest.toml", start_manifest(o, o.command, {o.scenario}), nullptr);
+  io::Manifest m = start_manifest(o, o.command, {o.scenario});
+  m.warnings = warnings;
+  io::write_manifest(o.out + "/manifest.toml", m, nullptr);
 }
 
 void add_zero_option(po::options_description& d, std::string& zero, const std::string& prefix) {

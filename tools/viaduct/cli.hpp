@@ -144,10 +144,10 @@ std::vector<std::pair<std::string, std::string>> tool_versions();
 /// line and the tool's versions filled in.
 io::Manifest start_manifest(const Common& o, const std::string& command, std::vector<std::string> inputs = {});
 /// A record command's outputs: OUT/file (a record, or a table with its header), then the
-/// manifest naming the record read.
+/// manifest naming the record read (with the command's warnings, for a table).
 void write_record_outputs(const Common& o, const std::string& file, const io::Record& out);
 void write_table_outputs(const Common& o, const std::string& file, const std::vector<std::string>& header,
-                         const std::vector<std::vector<std::string>>& rows);
+                         const std::vector<std::vector<std::string>>& rows, const std::vector<std::string>& warnings = {});
 
 /// Prints each warning on stderr ("viaduct COMMAND: warning: ..."), also with --quiet.
 void print_warnings(const std::string& command, const std::vector<std::string>& warnings);

@@ -76,10 +76,13 @@ std::string years_cell(double years) { return std::isfinite(years) ? fatigue_cel
 
 // One channel: its cycles binned (range × mean, MPa) and its damage row.
 void count_channel(const io::Record& in, std::size_t ch, const FatigueOptions& k, const study::FatigueCount& f,
-                   std::vector<std::vector<std::string>>& cycle_rows, std::vector<std::vector<std::string>>& damage_rows, bool quiet) {
+                   std::vector<std::vector<std::string>>& cycle_rows, std::vector<std::vector<std::string>>& damage_rows,
+                   std::vector<std::string>& warnings, bool quiet) {
   const study::CountedHistory h = study::count_history(Vector(in.data.col(static_cast<Index>(ch))), to_pa(in, ch, k), f);
   const study::MinerSum& miner = h.miner;
   add_cycle_rows(in.channels[ch], h, f, cycle_rows);
+  const std::string unit_slip = study::stress_range_warning("channel " + in.channels[ch], miner.max_range_pa);
+  if (!unit_slip.empty()) warnings.push_back(unit_slip);
   const double duration = static_cast<double>(in.n_samples() - 1) / in.fs_hz;
   const double years = miner.damage > 0.0 ? duration / miner.damage / (365.25 * 86400.0) : std::numeric_limits<double>::infinity();
   damage_rows.push_back({in.channels[ch], f.curve.name, fatigue_cell(k.gamma_ff), fatigue_cell(k.gamma_mf), fatigue_cell(miner.cycles), fatigue_cell(miner.damaging),
@@ -98,15 +101,17 @@ int run_records(const Common& o, const FatigueOptions& k, const study::FatigueCo
   const auto chans = selected(whole, k.channels);
   for (std::size_t ch : chans) to_pa(whole, ch, k);  // every channel's unit checked before counting
   std::vector<std::vector<std::string>> cycle_rows, damage_rows;
+  std::vector<std::string> warnings;
   // Each channel over its own valid span: a gap in one channel cuts no other (usable() warns).
-  for (std::size_t ch : chans) count_channel(usable(whole, {ch}, o), ch, k, f, cycle_rows, damage_rows, o.quiet);
+  for (std::size_t ch : chans) count_channel(usable(whole, {ch}, o), ch, k, f, cycle_rows, damage_rows, warnings, o.quiet);
+  print_warnings("fatigue", warnings);
   make_out_dir(o.out);
   io::write_table_csv(o.out + "/cycles.csv", {"channel", "range_low_mpa", "range_high_mpa", "mean_low_mpa", "mean_high_mpa", "count"},
                       cycle_rows);
   write_table_outputs(o, "damage.csv",
                       {"channel", "curve", "gamma_ff", "gamma_mf", "cycles", "damaging_cycles", "max_range_mpa", "damage",
                        "equivalent_range_2e6_mpa", "duration_s", "years_to_d1_at_record_rate"},
-                      damage_rows);
+                      damage_rows, warnings);
   if (!o.quiet) std::printf("wrote %s/cycles.csv, damage.csv\n", o.out.c_str());
   return ok;
 }
@@ -135,8 +140,13 @@ int run_mix(const Common& o, const FatigueOptions& k, const study::FatigueCount&
   const study::MixDamage d =
       study::traffic_damage(pm, sc.settings, effect, to_pa, mix, f, o.threads, progress_printer("fatigue", o.quiet, "trains"));
   io::Manifest man = start_manifest(o, "fatigue", {o.scenario, *k.mix});
-  for (const study::TrainDamage& t : d.trains)
+  double largest = 0.0;
+  for (const study::TrainDamage& t : d.trains) {
     if (!t.passage) man.warnings.push_back(t.name + " failed: " + t.error + " (the mix's damage lacks it)");
+    else largest = std::max(largest, t.passage->miner.max_range_pa);
+  }
+  const std::string unit_slip = study::stress_range_warning(name + " over the mix's trains", largest);
+  if (!unit_slip.empty()) man.warnings.push_back(unit_slip);
   make_out_dir(o.out);
   io::write_table_columns_csv(o.out + "/cycles.csv", io::fatigue_mix_cycle_columns(d, f), io::kFatigueDigits);
   io::write_table_columns_csv(o.out + "/damage.csv", io::fatigue_mix_damage_columns(d, f), io::kFatigueDigits);

@@ -120,6 +120,17 @@ struct MixDamage {
   double years_to_d1() const { return per_year > 0.0 ? 1.0 / per_year : std::numeric_limits<double>::infinity(); }
 };
 
+/// [Pa] A history whose largest stress range under traffic lies outside these is in another unit
+/// than its name says: below 0.1 MPa (0.5 µε on steel, quieter than any strain gauge's noise under
+/// a train: ε read as µε, Pa as MPa, a section modulus in cm³ as m³), above 1000 MPa (beyond any
+/// structural steel's elastic range: µε read as ε, MPa as Pa).
+constexpr double kMinPlausibleRangePa = 1e5;
+constexpr double kMaxPlausibleRangePa = 1e9;
+/// A warning naming `what` (a channel, or a mix's station), or "": its largest range [Pa] outside
+/// [kMinPlausibleRangePa, kMaxPlausibleRangePa] (0: no cycle, not judged). Either way the damage
+/// would be silently wrong: 0 below, absurd above.
+std::string stress_range_warning(const std::string& what, double max_range_pa);
+
 /// [Pa] per unit of a history named `channel` in `unit`: Pa 1, µε ("ue") E·1e-6, N·m ("Nm") 1/W.
 /// InputError for a moment without W, or a unit that is none of these (naming what fatigue takes).
 double stress_per_unit(const std::string& channel, const std::string& unit, double youngs_modulus_pa,
