@@ -117,6 +117,15 @@ expect 0 "train tonnes: its heaviest axle carries 17 kN, below the 40 kN" -- "$V
   --set "train.files=[\"$WORK/tonnes.csv\"]" --out "$WORK/t17"
 expect 0 "(kN, not t: 17 t is 167 kN)" -- cat "$WORK/t17/manifest.toml"
 expect 1 "" -- sh -c '"$1" check "$2" 2>&1 | grep -q "heaviest axle carries"' sh "$VIADUCT" "$HS"
+# axle positions in mm where m are asked (a 20 km "train", each axle alone on the span) or in km
+printf 'position_m,load_kN\n0,170\n2500,170\n17500,170\n20000,170\n' > "$WORK/mm.csv"
+expect 0 "train mm: axles 2 and 3 are 1.5e+04 m apart, beyond the 50 m" -- "$VIADUCT" run "$HS" --set "train.files=[\"$WORK/mm.csv\"]" \
+  --out "$WORK/tmm"
+expect 0 "check the unit of its positions (m, not mm)" -- cat "$WORK/tmm/manifest.toml"
+printf 'position_m,load_kN\n0,170\n0.0025,170\n0.0175,170\n0.02,170\n' > "$WORK/km.csv"
+expect 0 "closer than the 1 m of any two axles" -- "$VIADUCT" check "$HS" --set "train.files=[\"$WORK/km.csv\"]"
+expect 1 "" -- sh -c '"$1" check "$2" --set "train.files=[\"$3\"]" 2>&1 | grep -q " apart"' sh "$VIADUCT" "$HS" \
+  "$SRC/data/trains/talgo-altaria.csv"
 expect 0 "1 element; it needs 4" -- "$VIADUCT" check "$HS" --set bridge.element_size=15
 expect 0 "use analysis.method = \"newmark\" below" -- "$VIADUCT" check "$SRC/scenarios/old-guadiana-talgo.toml" \
   --set 'analysis.preset="default"' --set run.speed_kmh=20
