@@ -54,6 +54,9 @@ constexpr double kMinHeaviestAxleN = 40e3;
 /// shortest, a bogie's wheelbase, about 1.4 m): positions in mm (or km) where m are asked.
 constexpr double kMaxAxleGap = 50.0;
 constexpr double kMinAxleGap = 1.0;
+/// [m] A track pressed down more than this under the heaviest wheel, statically (the rail relative
+/// to the deck under it, or on the approach), is no track in service (ballasted: 0.5 to 3 mm).
+constexpr double kMaxTrackCompression = 0.010;
 
 /// [Hz] EN 1991-2 6.4.4 Fig. 6.10: the limits of a simply supported span's first natural frequency
 /// for a span of L [m] in [4, 100] (outside: the limits at the nearer end).
@@ -66,7 +69,8 @@ FrequencyLimits fig_6_10_limits(double span_m);
 /// spans or its band, the modal method at speeds where its floor dominates, and the plausibility of
 /// the inputs — each span's f1 against Fig. 6.10 (far outside: the key whose unit to check), its
 /// mass per metre, the bridge's damping ratios against kMaxDampingRatio, each train's heaviest axle
-/// against kMinHeaviestAxleN and its axles' gaps against kMinAxleGap and kMaxAxleGap, its static deflection under the heaviest axle against L/100 (a unit slip warned,
+/// against kMinHeaviestAxleN and its axles' gaps against kMinAxleGap and kMaxAxleGap, the track's
+/// static compression under the heaviest wheel against kMaxTrackCompression, its static deflection under the heaviest axle against L/100 (a unit slip warned,
 /// never reported as a result). Every warning names the key, the figure and its measured effect.
 std::vector<std::string> model_warnings(const Scenario& sc, const model::Structure& s, const std::vector<double>& speeds);
 
