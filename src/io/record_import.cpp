@@ -23,6 +23,7 @@ namespace viaduct::io {
 namespace {
 
 constexpr double kStandardGravity = 9.80665;  // [m/s²] the g of accelerometers (CGPM 1901)
+constexpr double kMinStampedRateHz = 5.0;      // [Hz] below: stamps not in seconds (read_record's note)
 
 std::string lower(std::string_view text) {
   std::string s(text);
@@ -979,6 +980,14 @@ Record finish_table(const RawTable& t, const ReadOptions& o, Problems& pb, Impor
     if (all_stamped) g = time_grid(times, t.lines, fs, declared_by, pb);
     rep.time = "column '" + t.header[t.time_col] + "'" + (fs > 0 ? ", rate " + format_number(fs) + " Hz declared (" + declared_by + ")"
                                                                  : ", rate " + format_number(g.fs, 10) + " Hz from the stamps");
+    // Accelerations or velocities stamped a few hundred milliseconds or more apart are not seconds
+    // (1000 times too slow a rate: a record at 500 Hz stamped in ms reads 0.5 Hz); a slow log of
+    // deflections, strains or temperatures may be.
+    const bool vibration = std::any_of(r.units.begin(), r.units.end(), [](const std::string& u) { return u == "mps2" || u == "mps"; });
+    if (!(fs > 0) && all_stamped && vibration && g.fs > 0.0 && g.fs < kMinStampedRateHz && f == 1.0)
+      rep.notes.push_back("the time stamps of column '" + t.header[t.time_col] + "' are read as seconds and give " +
+                          format_number(g.fs, 4) + " Hz, below the " + format_number(kMinStampedRateHz) +
+                          " Hz of any record of a bridge's vibration: are they milliseconds? name the column t_ms (or give --rate-hz)");
   } else if (n_rows >= 2) {
     if (!(fs > 0))
       pb.add(t.header_line, "no time column (named t_s, time, Time [s], ...: --time-column) and no declared rate (a '# sampling_rate_hz "
