@@ -175,8 +175,8 @@ void axle_gap_plausibility(const load::Train& t, std::vector<std::string>& out) 
   auto pair = [](std::size_t k) { return "axles " + std::to_string(k) + " and " + std::to_string(k + 1); };
   if (hi > kMaxAxleGap)
     out.push_back("train " + t.name + ": " + pair(at_hi) + " are " + fmt(hi) + " m apart, beyond the " + fmt(kMaxAxleGap) +
-                  " m of any railway vehicle (a long coach's is about 25 m): check the unit of its positions (m, not mm); each "
-                  "axle would cross the bridge alone");
+                  " m of any railway vehicle (a long coach's is about 25 m): check the unit of its positions (m, not mm: a 20 m "
+                  "coach in mm is 20 km long, its axles loading the bridge one at a time)");
   if (t.offset.size() > 1 && lo < kMinAxleGap)
     out.push_back("train " + t.name + ": " + pair(at_lo) + " are " + fmt(lo) + " m apart, closer than the " + fmt(kMinAxleGap) +
                   " m of any two axles (a bogie's wheelbase is 1.4 m or more): check the unit of its positions (m, not km), "

@@ -129,7 +129,7 @@ expect 1 "" -- sh -c '"$1" check "$2" 2>&1 | grep -q "heaviest axle carries"' sh
 printf 'position_m,load_kN\n0,170\n2500,170\n17500,170\n20000,170\n' > "$WORK/mm.csv"
 expect 0 "train mm: axles 2 and 3 are 1.5e+04 m apart, beyond the 50 m" -- "$VIADUCT" run "$HS" --set "train.files=[\"$WORK/mm.csv\"]" \
   --out "$WORK/tmm"
-expect 0 "check the unit of its positions (m, not mm)" -- cat "$WORK/tmm/manifest.toml"
+expect 0 "check the unit of its positions (m, not mm: a 20 m coach in mm is 20 km long" -- cat "$WORK/tmm/manifest.toml"
 printf 'position_m,load_kN\n0,170\n0.0025,170\n0.0175,170\n0.02,170\n' > "$WORK/km.csv"
 expect 0 "closer than the 1 m of any two axles" -- "$VIADUCT" check "$HS" --set "train.files=[\"$WORK/km.csv\"]"
 expect 1 "" -- sh -c '"$1" check "$2" --set "train.files=[\"$3\"]" 2>&1 | grep -q " apart"' sh "$VIADUCT" "$HS" \

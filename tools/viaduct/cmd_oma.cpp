@@ -242,7 +242,7 @@ int oma_body(const Common& o, const OmaCliOptions& k) {
       t.tracked.push_back(row);
     }
   io::write_table_csv(o.out + "/tracked.csv", header, t.tracked);
-  for (const auto& w : warnings) std::fprintf(stderr, "viaduct oma: warning: %s\n", w.c_str());
+  print_warnings("oma", warnings);
   io::Manifest manifest = start_manifest(o, "oma", files);
   manifest.warnings = warnings;
   io::write_manifest(o.out + "/manifest.toml", manifest, nullptr);
