@@ -500,15 +500,15 @@ def oma(y, fs_hz, t0_s=0.0, names=None, f_min_hz=0.0, f_max_hz=None, references=
     if end_s is not None:
         plan.end_s = end_s
     windows = _viaduct.oma(y, fs_hz, t0_s, list(names or []), plan)
+    import warnings
     for w in windows:
         w["modes"] = _table(w["modes"])
         w["poles"] = _table(w["poles"])
-        if w["error"]:  # said where the user sees it, as the CLI names each failed window on stderr
-            import warnings
-            warnings.warn("oma: window %g to %g s: %s" % (w["t_start_s"], w["t_end_s"], w["error"]), stacklevel=2)
-        if w["warning"]:  # a burst (a passage): as the CLI's warning
-            import warnings
-            warnings.warn("oma: window %g to %g s: %s" % (w["t_start_s"], w["t_end_s"], w["warning"]), stacklevel=2)
+        # A failed window, or one that is not ambient (a passage): said where the user sees it, as
+        # the CLI says each on stderr.
+        for said in (w["error"], w["warning"]):
+            if said:
+                warnings.warn("oma: window %g to %g s: %s" % (w["t_start_s"], w["t_end_s"], said), stacklevel=2)
     return windows
 
 

@@ -15,6 +15,7 @@
 #include <sstream>
 #include <string>
 
+#include "series.hpp"
 #include "viaduct/core/eigensolvers.hpp"
 
 #include "viaduct/core/error.hpp"
@@ -405,8 +406,7 @@ class Evaluator {
         const PreparedChannel& pc = records_[r].channels[c];
         const Vector m = processed(s0, r, c, shifts[r]);
         const auto n = static_cast<double>(m.size());
-        const Vector dm = m.array() - m.mean(), dy = pc.y.array() - pc.y.mean();
-        const double corr = dm.norm() > 0 && dy.norm() > 0 ? dm.dot(dy) / (dm.norm() * dy.norm()) : 0.0;
+        const double corr = detail::pearson(m, pc.y);
         const double peak = pc.y_peak > 0 ? m.cwiseAbs().maxCoeff() / pc.y_peak : 0.0;
         const double rms = pc.y_rms > 0 ? std::sqrt(m.squaredNorm() / n) / pc.y_rms : 0.0;
         const std::string w = unit_slip_warning(peak, rms, corr, records_[r].in->channels[c].name, 1.5);
