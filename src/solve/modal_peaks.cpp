@@ -7,8 +7,10 @@
 // coordinate (damping that couples the modes, in split real arithmetic), the outputs and their
 // running maxima, four speeds in SIMD lanes (complex coordinates: eight where the processor has
 // AVX-512; the same numbers on every instruction set). With acceleration histories asked for (a filter is
-// applied to them afterwards) they are recorded too, nothing else. Same model, same step, same
-// values as ModalReduction::integrate up to rounding (tests/unit/study/test_modal_peaks.cpp).
+// applied to them afterwards) they are recorded too, nothing else. Many deflection-type outputs
+// (load effects along a span) are taken a block of steps at a time against bounds
+// (BlockOutputs). Same model, same step, same values as ModalReduction::integrate up to rounding
+// (tests/unit/study/test_modal_peaks.cpp; against the histories: tests/verification/test_assess.cpp).
 #include "modal_peaks.hpp"
 
 #include <algorithm>
@@ -76,6 +78,8 @@ struct KernelInput {
   const OutputSum* sums = nullptr;  // n_sums sums of outputs (OutputSum); their load channels from extra0
   std::size_t n_sums = 0, extra0 = 0, n_extra = 0;
   const double* point = nullptr;    // MovingChannels::point (null without extra channels)
+  const double* rbound = nullptr;   // MovingChannels::residual_bounds (null: none)
+  std::size_t rb_stride = 0;        // their row: MovingChannels::n_outputs
 };
 
 // Raw station accelerations of step k into the history of each lane still running.
@@ -176,6 +180,9 @@ struct LoadCursorT : PieceTrack<N> {
   std::size_t nr = 0;  // residuals used
   L *f = nullptr, *d1 = nullptr, *d2 = nullptr, *d3 = nullptr, *c = nullptr, *dc = nullptr;
   double h[W], v2[W];
+  // The channel ranges [a, b) set at each piece (none kept: all nc; or what the caller reads step
+  // by step: keep()); the others hold nothing.
+  std::size_t kept[5][2] = {}, n_kept = 0;
   // The residuals whose curvature is kept (null: all nr): those whose acceleration is computed.
   const std::size_t* curv = nullptr;
   std::size_t n_curv = 0;
@@ -188,8 +195,21 @@ struct LoadCursorT : PieceTrack<N> {
     // W channels at a time in vector registers (the same operations in the same order as the
     // one-channel loop below, which takes the rest: the same values), stored into lane l.
     const double c1 = 2.0 * s * hh + h2, c2 = 3.0 * s * s * hh + 3.0 * s * h2 + h3, c3 = 6.0 * s * h2 + 6.0 * h3;
-    std::size_t k0 = 0;
-    for (; k0 + W <= nc; k0 += W) {
+    if (!n_kept) set_channels(0, nc, d, s, hh, h2, h3, c1, c2, c3, l);
+    for (std::size_t r = 0; r < n_kept; ++r) set_channels(kept[r][0], kept[r][1], d, s, hh, h2, h3, c1, c2, c3, l);
+    for (std::size_t n = 0; n < (curv ? n_curv : nr); ++n) {
+      const std::size_t j = curv ? curv[n] : n;
+      const double a2 = d[2 * nc + nload + j], a3 = d[3 * nc + nload + j];
+      c[j][l] = v2[l] * (2.0 * a2 + 6.0 * a3 * s);
+      dc[j][l] = v2[l] * 6.0 * a3 * hh;
+    }
+    this->take_point(l, x, i);
+  }
+  // Channels [a, b) of lane l at place s on the piece whose coefficients d are.
+  VIADUCT_ALWAYS_INLINE void set_channels(std::size_t a, std::size_t b, const double* d, double s, double hh, double h2,
+                                          double h3, double c1, double c2, double c3, std::size_t l) {
+    std::size_t k0 = a;
+    for (; k0 + W <= b; k0 += W) {
       L a0, a1, a2, a3;
       std::memcpy(&a0, d + k0, sizeof a0);
       std::memcpy(&a1, d + nc + k0, sizeof a1);
@@ -199,20 +219,13 @@ struct LoadCursorT : PieceTrack<N> {
               v3 = 6.0 * a3 * h3;
       for (std::size_t e = 0; e < W; ++e) f[k0 + e][l] = fv[e], d1[k0 + e][l] = v1[e], d2[k0 + e][l] = v2_[e], d3[k0 + e][l] = v3[e];
     }
-    for (std::size_t k = k0; k < nc; ++k) {
+    for (std::size_t k = k0; k < b; ++k) {
       const double a0 = d[k], a1 = d[nc + k], a2 = d[2 * nc + k], a3 = d[3 * nc + k];
       f[k][l] = a0 + s * (a1 + s * (a2 + s * a3));
       d1[k][l] = a1 * hh + a2 * (2.0 * s * hh + h2) + a3 * (3.0 * s * s * hh + 3.0 * s * h2 + h3);
       d2[k][l] = 2.0 * a2 * h2 + a3 * (6.0 * s * h2 + 6.0 * h3);
       d3[k][l] = 6.0 * a3 * h3;
     }
-    for (std::size_t n = 0; n < (curv ? n_curv : nr); ++n) {
-      const std::size_t j = curv ? curv[n] : n;
-      const double a2 = d[2 * nc + nload + j], a3 = d[3 * nc + nload + j];
-      c[j][l] = v2[l] * (2.0 * a2 + 6.0 * a3 * s);
-      dc[j][l] = v2[l] * 6.0 * a3 * hh;
-    }
-    this->take_point(l, x, i);
   }
   // The folded train of `in` (a KernelInput or ComplexInput): nc channels, nload of them loads,
   // nr residuals used; the values and differences in f … dc, extra channels at break hits in pt.
@@ -222,9 +235,16 @@ struct LoadCursorT : PieceTrack<N> {
     this->bind_track(in, n_channels, n_load, pt_);
     nr = n_res;
     f = f_, d1 = d1_, d2 = d2_, d3 = d3_, c = c_, dc = dc_;
+    n_kept = 0;
     // Only the accelerations computed read a residual's curvature: the others' is not set up at
     // each piece (the 31 stations along a span of docs/benchmarks.md: 127 residuals, a few read).
     if (in.acc_idx && n_res) curv = in.acc_idx, n_curv = in.n_acc;
+  }
+  // Only channel ranges [a, b) (ascending, at most five) are set at each piece from now.
+  void keep(const std::size_t (*r)[2], std::size_t n) {
+    n_kept = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (r[i][1] > r[i][0]) kept[n_kept][0] = r[i][0], kept[n_kept][1] = r[i][1], ++n_kept;
   }
   // Channels [a, b) to the next step: value and differences, three additions each.
   VIADUCT_ALWAYS_INLINE void step_channels(std::size_t a, std::size_t b) {
@@ -491,6 +511,168 @@ VIADUCT_ALWAYS_INLINE void outputs_range(bool flex, std::size_t nm, std::size_t 
   else outputs_pass<N, NM, false, KEEP>(nm, j0, j1, S, q, dj, f_res, r1, r2, r3, md, mn, live);
 }
 
+// The deflection-type outputs of the classical kernel (deflections, moments, shears, rotations:
+// those no sum reads step by step) taken a block of B steps at a time, per lane and group of N
+// outputs (issue #40: a span's load effects every 0.5 m, about a hundred outputs, each once a
+// step cost half the run). As the steps run, the block keeps the modal coordinates, their ranges,
+// and each lane's piece of the folded train and place on it. Then, per lane and group, a bound of
+// the outputs over the block (each mode's share at the ends of its coordinate's range; the
+// residual's bounds over the pieces the lane passes, MovingChannels::residual_bounds) is compared with the signed
+// extremes so far, and the block is evaluated only where it may reach beyond them (on that job
+// about one lane's group in four). An evaluated step is the sum over the modes in their order, as
+// the step-by-step path takes it, plus the residual's cubic by Horner at the lane's place (the
+// step-by-step path advances it by forward differences from the same value at the piece's start:
+// the same to rounding). The bounds carry a margin of 1e-10 of the magnitudes they add, far above
+// the rounding of the few operations on either side, so a block left out holds no value beyond the
+// extremes (NaN in a bound: evaluated).
+template <std::size_t N, std::size_t NM>
+struct BlockOutputs {
+  using L = Lanes<N>;
+  static constexpr std::size_t B = 16, kMaxModes = 16;  // steps a block; modes taken (more: step by step)
+  std::size_t nm = 0, no = 0, nc = 0, n_pieces = 0;
+  bool flex = false;
+  const double *coef = nullptr, *breaks = nullptr, *rb = nullptr;
+  std::size_t rbs = 0;  // rb's row
+  std::size_t range[2][2] = {}, n_ranges = 0;  // output ranges [a, b) taken here, each of N or more
+  std::vector<double> st;      // S transposed: mode i's share of output j at i·no + j
+  std::vector<double> hi, lo;  // lane l's running maximum of output j and of its negative at l·no + j
+  std::vector<double> qb;      // the block's coordinates: step t, mode i, lane l at (t·nm + i)·N + l
+  L qhi[kMaxModes], qlo[kMaxModes];  // their ranges over the block so far
+  std::size_t pb[B][N] = {};  // the block's pieces and places on them (step, lane)
+  double sb[B][N] = {};
+  Index first = 0;  // the block's first step
+  std::size_t n = 0;
+
+  // The outputs [a, b) join the block path when they are N or more.
+  VIADUCT_ALWAYS_INLINE bool take(std::size_t a, std::size_t b) {
+    if (b < a + N) return false;
+    range[n_ranges][0] = a, range[n_ranges][1] = b, ++n_ranges;
+    return true;
+  }
+  VIADUCT_ALWAYS_INLINE void bind(const KernelInput& in, std::size_t nm_, std::size_t no_, bool flex_) {
+    nm = NM ? NM : nm_, no = no_, nc = in.nc, n_pieces = in.n_pieces, flex = flex_, coef = in.coef, breaks = in.breaks;
+    rb = in.rbound, rbs = in.rb_stride;
+    st.assign(nm * no, 0.0);
+    for (std::size_t j = 0; j < no; ++j)
+      for (std::size_t i = 0; i < nm; ++i) st[i * no + j] = in.S[j * nm + i];
+    hi.assign(N * no, 0.0), lo.assign(N * no, 0.0), qb.assign(B * nm * N, 0.0);
+  }
+  // Step k's coordinates q and the lanes' pieces ip at head positions X.
+  VIADUCT_ALWAYS_INLINE void record(Index k, const L* q, const std::size_t* ip, const L& X) {
+    if (!n_ranges) return;
+    if (n == 0) {
+      first = k;
+      for (std::size_t i = 0; i < nm; ++i) qhi[i] = qlo[i] = q[i];
+    }
+    for (std::size_t i = 0; i < nm; ++i) {
+      std::memcpy(qb.data() + (n * nm + i) * N, &q[i], sizeof(L));
+      qhi[i] = q[i] > qhi[i] ? q[i] : qhi[i];
+      qlo[i] = q[i] < qlo[i] ? q[i] : qlo[i];
+    }
+    for (std::size_t l = 0; l < N; ++l) pb[n][l] = ip[l], sb[n][l] = ip[l] < n_pieces ? X[l] - breaks[ip[l]] : 0.0;
+    ++n;
+  }
+  // The block's steps up to each lane's last (n_steps), when full or at the end (force).
+  VIADUCT_ALWAYS_INLINE void flush(const Index* n_steps, bool force) {
+    if (n == 0 || (n < B && !force)) return;
+    for (std::size_t l = 0; l < N; ++l) {
+      const Index nv = std::min<Index>(static_cast<Index>(n), n_steps[l] - first + 1);
+      if (nv == static_cast<Index>(n)) lane(l, n, true);
+      else if (nv > 0) lane(l, static_cast<std::size_t>(nv), false);  // a lane ending: no bound
+    }
+    n = 0;
+  }
+  // Outputs of the ranges into md, mn as the kernel lays them out (output j, lane l at j·N + l).
+  VIADUCT_ALWAYS_INLINE void finish(double* md, double* mn) const {
+    for (std::size_t r = 0; r < n_ranges; ++r)
+      for (std::size_t j = range[r][0]; j < range[r][1]; ++j)
+        for (std::size_t l = 0; l < N; ++l) md[j * N + l] = hi[l * no + j], mn[j * N + l] = lo[l * no + j];
+  }
+
+ private:
+  VIADUCT_ALWAYS_INLINE static void ld(L& v, const double* p) { std::memcpy(&v, p, sizeof v); }
+  VIADUCT_ALWAYS_INLINE static bool all_le(const L& a, const L& b) {
+    const auto m = a <= b;
+    for (std::size_t e = 0; e < N; ++e)
+      if (!m[e]) return false;
+    return true;
+  }
+  // Lane l's first nv steps of the block, against the bound when `bounded` (the block's ranges
+  // hold all n steps) and a residual has its bounds.
+  VIADUCT_ALWAYS_INLINE void lane(std::size_t l, std::size_t nv, bool bounded) {
+    double qmax[kMaxModes], qmin[kMaxModes], qabs[kMaxModes];
+    for (std::size_t i = 0; i < nm; ++i) {
+      qmax[i] = qhi[i][l], qmin[i] = qlo[i][l];
+      qabs[i] = std::max(std::abs(qmax[i]), std::abs(qmin[i]));
+    }
+    // The pieces passed (a lane's pieces only move forward; before the first break: no bound).
+    const std::size_t p0 = pb[0][l], p1 = pb[nv - 1][l];
+    bounded = bounded && (!flex || (rb && sb[0][l] >= 0.0));
+    for (std::size_t r = 0; r < n_ranges; ++r)
+      for (std::size_t g0 = range[r][0]; g0 < range[r][1]; g0 += N) {
+        const std::size_t g = std::min(g0, range[r][1] - N);  // the last group overlaps its neighbour
+        if (bounded && !may_exceed(l, g, qmax, qmin, qabs, p0, p1)) continue;
+        evaluate(l, g, nv);
+      }
+  }
+  // Whether outputs [g, g + N) of lane l may reach beyond their extremes over the block (pieces
+  // p0 … p1).
+  VIADUCT_ALWAYS_INLINE bool may_exceed(std::size_t l, std::size_t g, const double* qmax, const double* qmin,
+                                        const double* qabs, std::size_t p0, std::size_t p1) const {
+    const L zero = {};
+    L ub = zero, lb = zero, sc = zero;
+    for (std::size_t i = 0; i < (NM ? NM : nm); ++i) {
+      L s;
+      ld(s, st.data() + i * no + g);
+      const L a = s * qmax[i], c = s * qmin[i];
+      ub += a > c ? a : c;
+      lb += a < c ? a : c;
+      sc += (s < zero ? -s : s) * qabs[i];
+    }
+    if (flex) {
+      const L inf = zero + std::numeric_limits<double>::infinity();
+      L rub = -inf, rlb = inf;
+      for (std::size_t p = p0; p <= p1; ++p) {
+        if (p >= n_pieces) {  // past the train's end: no load, a residual of 0
+          rub = rub > zero ? rub : zero, rlb = rlb < zero ? rlb : zero;
+          break;
+        }
+        L h, w;
+        ld(h, rb + (2 * p) * rbs + g), ld(w, rb + (2 * p + 1) * rbs + g);
+        rub = h > rub ? h : rub;
+        rlb = w < rlb ? w : rlb;
+      }
+      ub += rub, lb += rlb;
+    }
+    const L margin = 1e-10 * sc;
+    L H, Lo;
+    ld(H, hi.data() + l * no + g), ld(Lo, lo.data() + l * no + g);
+    return !(all_le(ub + margin, H) && all_le(margin - lb, Lo));
+  }
+  VIADUCT_ALWAYS_INLINE void evaluate(std::size_t l, std::size_t g, std::size_t nv) {
+    const L zero = {};
+    L H, Lo, sv[kMaxModes];
+    ld(H, hi.data() + l * no + g), ld(Lo, lo.data() + l * no + g);
+    for (std::size_t i = 0; i < nm; ++i) ld(sv[i], st.data() + i * no + g);
+    for (std::size_t t = 0; t < nv; ++t) {
+      L d = zero;
+      const std::size_t m = NM ? NM : nm;
+      for (std::size_t i = 0; i < m; ++i) d += sv[i] * qb[(t * m + i) * N + l];
+      if (flex) {
+        const double s = sb[t][l], *c = coef + pb[t][l] * 4 * nc + nm + g;
+        L a0, a1, a2, a3;
+        ld(a0, c), ld(a1, c + nc), ld(a2, c + 2 * nc), ld(a3, c + 3 * nc);
+        d += a0 + s * (a1 + s * (a2 + s * a3));
+      }
+      const L nd = -d;
+      H = d > H ? d : H;
+      Lo = nd > Lo ? nd : Lo;
+    }
+    std::memcpy(hi.data() + l * no + g, &H, sizeof H);
+    std::memcpy(lo.data() + l * no + g, &Lo, sizeof Lo);
+  }
+};
+
 // N cases in lock-step (four, or eight with AVX-512). Per lane, the channel values along the
 // current piece are advanced by forward differences (the load is a cubic in X and X advances by
 // v·dt per step: three additions per channel and step, exact up to rounding), re-initialised from
@@ -546,12 +728,28 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
       k0 = std::min(k0, jd), k1 = std::max(k1, jd + 1);
     }
   if (k1 <= k0) k0 = k1 = no;
+  // The outputs before and after the sums' run a block of steps at a time (BlockOutputs) when
+  // they are N or more; the load cursor then sets at each piece only the channels read step by step.
+  BlockOutputs<N, NM> blk;
+  bool blk_a = false, blk_b = false;
+  if (!fixed && nm <= BlockOutputs<N, NM>::kMaxModes) {
+    blk_a = blk.take(0, k0), blk_b = blk.take(k1, no);
+    if (blk.n_ranges) {
+      blk.bind(in, nm, no, flex);
+      // (without residual channels, flex false, the extra channels follow the modes')
+      const std::size_t r[4][2] = {{0, flex ? nm + (blk_a ? 0 : k0) : nm},
+                                   {flex ? nm + k0 : 0, flex ? nm + k1 : 0},
+                                   {flex ? nm + (blk_b ? no : k1) : 0, flex ? nm + no : 0},
+                                   {x0, x1}};
+      cur.keep(r, 4);
+    }
+  }
   auto emit = [&](Index k) __attribute__((always_inline)) {
     const L live = static_cast<double>(k) <= n_steps ? one : zero;
     L *fr = f + nm, *r1 = d1 + nm, *r2 = d2 + nm, *r3 = d3 + nm;
-    outputs_range<N, NM, false>(flex, nm, 0, k0, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
+    if (!blk_a) outputs_range<N, NM, false>(flex, nm, 0, k0, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
     outputs_range<N, NM, true>(flex, nm, k0, k1, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
-    outputs_range<N, NM, false>(flex, nm, k1, no, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
+    if (!blk_b) outputs_range<N, NM, false>(flex, nm, k1, no, in.S, q, dj, fr, r1, r2, r3, md, mn, live);
     emit_accelerations<N>(no, flex, aj, c, ma, in.hist, in.stride, in.nh, in.n_steps, k, live, k <= min_steps,
                        fixed ? nullptr : in.acc_idx, in.n_acc);
     if (has_sums) emit_sums<N>(in.sums, in.n_sums, flex, dj, aj, fr, c, f + in.extra0, half_dt, k, live, sums, true);
@@ -563,10 +761,12 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
   }
   emit(0);
   const L x_start = zero + in.x_start;
+  blk.record(0, q, cur.ip, x_start);
   for (Index k = 1; k <= in.n_max; ++k) {
     check_cancel(k);  // the Python package's Ctrl-C
     for (std::size_t i = 0; i < nm; ++i) pp[i] = f[i];
-    cur.advance(nm, nr, x_start + v * (static_cast<double>(k) * in.dt), fixed ? nullptr : in.acc_idx, in.n_acc, x0, x1);
+    const L X = x_start + v * (static_cast<double>(k) * in.dt);
+    cur.advance(nm, nr, X, fixed ? nullptr : in.acc_idx, in.n_acc, x0, x1);
     for (std::size_t i = 0; i < nm; ++i) {
       const double* cf = in.c8 + 8 * i;
       const L q0 = q[i], v0 = qd[i], p0 = pp[i], p1 = f[i];
@@ -587,12 +787,16 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
       aj[j] = acc;
     }
     emit(k);
+    blk.record(k, q, cur.ip, X);
+    blk.flush(in.n_steps, false);
   }
+  blk.flush(in.n_steps, true);
   for (std::size_t l = 0; l < N; ++l) {
     for (std::size_t i = 0; i < nm; ++i) q_out[i * N + l] = q[i][l], qd_out[i * N + l] = qd[i][l];
     for (std::size_t j = 0; j < no; ++j)
       ma_out[j * N + l] = ma[j][l], md_out[j * N + l] = md[j][l], mn_out[j * N + l] = mn[j][l];
   }
+  blk.finish(md_out, mn_out);
 }
 
 // The same loop built twice on x86-64: for the baseline ISA and for AVX2 (one instruction per
@@ -1106,6 +1310,28 @@ void run_batches(PeaksSetup& k, const ModalReduction& r, const MovingChannels& L
 
 }  // namespace
 
+namespace {
+
+// MovingChannels::residual_bounds of pieces [p0, p1) of L into b (bound_residuals).
+void bound_pieces(const MovingChannels& L, std::size_t p0, std::size_t p1, double* b) noexcept {
+  const std::size_t nc = L.n_channels, nm = L.n_modes, no = L.n_outputs;
+  for (std::size_t p = p0; p < p1; ++p) {
+    const double len = L.breaks[p + 1] - L.breaks[p], pw[4] = {1.0, len, len * len, len * len * len};
+    const double* d = L.coef.data() + p * 4 * nc + nm;
+    for (std::size_t j = 0; j < no; ++j) {
+      double hi = d[j], lo = d[j], ab = std::abs(d[j]);
+      for (std::size_t n = 1; n < 4; ++n) {
+        const double t = d[n * nc + j] * pw[n];
+        hi += std::max(t, 0.0), lo += std::min(t, 0.0), ab += std::abs(t);
+      }
+      b[(2 * p) * no + j] = hi + 1e-10 * ab;
+      b[(2 * p + 1) * no + j] = lo - 1e-10 * ab;
+    }
+  }
+}
+
+}  // namespace
+
 std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingChannels& L,
                                          const std::vector<PeaksCase>& cases, double dt, std::size_t n_outputs,
                                          bool record_acc, double max_history_bytes,
@@ -1120,6 +1346,19 @@ std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingCh
   k.complex = r.complex_modes();
   if (!k.complex) prepare_classical(r, L, dt, no, k);
   else prepare_complex(r, L, dt, no, k);
+  // The residuals' bounds over each piece, for the outputs a block of steps at a time
+  // (BlockOutputs): the folded train's (study::fold_train computes them with the table), or here.
+  std::vector<double> own;
+  if (!k.complex && L.n_outputs) {
+    const std::size_t np = L.breaks.size() - 1;
+    k.in.rbound = L.residual_bounds.data();
+    if (L.residual_bounds.size() != 2 * np * L.n_outputs) {
+      own.resize(2 * np * L.n_outputs);
+      bound_pieces(L, 0, np, own.data());
+      k.in.rbound = own.data();
+    }
+    k.in.rb_stride = L.n_outputs;
+  }
   const std::size_t n_sums = sums.size(), extra0 = L.n_modes + L.n_outputs;
   // Accelerations: of the first acc_outputs outputs and the sums' parts (the others' maxima 0).
   std::vector<std::size_t> acc_idx;
@@ -1154,3 +1393,11 @@ std::vector<PeaksCaseResult> modal_peaks(const ModalReduction& r, const MovingCh
 }
 
 }  // namespace viaduct::solve::detail
+
+namespace viaduct::solve {
+
+void bound_residuals(MovingChannels& L, std::size_t p0, std::size_t p1) noexcept {
+  detail::bound_pieces(L, p0, p1, L.residual_bounds.data());
+}
+
+}  // namespace viaduct::solve

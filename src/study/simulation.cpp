@@ -865,6 +865,7 @@ TrainFold::TrainFold(const PreparedModel& m, const load::Train& train, double lo
     throw InputError("train '" + train.name + "' folded over " + std::to_string(nc) +
                      " modal channels would not fit in memory: lower modal.max_frequency_hz or modal.n_modes");
   t->coef.resize((n_pieces + 1) * 4 * nc);  // not zeroed: fill() zeroes each chunk's pieces, the last the block after
+  t->residual_bounds.resize(2 * n_pieces * t->n_outputs);  // each chunk's by fill()
   // An axle exactly at the path's end is still on its last element (bearing_load's rule): the
   // extra channels' value there, g(ξ = 1), at that break only.
   t->point.assign(nx ? (n_pieces + 1) * nx : 0, 0.0);
@@ -920,6 +921,7 @@ void TrainFold::fill(std::size_t chunk) noexcept {
       }
     }
   }
+  solve::bound_residuals(*P.t, p0, p1);
 }
 
 std::shared_ptr<const solve::MovingChannels> TrainFold::table() const { return p_->t; }

@@ -348,6 +348,18 @@ TEST_CASE("the modal peaks kernel keeps the signed extremes of load effects as t
     REQUIRE(study::prepare_model(sc, false, true).modal->complex_modes());
     CHECK(kernel_against_histories(sc) == 5 * per_speed);
   }
+  SECTION("a station every metre of the first span: the outputs taken a block of steps at a time") {
+    // 12 more stations (deflection, moment, shear each): 36 outputs beside the sums' bearings, which
+    // the classical kernel takes in blocks of steps against bounds (BlockOutputs), on four lanes
+    // or eight; a block it leaves out must hold no value beyond the extremes the histories give.
+    for (const bool correction : {true, false}) {
+      study::Scenario sc = two_spans();
+      sc.settings.modal.static_correction = correction;
+      for (int x = 0; x < 12; ++x)
+        sc.stations.push_back({"A" + std::to_string(x), true, 0, 0.5 + x, 0.0});
+      CHECK(kernel_against_histories(sc) == 5 * (per_speed + 36));
+    }
+  }
   SECTION("a continuous deck on rigid supports") {
     study::Scenario sc = two_spans();
     sc.bridge.continuous = true;

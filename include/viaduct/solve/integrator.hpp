@@ -58,11 +58,22 @@ struct MovingChannels {
   /// exactly at that break and nowhere else: a load that the piece before ends with (an axle at
   /// the path's very end, which its last element holds: load::MovingLoads' rule).
   std::vector<double> point;
+  /// Per piece, bounds of each static-correction residual channel over it (bound_residuals): at
+  /// (2p)·n_outputs + j the largest, at (2p + 1)·n_outputs + j the smallest value of channel
+  /// n_modes + j; empty when not computed (the peaks kernel then computes them for itself).
+  std::vector<double> residual_bounds;
   double length = 0.0;        ///< [m] extent of the load itself (a train's first to last axle)
   double x_start = 0.0, x_end = 0.0;  ///< [m] the path: loads enter at x_start, leave past x_end
   /// [s] time from entry until the load has left the path at speed v [m/s].
   double t_exit(double v) const { return (x_end - x_start + length) / v; }
 };
+
+/// Fills pieces [p0, p1) of L.residual_bounds (sized 2 × pieces × n_outputs by the caller) from
+/// L.coef: each residual's cubic a0 + a1 s + a2 s² + a3 s³ over its piece (0 ≤ s ≤ ℓ) bounded term
+/// by term (aₙsⁿ between 0 and aₙℓⁿ) and widened by 1e-10 of |a0| + Σ|aₙ|ℓⁿ, far above the rounding
+/// of the few operations that evaluate it. Used by the peaks kernel to leave out blocks of steps
+/// that cannot reach beyond an output's extremes.
+void bound_residuals(MovingChannels& L, std::size_t p0, std::size_t p1) noexcept;
 
 /// One load case. `system` gives the matrices and the nodal loads f(t) (required: every kernel can
 /// use it). Modal kernels take the same loads projected when given: `modal_force` (history
