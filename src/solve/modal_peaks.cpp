@@ -517,12 +517,12 @@ VIADUCT_ALWAYS_INLINE void outputs_range(bool flex, std::size_t nm, std::size_t 
 // step cost half the run). As the steps run, the block keeps the modal coordinates, their ranges,
 // and each lane's piece of the folded train and place on it. Then, per lane and group, a bound of
 // the outputs over the block (each mode's share at the ends of its coordinate's range; the
-// residual's bounds over the pieces the lane passes, MovingChannels::residual_bounds) is compared with the signed
-// extremes so far, and the block is evaluated only where it may reach beyond them (on that job
-// about one lane's group in four). An evaluated step is the sum over the modes in their order, as
-// the step-by-step path takes it, plus the residual's cubic by Horner at the lane's place (the
-// step-by-step path advances it by forward differences from the same value at the piece's start:
-// the same to rounding). The bounds carry a margin of 1e-10 of the magnitudes they add, far above
+// residual's bounds over the pieces the lane passes, MovingChannels::residual_bounds) is compared
+// with the signed extremes so far, and the block is evaluated only where it may reach beyond them
+// (on that job about a third of the lanes' groups). An evaluated step is the sum over the modes
+// in their order, as the step-by-step path takes it, plus the residual's cubic by Horner at the
+// lane's place (the step-by-step path advances it by forward differences from the same value at
+// the piece's start: the same to rounding). The bounds carry a margin of 1e-10 of the magnitudes they add, far above
 // the rounding of the few operations on either side, so a block left out holds no value beyond the
 // extremes (NaN in a bound: evaluated).
 template <std::size_t N, std::size_t NM>

@@ -1,4 +1,5 @@
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <thread>
@@ -6,6 +7,7 @@
 #include "../../verification/helpers.hpp"
 #include "viaduct/core/buffer.hpp"
 #include "viaduct/core/error.hpp"
+#include "viaduct/solve/integrator.hpp"
 #include "viaduct/study/simulation.hpp"
 #include "viaduct/study/sweep.hpp"
 
@@ -235,5 +237,48 @@ TEST_CASE("modal peaks kernel: complex modes with 1 to 7 stations (every block s
     INFO(n << " stations");
     REQUIRE(prepare_model(sc, false).modal->complex_modes());
     require_same_as_simulate(sc, {83.7});
+  }
+}
+
+// solve::bound_residuals bounds each residual channel's cubic over its piece: every value at
+// 2001 places of every piece within the bounds (the kernel leaves a block of steps out on them:
+// a bound below a value loses an extreme), and not loose where the cubic is monotone in each
+// term (all coefficients of one sign: the bound is the value at an end, within the 1e-10 margin).
+TEST_CASE("the residuals' bounds of a folded train hold every value of each piece's cubic") {
+  solve::MovingChannels L;
+  L.n_modes = 2, L.n_outputs = 3, L.n_channels = 5;
+  L.breaks = {0.0, 0.3, 0.35, 1.2, 1.21};
+  const std::size_t np = L.breaks.size() - 1, nc = L.n_channels;
+  L.coef.assign((np + 1) * 4 * nc, 0.0);
+  unsigned seed = 7;
+  auto rnd = [&seed] {  // deterministic values in [-1, 1)
+    seed = seed * 1103515245u + 12345u;
+    return static_cast<double>((seed >> 8) % 20000) / 10000.0 - 1.0;
+  };
+  for (std::size_t p = 0; p < np; ++p)
+    for (std::size_t n = 0; n < 4; ++n)
+      for (std::size_t ch = 0; ch < nc; ++ch) L.coef[p * 4 * nc + n * nc + ch] = 1e6 * rnd() * std::pow(10.0, n);
+  // residual channel 2 of piece 2: every term positive, its largest value at the piece's end
+  for (std::size_t n = 0; n < 4; ++n) L.coef[2 * 4 * nc + n * nc + L.n_modes + 2] = 1e6 * (1.0 + n);
+  L.residual_bounds.resize(2 * np * L.n_outputs);
+  solve::bound_residuals(L, 0, np);
+  for (std::size_t p = 0; p < np; ++p) {
+    const double len = L.breaks[p + 1] - L.breaks[p];
+    for (std::size_t j = 0; j < L.n_outputs; ++j) {
+      const double* a = L.coef.data() + p * 4 * nc + L.n_modes + j;
+      const double hi = L.residual_bounds[(2 * p) * L.n_outputs + j], lo = L.residual_bounds[(2 * p + 1) * L.n_outputs + j];
+      double vmax = -1e300, vmin = 1e300;
+      for (int k = 0; k <= 2000; ++k) {
+        const double s = len * k / 2000.0, v = a[0] + s * (a[nc] + s * (a[2 * nc] + s * a[3 * nc]));
+        vmax = std::max(vmax, v), vmin = std::min(vmin, v);
+      }
+      INFO("piece " << p << ", residual " << j);
+      CHECK(hi >= vmax);
+      CHECK(lo <= vmin);
+      if (p == 2 && j == 2) {  // the margin, 1e-10 of the terms' magnitudes (7.3 times the value here)
+        CHECK(hi == Approx(vmax).epsilon(1e-9));
+        CHECK(lo == Approx(vmin).epsilon(1e-8));
+      }
+    }
   }
 }
