@@ -182,7 +182,7 @@ struct LoadCursorT : PieceTrack<N> {
   double h[W], v2[W];
   // The channel ranges [a, b) set at each piece (none kept: all nc; or what the caller reads step
   // by step: keep()); the others hold nothing.
-  std::size_t kept[5][2] = {}, n_kept = 0;
+  std::size_t kept[4][2] = {}, n_kept = 0;
   // The residuals whose curvature is kept (null: all nr): those whose acceleration is computed.
   const std::size_t* curv = nullptr;
   std::size_t n_curv = 0;
@@ -240,10 +240,10 @@ struct LoadCursorT : PieceTrack<N> {
     // each piece (the 31 stations along a span of docs/benchmarks.md: 127 residuals, a few read).
     if (in.acc_idx && n_res) curv = in.acc_idx, n_curv = in.n_acc;
   }
-  // Only channel ranges [a, b) (ascending, at most five) are set at each piece from now.
-  void keep(const std::size_t (*r)[2], std::size_t n) {
+  // Only channel ranges [a, b) (ascending, at most four) are set at each piece from now.
+  void keep(const std::size_t (&r)[4][2]) {
     n_kept = 0;
-    for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t i = 0; i < 4; ++i)
       if (r[i][1] > r[i][0]) kept[n_kept][0] = r[i][0], kept[n_kept][1] = r[i][1], ++n_kept;
   }
   // Channels [a, b) to the next step: value and differences, three additions each.
@@ -576,9 +576,9 @@ struct BlockOutputs {
   VIADUCT_ALWAYS_INLINE void flush(const Index* n_steps, bool force) {
     if (n == 0 || (n < B && !force)) return;
     for (std::size_t l = 0; l < N; ++l) {
+      // a lane ending within the block: its first nv steps, bounded by the whole block's ranges
       const Index nv = std::min<Index>(static_cast<Index>(n), n_steps[l] - first + 1);
-      if (nv == static_cast<Index>(n)) lane(l, n, true);
-      else if (nv > 0) lane(l, static_cast<std::size_t>(nv), false);  // a lane ending: no bound
+      if (nv > 0) lane(l, static_cast<std::size_t>(nv));
     }
     n = 0;
   }
@@ -597,9 +597,9 @@ struct BlockOutputs {
       if (!m[e]) return false;
     return true;
   }
-  // Lane l's first nv steps of the block, against the bound when `bounded` (the block's ranges
-  // hold all n steps) and a residual has its bounds.
-  VIADUCT_ALWAYS_INLINE void lane(std::size_t l, std::size_t nv, bool bounded) {
+  // Lane l's first nv steps of the block, against the bound (the coordinates' ranges over the
+  // block hold those of its first nv steps).
+  VIADUCT_ALWAYS_INLINE void lane(std::size_t l, std::size_t nv) {
     double qmax[kMaxModes], qmin[kMaxModes], qabs[kMaxModes];
     for (std::size_t i = 0; i < nm; ++i) {
       qmax[i] = qhi[i][l], qmin[i] = qlo[i][l];
@@ -607,7 +607,7 @@ struct BlockOutputs {
     }
     // The pieces passed (a lane's pieces only move forward; before the first break: no bound).
     const std::size_t p0 = pb[0][l], p1 = pb[nv - 1][l];
-    bounded = bounded && (!flex || (rb && sb[0][l] >= 0.0));
+    const bool bounded = !flex || (rb && sb[0][l] >= 0.0);
     for (std::size_t r = 0; r < n_ranges; ++r)
       for (std::size_t g0 = range[r][0]; g0 < range[r][1]; g0 += N) {
         const std::size_t g = std::min(g0, range[r][1] - N);  // the last group overlaps its neighbour
@@ -741,7 +741,7 @@ VIADUCT_ALWAYS_INLINE void kernel_body(const KernelInput& in, double* q_out, dou
                                    {flex ? nm + k0 : 0, flex ? nm + k1 : 0},
                                    {flex ? nm + (blk_b ? no : k1) : 0, flex ? nm + no : 0},
                                    {x0, x1}};
-      cur.keep(r, 4);
+      cur.keep(r);
     }
   }
   auto emit = [&](Index k) __attribute__((always_inline)) {
