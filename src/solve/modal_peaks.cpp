@@ -444,6 +444,13 @@ VIADUCT_ALWAYS_INLINE void emit_sums(const OutputSum* sums, std::size_t n_sums, 
                                      const L* f_res, const L* c, const L* f_extra, double half_dt, Index k,
                                      const L& live, SumStateT<N>& st, bool disp_total = false) {
   const L zero = {};
+  // The live lanes (live: 1 or 0) as a bit mask, once a step, from live's bits by integer
+  // operations; the extremes below are a maximum and a minimum (NaN keeps the extreme), then a
+  // bitwise choice between them and the old extremes. (A vector select on the comparisons inside
+  // the loop was built as a compare and branch per lane by GCC 12 for eight lanes, which also
+  // fails on a 512-bit comparison kept as a vector here.)
+  typedef long long M __attribute__((vector_size(sizeof(L))));
+  const M lb = (M)live, on = (lb | -lb) >> 63;
   for (std::size_t s = 0; s < n_sums; ++s) {
     const OutputSum& o = sums[s];
     L y = zero;
@@ -463,9 +470,9 @@ VIADUCT_ALWAYS_INLINE void emit_sums(const OutputSum* sums, std::size_t n_sums, 
       y += st.vi[s];
     }
     if (o.load_channel >= 0) y += f_extra[o.load_channel] + st.pt[o.load_channel];
-    const auto on = live > zero;
-    st.hi[s] = (on & (y > st.hi[s])) ? y : st.hi[s];
-    st.lo[s] = (on & (y < st.lo[s])) ? y : st.lo[s];
+    const L h0 = st.hi[s], l0 = st.lo[s], h1 = y > h0 ? y : h0, l1 = y < l0 ? y : l0;
+    st.hi[s] = (L)(((M)h1 & on) | ((M)h0 & ~on));
+    st.lo[s] = (L)(((M)l1 & on) | ((M)l0 & ~on));
   }
 }
 
@@ -591,11 +598,21 @@ struct BlockOutputs {
 
  private:
   VIADUCT_ALWAYS_INLINE static void ld(L& v, const double* p) { std::memcpy(&v, p, sizeof v); }
+  // Every lane of a at most b's (NaN: false): the comparison's lanes folded by halves with
+  // bitwise and, one test at the end (a test and branch per lane was built).
   VIADUCT_ALWAYS_INLINE static bool all_le(const L& a, const L& b) {
-    const auto m = a <= b;
-    for (std::size_t e = 0; e < N; ++e)
-      if (!m[e]) return false;
-    return true;
+    using M = decltype(a <= b);
+    M m = a <= b;
+    if constexpr (N == 8) {
+      m &= VIADUCT_SHUFFLE(M, m, m, 4, 5, 6, 7, 0, 1, 2, 3);
+      m &= VIADUCT_SHUFFLE(M, m, m, 2, 3, 0, 1, 6, 7, 4, 5);
+      m &= VIADUCT_SHUFFLE(M, m, m, 1, 0, 3, 2, 5, 4, 7, 6);
+    } else {
+      static_assert(N == 4, "blocks of 4 or 8 lanes");
+      m &= VIADUCT_SHUFFLE(M, m, m, 2, 3, 0, 1);
+      m &= VIADUCT_SHUFFLE(M, m, m, 1, 0, 3, 2);
+    }
+    return m[0] != 0;
   }
   // Lane l's first nv steps of the block, against the bound (the coordinates' ranges over the
   // block hold those of its first nv steps).
@@ -1312,6 +1329,40 @@ void run_batches(PeaksSetup& k, const ModalReduction& r, const MovingChannels& L
 
 namespace {
 
+// The largest and smallest value of a[0] + a[1]·s + a[2]·s² + a[3]·s³ over 0 ≤ s ≤ len: the
+// values at the ends and where the slope a[1] + 2a[2]·s + 3a[3]·s² is zero within (the roots in
+// their stable form), each by Horner as the kernel evaluates. A root's rounding moves the value
+// at it only to second order (the slope is zero there), and two roots too close for the
+// discriminant's sign to be right hold a bump of the order of its rounding to the power 1.5: both
+// far below the margin the caller adds.
+void cubic_range(const double (&a)[4], double len, double& hi, double& lo) noexcept {
+  bool nan = false;
+  auto at = [&](double s) {
+    const double v = a[0] + s * (a[1] + s * (a[2] + s * a[3]));
+    nan = nan || std::isnan(v);
+    return v;
+  };
+  const double v0 = at(0.0), v1 = at(len);
+  hi = std::max(v0, v1), lo = std::min(v0, v1);
+  auto take = [&](double s) {
+    if (!(s > 0.0 && s < len)) return;
+    const double v = at(s);
+    hi = std::max(hi, v), lo = std::min(lo, v);
+  };
+  const double A = 3.0 * a[3], Bh = a[2], C = a[1];  // slope: A·s² + 2·Bh·s + C
+  if (A != 0.0) {
+    const double disc = Bh * Bh - A * C;
+    if (disc >= 0.0) {
+      const double q = -(Bh + std::copysign(std::sqrt(disc), Bh));
+      take(q / A);
+      if (q != 0.0) take(C / q);
+    }
+  } else if (Bh != 0.0) {
+    take(-C / (2.0 * Bh));
+  }
+  if (nan) hi = lo = std::numeric_limits<double>::quiet_NaN();
+}
+
 // MovingChannels::residual_bounds of pieces [p0, p1) of L into b (bound_residuals).
 void bound_pieces(const MovingChannels& L, std::size_t p0, std::size_t p1, double* b) noexcept {
   const std::size_t nc = L.n_channels, nm = L.n_modes, no = L.n_outputs;
@@ -1319,13 +1370,20 @@ void bound_pieces(const MovingChannels& L, std::size_t p0, std::size_t p1, doubl
     const double len = L.breaks[p + 1] - L.breaks[p], pw[4] = {1.0, len, len * len, len * len * len};
     const double* d = L.coef.data() + p * 4 * nc + nm;
     for (std::size_t j = 0; j < no; ++j) {
-      double hi = d[j], lo = d[j], ab = std::abs(d[j]);
+      const double a[4] = {d[j], d[nc + j], d[2 * nc + j], d[3 * nc + j]};
+      double hi = a[0], lo = a[0], ab = std::abs(a[0]);
       for (std::size_t n = 1; n < 4; ++n) {
-        const double t = d[n * nc + j] * pw[n];
+        const double t = a[n] * pw[n];
         hi += std::max(t, 0.0), lo += std::min(t, 0.0), ab += std::abs(t);
       }
-      b[(2 * p) * no + j] = hi + 1e-10 * ab;
-      b[(2 * p + 1) * no + j] = lo - 1e-10 * ab;
+      double rhi, rlo;
+      cubic_range(a, len, rhi, rlo);
+      // The cubic's range (its terms' bound: a third more blocks of the job of docs/benchmarks.md
+      // were evaluated), or the terms' bound where the range is not a number (infinite
+      // coefficients: min and max keep their first argument against NaN).
+      const double m = 1e-10 * ab;
+      b[(2 * p) * no + j] = std::min(hi + m, rhi + m);
+      b[(2 * p + 1) * no + j] = std::max(lo - m, rlo - m);
     }
   }
 }

@@ -69,10 +69,11 @@ struct MovingChannels {
 };
 
 /// Fills pieces [p0, p1) of L.residual_bounds (sized 2 × pieces × n_outputs by the caller) from
-/// L.coef: each residual's cubic a0 + a1 s + a2 s² + a3 s³ over its piece (0 ≤ s ≤ ℓ) bounded term
-/// by term (aₙsⁿ between 0 and aₙℓⁿ) and widened by 1e-10 of |a0| + Σ|aₙ|ℓⁿ, far above the rounding
-/// of the few operations that evaluate it. Used by the peaks kernel to leave out blocks of steps
-/// that cannot reach beyond an output's extremes.
+/// L.coef: the range of each residual's cubic a0 + a1 s + a2 s² + a3 s³ over its piece
+/// (0 ≤ s ≤ ℓ: its values at the ends and at the turning points within) widened by 1e-10 of
+/// |a0| + Σ|aₙ|ℓⁿ, far above the rounding of the few operations that evaluate it (where the range
+/// is not a number, infinite coefficients: the terms bounded one by one). Used by the peaks kernel
+/// to leave out blocks of steps that cannot reach beyond an output's extremes.
 void bound_residuals(MovingChannels& L, std::size_t p0, std::size_t p1) noexcept;
 
 /// One load case. `system` gives the matrices and the nodal loads f(t) (required: every kernel can

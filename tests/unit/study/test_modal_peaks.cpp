@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <thread>
 
 #include "../../verification/helpers.hpp"
@@ -244,10 +245,10 @@ TEST_CASE("modal peaks kernel: complex modes with 1 to 7 stations (every block s
 // 2001 places of every piece within the bounds (the kernel leaves a block of steps out on them:
 // a bound below a value loses an extreme), and not loose where the cubic is monotone in each
 // term (all coefficients of one sign: the bound is the value at an end, within the 1e-10 margin).
-TEST_CASE("the residuals' bounds of a folded train hold every value of each piece's cubic") {
+TEST_CASE("the residuals' bounds of a folded train are each piece's cubic's range, within their margin") {
   solve::MovingChannels L;
   L.n_modes = 2, L.n_outputs = 3, L.n_channels = 5;
-  L.breaks = {0.0, 0.3, 0.35, 1.2, 1.21};
+  L.breaks = {0.0, 0.3, 0.35, 1.2, 1.21, 1.9};
   const std::size_t np = L.breaks.size() - 1, nc = L.n_channels;
   L.coef.assign((np + 1) * 4 * nc, 0.0);
   unsigned seed = 7;
@@ -260,25 +261,54 @@ TEST_CASE("the residuals' bounds of a folded train hold every value of each piec
       for (std::size_t ch = 0; ch < nc; ++ch) L.coef[p * 4 * nc + n * nc + ch] = 1e6 * rnd() * std::pow(10.0, n);
   // residual channel 2 of piece 2: every term positive, its largest value at the piece's end
   for (std::size_t n = 0; n < 4; ++n) L.coef[2 * 4 * nc + n * nc + L.n_modes + 2] = 1e6 * (1.0 + n);
+  // residual 1 of the last piece: a cubic whose two turning points lie close together (a
+  // discriminant near zero), s = 0.4 ± 1e-4
+  {
+    double* a = L.coef.data() + 4 * 4 * nc + L.n_modes + 1;
+    const double r1 = 0.4 - 1e-4, r2 = 0.4 + 1e-4;  // slope 3(s − r1)(s − r2)
+    a[0] = 5.0, a[nc] = 3.0 * r1 * r2, a[2 * nc] = -1.5 * (r1 + r2), a[3 * nc] = 1.0;
+  }
   L.residual_bounds.resize(2 * np * L.n_outputs);
   solve::bound_residuals(L, 0, np);
+  int interior = 0;
   for (std::size_t p = 0; p < np; ++p) {
     const double len = L.breaks[p + 1] - L.breaks[p];
     for (std::size_t j = 0; j < L.n_outputs; ++j) {
       const double* a = L.coef.data() + p * 4 * nc + L.n_modes + j;
+      auto f = [&](double s) { return a[0] + s * (a[nc] + s * (a[2 * nc] + s * a[3 * nc])); };
       const double hi = L.residual_bounds[(2 * p) * L.n_outputs + j], lo = L.residual_bounds[(2 * p + 1) * L.n_outputs + j];
-      double vmax = -1e300, vmin = 1e300;
-      for (int k = 0; k <= 2000; ++k) {
-        const double s = len * k / 2000.0, v = a[0] + s * (a[nc] + s * (a[2 * nc] + s * a[3 * nc]));
-        vmax = std::max(vmax, v), vmin = std::min(vmin, v);
+      // The range by sampling, each extreme then refined by ternary search about its sample.
+      const int n = 2000;
+      int kmax = 0, kmin = 0;
+      for (int k = 0; k <= n; ++k) {
+        if (f(len * k / n) > f(len * kmax / n)) kmax = k;
+        if (f(len * k / n) < f(len * kmin / n)) kmin = k;
       }
+      auto refine = [&](int k, double sign) {
+        double x0 = len * std::max(k - 1, 0) / n, x1 = len * std::min(k + 1, n) / n;
+        for (int it = 0; it < 200; ++it) {
+          const double m1 = x0 + (x1 - x0) / 3.0, m2 = x1 - (x1 - x0) / 3.0;
+          if (sign * f(m1) < sign * f(m2)) x0 = m1;
+          else x1 = m2;
+        }
+        return std::max(sign * f(len * k / n), sign * f(0.5 * (x0 + x1))) * sign;
+      };
+      const double vmax = refine(kmax, 1.0), vmin = refine(kmin, -1.0);
+      interior += (kmax > 0 && kmax < n) + (kmin > 0 && kmin < n);
+      double ab = 0.0;  // the terms' magnitudes: the margin is 1e-10 of them
+      for (std::size_t e = 0; e < 4; ++e) ab += std::abs(a[e * nc]) * std::pow(len, static_cast<double>(e));
       INFO("piece " << p << ", residual " << j);
       CHECK(hi >= vmax);
       CHECK(lo <= vmin);
-      if (p == 2 && j == 2) {  // the margin, 1e-10 of the terms' magnitudes (7.3 times the value here)
-        CHECK(hi == Approx(vmax).epsilon(1e-9));
-        CHECK(lo == Approx(vmin).epsilon(1e-8));
-      }
+      // tight: the margin and the rounding of a few operations (1e-14 of the terms) beyond it
+      CHECK(hi - vmax <= 1e-10 * ab + 1e-14 * ab);
+      CHECK(vmin - lo <= 1e-10 * ab + 1e-14 * ab);
     }
   }
+  CHECK(interior >= 4);  // turning points within pieces are exercised (5 here)
+  // An infinite coefficient: bounds that still hold (the terms' bound where the range is NaN).
+  L.coef[1 * 4 * nc + 3 * nc + L.n_modes + 0] = std::numeric_limits<double>::infinity();
+  solve::bound_residuals(L, 1, 2);
+  CHECK(L.residual_bounds[(2 * 1) * L.n_outputs + 0] == std::numeric_limits<double>::infinity());
+  CHECK(!std::isnan(L.residual_bounds[(2 * 1 + 1) * L.n_outputs + 0]));
 }
