@@ -300,6 +300,52 @@ void sos_cascade(const Section* c, const double* x, double* y, Index n, double* 
   for (std::size_t k = 0; k < 2 * NS; ++k) z[k] = zz[k];
 }
 
+// sos_cascade over K records at once (x[k] into y[k], n[k] samples each, states z[k]): per record
+// the same operations in the same order, the records' recurrences interleaved; their common
+// length in lock-step, then each one's rest alone.
+template <std::size_t NS, std::size_t K>
+void sos_cascade_many(const Section* c, double* const* y, const Index* n, double* const* z) {
+  Index common = n[0];
+  for (std::size_t k = 1; k < K; ++k) common = std::min(common, n[k]);
+  double zz[K][2 * NS];
+  for (std::size_t k = 0; k < K; ++k)
+    for (std::size_t e = 0; e < 2 * NS; ++e) zz[k][e] = z[k][e];
+  for (Index i = 0; i < common; ++i) {
+    double u[K];
+    for (std::size_t k = 0; k < K; ++k) u[k] = y[k][i];
+    for (std::size_t s = 0; s < NS; ++s)
+      for (std::size_t k = 0; k < K; ++k) {
+        const double yi = c[s][0] * u[k] + zz[k][2 * s];
+        zz[k][2 * s] = c[s][1] * u[k] - c[s][4] * yi + zz[k][2 * s + 1];
+        zz[k][2 * s + 1] = c[s][2] * u[k] - c[s][5] * yi;
+        u[k] = yi;
+      }
+    for (std::size_t k = 0; k < K; ++k) y[k][i] = u[k];
+  }
+  for (std::size_t k = 0; k < K; ++k) {
+    for (std::size_t e = 0; e < 2 * NS; ++e) z[k][e] = zz[k][e];
+    sos_cascade<NS>(c, y[k] + common, y[k] + common, n[k] - common, z[k]);
+  }
+}
+
+// Records y[0 … K) in place through every section (chunks of up to four, as sosfilt), from the
+// states z[k] (2 per section) to their final states.
+template <std::size_t K>
+void sosfilt_many(const Sos& sos, double* const* y, const Index* n, double* const* z) {
+  const std::size_t ns = sos.n_sections();
+  const Section* c = sos.sections.data();
+  for (std::size_t s0 = 0; s0 < ns; s0 += 4) {
+    double* zs[K];
+    for (std::size_t k = 0; k < K; ++k) zs[k] = z[k] + 2 * s0;
+    switch (std::min<std::size_t>(4, ns - s0)) {
+      case 1: sos_cascade_many<1, K>(c + s0, y, n, zs); break;
+      case 2: sos_cascade_many<2, K>(c + s0, y, n, zs); break;
+      case 3: sos_cascade_many<3, K>(c + s0, y, n, zs); break;
+      default: sos_cascade_many<4, K>(c + s0, y, n, zs); break;
+    }
+  }
+}
+
 // The cascade's state (z0, z1 per section) as one vector: the doubling's and the end-state map's.
 Vector flat_state(const std::vector<std::array<double, 2>>& z) {
   Vector v(static_cast<Index>(2 * z.size()));
@@ -414,6 +460,37 @@ Vector FiltfiltFromRest::operator()(const Vector& x) const {
   Vector rev = y.reverse();
   sosfilt(sos_, rev, y, &z1);
   return y.reverse();
+}
+
+std::vector<Vector> FiltfiltFromRest::operator()(const std::vector<Vector>& xs) const {
+  constexpr std::size_t K = 4;
+  const std::size_t ns = sos_.n_sections();
+  std::vector<Vector> out(xs.size());
+  std::size_t i = 0;
+  for (; ns > 0 && i + K <= xs.size(); i += K) {
+    double* y[K];
+    Index n[K];
+    std::vector<double> z(K * 2 * ns, 0.0);
+    double* zp[K];
+    for (std::size_t k = 0; k < K; ++k) {
+      out[i + k] = xs[i + k];
+      y[k] = out[i + k].data(), n[k] = out[i + k].size(), zp[k] = z.data() + k * 2 * ns;
+    }
+    sosfilt_many<K>(sos_, y, n, zp);  // forward, from rest
+    // The backward pass's start (as operator(): W times the forward pass's end state), then the
+    // records reversed through the cascade again and reversed back.
+    for (std::size_t k = 0; k < K; ++k) {
+      Vector zf(static_cast<Index>(2 * ns));  // as flat_state gives it to operator()
+      for (Index e = 0; e < zf.size(); ++e) zf[e] = zp[k][e];
+      const Vector w = W_ * zf;
+      for (Index e = 0; e < w.size(); ++e) zp[k][e] = w[e];
+      out[i + k].reverseInPlace();
+    }
+    sosfilt_many<K>(sos_, y, n, zp);
+    for (std::size_t k = 0; k < K; ++k) out[i + k].reverseInPlace();
+  }
+  for (; i < xs.size(); ++i) out[i] = (*this)(xs[i]);
+  return out;
 }
 
 Vector filtfilt_from_rest(const Sos& sos, const Vector& x) {

@@ -249,6 +249,25 @@ TEST_CASE("one FiltfiltFromRest serves many records with filtfilt_from_rest's nu
     REQUIRE(a.size() == x.size());
     REQUIRE((a.size() == 0 || (a - b).cwiseAbs().maxCoeff() == 0.0));
   }
+  // Many records at once, of different lengths (one empty, one of a single sample) and a count
+  // that is not a multiple of four: each the very numbers of the one-record call, with a filter
+  // of one chunk of sections (order 3 band-pass: three) and one of two (order 5: four and one).
+  for (int order : {3, 5}) {
+    s.order = order;
+    const Sos so = cheby1(s, 1000.0);
+    const FiltfiltFromRest f(so);
+    std::vector<Vector> xs;
+    for (double d : {0.3, 0.0, 0.5, 0.001, 0.7, 0.45, 0.31, 0.2, 0.6}) xs.push_back(ringing(1000.0, d));
+    xs[3] = Vector::Constant(1, 2.5);
+    const std::vector<Vector> many = f(xs);
+    REQUIRE(many.size() == xs.size());
+    for (std::size_t k = 0; k < xs.size(); ++k) {
+      INFO("order " << order << ", record " << k << " of " << xs[k].size() << " samples");
+      const Vector one = f(xs[k]);
+      REQUIRE(many[k].size() == one.size());
+      CHECK((one.size() == 0 || (many[k] - one).cwiseAbs().maxCoeff() == 0.0));
+    }
+  }
   // An unstable filter is refused when the operator is built.
   Sos bad = sos;
   bad.sections[0][5] = 1.5;  // a pole pair outside the unit circle
