@@ -278,31 +278,22 @@ Sos cheby1(const Cheby1Spec& spec, double fs_hz) {
 }
 
 namespace {
-// x through the NS sections c from the state z (z0, z1 per section), sample by sample
-// (transposed direct form II); z ends as the final state. Each section's recurrence is a chain of
-// four dependent operations a sample; with the state in registers the sections' chains overlap in
-// the processor (a section at a time over the whole record they ran one after another: the same
-// operations on the same numbers, NS times as long).
-template <std::size_t NS>
-void sos_cascade(const Section* c, const double* x, double* y, Index n, double* z) {
-  double zz[2 * NS];
-  for (std::size_t k = 0; k < 2 * NS; ++k) zz[k] = z[k];
-  for (Index i = 0; i < n; ++i) {
-    double u = x[i];
-    for (std::size_t s = 0; s < NS; ++s) {
-      const double yi = c[s][0] * u + zz[2 * s];
-      zz[2 * s] = c[s][1] * u - c[s][4] * yi + zz[2 * s + 1];
-      zz[2 * s + 1] = c[s][2] * u - c[s][5] * yi;
-      u = yi;
-    }
-    y[i] = u;
-  }
-  for (std::size_t k = 0; k < 2 * NS; ++k) z[k] = zz[k];
+// One sample u through section c from its state (z0, z1), transposed direct form II: the
+// section's output. Every pass of the filter takes it (one formula: the same numbers).
+inline double section_step(const Section& c, double u, double& z0, double& z1) {
+  const double yi = c[0] * u + z0;
+  z0 = c[1] * u - c[4] * yi + z1;
+  z1 = c[2] * u - c[5] * yi;
+  return yi;
 }
 
-// sos_cascade over K records at once (x[k] into y[k], n[k] samples each, states z[k]): per record
-// the same operations in the same order, the records' recurrences interleaved; their common
-// length in lock-step, then each one's rest alone.
+// K records y[k] (n[k] samples each) in place through the NS sections c from the states z[k]
+// (z0, z1 per section), sample by sample; z[k] ends as the final state. Each section's recurrence
+// is a chain of four dependent operations a sample; with the states in registers the sections'
+// chains overlap in the processor (a section at a time over the whole record they ran one after
+// another: the same operations on the same numbers, NS times as long), and so do K records'
+// (their common length in lock-step, then each one's rest alone; per record the same operations
+// in the same order).
 template <std::size_t NS, std::size_t K>
 void sos_cascade_many(const Section* c, double* const* y, const Index* n, double* const* z) {
   Index common = n[0];
@@ -314,17 +305,16 @@ void sos_cascade_many(const Section* c, double* const* y, const Index* n, double
     double u[K];
     for (std::size_t k = 0; k < K; ++k) u[k] = y[k][i];
     for (std::size_t s = 0; s < NS; ++s)
-      for (std::size_t k = 0; k < K; ++k) {
-        const double yi = c[s][0] * u[k] + zz[k][2 * s];
-        zz[k][2 * s] = c[s][1] * u[k] - c[s][4] * yi + zz[k][2 * s + 1];
-        zz[k][2 * s + 1] = c[s][2] * u[k] - c[s][5] * yi;
-        u[k] = yi;
-      }
+      for (std::size_t k = 0; k < K; ++k) u[k] = section_step(c[s], u[k], zz[k][2 * s], zz[k][2 * s + 1]);
     for (std::size_t k = 0; k < K; ++k) y[k][i] = u[k];
   }
   for (std::size_t k = 0; k < K; ++k) {
     for (std::size_t e = 0; e < 2 * NS; ++e) z[k][e] = zz[k][e];
-    sos_cascade<NS>(c, y[k] + common, y[k] + common, n[k] - common, z[k]);
+    if constexpr (K > 1) {
+      double* rest = y[k] + common;
+      const Index n_rest = n[k] - common;
+      sos_cascade_many<NS, 1>(c, &rest, &n_rest, &z[k]);
+    }
   }
 }
 
@@ -364,17 +354,12 @@ void sosfilt(const Sos& sos, const Vector& x, Vector& y, const std::vector<std::
   std::vector<double> z(2 * ns, 0.0);
   for (std::size_t s = 0; s < ns && zi; ++s) z[2 * s] = (*zi)[s][0], z[2 * s + 1] = (*zi)[s][1];
   y = x;
-  const Section* c = sos.sections.data();
-  // Up to four sections at a time (filter.order 3 band-pass: three).
-  for (std::size_t s0 = 0; s0 < ns; s0 += 4) {
-    double* zs = z.data() + 2 * s0;
-    switch (std::min<std::size_t>(4, ns - s0)) {
-      case 1: sos_cascade<1>(c + s0, y.data(), y.data(), y.size(), zs); break;
-      case 2: sos_cascade<2>(c + s0, y.data(), y.data(), y.size(), zs); break;
-      case 3: sos_cascade<3>(c + s0, y.data(), y.data(), y.size(), zs); break;
-      default: sos_cascade<4>(c + s0, y.data(), y.data(), y.size(), zs); break;
-    }
-  }
+  // One record through sosfilt_many (up to four sections at a time; filter.order 3 band-pass:
+  // three).
+  double* yp = y.data();
+  double* zp = z.data();
+  const Index n = y.size();
+  sosfilt_many<1>(sos, &yp, &n, &zp);
   if (zf) {
     zf->assign(ns, {0.0, 0.0});
     for (std::size_t s = 0; s < ns; ++s) (*zf)[s] = {z[2 * s], z[2 * s + 1]};
@@ -414,13 +399,7 @@ FiltfiltFromRest::FiltfiltFromRest(const Sos& sos) : sos_(sos) {
   using State = std::vector<std::array<double, 2>>;
   // One sample through the cascade from `z` with input u (transposed direct form II, as sosfilt).
   auto step = [&](State& z, double u) {
-    for (std::size_t s = 0; s < ns; ++s) {
-      const Section& c = sos.sections[s];
-      const double yi = c[0] * u + z[s][0];
-      z[s][0] = c[1] * u - c[4] * yi + z[s][1];
-      z[s][1] = c[2] * u - c[5] * yi;
-      u = yi;
-    }
+    for (std::size_t s = 0; s < ns; ++s) u = section_step(sos.sections[s], u, z[s][0], z[s][1]);
     return u;
   };
   const Index m = static_cast<Index>(2 * ns);
