@@ -531,7 +531,9 @@ VIADUCT_ALWAYS_INLINE void outputs_range(bool flex, std::size_t nm, std::size_t 
 // lane's place (the step-by-step path advances it by forward differences from the same value at
 // the piece's start: the same to rounding). The bounds carry a margin of 1e-10 of the magnitudes they add, far above
 // the rounding of the few operations on either side, so a block left out holds no value beyond the
-// extremes (NaN in a bound: evaluated).
+// extremes. A NaN in the modes' bound fails the check (the block is evaluated); a NaN residual
+// bound (only from NaN coefficients) is passed over: that piece's values are NaN and enter the
+// extremes on neither path.
 template <std::size_t N, std::size_t NM>
 struct BlockOutputs {
   using L = Lanes<N>;
