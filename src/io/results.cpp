@@ -273,14 +273,20 @@ void write_quantities_csv(const std::string& path, const std::vector<study::Quan
   for (std::size_t b0 = 0; b0 < n_blocks; b0 += wave) {
     const std::size_t nb = std::min(wave, n_blocks - b0);
     parallel_for(nb, std::min(nt, static_cast<int>(nb)), [&](std::size_t i, int) {
-      text[i].clear();
+      // Each block's text is built in a string of the body's own: text[i] and text[i + 1] share a
+      // cache line, and two threads appending to neighbours (each append writes the string's
+      // size) made two threads format no faster than one (0.16 s against 0.14 s, 281 000 rows).
+      std::string t;
+      t.swap(text[i]);  // its buffer, from the wave before
+      t.clear();
       error[i].clear();
       try {
         const std::size_t a = (b0 + i) * kBlock, b = std::min(rows.size(), a + kBlock);
-        for (std::size_t k = a; k < b; ++k) quantity_row(text[i], vc, rows[k]);
+        for (std::size_t k = a; k < b; ++k) quantity_row(t, vc, rows[k]);
       } catch (const std::exception& e) {  // a body must not throw: rethrown below, in order
         error[i] = e.what();
       }
+      text[i].swap(t);
     });
     for (std::size_t i = 0; i < nb; ++i) {
       if (!error[i].empty()) throw SolverError(error[i]);
