@@ -22,6 +22,11 @@ struct Prepared {
   std::string error;  // non-empty when the model could not be built
   bool input_error = false;  // ... because the input is wrong (InputError)
   std::vector<std::vector<EffectPeak>> quasi_static;  // with load effects: per train, per quantity
+  // With load effects: the model's influence lines, until every train's quasi-static extremes
+  // are in (they run as tasks after the jobs: Sweep::quasi_static_task).
+  std::optional<InfluenceLines> il;
+  std::vector<std::string> qs_error;  // per train: why its quasi-static extremes failed (empty: none)
+  std::vector<char> qs_input;         // ... because the input is wrong
 };
 // One job: a (variant, train, speed) case, or with unit-response superposition a (variant,
 // speed) pair covering every train (train = kAllTrains).
@@ -83,7 +88,12 @@ class Sweep {
     prepare();
     plan();
     outcome_.resize(jobs_.size());
-    parallel_for(jobs_.size(), options_.threads, [&](std::size_t i, int) { run_job(i); });
+    // The jobs, then each train's quasi-static extremes (speed-independent, a few milliseconds
+    // each: last, they fill the threads' ends instead of running on one thread before the jobs).
+    parallel_for(jobs_.size() + qs_tasks_.size(), options_.threads, [&](std::size_t i, int) {
+      if (i < jobs_.size()) run_job(i);
+      else quasi_static_task(qs_tasks_[i - jobs_.size()]);
+    });
     return collect();
   }
 
@@ -102,8 +112,10 @@ class Sweep {
         const Scenario& sc = variants_[v].scenario;
         prepared_[v].model = prepare_model(sc, /*rail_outputs=*/false, options_.load_effects);
         if (options_.load_effects) {
-          const InfluenceLines il = influence_lines(*prepared_[v].model);
-          for (const auto& t : sc.trains) prepared_[v].quasi_static.push_back(static_extremes(il, t, sc.settings.load_factor));
+          prepared_[v].il = influence_lines(*prepared_[v].model);
+          prepared_[v].quasi_static.resize(sc.trains.size());
+          prepared_[v].qs_error.resize(sc.trains.size());
+          prepared_[v].qs_input.resize(sc.trains.size(), 0);
         }
       } catch (...) {
         describe_failure(prepared_[v].error, prepared_[v].input_error);
@@ -201,6 +213,31 @@ class Sweep {
         }
       }
     }
+    // Each train's quasi-static extremes, for the variants with load effects (a train of another
+    // shard's: not needed).
+    qs_left_.assign(variants_.size(), 0);
+    for (std::size_t v = 0; v < variants_.size(); ++v)
+      if (prepared_[v].il)
+        for (std::size_t t = 0; t < variants_[v].scenario.trains.size(); ++t)
+          if (train_in_range(v, t)) qs_tasks_.emplace_back(v, t), ++qs_left_[v];
+    for (std::size_t v = 0; v < variants_.size(); ++v)
+      if (qs_left_[v] == 0) prepared_[v].il.reset();
+  }
+
+  // Train t's quasi-static extremes over variant v's model (its influence lines freed after the
+  // last train's).
+  void quasi_static_task(const std::pair<std::size_t, std::size_t>& vt) {
+    Prepared& p = prepared_[vt.first];
+    const Scenario& sc = variants_[vt.first].scenario;
+    try {
+      p.quasi_static[vt.second] = static_extremes(*p.il, sc.trains[vt.second], sc.settings.load_factor);
+    } catch (...) {  // a body must not throw: the variant's cases fail in collect(), as a model's would
+      bool input = false;
+      describe_failure(p.qs_error[vt.second], input);
+      p.qs_input[vt.second] = input ? 1 : 0;
+    }
+    std::lock_guard<std::mutex> lock(progress_mutex_);
+    if (--qs_left_[vt.first] == 0) p.il.reset();
   }
 
   void run_job(std::size_t i) {
@@ -342,12 +379,21 @@ class Sweep {
       const std::string& vname = variants_[v].label;
       const Prepared& p = prepared_[v];
       const std::vector<std::string> names = p.quasi_static.empty() ? std::vector<std::string>{} : quantity_names(*p.model);
+      // A train's quasi-static extremes that failed fail the variant's every case, as its model's
+      // failure does (the first such train's reason).
+      std::size_t qs_failed = p.qs_error.size();
+      for (std::size_t t = 0; t < p.qs_error.size() && qs_failed == p.qs_error.size(); ++t)
+        if (!p.qs_error[t].empty()) qs_failed = t;
       for (std::size_t t = 0; t < sc.trains.size(); ++t)
         for (std::size_t s = 0; s < speeds(v, t).size(); ++s) {
           if (!in_range(v, t, s)) continue;
           const CaseOutcome& o = *at[v][t][s];
           const std::string& tname = sc.trains[t].name;
           const double speed = speeds(v, t)[s];
+          if (qs_failed < p.qs_error.size()) {
+            out.failures.push_back({vname, tname, speed, "model: " + p.qs_error[qs_failed], p.qs_input[qs_failed] != 0});
+            continue;
+          }
           if (!o.done) {
             out.failures.push_back({vname, tname, speed, o.error, o.input_error});
             out.summary.cancelled = out.summary.cancelled || o.error == "cancelled";
@@ -385,6 +431,8 @@ class Sweep {
   std::vector<std::vector<std::unique_ptr<FoldedTrain>>> folded_;  // [variant][train], null: not folded
   std::vector<std::vector<std::size_t>> first_case_;  // [variant][train]: its first case's index in the sweep
   std::vector<Job> jobs_;
+  std::vector<std::pair<std::size_t, std::size_t>> qs_tasks_;  // (variant, train) quasi-static extremes to compute
+  std::vector<std::size_t> qs_left_;  // per variant: its trains' quasi-static tasks not yet done (under progress_mutex_)
   std::vector<std::vector<CaseOutcome>> outcome_;  // [job][case in job]
   SweepSummary summary_;
   std::size_t n_cases_ = 0, n_done_ = 0;
