@@ -5,7 +5,9 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -240,15 +242,75 @@ void write_vehicle_envelope_csv(const std::string& path, const std::vector<study
 }
 
 namespace {
-// One row of load_effects.csv appended to text.
-void quantity_row(std::string& text, const VariantColumns& vc, const study::QuantityRow& r) {
+// add_g10's text of the values met before, by their bits (a direct-mapped table): in
+// load_effects.csv a case's speed repeats on each of its rows and a train's quasi-static extremes
+// on each of its speeds, so of a row's seven numbers four are formatted once a block or a case
+// (formatting was 0.14 s of the 31-station sweep's 1.6 s on one thread: docs/benchmarks.md).
+class G10Memo {
+ public:
+  void add(std::string& line, double x) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    Entry& e = table_[((bits ^ (bits >> 31)) * 0x9E3779B97F4A7C15ull) >> (64 - kBits)];
+    if (!e.used || e.bits != bits) {
+      char* end = std::to_chars(e.text, e.text + sizeof e.text, x, std::chars_format::general, 10).ptr;
+      e.len = static_cast<unsigned char>(end - e.text);
+      e.bits = bits, e.used = true;
+    }
+    line += ',';
+    line.append(e.text, e.len);
+  }
+
+ private:
+  static constexpr unsigned kBits = 9;  // 512 entries: a train's quasi-static extremes (2 a quantity) fit
+  struct Entry {
+    std::uint64_t bits = 0;
+    bool used = false;
+    unsigned char len = 0;
+    char text[30];
+  };
+  Entry table_[std::size_t{1} << kBits];
+};
+
+// ",y" for y = max(hi, −lo) as add_g10 writes it, from hi's and lo's texts (the cells just
+// written, ",<hi>,<lo>" at the end of line): y is one of them bit for bit, and the text of −lo is
+// lo's with its sign taken off or put on (to_chars writes −x as "-" and x's text).
+void add_max_abs(std::string& line, double hi, double lo, std::size_t hi_at, std::size_t lo_at) {
+  const double y = std::max(hi, -lo);
+  std::uint64_t yb, hb;
+  std::memcpy(&yb, &y, sizeof yb);
+  std::memcpy(&hb, &hi, sizeof hb);
+  char cell[48];  // the cells are to_chars' texts of ten digits: at most 17 characters
+  std::size_t n = 0;
+  if (yb == hb) {
+    n = lo_at - hi_at;  // ",<hi>"
+    line.copy(cell, n, hi_at);
+  } else {
+    const bool negative = line[lo_at + 1] == '-';
+    cell[0] = ',';
+    if (!negative) cell[1] = '-';
+    const std::size_t from = lo_at + (negative ? 2 : 1), len = line.size() - from, at = negative ? 1 : 2;
+    line.copy(cell + at, len, from);
+    n = at + len;
+  }
+  line.append(cell, n);
+}
+
+// One row of load_effects.csv appended to text (memo: the block's formatted values).
+void quantity_row(std::string& text, const VariantColumns& vc, const study::QuantityRow& r, G10Memo& memo) {
   vc.row_text(text, r.variant, "load_effects.csv");
   text += ',';
   add_text(text, r.train);
-  add_g10(text, r.speed * 3.6);
+  memo.add(text, r.speed * 3.6);
   text += ',';
   add_text(text, r.quantity);
-  for (double x : {r.dynamic.max, r.dynamic.min, r.dynamic.max_abs(), r.quasi_static.max, r.quasi_static.min}) add_g10(text, x);
+  const std::size_t hi_at = text.size();
+  add_g10(text, r.dynamic.max);
+  const std::size_t lo_at = text.size();
+  add_g10(text, r.dynamic.min);
+  add_max_abs(text, r.dynamic.max, r.dynamic.min, hi_at, lo_at);
+  memo.add(text, r.quasi_static.max);
+  memo.add(text, r.quasi_static.min);
   // table_cell's text (an empty cell for NaN, else %.10g) without an ostringstream a row: 4.5 %
   // of the 31-station sweep on one thread (perf).
   if (const double phi = r.phi_dyn(); std::isnan(phi)) text += ',';
@@ -282,7 +344,8 @@ void write_quantities_csv(const std::string& path, const std::vector<study::Quan
       error[i].clear();
       try {
         const std::size_t a = (b0 + i) * kBlock, b = std::min(rows.size(), a + kBlock);
-        for (std::size_t k = a; k < b; ++k) quantity_row(t, vc, rows[k]);
+        auto memo = std::make_unique<G10Memo>();
+        for (std::size_t k = a; k < b; ++k) quantity_row(t, vc, rows[k], *memo);
       } catch (const std::exception& e) {  // a body must not throw: rethrown below, in order
         error[i] = e.what();
       }

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -103,4 +104,56 @@ TEST_CASE("load_effects.csv: a row of an unknown variant is refused, naming the 
                       Catch::Contains("load_effects.csv") && Catch::Contains("Kp x9"));
     CHECK_FALSE(std::filesystem::exists(path));
   }
+}
+
+TEST_CASE("load_effects.csv: values repeated across rows (speeds, quasi-static extremes) and max_abs of every sign, as printf writes them") {
+  // The layout of a sweep: per train, per speed, per quantity, so that a speed repeats on the
+  // rows of its case and a quantity's quasi-static extremes on every speed; 300 quantities give
+  // 600 such values a train, more than the writer's table of values met before holds (entries
+  // replaced and found again). max_abs = max(max, −min) is max, or −min of either sign; NaN,
+  // infinities and signed zeros among them.
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<std::pair<double, double>> special = {{1.5, -2.25},  {-3.0, 0.5},  {0.0, -0.0},  {-0.0, 0.0},
+                                                          {-0.0, -0.0}, {nan, -1.0},  {2.0, nan},   {inf, -inf},
+                                                          {-inf, inf},  {1e-300, -1e300}, {-7.0, -8.0}, {4e21, 3.0}};
+  std::vector<viaduct::study::Variant> variants(1);
+  variants[0].label = "reference";
+  std::vector<viaduct::study::QuantityRow> rows;
+  for (int t = 0; t < 2; ++t)
+    for (int s = 0; s < 12; ++s)
+      for (int q = 0; q < 300; ++q) {
+        viaduct::study::QuantityRow r;
+        r.variant = "reference";
+        r.train = "HSLM-A" + std::to_string(t + 1);
+        r.quantity = "L_" + std::to_string(q) + "_shear_N";
+        r.speed = (140.0 + 5.0 * s) / 3.6;
+        const double x = std::sin(0.1 * q + t) * std::pow(10.0, q % 9 - 4.0);
+        const std::size_t k = rows.size();
+        r.dynamic = k % 5 ? viaduct::study::EffectPeak{x * (1.0 + 0.01 * s), -x * (0.9 + 0.02 * s)}
+                          : viaduct::study::EffectPeak{special[k / 5 % special.size()].first, special[k / 5 % special.size()].second};
+        r.quasi_static = {std::abs(x), q % 4 ? -std::abs(x) / 7.0 : 0.0};
+        rows.push_back(r);
+      }
+  vt::ScratchDir dir("quantities-repeat");
+  const std::string path = (dir.p / "load_effects.csv").string();
+  viaduct::io::write_quantities_csv(path, rows, variants, 2);
+  std::istringstream in(read_all(path));
+  std::string line;
+  std::getline(in, line);
+  std::size_t k = 0, from_min = 0, negated = 0;
+  for (; std::getline(in, line); ++k) {
+    REQUIRE(k < rows.size());
+    const viaduct::study::QuantityRow& r = rows[k];
+    const double phi = r.phi_dyn(), y = r.dynamic.max_abs();
+    if (!(y == r.dynamic.max) && !std::isnan(y)) ++from_min, negated += !std::signbit(r.dynamic.min);
+    const std::string expected = "reference," + r.train + "," + g10(r.speed * 3.6) + "," + r.quantity + "," +
+                                 g10(r.dynamic.max) + "," + g10(r.dynamic.min) + "," + g10(y) + "," +
+                                 g10(r.quasi_static.max) + "," + g10(r.quasi_static.min) + "," +
+                                 (std::isnan(phi) ? std::string() : g10(phi));
+    if (line != expected) FAIL("row " << k << ": '" << line << "' against '" << expected << "'");
+  }
+  CHECK(k == rows.size());
+  // Both ways of writing −min were taken.
+  CHECK(from_min > 100);
+  CHECK(negated > 10);
 }
