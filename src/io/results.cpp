@@ -82,7 +82,11 @@ void add_g10(std::string& line, double x) {
 
 // A text cell as csv_text writes it, appended to line (no temporary string for a plain one).
 void add_text(std::string& line, const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) line += s;
+  // A plain loop: find_first_of calls memchr over the three characters for each of s's (with its
+  // memchr 1 % of the 31-station sweep on one thread in perf, three cells a row of load_effects.csv).
+  bool plain = true;
+  for (const char c : s) plain = plain && c != ',' && c != '"' && c != '\n';
+  if (plain) line += s;
   else line += csv_text(s);
 }
 
