@@ -45,12 +45,19 @@ void AtomicFile::commit() {
     throw SolverError("cannot replace " + path_ + ": " + std::strerror(e));
   }
   committed_ = true;
-  note_output(path_);  // listed in the manifest of its output directory (output_dir.hpp)
+  // listed in the manifest of its output directory (output_dir.hpp), with its checksum when every
+  // byte went through write()
+  note_output(path_, raw_ ? std::string() : sum_.hex());
+}
+
+void AtomicFile::write(const char* p, std::size_t n) {
+  std::fwrite(p, 1, n, f_);
+  sum_.update(p, n);
 }
 
 void write_text_atomically(const std::string& path, const std::string& text) {
   AtomicFile f(path);
-  std::fwrite(text.data(), 1, text.size(), f.get());
+  f.write(text.data(), text.size());
   f.commit();
 }
 

@@ -18,6 +18,7 @@ namespace fs = std::filesystem;
 namespace {
 std::mutex g_mutex;
 std::map<std::string, std::vector<std::string>> g_written;  // canonical directory -> files written
+std::map<std::string, std::string> g_sums;  // path as written -> SHA-256 of what was written, when known
 
 std::string canonical_dir(const std::string& dir) {
   std::error_code ec;
@@ -37,13 +38,21 @@ void begin_outputs(const std::string& dir) {
   g_written[canonical_dir(dir)].clear();
 }
 
-void note_output(const std::string& path) {
+void note_output(const std::string& path, const std::string& sha256) {
   const fs::path p(path);
   const std::string dir = canonical_dir(p.has_parent_path() ? p.parent_path().string() : ".");
   const std::lock_guard<std::mutex> lock(g_mutex);
+  if (sha256.empty()) g_sums.erase(path);
+  else g_sums[path] = sha256;
   auto it = g_written.find(dir);
   if (it == g_written.end()) return;  // not an output directory of this process
   if (std::find(it->second.begin(), it->second.end(), path) == it->second.end()) it->second.push_back(path);
+}
+
+std::string output_checksum(const std::string& path) {
+  const std::lock_guard<std::mutex> lock(g_mutex);
+  auto it = g_sums.find(path);
+  return it == g_sums.end() ? std::string() : it->second;
 }
 
 std::vector<std::string> outputs_written(const std::string& dir) {

@@ -327,39 +327,53 @@ void write_quantities_csv(const std::string& path, const std::vector<study::Quan
                           const std::vector<study::Variant>& variants, int n_threads) {
   const VariantColumns vc(variants);
   AtomicFile f(path);
-  vc.header(f.get());
-  std::fprintf(f.get(), ",train,speed_kmh,quantity,max,min,max_abs,quasi_static_max,quasi_static_min,phi_dyn\n");
+  std::string head = "variant";  // as VariantColumns::header, every byte through f.write
+  for (const auto& kf : vc.keys()) head += "," + csv_text(kf.first + "_factor");
+  head += ",train,speed_kmh,quantity,max,min,max_abs,quasi_static_max,quasi_static_min,phi_dyn\n";
+  f.write(head.data(), head.size());
   // Blocks of rows formatted on the threads and written in order, a wave of blocks at a time (the
-  // text held at once bounded: about 3.6 MB a wave on two threads). Formatting was most of what
-  // runs on one core after the cases of a sweep with load effects (docs/benchmarks.md).
+  // text held at once bounded: about 7 MB on two threads). Formatting was most of what runs on one
+  // core after the cases of a sweep with load effects (docs/benchmarks.md). A wave's text is
+  // written (and hashed for the manifest, AtomicFile::write) by one of the threads while the others
+  // format the next wave into the other set of buffers.
   constexpr std::size_t kBlock = 2048;
   const int nt = std::max(1, n_threads);
   const std::size_t n_blocks = (rows.size() + kBlock - 1) / kBlock, wave = 8 * static_cast<std::size_t>(nt);
-  std::vector<std::string> text(std::min(wave, n_blocks)), error(text.size());
-  for (std::size_t b0 = 0; b0 < n_blocks; b0 += wave) {
-    const std::size_t nb = std::min(wave, n_blocks - b0);
-    parallel_for(nb, std::min(nt, static_cast<int>(nb)), [&](std::size_t i, int) {
-      // Each block's text is built in a string of the body's own: text[i] and text[i + 1] share a
+  std::vector<std::string> text[2], error[2];
+  for (int k = 0; k < 2; ++k) text[k].resize(std::min(wave, n_blocks)), error[k].resize(text[k].size());
+  std::size_t n_prev = 0;  // blocks of the wave before, in text[1 - cur], to write
+  int cur = 0;
+  for (std::size_t b0 = 0; b0 < n_blocks; b0 += wave, cur = 1 - cur) {
+    const std::size_t nb = std::min(wave, n_blocks - b0), extra = n_prev ? 1 : 0;
+    std::vector<std::string>& tx = text[cur];
+    std::vector<std::string>& er = error[cur];
+    parallel_for(nb + extra, std::min(nt, static_cast<int>(nb + extra)), [&](std::size_t j, int) {
+      if (extra && j == 0) {  // the wave before, in order (fwrite and the hash do not throw)
+        for (std::size_t i = 0; i < n_prev; ++i) f.write(text[1 - cur][i].data(), text[1 - cur][i].size());
+        return;
+      }
+      const std::size_t i = j - extra;
+      // Each block's text is built in a string of the body's own: tx[i] and tx[i + 1] share a
       // cache line, and two threads appending to neighbours (each append writes the string's
       // size) made two threads format no faster than one (0.16 s against 0.14 s, 281 000 rows).
       std::string t;
-      t.swap(text[i]);  // its buffer, from the wave before
+      t.swap(tx[i]);  // its buffer, from two waves before
       t.clear();
-      error[i].clear();
+      er[i].clear();
       try {
         const std::size_t a = (b0 + i) * kBlock, b = std::min(rows.size(), a + kBlock);
         auto memo = std::make_unique<G10Memo>();
         for (std::size_t k = a; k < b; ++k) quantity_row(t, vc, rows[k], *memo);
       } catch (const std::exception& e) {  // a body must not throw: rethrown below, in order
-        error[i] = e.what();
+        er[i] = e.what();
       }
-      text[i].swap(t);
+      tx[i].swap(t);
     });
-    for (std::size_t i = 0; i < nb; ++i) {
-      if (!error[i].empty()) throw SolverError(error[i]);
-      std::fputs(text[i].c_str(), f.get());
-    }
+    for (std::size_t i = 0; i < nb; ++i)
+      if (!er[i].empty()) throw SolverError(er[i]);
+    n_prev = nb;
   }
+  for (std::size_t i = 0; i < n_prev; ++i) f.write(text[1 - cur][i].data(), text[1 - cur][i].size());
   f.commit();
 }
 
@@ -665,9 +679,12 @@ void write_manifest(const std::string& path, const Manifest& m, const FlatScenar
   const std::filesystem::path mdir = std::filesystem::path(path).has_parent_path() ? std::filesystem::path(path).parent_path() : ".";
   for (const auto& f : outputs_written(mdir.string())) {
     if (std::filesystem::path(f).filename() == std::filesystem::path(path).filename()) continue;
-    std::string sum;
+    // The checksum computed as the file was written, else read from the file.
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(f, ec)) continue;  // removed since
+    std::string sum = output_checksum(f);
     try {
-      sum = sha256_file(f);
+      if (sum.empty()) sum = sha256_file(f);
     } catch (const InputError&) {
       continue;  // removed since (a later file of the same run replaced it)
     }

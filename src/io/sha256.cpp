@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,7 @@
 #include "viaduct/core/error.hpp"
 #include "viaduct/core/simd.hpp"
 #include "viaduct/io/results.hpp"
+#include "sha256_stream.hpp"
 
 namespace viaduct::io {
 
@@ -90,6 +92,10 @@ __attribute__((target("sha,sse4.1"))) void compress_ni(std::uint32_t* h, const u
 }
 #endif
 
+}  // namespace
+
+// The hash's state (detail: Sha256Stream holds one).
+namespace detail {
 class Sha256 {
  public:
   void update(const unsigned char* p, std::size_t n) {
@@ -160,10 +166,18 @@ class Sha256 {
   std::uint64_t length_ = 0;
 };
 
-}  // namespace
+
+struct Sha256Stream::State {
+  Sha256 h;
+};
+Sha256Stream::Sha256Stream() : s_(std::make_unique<State>()) {}
+Sha256Stream::~Sha256Stream() = default;
+void Sha256Stream::update(const void* p, std::size_t n) { s_->h.update(static_cast<const unsigned char*>(p), n); }
+std::string Sha256Stream::hex() { return s_->h.hex(); }
+}  // namespace detail
 
 std::string sha256_hex(const std::string& bytes) {
-  Sha256 s;
+  detail::Sha256 s;
   s.update(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size());
   return s.hex();
 }
@@ -171,7 +185,7 @@ std::string sha256_hex(const std::string& bytes) {
 std::string sha256_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("cannot open " + path + " to checksum it");
-  Sha256 s;
+  detail::Sha256 s;
   std::vector<char> buf(1 << 16);
   while (in) {
     in.read(buf.data(), static_cast<std::streamsize>(buf.size()));

@@ -18,8 +18,12 @@ void begin_outputs(const std::string& dir);
 /// written, each once (paths as written).
 std::vector<std::string> outputs_written(const std::string& dir);
 
-/// Records that `path` was written (AtomicFile::commit calls it).
-void note_output(const std::string& path);
+/// Records that `path` was written (AtomicFile::commit calls it), with the SHA-256 of what was
+/// written when the writer computed it as it wrote (empty: not known).
+void note_output(const std::string& path, const std::string& sha256 = std::string());
+
+/// The SHA-256 note_output recorded for `path` (the path as written), or empty.
+std::string output_checksum(const std::string& path);
 
 /// Checks an output directory before it is read: a manifest.toml, and every file its
 /// [[outputs]] list present with the checksum written. InputError naming the directory and the
