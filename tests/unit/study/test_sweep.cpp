@@ -75,6 +75,32 @@ TEST_CASE("a variant that could not be formed fails its own cases with its reaso
   for (const auto& f : t.failures) CHECK_FALSE(f.input_error);
 }
 
+TEST_CASE("with load effects, a train whose quasi-static extremes fail fails its variant's cases, as a model would") {
+  // The quasi-static extremes run as tasks after the jobs; a failing one (here a train Train::validate
+  // refuses) still fails every case of its variant with the model's prefix, and only those.
+  Scenario bad = small_sweep_scenario();
+  bad.trains[1].load[0] = std::nan("");
+  std::vector<Variant> v = {{"reference", small_sweep_scenario()}, {"bad train", bad}};
+  for (int threads : {1, 2}) {
+    SweepOptions o;
+    o.threads = threads;
+    o.load_effects = true;
+    const SweepResult r = run_sweep(v, o);
+    REQUIRE(r.failures.size() == 8);
+    for (const auto& f : r.failures) {
+      CHECK(f.variant == "bad train");
+      CHECK(f.message.rfind("model: ", 0) == 0);
+      CHECK(f.input_error);
+    }
+    REQUIRE(r.rows.size() == 16);
+    REQUIRE_FALSE(r.quantities.empty());
+    for (const auto& q : r.quantities) {
+      CHECK(q.variant == "reference");
+      CHECK(q.quasi_static.max_abs() > 0.0);  // every quantity's quasi-static extremes are in
+    }
+  }
+}
+
 TEST_CASE("sweep results are identical for any thread count") {
   Scenario b = small_sweep_scenario();
   b.bridge.spans[0].EI *= 2;
