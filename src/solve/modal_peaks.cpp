@@ -651,8 +651,8 @@ struct BlockOutputs {
     const std::size_t p0 = pb[0][l], p1 = pb[nv - 1][l];
     const bool bounded = !flex || (rb && sb[0][l] >= 0.0);
     // Up to 64 groups checked first, their outcomes as bits, then those that may exceed evaluated:
-    // no branch between the checks, which then overlap (a branch per group, taken one time in
-    // five at random, held each check's chain of operations apart: measured in docs/benchmarks.md).
+    // no branch between the checks, which then overlap (with a branch per group, taken about one
+    // time in five, the 31-station job of docs/benchmarks.md took 1.44 s on one thread, 1.41 s now).
     // A check reads the extremes before this block's evaluations: of an overlapping group's
     // outputs, older and so no larger, a bound compared with them is still a bound.
     for (std::size_t r = 0; r < n_ranges; ++r) {
