@@ -4,6 +4,7 @@
 // anywhere on the load path, from one factorisation of K.
 
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,14 @@ constexpr double kDivergenceFactor = 20.0;
 constexpr double kContactForceFactor = 1000.0;
 
 /// One factorisation of K, shared by a prepared model's static computations (PreparedModel::statics).
+// PreparedModel::imax: the influence maxima last computed, of `outputs` on `structure`.
+struct InfluenceMaximaCache {
+  std::mutex m;
+  const model::Structure* structure = nullptr;  // null: none kept yet
+  std::vector<solve::Functional> outputs;
+  Vector value;
+};
+
 struct StaticFactor {
   Eigen::SimplicialLDLT<SparseMatrix> ldlt;
   bool ok = false;  ///< false: K could not be factored (an unsupported structure)

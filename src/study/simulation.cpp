@@ -467,7 +467,32 @@ void add_shifted(const Vector& r, double shift_samples, double P, Vector& y) {
   }
 }
 
+bool same_functionals(const std::vector<solve::Functional>& a, const std::vector<solve::Functional>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (a[i].dof != b[i].dof || a[i].weight != b[i].weight) return false;
+  return true;
+}
+
 }  // namespace
+
+// influence_maxima(m.structure, outputs, m.statics) through m.imax: the value kept for this
+// structure and these outputs, or computed and kept (one K solve per output and the path's
+// Hermite weights: 3 % of the 31-station sweep of docs/benchmarks.md when each of its 360 jobs
+// computed them).
+Vector guard_influence_maxima(const PreparedModel& m, const std::vector<solve::Functional>& outputs) {
+  if (!m.imax) return influence_maxima(m.structure, outputs, m.statics.get());
+  {
+    const std::lock_guard<std::mutex> lock(m.imax->m);
+    if (m.imax->structure == &m.structure && same_functionals(m.imax->outputs, outputs)) return m.imax->value;
+  }
+  Vector v = influence_maxima(m.structure, outputs, m.statics.get());
+  const std::lock_guard<std::mutex> lock(m.imax->m);
+  m.imax->structure = &m.structure;
+  m.imax->outputs = outputs;
+  m.imax->value = v;
+  return v;
+}
 
 PreparedModel prepare_model(model::Structure s, const std::vector<StationSpec>& stations,
                             const RunSettings& settings, bool rail_outputs, bool with_load_effects,
@@ -478,6 +503,7 @@ PreparedModel prepare_model(model::Structure s, const std::vector<StationSpec>& 
   if (with_load_effects) m.effects = load_effects(m.structure, stations, effect_stations);
   m.modal_rails = rail_outputs;
   m.statics = factor_statics(m.structure);
+  m.imax = std::make_shared<InfluenceMaximaCache>();
   if (settings.vehicle.model != VehicleModel::forces) {
     // Vehicles: the coupled kernel on every DOF or on the modes (the fast path), and the profile.
     m.profile = rail_profile(m.structure, settings.irregularity);
@@ -579,7 +605,7 @@ std::vector<RunResult> simulate_batch(const PreparedModel& m, const load::Train&
   const auto integrator = solve::make_integrator(settings.integration(), map.outputs);
   const std::size_t width = integrator->batch_width();
   const solve::DivergenceBound bound =
-      divergence_bound(influence_maxima(m.structure, map.outputs, m.statics.get()), map.names, train, settings.load_factor);
+      divergence_bound(guard_influence_maxima(m, map.outputs), map.names, train, settings.load_factor);
   solve::Recording rec;
   rec.max_history_bytes = kMaxHistoryBytes;
   for (std::size_t first = 0; first < speeds.size(); first += width) {
@@ -972,7 +998,7 @@ std::vector<CasePeaks> simulate_peaks(const PreparedModel& m, const load::Train&
   if (static_cast<std::size_t>(n_direct) != folded->n_extra) throw InputError("the folded train belongs to another model");
   const auto integrator = solve::make_integrator(settings.integration(), outputs, m.modal);
   const solve::DivergenceBound bound =
-      divergence_bound(influence_maxima(m.structure, outputs, m.statics.get()), names, train, settings.load_factor);
+      divergence_bound(guard_influence_maxima(m, outputs), names, train, settings.load_factor);
   std::vector<solve::LoadCase> cases;
   for (double v : speeds) {
     require_positive(v, "speed [m/s]");

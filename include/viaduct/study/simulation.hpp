@@ -159,6 +159,7 @@ constexpr double kMaxHistoryBytes = 2.0 * (1 << 30);
 struct ModalPathTable;
 /// One factorisation of K (the divergence guard's static responses; src/study/divergence.hpp).
 struct StaticFactor;
+struct InfluenceMaximaCache;
 
 /// Everything the cases of one model share, built once (per sweep variant).
 struct PreparedModel {
@@ -179,7 +180,16 @@ struct PreparedModel {
   std::shared_ptr<const solve::ModalReduction> vehicle_modal;
   /// K factored once: the divergence guard's bounds of every case (solve/guard.hpp).
   std::shared_ptr<const StaticFactor> statics;
+  /// The guard's influence maxima of the outputs the peaks path reads, kept by the first batch
+  /// of cases that computes them for this structure and these outputs (they depend on nothing
+  /// else: the trains and speeds of a sweep's jobs share them).
+  std::shared_ptr<InfluenceMaximaCache> imax;
 };
+
+/// The divergence guard's influence maxima (max over load positions of |output per newton|) of
+/// `outputs` on m's structure, kept in m.imax for the next call with the same outputs (a sweep's
+/// jobs share them).
+Vector guard_influence_maxima(const PreparedModel& m, const std::vector<solve::Functional>& outputs);
 
 /// The structure's modes `ms` keeps (modal.n_modes, or those up to modal.max_frequency_hz): the
 /// basis of the modal method with moving loads and with vehicles. InputError naming the key for

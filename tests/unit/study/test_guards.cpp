@@ -113,3 +113,25 @@ TEST_CASE("vehicles on a track's modes: a basis below 1.5 x the rail's resonance
   const study::Scenario forces = shipped("old-guadiana-talgo", {"analysis.method=\"modal\"", "modal.max_frequency_hz=200"});
   CHECK(study::accuracy_warnings(forces, {*forces.run_speed}).empty());
 }
+
+TEST_CASE("the guard's influence maxima a model keeps are those of the outputs asked for") {
+  // A sweep's jobs share them through PreparedModel::imax; asked for other outputs it must give
+  // theirs (a value kept per model alone would give the first outputs' numbers), the same as a
+  // model that keeps nothing computes each time.
+  const study::Scenario sc = shipped("hslm-simply-supported");
+  const study::PreparedModel m = study::prepare_model(sc, false, true);
+  study::PreparedModel fresh = study::prepare_model(sc, false, true);
+  fresh.imax.reset();
+  REQUIRE(m.effects.size() >= 2);
+  const std::vector<solve::Functional> a = {m.effects.front().functional},
+                                       b = {m.effects.back().functional, m.effects.front().functional};
+  const Vector va = study::guard_influence_maxima(m, a), vb = study::guard_influence_maxima(m, b),
+               va2 = study::guard_influence_maxima(m, a);
+  CHECK(va == study::guard_influence_maxima(fresh, a));
+  CHECK(vb == study::guard_influence_maxima(fresh, b));
+  CHECK(va2 == va);
+  REQUIRE(vb.size() == 2);
+  CHECK(vb[1] == va[0]);
+  CHECK(vb[0] != va[0]);  // the two outputs differ: a mix-up would show
+  CHECK(va[0] > 0.0);
+}
