@@ -74,10 +74,13 @@ namespace {
 // ",x" as printf's ",%.10g" writes it (std::to_chars with a precision is specified as printf in
 // the C locale), without printf's format parsing: printf's formatting was 5 to 8 % of the sweep
 // with 31 stations along a span (perf; load_effects.csv of 281 000 rows, docs/benchmarks.md).
+// x's text into [b, b + 30), its end returned.
+char* g10_text(char* b, double x) { return std::to_chars(b, b + 30, x, std::chars_format::general, 10).ptr; }
+
 void add_g10(std::string& line, double x) {
   char b[32];
   line += ',';
-  line.append(b, std::to_chars(b, b + sizeof b, x, std::chars_format::general, 10).ptr);
+  line.append(b, g10_text(b, x));
 }
 
 // A text cell as csv_text writes it, appended to line (no temporary string for a plain one).
@@ -257,8 +260,7 @@ class G10Memo {
     std::memcpy(&bits, &x, sizeof bits);
     Entry& e = table_[((bits ^ (bits >> 31)) * 0x9E3779B97F4A7C15ull) >> (64 - kBits)];
     if (!e.used || e.bits != bits) {
-      char* end = std::to_chars(e.text, e.text + sizeof e.text, x, std::chars_format::general, 10).ptr;
-      e.len = static_cast<unsigned char>(end - e.text);
+      e.len = static_cast<unsigned char>(g10_text(e.text, x) - e.text);
       e.bits = bits, e.used = true;
     }
     line += ',';
@@ -276,11 +278,12 @@ class G10Memo {
   Entry table_[std::size_t{1} << kBits];
 };
 
-// ",y" for y = max(hi, −lo) as add_g10 writes it, from hi's and lo's texts (the cells just
-// written, ",<hi>,<lo>" at the end of line): y is one of them bit for bit, and the text of −lo is
-// lo's with its sign taken off or put on (to_chars writes −x as "-" and x's text).
-void add_max_abs(std::string& line, double hi, double lo, std::size_t hi_at, std::size_t lo_at) {
-  const double y = std::max(hi, -lo);
+// ",y" for y = p.max_abs() = max(hi, −lo) (hi, lo: p.max, p.min) as add_g10 writes it, from hi's
+// and lo's texts (the cells just written, ",<hi>,<lo>" at the end of line): y is one of them bit
+// for bit, and the text of −lo is lo's with its sign taken off or put on (to_chars writes −x as
+// "-" and x's text).
+void add_max_abs(std::string& line, const study::EffectPeak& p, std::size_t hi_at, std::size_t lo_at) {
+  const double y = p.max_abs(), hi = p.max;
   std::uint64_t yb, hb;
   std::memcpy(&yb, &y, sizeof yb);
   std::memcpy(&hb, &hi, sizeof hb);
@@ -312,7 +315,7 @@ void quantity_row(std::string& text, const VariantColumns& vc, const study::Quan
   add_g10(text, r.dynamic.max);
   const std::size_t lo_at = text.size();
   add_g10(text, r.dynamic.min);
-  add_max_abs(text, r.dynamic.max, r.dynamic.min, hi_at, lo_at);
+  add_max_abs(text, r.dynamic, hi_at, lo_at);
   memo.add(text, r.quasi_static.max);
   memo.add(text, r.quasi_static.min);
   // table_cell's text (an empty cell for NaN, else %.10g) without an ostringstream a row: 4.5 %

@@ -279,13 +279,21 @@ Sos cheby1(const Cheby1Spec& spec, double fs_hz) {
 }
 
 namespace {
-// One sample u through section c from its state (z0, z1), transposed direct form II: the
-// section's output. Every pass of the filter takes it (one formula: the same numbers).
-inline double section_step(const Section& c, double u, double& z0, double& z1) {
-  const double yi = c[0] * u + z0;
+// One sample u through section c from its state (z0, z1), transposed direct form II: u becomes
+// the section's output. Every pass of the filter takes it (one formula: the same numbers), on a
+// double or on four records' values in vector lanes (T = Four: always inlined, so the AVX2 caller
+// builds it with its instructions, and through references, no vector returned).
+#if defined(__GNUC__)
+#define VIADUCT_SECTION_INLINE __attribute__((always_inline)) inline
+#else
+#define VIADUCT_SECTION_INLINE inline
+#endif
+template <class T>
+VIADUCT_SECTION_INLINE void section_step(const Section& c, T& u, T& z0, T& z1) {
+  const T yi = c[0] * u + z0;
   z0 = c[1] * u - c[4] * yi + z1;
   z1 = c[2] * u - c[5] * yi;
-  return yi;
+  u = yi;
 }
 
 // K records y[k] (n[k] samples each) in place through the NS sections c from the states z[k]
@@ -298,8 +306,8 @@ inline double section_step(const Section& c, double u, double& z0, double& z1) {
 #if defined(__GNUC__) && defined(__x86_64__)
 typedef double Four __attribute__((vector_size(4 * sizeof(double)), __may_alias__));
 // Four records' common length through the NS sections as sos_cascade_many, the records in the
-// lanes of one AVX2 vector: each lane the same operations in the same order as section_step's
-// (no contraction, -ffp-contract=off), so the same numbers; a quarter of the instructions (the
+// lanes of one AVX2 vector: section_step on each lane (no contraction, -ffp-contract=off), so the
+// same numbers; a quarter of the instructions (the
 // filter was 5.7 % of the 31-station sweep on one thread in perf, the scalar code's four records
 // limited by the instructions rather than the recurrence's latency).
 template <std::size_t NS>
@@ -312,12 +320,7 @@ __attribute__((target("avx2"))) void sos_cascade_four(const Section* c, double* 
   }
   for (Index i = 0; i < common; ++i) {
     Four u = {y[0][i], y[1][i], y[2][i], y[3][i]};
-    for (std::size_t s = 0; s < NS; ++s) {
-      const Four yi = c[s][0] * u + z0[s];
-      z0[s] = c[s][1] * u - c[s][4] * yi + z1[s];
-      z1[s] = c[s][2] * u - c[s][5] * yi;
-      u = yi;
-    }
+    for (std::size_t s = 0; s < NS; ++s) section_step(c[s], u, z0[s], z1[s]);
     for (std::size_t k = 0; k < 4; ++k) y[k][i] = u[k];
   }
   for (std::size_t s = 0; s < NS; ++s)
@@ -345,7 +348,7 @@ void sos_cascade_many(const Section* c, double* const* y, const Index* n, double
     double u[K];
     for (std::size_t k = 0; k < K; ++k) u[k] = y[k][i];
     for (std::size_t s = 0; s < NS; ++s)
-      for (std::size_t k = 0; k < K; ++k) u[k] = section_step(c[s], u[k], zz[k][2 * s], zz[k][2 * s + 1]);
+      for (std::size_t k = 0; k < K; ++k) section_step(c[s], u[k], zz[k][2 * s], zz[k][2 * s + 1]);
     for (std::size_t k = 0; k < K; ++k) y[k][i] = u[k];
   }
   for (std::size_t k = 0; k < K; ++k) {
@@ -439,7 +442,7 @@ FiltfiltFromRest::FiltfiltFromRest(const Sos& sos) : sos_(sos) {
   using State = std::vector<std::array<double, 2>>;
   // One sample through the cascade from `z` with input u (transposed direct form II, as sosfilt).
   auto step = [&](State& z, double u) {
-    for (std::size_t s = 0; s < ns; ++s) u = section_step(sos.sections[s], u, z[s][0], z[s][1]);
+    for (std::size_t s = 0; s < ns; ++s) section_step(sos.sections[s], u, z[s][0], z[s][1]);
     return u;
   };
   const Index m = static_cast<Index>(2 * ns);
