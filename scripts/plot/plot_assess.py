@@ -83,6 +83,7 @@ def acc_vs_speed(rows, limit, title, path, dpi):
 
 def envelope(rows, limit, title, path, dpi):
     stations = list(collections.OrderedDict.fromkeys(r["station"] for r in rows))
+    speeds = np.array(sorted({float(r["speed_kmh"]) for r in rows}))
     fig, axes = plt.subplots(len(stations), 1, figsize=(10, 3.6 * len(stations)), squeeze=False)
     for ax, st in zip(axes[:, 0], stations):
         # Each (train, mass case) curve, then the envelope on every speed of any of them with each
@@ -94,16 +95,22 @@ def envelope(rows, limit, title, path, dpi):
                 continue
             c = curves.setdefault((r["train"], r["variant"]), {})
             c[float(r["speed_kmh"])] = (float(r["max_abs_acc_mps2"]), r["variant"])
-        best = {}
-        for (train, variant), c in curves.items():
+        # Each curve on the speeds within its range at once (a call of np.interp per speed and
+        # curve took 1.3 s of Old Guadiana's 1.8 s); the first curve to reach a speed, then any
+        # larger, holds it, as the curves are taken in order.
+        a_best = np.zeros(len(speeds))
+        who = np.full(len(speeds), -1)
+        keys = list(curves)
+        for n, key in enumerate(keys):
+            c = curves[key]
             cx = sorted(c)
             cy = [c[x][0] for x in cx]
-            for v in {float(r["speed_kmh"]) for r in rows}:
-                if v < cx[0] or v > cx[-1]:
-                    continue
-                a = float(np.interp(v, cx, cy))
-                if v not in best or a > best[v][0]:
-                    best[v] = (a, train, variant)
+            inside = (speeds >= cx[0]) & (speeds <= cx[-1])
+            a = np.full(len(speeds), np.nan)
+            a[inside] = np.interp(speeds[inside], cx, cy)
+            take = inside & ((who < 0) | (a > a_best))
+            a_best[take], who[take] = a[take], n
+        best = {float(v): (float(a_best[i]),) + keys[who[i]] for i, v in enumerate(speeds) if who[i] >= 0}
         xs = sorted(best)
         ys = [best[x][0] for x in xs]
         ax.plot(xs, ys, color="black", lw=1.4, label="envelope over trains and masses")
