@@ -101,9 +101,12 @@ class VariantColumns {
       : keys_(variants.size() < 2 ? std::vector<std::pair<std::string, double>>{} : variants.front().factors) {
     for (const auto& v : variants) by_label_[v.label] = &v;
   }
-  void header(std::FILE* f) const {
-    std::fprintf(f, "variant");
-    for (const auto& kf : keys_) std::fprintf(f, ",%s", csv_text(kf.first + "_factor").c_str());
+  void header(std::FILE* f) const { std::fputs(header_text().c_str(), f); }
+  // header()'s cells as text.
+  std::string header_text() const {
+    std::string h = "variant";
+    for (const auto& kf : keys_) h += "," + csv_text(kf.first + "_factor");
+    return h;
   }
   void row(std::FILE* f, const std::string& variant, const char* file) const {
     std::string line;
@@ -330,9 +333,9 @@ void write_quantities_csv(const std::string& path, const std::vector<study::Quan
                           const std::vector<study::Variant>& variants, int n_threads) {
   const VariantColumns vc(variants);
   AtomicFile f(path);
-  std::string head = "variant";  // as VariantColumns::header, every byte through f.write
-  for (const auto& kf : vc.keys()) head += "," + csv_text(kf.first + "_factor");
-  head += ",train,speed_kmh,quantity,max,min,max_abs,quasi_static_max,quasi_static_min,phi_dyn\n";
+  // every byte through f.write: the manifest takes the checksum computed as it is written
+  const std::string head =
+      vc.header_text() + ",train,speed_kmh,quantity,max,min,max_abs,quasi_static_max,quasi_static_min,phi_dyn\n";
   f.write(head.data(), head.size());
   // Blocks of rows formatted on the threads and written in order, a wave of blocks at a time (the
   // text held at once bounded: about 7 MB on two threads). Formatting was most of what runs on one

@@ -283,13 +283,8 @@ namespace {
 // the section's output. Every pass of the filter takes it (one formula: the same numbers), on a
 // double or on four records' values in vector lanes (T = Four: always inlined, so the AVX2 caller
 // builds it with its instructions, and through references, no vector returned).
-#if defined(__GNUC__)
-#define VIADUCT_SECTION_INLINE __attribute__((always_inline)) inline
-#else
-#define VIADUCT_SECTION_INLINE inline
-#endif
 template <class T>
-VIADUCT_SECTION_INLINE void section_step(const Section& c, T& u, T& z0, T& z1) {
+VIADUCT_ALWAYS_INLINE void section_step(const Section& c, T& u, T& z0, T& z1) {
   const T yi = c[0] * u + z0;
   z0 = c[1] * u - c[4] * yi + z1;
   z1 = c[2] * u - c[5] * yi;
@@ -303,7 +298,7 @@ VIADUCT_SECTION_INLINE void section_step(const Section& c, T& u, T& z0, T& z1) {
 // another: the same operations on the same numbers, NS times as long), and so do K records'
 // (their common length in lock-step, then each one's rest alone; per record the same operations
 // in the same order).
-#if defined(__GNUC__) && defined(__x86_64__)
+#ifdef VIADUCT_HAVE_AVX2_VARIANT
 typedef double Four __attribute__((vector_size(4 * sizeof(double)), __may_alias__));
 // Four records' common length through the NS sections as sos_cascade_many, the records in the
 // lanes of one AVX2 vector: section_step on each lane (no contraction, -ffp-contract=off), so the
@@ -311,8 +306,7 @@ typedef double Four __attribute__((vector_size(4 * sizeof(double)), __may_alias_
 // filter was 5.7 % of the 31-station sweep on one thread in perf, the scalar code's four records
 // limited by the instructions rather than the recurrence's latency).
 template <std::size_t NS>
-__attribute__((target("avx2"))) void sos_cascade_four(const Section* c, double* const* y, Index common,
-                                                      double (&zz)[4][2 * NS]) {
+VIADUCT_TARGET_AVX2 void sos_cascade_four(const Section* c, double* const* y, Index common, double (&zz)[4][2 * NS]) {
   Four z0[NS], z1[NS];
   for (std::size_t s = 0; s < NS; ++s) {
     z0[s] = Four{zz[0][2 * s], zz[1][2 * s], zz[2][2 * s], zz[3][2 * s]};
@@ -336,7 +330,7 @@ void sos_cascade_many(const Section* c, double* const* y, const Index* n, double
   for (std::size_t k = 0; k < K; ++k)
     for (std::size_t e = 0; e < 2 * NS; ++e) zz[k][e] = z[k][e];
   Index i0 = 0;  // samples already through (the four-lane vector path)
-#if defined(__GNUC__) && defined(__x86_64__)
+#ifdef VIADUCT_HAVE_AVX2_VARIANT
   if constexpr (K == 4) {
     if (simd_level() >= Simd::avx2) {
       sos_cascade_four<NS>(c, y, common, zz);

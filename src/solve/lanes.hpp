@@ -25,26 +25,12 @@ typedef double lanes __attribute__((vector_size(kLanes * sizeof(double)), __may_
 constexpr std::size_t kWideLanes = 8;
 typedef double lanes8 __attribute__((vector_size(kWideLanes * sizeof(double)), __may_alias__));
 
-#if defined(__GNUC__) && defined(__x86_64__)
-#define VIADUCT_HAVE_AVX2_VARIANT 1
-#define VIADUCT_TARGET_AVX2 __attribute__((target("avx2")))
-// GCC's avx512f brings FMA with it: -ffp-contract=off (CMakeLists.txt) keeps a·b + c two roundings.
-#define VIADUCT_TARGET_AVX512 __attribute__((target("avx512f")))
-#else
-#define VIADUCT_TARGET_AVX2
-#define VIADUCT_TARGET_AVX512
-#endif
+// VIADUCT_TARGET_AVX2, VIADUCT_TARGET_AVX512, VIADUCT_ALWAYS_INLINE: viaduct/core/simd.hpp.
 
 /// True when the kernels run AVX2 code (the processor has it and VIADUCT_SIMD allows it).
 inline bool cpu_has_avx2() { return simd_level() >= Simd::avx2; }
 /// True when the kernels run AVX-512 code (likewise).
 inline bool cpu_has_avx512() { return simd_level() >= Simd::avx512; }
-
-#if defined(__GNUC__)
-#define VIADUCT_ALWAYS_INLINE __attribute__((always_inline)) inline
-#else
-#define VIADUCT_ALWAYS_INLINE inline
-#endif
 
 /// Rounds p up to the lane type's full size (aligned loads in a vector build, whatever alignof
 /// says in the baseline build). Buffers carry one spare group for it.

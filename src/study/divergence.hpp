@@ -32,8 +32,7 @@ constexpr double kDivergenceFactor = 20.0;
 /// guard, flags the forces past a few static loads (study::plausibility_warnings).
 constexpr double kContactForceFactor = 1000.0;
 
-/// One factorisation of K, shared by a prepared model's static computations (PreparedModel::statics).
-// PreparedModel::imax: the influence maxima last computed, of `outputs` on `structure`.
+/// PreparedModel::imax: the influence maxima last computed, of `outputs` on `structure`.
 struct InfluenceMaximaCache {
   std::mutex m;
   const model::Structure* structure = nullptr;  // null: none kept yet
@@ -41,6 +40,7 @@ struct InfluenceMaximaCache {
   Vector value;
 };
 
+/// One factorisation of K, shared by a prepared model's static computations (PreparedModel::statics).
 struct StaticFactor {
   Eigen::SimplicialLDLT<SparseMatrix> ldlt;
   bool ok = false;  ///< false: K could not be factored (an unsupported structure)
